@@ -1,0 +1,121 @@
+/* Every struct shared between the host and the device, and nothing else.
+ * Mirrored by numpy dtypes in python/restircl/layouts.py; tests/test_layouts.py compares sizeof/offsetof.
+ * Rules: no float3 (16 bytes here, 12 in numpy); float4 members first; sizes multiples of 16. */
+#ifndef RESTIRCL_TYPES_H
+#define RESTIRCL_TYPES_H
+
+/* ---- geometry -------------------------------------------------------------------------------- */
+
+/* One triangle in world space, in BVH leaf order. */
+typedef struct {
+    float4 v0;   /* xyz: vertex 0; w: material id (int bits) */
+    float4 e1;   /* xyz: v1 - v0;  w: original triangle index (int bits) */
+    float4 e2;   /* xyz: v2 - v0;  w: unused */
+} Tri;           /* 48 bytes */
+
+/* BVH2 node holding the boxes of both children ("child pair" layout): one node fetch tests two boxes.
+ * A child index >= 0 is an inner node; a child index < 0 is a leaf ~first with `count` triangles. */
+typedef struct {
+    float4 lmin;   /* xyz: left child box min;  w: left child (int bits) */
+    float4 lmax;   /* xyz: left child box max;  w: left leaf triangle count (int bits), 0 for inner */
+    float4 rmin;   /* xyz: right child box min; w: right child (int bits) */
+    float4 rmax;   /* xyz: right child box max; w: right leaf triangle count (int bits), 0 for inner */
+} BVHNode;         /* 64 bytes */
+
+/* ---- materials and lights -------------------------------------------------------------------- */
+
+typedef struct {
+    float4 albedo;     /* rgb: diffuse albedo; w: unused */
+    float4 emission;   /* rgb: emitted radiance (colour * strength); w: 1 if emissive */
+} Material;            /* 32 bytes */
+
+#define LIGHT_TRIANGLE 0  /* p: v0, a: e1, b: e2 (b.w area); two-sided if flags & 1 */
+#define LIGHT_QUAD     1  /* p: corner, a: edge u, b: edge v (b.w area); emits along cross(a, b) */
+#define LIGHT_DISK     2  /* p: centre, a: semi-axis u, b: semi-axis v (b.w area); emits along cross(a, b) */
+#define LIGHT_SPHERE   3  /* p: centre, a.w: radius (0 = point); L: radiance (radius > 0) or intensity */
+#define LIGHT_SPOT     4  /* as SPHERE, a.xyz: unit axis; b.x: cos half-angle, b.y: smoothstep blend */
+#define LIGHT_SUN      5  /* a.xyz: unit direction towards the sun; b.x: cos half-angle; L: radiance */
+#define LIGHT_TYPES    6
+
+#define LIGHT_FLAG_TWO_SIDED 1
+
+/* One packed 64-byte record per light: a candidate costs one cache line, even with 1e6 lights. */
+typedef struct {
+    float4 p;    /* xyz: position / corner / centre / v0;  w: type (int bits) */
+    float4 a;    /* xyz: see LIGHT_*;                     w: radius (sphere, spot) */
+    float4 b;    /* xyz: see LIGHT_*;                     w: area (triangle, quad, disk) */
+    float4 L;    /* rgb: radiance or intensity (see LIGHT_*); w: flags (int bits) */
+} Light;         /* 64 bytes */
+
+/* ---- camera ----------------------------------------------------------------------------------- */
+
+/* A pinhole camera. The ray through normalised device coordinates (nx, ny) in [-1, 1]^2 has direction
+ * forward + (nx * lens.x + lens.z) * right + (ny * lens.y + lens.w) * up. */
+typedef struct {
+    float4 origin;    /* xyz: position */
+    float4 right;     /* xyz: unit right */
+    float4 up;        /* xyz: unit up */
+    float4 forward;   /* xyz: unit view direction */
+    float4 lens;      /* x, y: tan of half the field of view (horizontal, vertical); z, w: shift (tan units) */
+    float4 jitter;    /* xy: sub-pixel jitter in pixels applied to this frame's rays; zw: unused */
+    int width;
+    int height;
+    int pad0;
+    int pad1;
+} Camera;             /* 112 bytes */
+
+/* ---- per-pixel buffers ------------------------------------------------------------------------ */
+
+/* The G-buffer of one pixel: what the primary ray hit. prim < 0 marks a miss. */
+typedef struct {
+    float4 pos;        /* xyz: world position of the hit; w: view depth (along camera forward) */
+    float4 normal;     /* xyz: shading normal, facing the camera; w: primitive id (int bits), -1: miss */
+    float4 gnormal;    /* xyz: geometric normal, facing the camera; w: material id (int bits) */
+    float4 albedo;     /* rgb: diffuse albedo; w: object id (int bits) */
+    float4 emission;   /* rgb: radiance emitted towards the camera (lights seen directly) */
+    float4 motion;     /* xy: motion in pixels, previous minus current position (jitter removed); zw: 0 */
+} GSample;             /* 96 bytes */
+
+/* A weighted reservoir holding one light sample y = (light, u, v). */
+typedef struct {
+    int light;        /* light index, -1: empty */
+    float u;          /* sample coordinates on the light, in [0, 1)^2 */
+    float v;
+    float w_sum;      /* sum of resampling weights */
+    float M;          /* number of candidates seen (float: merges add confidence) */
+    float W;          /* unbiased contribution weight */
+    float target;     /* p-hat(y) at the pixel that owns the reservoir */
+    int pad;
+} Reservoir;          /* 32 bytes */
+
+/* Parameters of the ReSTIR passes, one struct shared with the host. */
+typedef struct {
+    int candidates;        /* RIS candidates per pixel for the initial reservoir */
+    int spatial_neighbours;
+    float spatial_radius;  /* pixels */
+    float m_cap;           /* temporal history cap, absolute M */
+    float depth_tolerance; /* relative view-depth mismatch that rejects a neighbour */
+    float normal_cos;      /* cosine below which a neighbour's normal is rejected */
+    int frame;             /* frame counter, for random seeds */
+    int seed;
+} RestirParams;            /* 32 bytes */
+
+/* Parameters of the temporal accumulation pass. */
+typedef struct {
+    float alpha_min;       /* lower bound of the blend factor a = max(1/n, alpha_min) */
+    float gamma;           /* variance clipping width, in standard deviations */
+    float depth_tolerance; /* relative depth mismatch that marks a disocclusion */
+    float normal_cos;      /* cosine below which the normal mismatch marks a disocclusion */
+    int clip;              /* 1: clip history to the neighbourhood (YCoCg variance box) */
+    int max_history;       /* cap of the per-pixel history length n */
+    int pad0;
+    int pad1;
+} TaaParams;               /* 32 bytes */
+
+/* Counters of numerical guards, accumulated by the kernels with atomic_inc. */
+#define GUARD_NONFINITE_SAMPLE   0  /* a shading result was NaN/Inf and replaced by 0 */
+#define GUARD_NONFINITE_HISTORY  1  /* a NaN/Inf reached the TAA history write and was replaced */
+#define GUARD_NONFINITE_RESERVOIR 2 /* a reservoir weight was NaN/Inf and the reservoir was emptied */
+#define GUARD_COUNT              4
+
+#endif

@@ -1,0 +1,98 @@
+"""numpy mirrors of the structs in opencl/types.h (the one place they are defined on the host side).
+
+tests/test_layouts.py compiles a kernel that reports sizeof/offsetof of each struct and compares.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+F4 = (np.float32, 4)
+
+TRI = np.dtype([("v0", F4), ("e1", F4), ("e2", F4)])
+BVH_NODE = np.dtype([("lmin", F4), ("lmax", F4), ("rmin", F4), ("rmax", F4)])
+MATERIAL = np.dtype([("albedo", F4), ("emission", F4)])
+LIGHT = np.dtype([("p", F4), ("a", F4), ("b", F4), ("L", F4)])
+CAMERA = np.dtype(
+    [
+        ("origin", F4),
+        ("right", F4),
+        ("up", F4),
+        ("forward", F4),
+        ("lens", F4),
+        ("jitter", F4),
+        ("width", np.int32),
+        ("height", np.int32),
+        ("pad0", np.int32),
+        ("pad1", np.int32),
+    ]
+)
+GSAMPLE = np.dtype(
+    [("pos", F4), ("normal", F4), ("gnormal", F4), ("albedo", F4), ("emission", F4), ("motion", F4)]
+)
+RESERVOIR = np.dtype(
+    [
+        ("light", np.int32),
+        ("u", np.float32),
+        ("v", np.float32),
+        ("w_sum", np.float32),
+        ("M", np.float32),
+        ("W", np.float32),
+        ("target", np.float32),
+        ("pad", np.int32),
+    ]
+)
+RESTIR_PARAMS = np.dtype(
+    [
+        ("candidates", np.int32),
+        ("spatial_neighbours", np.int32),
+        ("spatial_radius", np.float32),
+        ("m_cap", np.float32),
+        ("depth_tolerance", np.float32),
+        ("normal_cos", np.float32),
+        ("frame", np.int32),
+        ("seed", np.int32),
+    ]
+)
+TAA_PARAMS = np.dtype(
+    [
+        ("alpha_min", np.float32),
+        ("gamma", np.float32),
+        ("depth_tolerance", np.float32),
+        ("normal_cos", np.float32),
+        ("clip", np.int32),
+        ("max_history", np.int32),
+        ("pad0", np.int32),
+        ("pad1", np.int32),
+    ]
+)
+
+#: struct name in types.h -> numpy dtype
+STRUCTS: dict[str, np.dtype] = {
+    "Tri": TRI,
+    "BVHNode": BVH_NODE,
+    "Material": MATERIAL,
+    "Light": LIGHT,
+    "Camera": CAMERA,
+    "GSample": GSAMPLE,
+    "Reservoir": RESERVOIR,
+    "RestirParams": RESTIR_PARAMS,
+    "TaaParams": TAA_PARAMS,
+}
+
+# Constants from types.h that the host needs.
+LIGHT_TRIANGLE, LIGHT_QUAD, LIGHT_DISK, LIGHT_SPHERE, LIGHT_SPOT, LIGHT_SUN = range(6)
+LIGHT_FLAG_TWO_SIDED = 1
+GUARD_NONFINITE_SAMPLE, GUARD_NONFINITE_HISTORY, GUARD_NONFINITE_RESERVOIR = range(3)
+GUARD_COUNT = 4
+GUARD_NAMES = ("nonfinite_sample", "nonfinite_history", "nonfinite_reservoir", "unused")
+
+
+def int_bits(values: np.ndarray) -> np.ndarray:
+    """Reinterpret int32 values as float32, for the int fields stored in a float4's w."""
+    return np.ascontiguousarray(values, dtype=np.int32).view(np.float32)
+
+
+def float_bits_to_int(values: np.ndarray) -> np.ndarray:
+    """Inverse of int_bits."""
+    return np.ascontiguousarray(values, dtype=np.float32).view(np.int32)

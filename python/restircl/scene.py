@@ -1,0 +1,443 @@
+"""The scene model that scripts and the Blender add-on fill: meshes, materials, lights, a camera, animation.
+
+Conventions follow Blender: right-handed, Z up; a camera looks along its local -Z with +Y up; a light points
+along its local -Z; transforms are 4x4 object-to-world matrices, one per frame (or one for all frames).
+Light units follow Blender too (see docs/units.md): power in W for point, spot and area lights, strength in
+W/m^2 for the sun, emission colour * strength (radiance) for emissive materials.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+SCENE_FILE_MAGIC = "restircl-scene"
+SCENE_FILE_VERSION = 1
+MAX_RESOLUTION = 16384
+LIGHT_TYPES = ("point", "spot", "sun", "area")
+AREA_SHAPES = ("SQUARE", "RECTANGLE", "DISK", "ELLIPSE")
+SENSOR_FITS = ("AUTO", "HORIZONTAL", "VERTICAL")
+
+
+class SceneError(ValueError):
+    """The scene is invalid; the message names the offending object."""
+
+
+class SceneFileError(SceneError):
+    """A scene file is corrupt, foreign or of an unknown version."""
+
+
+def _as_transforms(value: np.ndarray | None, what: str) -> np.ndarray:
+    if value is None:
+        return np.eye(4, dtype=np.float64)[None]
+    m = np.asarray(value, dtype=np.float64)
+    if m.shape == (4, 4):
+        m = m[None]
+    if m.ndim != 3 or m.shape[1:] != (4, 4) or m.shape[0] < 1:
+        raise SceneError(f"{what}: transforms must have shape (4, 4) or (F, 4, 4), got {m.shape}")
+    return m
+
+
+def translation(x: float, y: float, z: float) -> np.ndarray:
+    m = np.eye(4)
+    m[:3, 3] = (x, y, z)
+    return m
+
+
+def look_at(eye: np.ndarray | tuple, target: np.ndarray | tuple, up: tuple = (0.0, 0.0, 1.0)) -> np.ndarray:
+    """A Blender-style object matrix at `eye` whose -Z axis points at `target` (for cameras and lights)."""
+    eye = np.asarray(eye, dtype=np.float64)
+    fwd = np.asarray(target, dtype=np.float64) - eye
+    n = np.linalg.norm(fwd)
+    if not np.isfinite(n) or n == 0:
+        raise SceneError("look_at: eye and target coincide or are not finite")
+    fwd /= n
+    upv = np.asarray(up, dtype=np.float64)
+    right = np.cross(fwd, upv)
+    if np.linalg.norm(right) < 1e-9:
+        right = np.cross(fwd, np.array([0.0, 1.0, 0.0]) if abs(fwd[1]) < 0.9 else np.array([1.0, 0.0, 0.0]))
+    right /= np.linalg.norm(right)
+    true_up = np.cross(right, fwd)
+    m = np.eye(4)
+    m[:3, 0] = right
+    m[:3, 1] = true_up
+    m[:3, 2] = -fwd
+    m[:3, 3] = eye
+    return m
+
+
+@dataclass
+class Material:
+    name: str = "default"
+    albedo: tuple[float, float, float] = (0.8, 0.8, 0.8)
+    emission: tuple[float, float, float] = (0.0, 0.0, 0.0)  # colour
+    emission_strength: float = 0.0
+
+    @property
+    def radiance(self) -> np.ndarray:
+        return np.asarray(self.emission, dtype=np.float64) * float(self.emission_strength)
+
+    @property
+    def is_emissive(self) -> bool:
+        return bool(np.any(self.radiance > 0))
+
+
+@dataclass
+class Mesh:
+    name: str
+    vertices: np.ndarray  # (V, 3) object space
+    triangles: np.ndarray  # (T, 3) vertex indices
+    material_ids: np.ndarray | int = 0  # (T,) or one id for all triangles
+    transforms: np.ndarray | None = None  # (4, 4) or (F, 4, 4) object-to-world
+
+    def __post_init__(self) -> None:
+        self.vertices = np.asarray(self.vertices, dtype=np.float64).reshape(-1, 3)
+        self.triangles = np.asarray(self.triangles, dtype=np.int64).reshape(-1, 3)
+        ids = np.asarray(self.material_ids, dtype=np.int64)
+        self.material_ids = np.full(len(self.triangles), int(ids), np.int64) if ids.ndim == 0 else ids.reshape(-1)
+        self.transforms = _as_transforms(self.transforms, f"mesh {self.name!r}")
+
+    @property
+    def animated(self) -> bool:
+        return self.transforms.shape[0] > 1 and not np.allclose(self.transforms, self.transforms[:1])
+
+
+@dataclass
+class Light:
+    name: str
+    type: str  # point | spot | sun | area
+    color: tuple[float, float, float] = (1.0, 1.0, 1.0)
+    power: float = 100.0  # W (point, spot, area); W/m^2 (sun strength)
+    transforms: np.ndarray | None = None  # (4, 4) or (F, 4, 4); the light points along local -Z
+    radius: float = 0.0  # point, spot: Blender's shadow_soft_size
+    spot_size: float = math.pi / 4  # full cone angle (rad)
+    spot_blend: float = 0.15
+    angle: float = 0.0  # sun: angular diameter (rad)
+    shape: str = "SQUARE"  # area: SQUARE | RECTANGLE | DISK | ELLIPSE
+    size: float = 1.0  # area: size along local X
+    size_y: float = 1.0  # area: size along local Y (RECTANGLE, ELLIPSE)
+    power_per_frame: np.ndarray | None = None  # optional (F,) multiplier of power, e.g. to switch a light off
+
+    def __post_init__(self) -> None:
+        self.transforms = _as_transforms(self.transforms, f"light {self.name!r}")
+        if self.power_per_frame is not None:
+            self.power_per_frame = np.asarray(self.power_per_frame, dtype=np.float64).reshape(-1)
+
+    def power_at(self, frame: int) -> float:
+        if self.power_per_frame is None or len(self.power_per_frame) == 0:
+            return float(self.power)
+        return float(self.power) * float(self.power_per_frame[min(frame, len(self.power_per_frame) - 1)])
+
+
+@dataclass
+class Camera:
+    transforms: np.ndarray | None = None  # (4, 4) or (F, 4, 4) camera-to-world; looks along -Z
+    width: int = 640
+    height: int = 360
+    lens: float = 50.0  # focal length (mm)
+    sensor_width: float = 36.0
+    sensor_height: float = 24.0
+    sensor_fit: str = "AUTO"
+    shift_x: float = 0.0
+    shift_y: float = 0.0
+    cuts: tuple[int, ...] = ()  # frames at which the camera cuts (history is reset)
+
+    def __post_init__(self) -> None:
+        self.transforms = _as_transforms(self.transforms, "camera")
+        self.cuts = tuple(int(c) for c in self.cuts)
+
+    def set_fov(self, fov: float, axis: str = "horizontal") -> None:
+        """Set the field of view (radians) along an axis by choosing the focal length; sensor fit follows."""
+        if axis == "horizontal":
+            self.sensor_fit = "HORIZONTAL"
+            self.lens = self.sensor_width / (2.0 * math.tan(fov / 2.0))
+        else:
+            self.sensor_fit = "VERTICAL"
+            self.lens = self.sensor_height / (2.0 * math.tan(fov / 2.0))
+
+    def tan_half_fov(self) -> tuple[float, float, float, float]:
+        """(tan half horizontal fov, tan half vertical fov, shift x, shift y in tan units), Blender's rules."""
+        w, h = float(self.width), float(self.height)
+        fit = self.sensor_fit
+        if fit == "AUTO":
+            fit = "HORIZONTAL" if w >= h else "VERTICAL"
+            sensor = self.sensor_width
+        else:
+            sensor = self.sensor_width if fit == "HORIZONTAL" else self.sensor_height
+        half = 0.5 * sensor / self.lens  # tan of half the fitted dimension's fov
+        if fit == "HORIZONTAL":
+            tx, ty = half, half * h / w
+        else:
+            tx, ty = half * w / h, half
+        # Blender's shift is a fraction of the larger image dimension, in the fitted view plane.
+        big = max(tx, ty)
+        return tx, ty, 2.0 * self.shift_x * big, 2.0 * self.shift_y * big
+
+
+@dataclass
+class Scene:
+    meshes: list[Mesh] = field(default_factory=list)
+    materials: list[Material] = field(default_factory=list)
+    lights: list[Light] = field(default_factory=list)
+    camera: Camera | None = None
+    name: str = "scene"
+    frame_count: int | None = None  # default: the longest animation among camera, meshes and lights
+
+    # ---- animation ---------------------------------------------------------------------------------
+
+    @property
+    def frames(self) -> int:
+        if self.frame_count is not None:
+            return int(self.frame_count)
+        n = 1
+        if self.camera is not None:
+            n = max(n, self.camera.transforms.shape[0])
+        for obj in [*self.meshes, *self.lights]:
+            n = max(n, obj.transforms.shape[0])
+        return n
+
+    @property
+    def has_moving_objects(self) -> bool:
+        return any(m.animated for m in self.meshes)
+
+    @property
+    def has_moving_lights(self) -> bool:
+        return any(
+            (lt.transforms.shape[0] > 1 and not np.allclose(lt.transforms, lt.transforms[:1]))
+            or lt.power_per_frame is not None
+            for lt in self.lights
+        )
+
+    @staticmethod
+    def at(transforms: np.ndarray, frame: int) -> np.ndarray:
+        return transforms[min(max(frame, 0), transforms.shape[0] - 1)]
+
+    # ---- validation --------------------------------------------------------------------------------
+
+    def validate(self) -> Scene:
+        """Raise SceneError naming the first bad object; return self when the scene is usable."""
+        cam = self.camera
+        if cam is None:
+            raise SceneError("the scene has no camera")
+        for what, v in (("width", cam.width), ("height", cam.height)):
+            if not isinstance(v, (int, np.integer)) or not 1 <= int(v) <= MAX_RESOLUTION:
+                raise SceneError(f"camera: {what} must be an integer in 1..{MAX_RESOLUTION}, got {v!r}")
+        if not np.all(np.isfinite(cam.transforms)):
+            raise SceneError("camera: transform contains NaN or Inf")
+        for what, v in (("lens", cam.lens), ("sensor_width", cam.sensor_width), ("sensor_height", cam.sensor_height)):
+            if not math.isfinite(v) or v <= 0:
+                raise SceneError(f"camera: {what} must be finite and positive, got {v!r}")
+        if not (math.isfinite(cam.shift_x) and math.isfinite(cam.shift_y)):
+            raise SceneError("camera: shift is not finite")
+        if cam.sensor_fit not in SENSOR_FITS:
+            raise SceneError(f"camera: sensor_fit must be one of {SENSOR_FITS}, got {cam.sensor_fit!r}")
+        _check_basis(cam.transforms, "camera")
+        for i, mat in enumerate(self.materials):
+            label = f"material {i} {mat.name!r}"
+            for what, v in (("albedo", mat.albedo), ("emission", mat.emission)):
+                a = np.asarray(v, dtype=np.float64)
+                if a.shape != (3,) or not np.all(np.isfinite(a)):
+                    raise SceneError(f"{label}: {what} must be 3 finite numbers, got {v!r}")
+                if np.any(a < 0):
+                    raise SceneError(f"{label}: {what} must not be negative, got {v!r}")
+            if not math.isfinite(mat.emission_strength) or mat.emission_strength < 0:
+                raise SceneError(f"{label}: emission_strength must be finite and >= 0, got {mat.emission_strength!r}")
+        n_mat = len(self.materials)
+        for mesh in self.meshes:
+            label = f"mesh {mesh.name!r}"
+            if not np.all(np.isfinite(mesh.vertices)):
+                raise SceneError(f"{label}: vertices contain NaN or Inf")
+            if not np.all(np.isfinite(mesh.transforms)):
+                raise SceneError(f"{label}: transform contains NaN or Inf")
+            if len(mesh.triangles) and (mesh.triangles.min() < 0 or mesh.triangles.max() >= len(mesh.vertices)):
+                raise SceneError(f"{label}: triangle vertex index out of range 0..{len(mesh.vertices) - 1}")
+            if len(mesh.material_ids) != len(mesh.triangles):
+                raise SceneError(f"{label}: {len(mesh.material_ids)} material ids for {len(mesh.triangles)} triangles")
+            if len(mesh.material_ids) and (mesh.material_ids.min() < 0 or mesh.material_ids.max() >= n_mat):
+                raise SceneError(f"{label}: material id out of range 0..{n_mat - 1}")
+        for lt in self.lights:
+            label = f"light {lt.name!r}"
+            if lt.type not in LIGHT_TYPES:
+                raise SceneError(f"{label}: type must be one of {LIGHT_TYPES}, got {lt.type!r}")
+            if not np.all(np.isfinite(lt.transforms)):
+                raise SceneError(f"{label}: transform contains NaN or Inf")
+            _check_basis(lt.transforms, label)
+            col = np.asarray(lt.color, dtype=np.float64)
+            if col.shape != (3,) or not np.all(np.isfinite(col)) or np.any(col < 0):
+                raise SceneError(f"{label}: color must be 3 finite numbers >= 0, got {lt.color!r}")
+            if not math.isfinite(lt.power) or lt.power < 0:
+                raise SceneError(f"{label}: power/strength must be finite and >= 0, got {lt.power!r}")
+            if lt.power_per_frame is not None and (
+                not np.all(np.isfinite(lt.power_per_frame)) or np.any(lt.power_per_frame < 0)
+            ):
+                raise SceneError(f"{label}: power_per_frame must be finite and >= 0")
+            for what in ("radius", "angle", "size", "size_y", "spot_blend"):
+                v = getattr(lt, what)
+                if not math.isfinite(v) or v < 0:
+                    raise SceneError(f"{label}: {what} must be finite and >= 0, got {v!r}")
+            if lt.type == "spot" and not (0 < lt.spot_size <= math.pi):
+                raise SceneError(f"{label}: spot_size must be in (0, pi], got {lt.spot_size!r}")
+            if lt.type == "sun" and lt.angle >= math.pi:
+                raise SceneError(f"{label}: angle must be below pi, got {lt.angle!r}")
+            if lt.type == "area":
+                if lt.shape not in AREA_SHAPES:
+                    raise SceneError(f"{label}: shape must be one of {AREA_SHAPES}, got {lt.shape!r}")
+                if lt.size <= 0 or (lt.shape in ("RECTANGLE", "ELLIPSE") and lt.size_y <= 0):
+                    raise SceneError(f"{label}: area light size must be > 0")
+        if self.frame_count is not None and int(self.frame_count) < 1:
+            raise SceneError(f"frame_count must be >= 1, got {self.frame_count!r}")
+        return self
+
+    # ---- per-frame world-space data ------------------------------------------------------------------
+
+    def world_triangles(self, frame: int) -> WorldTriangles:
+        """All triangles in world space at `frame`; degenerate ones are dropped with a warning."""
+        v0s, v1s, v2s, mats, objs, prims = [], [], [], [], [], []
+        dropped: dict[str, int] = {}
+        for obj, mesh in enumerate(self.meshes):
+            if len(mesh.triangles) == 0:
+                continue
+            m = self.at(mesh.transforms, frame)
+            wv = mesh.vertices @ m[:3, :3].T + m[:3, 3]
+            t = mesh.triangles
+            a, b, c = wv[t[:, 0]], wv[t[:, 1]], wv[t[:, 2]]
+            area2 = np.linalg.norm(np.cross(b - a, c - a), axis=1)
+            ok = np.isfinite(area2) & (area2 > 0)
+            # a triangle whose float32 edges vanish is degenerate on the device too
+            a32, b32, c32 = a.astype(np.float32), b.astype(np.float32), c.astype(np.float32)
+            ok &= np.linalg.norm(np.cross(b32 - a32, c32 - a32).astype(np.float64), axis=1) > 0
+            if not np.all(ok):
+                dropped[mesh.name] = int((~ok).sum())
+            idx = np.nonzero(ok)[0]
+            v0s.append(a[idx])
+            v1s.append(b[idx])
+            v2s.append(c[idx])
+            mats.append(mesh.material_ids[idx])
+            objs.append(np.full(len(idx), obj, np.int64))
+            prims.append(idx)
+        if dropped:
+            names = ", ".join(f"{k!r} ({v})" for k, v in dropped.items())
+            warnings.warn(f"dropped degenerate triangles: {names}", stacklevel=2)
+        if not v0s:
+            z3 = np.zeros((0, 3))
+            zi = np.zeros(0, np.int64)
+            return WorldTriangles(z3, z3, z3, zi, zi, zi)
+        return WorldTriangles(
+            np.concatenate(v0s), np.concatenate(v1s), np.concatenate(v2s),
+            np.concatenate(mats), np.concatenate(objs), np.concatenate(prims),
+        )
+
+    @property
+    def triangle_count(self) -> int:
+        return int(sum(len(m.triangles) for m in self.meshes))
+
+    # ---- files ---------------------------------------------------------------------------------------
+
+    def save(self, path: str | Path) -> None:
+        """Write the scene as one versioned .npz file (no pickles)."""
+        arrays: dict[str, np.ndarray] = {}
+        meta: dict = {
+            "magic": SCENE_FILE_MAGIC,
+            "version": SCENE_FILE_VERSION,
+            "name": self.name,
+            "frame_count": self.frame_count,
+            "materials": [
+                {"name": m.name, "albedo": list(map(float, m.albedo)), "emission": list(map(float, m.emission)),
+                 "emission_strength": float(m.emission_strength)}
+                for m in self.materials
+            ],
+            "meshes": [],
+            "lights": [],
+            "camera": None,
+        }
+        for i, mesh in enumerate(self.meshes):
+            meta["meshes"].append({"name": mesh.name})
+            arrays[f"mesh{i}_vertices"] = mesh.vertices
+            arrays[f"mesh{i}_triangles"] = mesh.triangles
+            arrays[f"mesh{i}_material_ids"] = mesh.material_ids
+            arrays[f"mesh{i}_transforms"] = mesh.transforms
+        for i, lt in enumerate(self.lights):
+            d = {k: getattr(lt, k) for k in ("name", "type", "power", "radius", "spot_size", "spot_blend", "angle",
+                                              "shape", "size", "size_y")}
+            d["color"] = list(map(float, lt.color))
+            meta["lights"].append(d)
+            arrays[f"light{i}_transforms"] = lt.transforms
+            if lt.power_per_frame is not None:
+                arrays[f"light{i}_power_per_frame"] = lt.power_per_frame
+        if self.camera is not None:
+            c = self.camera
+            meta["camera"] = {k: getattr(c, k) for k in ("width", "height", "lens", "sensor_width", "sensor_height",
+                                                         "sensor_fit", "shift_x", "shift_y")}
+            meta["camera"]["cuts"] = list(c.cuts)
+            meta["camera"]["width"] = int(c.width)
+            meta["camera"]["height"] = int(c.height)
+            arrays["camera_transforms"] = c.transforms
+        arrays["meta"] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
+        with open(path, "wb") as f:
+            np.savez_compressed(f, **arrays)
+
+    @classmethod
+    def load(cls, path: str | Path) -> Scene:
+        """Read a scene written by save(); a corrupt or foreign file raises SceneFileError."""
+        path = Path(path)
+        try:
+            with np.load(path, allow_pickle=False) as z:
+                data = {k: z[k] for k in z.files}
+        except FileNotFoundError:
+            raise
+        except Exception as exc:  # zip errors, bad headers, pickles
+            raise SceneFileError(f"{path}: not a restircl scene file ({type(exc).__name__}: {exc})") from exc
+        try:
+            meta = json.loads(bytes(data["meta"]).decode())
+        except Exception as exc:
+            raise SceneFileError(f"{path}: not a restircl scene file (no readable header)") from exc
+        if not isinstance(meta, dict) or meta.get("magic") != SCENE_FILE_MAGIC:
+            raise SceneFileError(f"{path}: not a restircl scene file (wrong magic)")
+        if meta.get("version") != SCENE_FILE_VERSION:
+            raise SceneFileError(f"{path}: scene file version {meta.get('version')!r}, this restircl reads "
+                                 f"version {SCENE_FILE_VERSION}")
+        try:
+            scene = cls(name=meta.get("name", "scene"), frame_count=meta.get("frame_count"))
+            scene.materials = [Material(m["name"], tuple(m["albedo"]), tuple(m["emission"]), m["emission_strength"])
+                               for m in meta["materials"]]
+            for i, m in enumerate(meta["meshes"]):
+                scene.meshes.append(Mesh(m["name"], data[f"mesh{i}_vertices"], data[f"mesh{i}_triangles"],
+                                         data[f"mesh{i}_material_ids"], data[f"mesh{i}_transforms"]))
+            for i, d in enumerate(meta["lights"]):
+                d = dict(d)
+                d["color"] = tuple(d["color"])
+                scene.lights.append(Light(transforms=data[f"light{i}_transforms"],
+                                          power_per_frame=data.get(f"light{i}_power_per_frame"), **d))
+            if meta["camera"] is not None:
+                c = dict(meta["camera"])
+                c["cuts"] = tuple(c.get("cuts", ()))
+                scene.camera = Camera(transforms=data["camera_transforms"], **c)
+        except SceneError:
+            raise
+        except Exception as exc:
+            raise SceneFileError(f"{path}: corrupt restircl scene file ({type(exc).__name__}: {exc})") from exc
+        return scene
+
+
+@dataclass
+class WorldTriangles:
+    v0: np.ndarray
+    v1: np.ndarray
+    v2: np.ndarray
+    material: np.ndarray
+    object: np.ndarray
+    prim: np.ndarray  # index within its mesh
+
+    def __len__(self) -> int:
+        return len(self.v0)
+
+
+def _check_basis(transforms: np.ndarray, label: str) -> None:
+    det = np.linalg.det(transforms[:, :3, :3])
+    if np.any(~np.isfinite(det)) or np.any(np.abs(det) < 1e-30):
+        raise SceneError(f"{label}: transform is singular (zero scale)")

@@ -1,0 +1,21 @@
+"""restircl: many-light direct lighting (light array, RIS, ReSTIR DI) and TAA in OpenCL C."""
+
+from setuptools import setup
+
+setup(
+    name="restircl",
+    version="0.1.0",
+    description="Many-light direct lighting with ReSTIR DI and TAA, in OpenCL C on PoCL or any OpenCL GPU",
+    python_requires=">=3.11",
+    packages=["restircl", "restircl.opencl"],
+    package_dir={"restircl": "python/restircl", "restircl.opencl": "opencl"},
+    package_data={"restircl.opencl": ["*.h", "*.cl"]},
+    install_requires=["numpy>=1.24", "pyopencl>=2024.1", "openexr>=3.3", "pillow>=10"],
+    extras_require={
+        "pocl": ["pyopencl[pocl]>=2024.1"],
+        "test": ["pytest>=8", "ruff>=0.5", "scipy>=1.10"],
+        "bench": ["embreex>=4.3", "matplotlib>=3.7"],
+        "blender": ["bpy==5.0.1"],
+    },
+    entry_points={"console_scripts": ["restircl=restircl.cli:main"]},
+)
