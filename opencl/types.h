@@ -13,13 +13,16 @@ typedef struct {
     float4 e2;   /* xyz: v2 - v0;  w: unused */
 } Tri;           /* 48 bytes */
 
-/* BVH2 node holding the boxes of both children ("child pair" layout): one node fetch tests two boxes.
- * A child index >= 0 is an inner node; a child index < 0 is a leaf ~first with `count` triangles. */
+/* BVH2 node holding the boxes of both children ("child pair" layout): one 64-byte node fetch tests two boxes,
+ * stored per axis so that both boxes are tested with float4 operations. Node 0 is the root.
+ * Child reference c (meta.x left, meta.y right): c >= 0 is the inner node c; c < 0 is a leaf holding the
+ * triangles tris[~c .. ~c + count - 1] (~c == -c - 1), count in meta.z (left) / meta.w (right), 0 for inner
+ * children. A leaf of count 0 is empty (only in scenes with fewer than two triangles). */
 typedef struct {
-    float4 lmin;   /* xyz: left child box min;  w: left child (int bits) */
-    float4 lmax;   /* xyz: left child box max;  w: left leaf triangle count (int bits), 0 for inner */
-    float4 rmin;   /* xyz: right child box min; w: right child (int bits) */
-    float4 rmax;   /* xyz: right child box max; w: right leaf triangle count (int bits), 0 for inner */
+    float4 bx;     /* x bounds: left min, right min, left max, right max */
+    float4 by;     /* y bounds, same order */
+    float4 bz;     /* z bounds, same order */
+    int4 meta;     /* left child, right child, left count, right count */
 } BVHNode;         /* 64 bytes */
 
 /* ---- materials and lights -------------------------------------------------------------------- */
@@ -33,11 +36,12 @@ typedef struct {
 #define LIGHT_QUAD     1  /* p: corner, a: edge u, b: edge v (b.w area); emits along cross(a, b) */
 #define LIGHT_DISK     2  /* p: centre, a: semi-axis u, b: semi-axis v (b.w area); emits along cross(a, b) */
 #define LIGHT_SPHERE   3  /* p: centre, a.w: radius (0 = point); L: radiance (radius > 0) or intensity */
-#define LIGHT_SPOT     4  /* as SPHERE, a.xyz: unit axis; b.x: cos half-angle, b.y: smoothstep blend */
-#define LIGHT_SUN      5  /* a.xyz: unit direction towards the sun; b.x: cos half-angle; L: radiance */
+#define LIGHT_SPOT     4  /* as SPHERE, a.xyz: unit axis; b.x: cos half-angle, b.y: (1 - b.x) * blend */
+#define LIGHT_SUN      5  /* a.xyz: unit direction towards the sun; b.x: cos, b.y: 1 - cos half-angle; L: radiance */
 #define LIGHT_TYPES    6
 
-#define LIGHT_FLAG_TWO_SIDED 1
+#define LIGHT_FLAG_TWO_SIDED 1     /* triangle: emits on both sides */
+#define LIGHT_FLAG_SOFT_FALLOFF 2  /* sphere, spot of radius > 0: a disk facing the shading point (Blender's default) */
 
 /* One packed 64-byte record per light: a candidate costs one cache line, even with 1e6 lights. */
 typedef struct {

@@ -9,12 +9,16 @@ Public API::
     restircl.write_exr("out/frame.exr", frame)
 """
 
+from . import scenes
 from .device import Device, DeviceError, choose_device, get_device, list_devices
+from .image_io import read_exr, write_exr, write_png
+from .pipeline import Frame, Renderer, Settings
 from .program import KernelBuildError
 from .scene import Camera, Light, Material, Mesh, Scene, SceneError, SceneFileError, look_at, translation
 
 __all__ = [
-    "Camera", "Device", "DeviceError", "KernelBuildError", "Light", "Material", "Mesh", "Scene", "SceneError",
-    "SceneFileError", "choose_device", "get_device", "list_devices", "look_at", "translation",
+    "Camera", "Device", "DeviceError", "Frame", "KernelBuildError", "Light", "Material", "Mesh", "Renderer",
+    "Scene", "SceneError", "SceneFileError", "Settings", "choose_device", "get_device", "list_devices", "look_at",
+    "read_exr", "scenes", "translation", "write_exr", "write_png",
 ]
 __version__ = "0.1.0"

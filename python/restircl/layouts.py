@@ -10,7 +10,7 @@ import numpy as np
 F4 = (np.float32, 4)
 
 TRI = np.dtype([("v0", F4), ("e1", F4), ("e2", F4)])
-BVH_NODE = np.dtype([("lmin", F4), ("lmax", F4), ("rmin", F4), ("rmax", F4)])
+BVH_NODE = np.dtype([("bx", F4), ("by", F4), ("bz", F4), ("meta", (np.int32, 4))])
 MATERIAL = np.dtype([("albedo", F4), ("emission", F4)])
 LIGHT = np.dtype([("p", F4), ("a", F4), ("b", F4), ("L", F4)])
 CAMERA = np.dtype(
@@ -83,6 +83,7 @@ STRUCTS: dict[str, np.dtype] = {
 # Constants from types.h that the host needs.
 LIGHT_TRIANGLE, LIGHT_QUAD, LIGHT_DISK, LIGHT_SPHERE, LIGHT_SPOT, LIGHT_SUN = range(6)
 LIGHT_FLAG_TWO_SIDED = 1
+LIGHT_FLAG_SOFT_FALLOFF = 2
 GUARD_NONFINITE_SAMPLE, GUARD_NONFINITE_HISTORY, GUARD_NONFINITE_RESERVOIR = range(3)
 GUARD_COUNT = 4
 GUARD_NAMES = ("nonfinite_sample", "nonfinite_history", "nonfinite_reservoir", "unused")

@@ -115,6 +115,7 @@ class Light:
     power: float = 100.0  # W (point, spot, area); W/m^2 (sun strength)
     transforms: np.ndarray | None = None  # (4, 4) or (F, 4, 4); the light points along local -Z
     radius: float = 0.0  # point, spot: Blender's shadow_soft_size
+    soft_falloff: bool = True  # point, spot with radius > 0: Blender's default "soft falloff" (see docs/units.md)
     spot_size: float = math.pi / 4  # full cone angle (rad)
     spot_blend: float = 0.15
     angle: float = 0.0  # sun: angular diameter (rad)
@@ -362,8 +363,8 @@ class Scene:
             arrays[f"mesh{i}_material_ids"] = mesh.material_ids
             arrays[f"mesh{i}_transforms"] = mesh.transforms
         for i, lt in enumerate(self.lights):
-            d = {k: getattr(lt, k) for k in ("name", "type", "power", "radius", "spot_size", "spot_blend", "angle",
-                                              "shape", "size", "size_y")}
+            d = {k: getattr(lt, k) for k in ("name", "type", "power", "radius", "soft_falloff", "spot_size",
+                                              "spot_blend", "angle", "shape", "size", "size_y")}
             d["color"] = list(map(float, lt.color))
             meta["lights"].append(d)
             arrays[f"light{i}_transforms"] = lt.transforms

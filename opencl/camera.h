@@ -1,0 +1,33 @@
+/* Pinhole camera: rays through pixels and projection of world points back to pixels. */
+#ifndef RESTIRCL_CAMERA_H
+#define RESTIRCL_CAMERA_H
+
+/* Direction (not normalised) of the ray through continuous pixel coordinates (px, py); row 0 is the top. */
+inline float3 camera_direction(const __global Camera* cam, float px, float py)
+{
+    float nx = 2.0f * px / (float)cam->width - 1.0f;
+    float ny = 1.0f - 2.0f * py / (float)cam->height;
+    return cam->forward.xyz + (nx * cam->lens.x + cam->lens.z) * cam->right.xyz
+         + (ny * cam->lens.y + cam->lens.w) * cam->up.xyz;
+}
+
+/* Continuous pixel coordinates of world point p (no jitter); returns false behind the camera. */
+inline bool camera_project(const __global Camera* cam, float3 p, float2* px)
+{
+    float3 d = p - cam->origin.xyz;
+    float z = dot(d, cam->forward.xyz);
+    if (!(z > 0.0f)) return false;
+    float x = dot(d, cam->right.xyz) / z;
+    float y = dot(d, cam->up.xyz) / z;
+    float nx = (x - cam->lens.z) / cam->lens.x;
+    float ny = (y - cam->lens.w) / cam->lens.y;
+    *px = (float2)((nx + 1.0f) * 0.5f * (float)cam->width, (1.0f - ny) * 0.5f * (float)cam->height);
+    return isfinite(px->x) && isfinite(px->y);
+}
+
+inline float camera_depth(const __global Camera* cam, float3 p)
+{
+    return dot(p - cam->origin.xyz, cam->forward.xyz);
+}
+
+#endif

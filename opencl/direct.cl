@@ -1,0 +1,74 @@
+/* Direct lighting with one light sample per pixel, without reuse: the samplers `uniform`, `light_array` and
+ * `ris`, and the exhaustive `reference` (every light, one sample each). One shadow ray per light sample. */
+
+__kernel void shade_direct(const __global GSample* gbuf, int pixel_count,
+                           const __global BVHNode* nodes, const __global Tri* tris,
+                           const __global Light* lights, int light_count,
+                           const __global int* slots, int slot_count, const __global float* light_pdf,
+                           int method, int candidates, uint frame, uint seed,
+                           volatile __global int* guards, __global float4* out)
+{
+    int i = get_global_id(0);
+    if (i >= pixel_count) return;
+    Surface s = surface_load(gbuf, i);
+    float3 c = gbuf[i].emission.xyz;
+    if (s.valid && light_count > 0) {
+        uint rng = rng_seed((uint)i, frame, seed, 1u);
+        LightEval e;
+        if (method == METHOD_RIS) {
+            Reservoir r;
+            res_init(&r);
+            for (int k = 0; k < candidates; ++k) {
+                float2 uv;
+                float pdf;
+                int light = light_draw(method == METHOD_UNIFORM, lights, light_count, slots, slot_count, light_pdf, s.x, &rng, &uv, &pdf);
+                float t = pdf > 0.0f ? target_of(&s, lights, light, uv.x, uv.y, &e) : 0.0f;
+                res_update(&r, light, uv.x, uv.y, t / pdf, t, rng_next(&rng), 1.0f);
+            }
+            res_finalize(&r, r.M);
+            if (r.W > 0.0f && target_of(&s, lights, r.light, r.u, r.v, &e) > 0.0f && visible(nodes, tris, &s, &e))
+                c += s.brdf * e.contrib * r.W;
+        } else {
+            float2 uv;
+            float pdf;
+            int light = light_draw(method == METHOD_UNIFORM, lights, light_count, slots, slot_count, light_pdf, s.x, &rng, &uv, &pdf);
+            if (pdf > 0.0f && light_eval(&lights[light], uv.x, uv.y, s.x, s.n, &e) && visible(nodes, tris, &s, &e))
+                c += s.brdf * e.contrib / pdf;
+        }
+    }
+    out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), 1.0f);
+}
+
+__kernel void shade_reference(const __global GSample* gbuf, int pixel_count,
+                              const __global BVHNode* nodes, const __global Tri* tris,
+                              const __global Light* lights, int light_count, uint frame, uint seed,
+                              volatile __global int* guards, __global float4* out)
+{
+    int i = get_global_id(0);
+    if (i >= pixel_count) return;
+    Surface s = surface_load(gbuf, i);
+    float3 c = gbuf[i].emission.xyz;
+    if (s.valid) {
+        uint rng = rng_seed((uint)i, frame, seed, 2u);
+        for (int l = 0; l < light_count; ++l) {
+            float r0 = rng_next(&rng), r1 = rng_next(&rng);
+            float pdf;
+            float2 uv = light_sample(&lights[l], s.x, r0, r1, &pdf);
+            LightEval e;
+            if (pdf > 0.0f && light_eval(&lights[l], uv.x, uv.y, s.x, s.n, &e) && visible(nodes, tris, &s, &e))
+                c += s.brdf * e.contrib / pdf;
+        }
+    }
+    out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), 1.0f);
+}
+
+/* Running sum of samples for a still camera; odd and even frames also go to a half buffer for error estimates. */
+__kernel void accumulate(const __global float4* sample, int pixel_count, int odd,
+                         __global float4* sum, __global float4* sum_half)
+{
+    int i = get_global_id(0);
+    if (i >= pixel_count) return;
+    float4 v = sample[i];
+    sum[i] += v;
+    if (odd) sum_half[i] += v;
+}

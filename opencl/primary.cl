@@ -1,0 +1,57 @@
+/* Pass 1: camera rays into the G-buffer (position, normals, albedo, emission seen directly, motion vectors).
+ * motion.xy: previous minus current pixel position of the hit (jitter removed); motion.z: 1 if the hit has a
+ * previous position on the previous camera's image plane; motion.w: its view depth in the previous camera. */
+
+__kernel void primary(const __global Camera* cam, const __global Camera* prev_cam,
+                      const __global BVHNode* nodes, const __global Tri* tris,
+                      const __global Material* materials, const __global float4* object_motion,
+                      __global GSample* gbuf)
+{
+    int x = get_global_id(0), y = get_global_id(1);
+    int w = cam->width, h = cam->height;
+    if (x >= w || y >= h) return;
+    int i = y * w + x;
+    float3 o = cam->origin.xyz;
+    float3 d = normalize(camera_direction(cam, (float)x + 0.5f + cam->jitter.x, (float)y + 0.5f + cam->jitter.y));
+    Hit hit = trace_closest(nodes, tris, o, d, INFINITY);
+    GSample g;
+    g.motion = (float4)(0.0f);
+    if (hit.prim < 0) {
+        g.pos = (float4)(0.0f, 0.0f, 0.0f, INFINITY);
+        g.normal = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
+        g.gnormal = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
+        g.albedo = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
+        g.emission = (float4)(0.0f);
+        gbuf[i] = g;
+        return;
+    }
+    Tri t = tris[hit.prim];
+    float3 p = t.v0.xyz + hit.u * t.e1.xyz + hit.v * t.e2.xyz;
+    float3 ng = normalize(cross(t.e1.xyz, t.e2.xyz));
+    if (dot(ng, d) > 0.0f) ng = -ng;
+    int mat = as_int(t.v0.w);
+    int obj = as_int(t.e2.w);
+    Material m = materials[mat];
+    g.pos = (float4)(p, camera_depth(cam, p));
+    g.normal = (float4)(ng, as_float(hit.prim));
+    g.gnormal = (float4)(ng, as_float(mat));
+    g.albedo = (float4)(m.albedo.xyz, as_float(obj));
+    g.emission = (float4)(m.emission.xyz, 0.0f);
+    g.motion = (float4)(0.0f, 0.0f, 1.0f, g.pos.w);  /* nothing moves: the previous position is this one */
+#ifdef HAS_MOTION
+    float3 pp = p;
+#ifdef HAS_MOVING_OBJECTS
+    {
+        float4 p4 = (float4)(p, 1.0f);
+        pp = (float3)(dot(object_motion[3 * obj + 0], p4), dot(object_motion[3 * obj + 1], p4),
+                      dot(object_motion[3 * obj + 2], p4));
+    }
+#endif
+    float2 cur_px, prev_px;
+    if (camera_project(cam, p, &cur_px) && camera_project(prev_cam, pp, &prev_px))
+        g.motion = (float4)(prev_px - cur_px, 1.0f, camera_depth(prev_cam, pp));
+    else
+        g.motion = (float4)(0.0f, 0.0f, 0.0f, 0.0f);  /* z = 0: no valid previous position */
+#endif
+    gbuf[i] = g;
+}

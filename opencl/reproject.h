@@ -1,0 +1,39 @@
+/* Reprojection, shared by ReSTIR's temporal reuse and TAA: where was the surface of pixel (x, y) last frame,
+ * and is the history found there the same surface (off-screen, disocclusion and miss tests)? */
+#ifndef RESTIRCL_REPROJECT_H
+#define RESTIRCL_REPROJECT_H
+
+/* Continuous previous-frame pixel position of the surface at pixel (x, y); false when there is none. */
+inline bool reproject_position(const __global GSample* gbuf, int x, int y, int width, float2* prev)
+{
+    float4 m = gbuf[y * width + x].motion;
+    if (m.z == 0.0f) return false;
+    *prev = (float2)((float)x + 0.5f, (float)y + 0.5f) + m.xy;
+    return isfinite(prev->x) && isfinite(prev->y);
+}
+
+/* Is previous-frame G-sample `prev` the same surface as current G-sample `cur`? Misses match misses. */
+inline bool reproject_same_surface(const GSample* cur, const GSample* prev, float depth_tol, float normal_cos)
+{
+    bool cur_hit = as_int(cur->normal.w) >= 0, prev_hit = as_int(prev->normal.w) >= 0;
+    if (cur_hit != prev_hit) return false;
+    if (!cur_hit) return true;
+    float expected = cur->motion.w;  /* depth of the surface point in the previous camera */
+    if (!(fabs(prev->pos.w - expected) <= depth_tol * fabs(expected))) return false;
+    return dot(cur->normal.xyz, prev->normal.xyz) >= normal_cos;
+}
+
+/* The previous-frame pixel index holding the surface of pixel (x, y), or -1 (off-screen or disoccluded). */
+inline int reproject_pixel(const __global GSample* gbuf, const __global GSample* prev_gbuf, int x, int y,
+                           int width, int height, float depth_tol, float normal_cos)
+{
+    float2 p;
+    if (!reproject_position(gbuf, x, y, width, &p)) return -1;
+    int px = (int)floor(p.x), py = (int)floor(p.y);
+    if (px < 0 || py < 0 || px >= width || py >= height) return -1;
+    int j = py * width + px;
+    GSample cur = gbuf[y * width + x], prev = prev_gbuf[j];
+    return reproject_same_surface(&cur, &prev, depth_tol, normal_cos) ? j : -1;
+}
+
+#endif

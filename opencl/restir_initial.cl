@@ -1,0 +1,31 @@
+/* ReSTIR pass 2: per pixel, RIS over `candidates` light samples drawn from the light array into a reservoir;
+ * with visibility reuse, a chosen sample that is occluded gets W = 0 (its M stays). */
+
+__kernel void restir_initial(const __global GSample* gbuf, int pixel_count,
+                             const __global BVHNode* nodes, const __global Tri* tris,
+                             const __global Light* lights, int light_count,
+                             const __global int* slots, int slot_count, const __global float* light_pdf,
+                             RestirParams p, int visibility_reuse, __global Reservoir* out)
+{
+    int i = get_global_id(0);
+    if (i >= pixel_count) return;
+    Surface s = surface_load(gbuf, i);
+    Reservoir r;
+    res_init(&r);
+    if (s.valid && light_count > 0) {
+        uint rng = rng_seed((uint)i, (uint)p.frame, (uint)p.seed, 3u);
+        LightEval e;
+        for (int k = 0; k < p.candidates; ++k) {
+            float2 uv;
+            float pdf;
+            int light = light_draw(false, lights, light_count, slots, slot_count, light_pdf, s.x, &rng, &uv, &pdf);
+            float t = pdf > 0.0f ? target_of(&s, lights, light, uv.x, uv.y, &e) : 0.0f;
+            res_update(&r, light, uv.x, uv.y, t / pdf, t, rng_next(&rng), 1.0f);
+        }
+        res_finalize(&r, r.M);
+        if (visibility_reuse && r.W > 0.0f) {
+            if (!(target_of(&s, lights, r.light, r.u, r.v, &e) > 0.0f) || !visible(nodes, tris, &s, &e)) r.W = 0.0f;
+        }
+    }
+    out[i] = r;
+}

@@ -1,0 +1,54 @@
+/* ReSTIR pass 5: merge up to `spatial_neighbours` reservoirs of random pixels within `spatial_radius` whose
+ * surface is similar (view depth and normal), with the same bias correction as the temporal pass. */
+
+#define MAX_NEIGHBOURS 16
+
+__kernel void restir_spatial(const __global GSample* gbuf, int width, int height,
+                             const __global BVHNode* nodes, const __global Tri* tris,
+                             const __global Light* lights, RestirParams p, int bias_correction,
+                             int visibility_reuse, int pass, const __global Reservoir* in,
+                             __global Reservoir* out)
+{
+    int x = get_global_id(0), y = get_global_id(1);
+    if (x >= width || y >= height) return;
+    int i = y * width + x;
+    Reservoir c = in[i];
+    Surface s = surface_load(gbuf, i);
+    if (!s.valid) { out[i] = c; return; }
+    uint rng = rng_seed((uint)i, (uint)p.frame, (uint)p.seed, 5u + (uint)pass);
+    Reservoir r;
+    res_init(&r);
+    LightEval e;
+    res_update(&r, c.light, c.u, c.v, c.target * c.W * c.M, c.target, rng_next(&rng), c.M);
+    int used[MAX_NEIGHBOURS];
+    int n_used = 0;
+    int k_max = min(p.spatial_neighbours, MAX_NEIGHBOURS);
+    for (int k = 0; k < k_max; ++k) {
+        float radius = p.spatial_radius * sqrt(rng_next(&rng));
+        float phi = 2.0f * RESTIRCL_PI * rng_next(&rng);
+        int nx = x + (int)round(radius * cos(phi)), ny = y + (int)round(radius * sin(phi));
+        if (nx < 0 || ny < 0 || nx >= width || ny >= height || (nx == x && ny == y)) continue;
+        int j = ny * width + nx;
+        Surface sn = surface_load(gbuf, j);
+        if (!sn.valid || !(fabs(sn.depth - s.depth) <= p.depth_tolerance * s.depth)
+            || dot(sn.n, s.n) < p.normal_cos)
+            continue;
+        Reservoir q = in[j];
+        float tq = q.light >= 0 ? target_of(&s, lights, q.light, q.u, q.v, &e) : 0.0f;
+        res_merge(&r, &q, tq, rng_next(&rng));
+        used[n_used++] = j;
+    }
+    float norm = r.M;
+    if (bias_correction == BIAS_Z_COUNT && r.light >= 0) {
+        norm = c.M;
+        for (int k = 0; k < n_used; ++k) {
+            Surface sn = surface_load(gbuf, used[k]);
+            if (in_support(&sn, nodes, tris, lights, r.light, r.u, r.v, visibility_reuse)) norm += in[used[k]].M;
+        }
+    }
+    res_finalize(&r, norm);
+    if (visibility_reuse && bias_correction == BIAS_Z_COUNT && r.W > 0.0f
+        && !in_support(&s, nodes, tris, lights, r.light, r.u, r.v, 1))
+        r.W = 0.0f;
+    out[i] = r;
+}

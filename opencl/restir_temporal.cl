@@ -1,0 +1,44 @@
+/* ReSTIR pass 4: merge the pixel's new reservoir with last frame's reservoir of the same surface (found by
+ * reprojection), its M capped. The target is re-evaluated with this frame's lights, so a light switched off
+ * stops contributing at once. bias_correction: 0 = plain M-weighted merge (biased), 1 = 1/Z (unbiased). */
+
+#define BIAS_NONE 0
+#define BIAS_Z_COUNT 1
+
+__kernel void restir_temporal(const __global GSample* gbuf, const __global GSample* prev_gbuf, int width, int height,
+                              const __global BVHNode* nodes, const __global Tri* tris,
+                              const __global Light* lights, RestirParams p, int bias_correction,
+                              int visibility_reuse, const __global Reservoir* current,
+                              const __global Reservoir* previous, __global Reservoir* out,
+                              volatile __global int* guards)
+{
+    int x = get_global_id(0), y = get_global_id(1);
+    if (x >= width || y >= height) return;
+    int i = y * width + x;
+    Reservoir c = current[i];
+    Surface s = surface_load(gbuf, i);
+    if (!s.valid) { out[i] = c; return; }
+    int j = reproject_pixel(gbuf, prev_gbuf, x, y, width, height, p.depth_tolerance, p.normal_cos);
+    if (j < 0) { out[i] = c; return; }
+    Reservoir q = previous[j];
+    q.M = fmin(q.M, p.m_cap);
+    if (!isfinite(q.W) || !isfinite(q.M)) { guard_count(guards, GUARD_NONFINITE_RESERVOIR); out[i] = c; return; }
+    uint rng = rng_seed((uint)i, (uint)p.frame, (uint)p.seed, 4u);
+    Reservoir r;
+    res_init(&r);
+    LightEval e;
+    res_update(&r, c.light, c.u, c.v, c.target * c.W * c.M, c.target, rng_next(&rng), c.M);
+    float tq = q.light >= 0 ? target_of(&s, lights, q.light, q.u, q.v, &e) : 0.0f;
+    res_merge(&r, &q, tq, rng_next(&rng));
+    float norm = r.M;
+    if (bias_correction == BIAS_Z_COUNT && r.light >= 0) {
+        norm = c.M;
+        Surface sp = surface_load(prev_gbuf, j);
+        if (in_support(&sp, nodes, tris, lights, r.light, r.u, r.v, visibility_reuse)) norm += q.M;
+    }
+    res_finalize(&r, norm);
+    if (visibility_reuse && bias_correction == BIAS_Z_COUNT && r.W > 0.0f
+        && !in_support(&s, nodes, tris, lights, r.light, r.u, r.v, 1))
+        r.W = 0.0f;
+    out[i] = r;
+}

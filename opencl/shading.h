@@ -1,0 +1,69 @@
+/* Shading at a G-buffer surface: the target function p-hat of a light sample, the shadow ray, the estimate,
+ * and the guard that keeps NaN/Inf out of every output. Diffuse surfaces only: f = albedo / pi. */
+#ifndef RESTIRCL_SHADING_H
+#define RESTIRCL_SHADING_H
+
+typedef struct {
+    float3 x;       /* world position */
+    float3 n;       /* shading normal facing the camera */
+    float3 ng;      /* geometric normal facing the camera */
+    float3 brdf;    /* albedo / pi */
+    float depth;    /* view depth */
+    int valid;      /* 0: the primary ray missed */
+} Surface;
+
+inline Surface surface_load(const __global GSample* g, int i)
+{
+    Surface s;
+    GSample gs = g[i];
+    s.valid = as_int(gs.normal.w) >= 0;
+    s.x = gs.pos.xyz;
+    s.depth = gs.pos.w;
+    s.n = gs.normal.xyz;
+    s.ng = gs.gnormal.xyz;
+    s.brdf = gs.albedo.xyz * RESTIRCL_INV_PI;
+    return s;
+}
+
+/* p-hat(y) at surface s: luminance of the unshadowed contribution f * Le * cos_x * G. Fills *e when > 0. */
+inline float target_of(const Surface* s, const __global Light* lights, int light, float u, float v, LightEval* e)
+{
+    if (!s->valid || light < 0) return 0.0f;
+    if (!light_eval(&lights[light], u, v, s->x, s->n, e)) return 0.0f;
+    float t = luminance(s->brdf * e->contrib);
+    return (t > 0.0f && isfinite(t)) ? t : 0.0f;
+}
+
+/* Shadow ray from surface s towards the light sample in e. */
+inline bool visible(const __global BVHNode* nodes, const __global Tri* tris, const Surface* s, const LightEval* e)
+{
+    float3 o = offset_ray_origin(s->x, dot(s->ng, e->wi) >= 0.0f ? s->ng : -s->ng);
+    if (!isfinite(e->dist)) return !trace_any(nodes, tris, o, e->wi, INFINITY);
+    float3 t = offset_ray_origin(e->pos, e->nl);
+    float3 d = t - o;
+    float len = length(d);
+    if (!(len > 0.0f)) return true;
+    return !trace_any(nodes, tris, o, d / len, len * 0.9999f);
+}
+
+/* Is sample y = (light, u, v) in the support of the reservoir of surface s: p-hat_s(y) > 0 and, when
+ * reservoirs keep only visible samples (visibility reuse), V_s(y) = 1? Used by the unbiased 1/Z reuse. */
+inline bool in_support(const Surface* s, const __global BVHNode* nodes, const __global Tri* tris,
+                       const __global Light* lights, int light, float u, float v, int visibility)
+{
+    LightEval e;
+    if (!(target_of(s, lights, light, u, v, &e) > 0.0f)) return false;
+    return !visibility || visible(nodes, tris, s, &e);
+}
+
+inline void guard_count(volatile __global int* guards, int which) { atomic_inc(&guards[which]); }
+
+/* Replace a NaN/Inf colour by 0 and count it. */
+inline float3 guard_finite(float3 c, volatile __global int* guards, int which)
+{
+    if (isfinite(c.x) && isfinite(c.y) && isfinite(c.z)) return c;
+    guard_count(guards, which);
+    return (float3)(0.0f);
+}
+
+#endif

@@ -1,0 +1,91 @@
+/* Temporal accumulation: f_n = a * s_n + (1 - a) * clip(history(reprojected)), a = max(1 / n, alpha_min) with a
+ * per-pixel history length n. History is fetched bilinearly from the taps that show the same surface; it is
+ * clipped to the current 3x3 neighbourhood's YCoCg variance box (mean +- gamma * sigma). A NaN/Inf never
+ * enters the history: it is counted and the pixel restarts from the new sample. */
+
+inline float3 rgb_to_ycocg(float3 c)
+{
+    return (float3)(0.25f * c.x + 0.5f * c.y + 0.25f * c.z, 0.5f * c.x - 0.5f * c.z, -0.25f * c.x + 0.5f * c.y - 0.25f * c.z);
+}
+
+inline float3 ycocg_to_rgb(float3 c)
+{
+    return (float3)(c.x + c.y - c.z, c.x + c.z, c.x - c.y - c.z);
+}
+
+/* Move h towards the box centre until it lies inside the box centre +- extent. */
+inline float3 clip_to_box(float3 h, float3 centre, float3 extent)
+{
+    float3 d = h - centre;
+    float3 e = fmax(extent, (float3)(1e-7f));
+    float3 ratio = fabs(d) / e;
+    float m = fmax(ratio.x, fmax(ratio.y, ratio.z));
+    return m > 1.0f ? centre + d / m : h;
+}
+
+inline bool finite3(float3 c) { return isfinite(c.x) && isfinite(c.y) && isfinite(c.z); }
+
+__kernel void taa(const __global float4* sample, const __global GSample* gbuf, const __global GSample* prev_gbuf,
+                  const __global float4* history_in, __global float4* history_out, int width, int height,
+                  TaaParams p, int reset, volatile __global int* guards)
+{
+    int x = get_global_id(0), y = get_global_id(1);
+    if (x >= width || y >= height) return;
+    int i = y * width + x;
+    float3 s = sample[i].xyz;
+    if (!finite3(s)) { guard_count(guards, GUARD_NONFINITE_SAMPLE); s = (float3)(0.0f); }
+    float3 h = (float3)(0.0f);
+    float n_prev = 0.0f;
+    float2 prev;
+    if (!reset && reproject_position(gbuf, x, y, width, &prev)) {
+        GSample cur = gbuf[i];
+        float2 f = prev - 0.5f;
+        int x0 = (int)floor(f.x), y0 = (int)floor(f.y);
+        float fx = f.x - (float)x0, fy = f.y - (float)y0;
+        float wsum = 0.0f;
+        float3 hsum = (float3)(0.0f);
+        float nsum = 0.0f;
+        for (int t = 0; t < 4; ++t) {
+            int tx = x0 + (t & 1), ty = y0 + (t >> 1);
+            float wt = ((t & 1) ? fx : 1.0f - fx) * ((t >> 1) ? fy : 1.0f - fy);
+            if (wt <= 0.0f || tx < 0 || ty < 0 || tx >= width || ty >= height) continue;
+            int j = ty * width + tx;
+            GSample pg = prev_gbuf[j];
+            if (!reproject_same_surface(&cur, &pg, p.depth_tolerance, p.normal_cos)) continue;
+            float4 hv = history_in[j];
+            wsum += wt;
+            hsum += wt * hv.xyz;
+            nsum += wt * hv.w;
+        }
+        if (wsum > 1e-3f) {
+            h = hsum / wsum;
+            n_prev = nsum / wsum;
+            if (!finite3(h) || !isfinite(n_prev)) {
+                guard_count(guards, GUARD_NONFINITE_HISTORY);
+                n_prev = 0.0f;
+            }
+        }
+    }
+    if (n_prev > 0.0f && p.clip) {
+        float3 m1 = (float3)(0.0f), m2 = (float3)(0.0f);
+        float cnt = 0.0f;
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                int nx = clamp(x + dx, 0, width - 1), ny = clamp(y + dy, 0, height - 1);
+                float3 v = sample[ny * width + nx].xyz;
+                if (!finite3(v)) continue;
+                v = rgb_to_ycocg(v);
+                m1 += v;
+                m2 += v * v;
+                cnt += 1.0f;
+            }
+        float3 mean = m1 / cnt;
+        float3 sigma = sqrt(fmax(m2 / cnt - mean * mean, (float3)(0.0f)));
+        h = ycocg_to_rgb(clip_to_box(rgb_to_ycocg(h), mean, p.gamma * sigma));
+    }
+    float n = fmin(n_prev + 1.0f, (float)p.max_history);
+    float a = n_prev > 0.0f ? fmax(1.0f / n, p.alpha_min) : 1.0f;
+    float3 o = a * s + (1.0f - a) * h;
+    if (!finite3(o)) { guard_count(guards, GUARD_NONFINITE_HISTORY); o = s; n = 1.0f; }
+    history_out[i] = (float4)(o, n);
+}

@@ -1,0 +1,243 @@
+"""The `restircl` command line: demo, render, devices, bench, save-scene (and `python -m restircl`)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+from . import scenes
+from .device import DeviceError, get_device, list_devices
+from .pipeline import BIAS_CORRECTIONS, METHODS, Renderer, Settings
+from .program import KernelBuildError
+from .scene import Scene, SceneError
+
+
+class Progress:
+    """A one-line progress bar on stderr (plain lines when stderr is not a terminal)."""
+
+    def __init__(self, total: int, label: str) -> None:
+        self.total, self.label, self.t0 = max(total, 1), label, time.perf_counter()
+        self.tty = sys.stderr.isatty()
+
+    def update(self, done: int, extra: str = "") -> None:
+        frac = done / self.total
+        bar = "#" * int(frac * 30)
+        line = f"{self.label} [{bar:<30}] {done}/{self.total} {time.perf_counter() - self.t0:6.1f}s {extra}"
+        if self.tty:
+            sys.stderr.write("\r" + line)
+            if done >= self.total:
+                sys.stderr.write("\n")
+        elif done == self.total or done % max(self.total // 10, 1) == 0:
+            sys.stderr.write(line + "\n")
+        sys.stderr.flush()
+
+
+def load_scene(spec: str, width: int | None, height: int | None, frames: int | None = None) -> Scene:
+    """A built-in scene name or a scene file (.npz), with the resolution overridden if given."""
+    if spec in scenes.BUILTIN:
+        kwargs = {}
+        if width:
+            kwargs["width"] = width
+        if height:
+            kwargs["height"] = height
+        if frames and spec == "many_lights":
+            kwargs["frames"] = frames
+        return scenes.builtin(spec, **kwargs)
+    path = Path(spec)
+    if not path.exists():
+        raise SceneError(f"{spec!r} is neither a built-in scene ({', '.join(scenes.BUILTIN)}) nor a file")
+    scene = Scene.load(path)
+    if scene.camera is not None:
+        if width:
+            scene.camera.width = width
+        if height:
+            scene.camera.height = height
+    return scene
+
+
+def add_settings_args(p: argparse.ArgumentParser, method: str = "restir") -> None:
+    d = Settings()
+    g = p.add_argument_group("rendering method and its parameters")
+    g.add_argument("--method", choices=METHODS, default=method, help="light sampling method (default: %(default)s)")
+    g.add_argument("--candidates", type=int, default=d.candidates, help="RIS candidates per pixel (%(default)s)")
+    g.add_argument("--no-temporal", action="store_true", help="restir: no temporal reuse")
+    g.add_argument("--no-spatial", action="store_true", help="restir: no spatial reuse")
+    g.add_argument("--neighbours", type=int, default=d.spatial_neighbours, help="spatial neighbours (%(default)s)")
+    g.add_argument("--radius", type=float, default=d.spatial_radius, help="spatial radius, px (%(default)s)")
+    g.add_argument("--passes", type=int, default=d.spatial_passes, help="spatial passes (%(default)s)")
+    g.add_argument("--bias-correction", choices=BIAS_CORRECTIONS, default=d.bias_correction,
+                   help="none: plain M-weighted merge (biased); z_count: 1/Z (unbiased) (default: %(default)s)")
+    g.add_argument("--m-cap", type=float, default=d.m_cap, help="temporal M cap, x candidates (%(default)s)")
+    g.add_argument("--no-visibility-reuse", action="store_true", help="restir: no shadow ray for initial samples")
+    g.add_argument("--no-taa", action="store_true", help="no temporal accumulation of animation frames")
+    g.add_argument("--alpha-min", type=float, default=d.alpha_min, help="TAA minimum blend factor (%(default)s)")
+    g.add_argument("--gamma", type=float, default=d.gamma, help="TAA variance clipping width (%(default)s)")
+    g.add_argument("--seed", type=int, default=d.seed, help="random seed (%(default)s)")
+    g.add_argument("--general", action="store_true", help="compile every feature, not only what the scene needs")
+    p.add_argument("--device", default=None, help="OpenCL device: 'P:D' or a name substring (default: "
+                   "$RESTIRCL_DEVICE, else the first GPU, else the first CPU)")
+
+
+def settings_from_args(a: argparse.Namespace) -> Settings:
+    return Settings(
+        method=a.method, candidates=a.candidates, temporal=not a.no_temporal, spatial=not a.no_spatial,
+        spatial_neighbours=a.neighbours, spatial_radius=a.radius, spatial_passes=a.passes,
+        bias_correction=a.bias_correction, m_cap=a.m_cap, visibility_reuse=not a.no_visibility_reuse,
+        taa=not a.no_taa, alpha_min=a.alpha_min, gamma=a.gamma, seed=a.seed, specialise=not a.general,
+    ).validate()
+
+
+def _render(scene: Scene, settings: Settings, frames: int, out: Path, mode: str, device: str | None) -> int:
+    from .image_io import write_exr, write_png
+
+    renderer = Renderer(scene, settings, device)
+    cam = scene.camera
+    assert cam is not None
+    print(f"device: {renderer.device.label}")
+    print(f"scene: {scene.name}, {renderer.triangle_count} triangles, {len(renderer.lights)} lights, "
+          f"resolution {cam.width}x{cam.height}, method {settings.method}")
+    print(f"features compiled: {', '.join(renderer.features) or 'none'} (build {renderer.build_seconds:.2f} s, "
+          f"BVH {renderer.bvh_seconds:.2f} s)")
+    out.mkdir(parents=True, exist_ok=True)
+    if mode == "auto":
+        mode = "still" if scene.frames == 1 else "animation"
+    if mode == "still":
+        bar = Progress(frames, "render")
+        state = {"err": None}
+
+        def progress(done: int, total: int) -> None:
+            if done % 8 == 0 and done >= 8:
+                state["err"] = renderer.error_estimate(done, done // 2)
+            extra = f"est. relMSE {state['err']:.2e}" if state["err"] is not None else ""
+            bar.update(done, extra)
+
+        f = renderer.render_still(0, frames, progress=progress)
+        write_exr(out / f"{scene.name}_{settings.method}.exr", f)
+        write_png(out / f"{scene.name}_{settings.method}.png", f)
+        est = f"{f.error_estimate:.3e}" if f.error_estimate is not None else "n/a"
+        print(f"{f.samples} samples, {f.ms:.1f} ms per sample, estimated relMSE {est}")
+        _print_guards(f.guards)
+        print(f"wrote {out / (scene.name + '_' + settings.method)}.exr/.png")
+        return 0
+    bar = Progress(frames, "render")
+    times = []
+    last = None
+    for i in range(frames):
+        f = renderer.render_frame(i % scene.frames)
+        times.append(f.ms)
+        write_exr(out / f"{scene.name}_{i:04d}.exr", f)
+        write_png(out / f"{scene.name}_{i:04d}.png", f)
+        bar.update(i + 1, f"{f.ms:.0f} ms")
+        last = f
+    assert last is not None
+    warm = times[1:] if len(times) > 1 else times
+    print(f"{frames} frames, {sum(warm) / len(warm):.1f} ms per frame (after the first; first {times[0]:.1f} ms)")
+    print("stages of the last frame (ms): " + ", ".join(f"{k} {v:.1f}" for k, v in last.stage_ms.items()))
+    _print_guards(last.guards)
+    print(f"wrote {frames} frames to {out}/ (EXR with AOVs, PNG previews)")
+    return 0
+
+
+def _print_guards(guards: dict[str, int]) -> None:
+    bad = {k: v for k, v in guards.items() if v}
+    print("NaN/Inf guards: " + (", ".join(f"{k} {v}" for k, v in bad.items()) if bad else "none triggered"))
+
+
+def cmd_demo(a: argparse.Namespace) -> int:
+    scene = scenes.many_lights(width=a.width, height=a.height, frames=a.frames)
+    return _render(scene, settings_from_args(a), a.frames, Path(a.out), "animation", a.device)
+
+
+def cmd_render(a: argparse.Namespace) -> int:
+    scene = load_scene(a.scene, a.width, a.height, a.frames)
+    return _render(scene, settings_from_args(a), a.frames, Path(a.out), a.mode, a.device)
+
+
+def cmd_devices(a: argparse.Namespace) -> int:
+    for info, _ in list_devices():
+        print(info.label)
+    dev = get_device(a.device)
+    print(f"chosen: {dev.label}")
+    return 0
+
+
+def cmd_bench(a: argparse.Namespace) -> int:
+    from . import bench
+
+    return bench.main(a)
+
+
+def cmd_save_scene(a: argparse.Namespace) -> int:
+    scene = load_scene(a.scene, a.width, a.height)
+    scene.save(a.path)
+    print(f"wrote {a.path}")
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="restircl", description=__doc__)
+    sub = p.add_subparsers(dest="command", required=True)
+
+    d = sub.add_parser("demo", help="render the built-in many_lights flythrough into out/",
+                       description="Render several frames of the built-in many_lights scene (animated camera) "
+                                   "with ReSTIR + TAA into --out as EXR (with AOVs) and PNG previews.")
+    d.add_argument("--width", type=int, default=640)
+    d.add_argument("--height", type=int, default=360)
+    d.add_argument("--frames", type=int, default=16)
+    d.add_argument("--out", default="out")
+    add_settings_args(d)
+    d.set_defaults(func=cmd_demo)
+
+    r = sub.add_parser("render", help="render a built-in scene or a scene file",
+                       description="Render SCENE (a built-in name or a .npz scene file). A still scene "
+                                   "accumulates --frames samples into one image; an animated one writes one "
+                                   "image per frame.")
+    r.add_argument("scene", help=f"built-in scene ({', '.join(scenes.BUILTIN)}) or a scene file")
+    r.add_argument("--width", type=int, default=None)
+    r.add_argument("--height", type=int, default=None)
+    r.add_argument("--frames", type=int, default=16, help="samples (still) or frames (animation)")
+    r.add_argument("--mode", choices=("auto", "still", "animation"), default="auto",
+                   help="auto: still if the scene has one frame (default)")
+    r.add_argument("--out", default="out")
+    add_settings_args(r)
+    r.set_defaults(func=cmd_render)
+
+    v = sub.add_parser("devices", help="list OpenCL devices and the one chosen")
+    v.add_argument("--device", default=None)
+    v.set_defaults(func=cmd_devices)
+
+    b = sub.add_parser("bench", help="benchmarks: traversal vs Embree, frame times",
+                       description="Print benchmark figures (not timed tests).")
+    b.add_argument("what", nargs="?", choices=("traversal", "frame", "all"), default="all")
+    b.add_argument("--triangles", type=int, default=1_000_000)
+    b.add_argument("--width", type=int, default=640)
+    b.add_argument("--height", type=int, default=360)
+    b.add_argument("--no-embree", action="store_true")
+    b.add_argument("--device", default=None)
+    b.set_defaults(func=cmd_bench)
+
+    s = sub.add_parser("save-scene", help="write a built-in scene to a scene file (.npz)")
+    s.add_argument("scene")
+    s.add_argument("path")
+    s.add_argument("--width", type=int, default=None)
+    s.add_argument("--height", type=int, default=None)
+    s.set_defaults(func=cmd_save_scene)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return int(args.func(args) or 0)
+    except (DeviceError, KernelBuildError, SceneError, ValueError) as exc:
+        print(f"restircl: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("restircl: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,35 @@
+"""Feature flags: what a scene and its settings need, compiled in with -D and nothing more (DESIGN section 6)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+from . import layouts as L
+
+LIGHT_FLAGS = {
+    L.LIGHT_TRIANGLE: "HAS_TRIANGLE_LIGHTS",
+    L.LIGHT_QUAD: "HAS_QUAD_LIGHTS",
+    L.LIGHT_DISK: "HAS_DISK_LIGHTS",
+    L.LIGHT_SPHERE: "HAS_SPHERE_LIGHTS",
+    L.LIGHT_SPOT: "HAS_SPOT_LIGHTS",
+    L.LIGHT_SUN: "HAS_SUN_LIGHTS",
+}
+ALL_FLAGS = (*LIGHT_FLAGS.values(), "HAS_MOTION", "HAS_MOVING_OBJECTS")
+
+
+def derive_flags(light_types: Iterable[int], motion: bool, moving_objects: bool) -> dict[str, bool]:
+    """Flags for a scene with these light types, and whether anything moves between frames."""
+    types = set(light_types)
+    flags = {name: t in types for t, name in LIGHT_FLAGS.items()}
+    flags["HAS_MOTION"] = bool(motion or moving_objects)
+    flags["HAS_MOVING_OBJECTS"] = bool(moving_objects)
+    return flags
+
+
+def general_flags() -> dict[str, bool]:
+    """Every feature on: the general build that specialised builds must match."""
+    return dict.fromkeys(ALL_FLAGS, True)
+
+
+def describe(flags: dict[str, bool]) -> list[str]:
+    return [name.removeprefix("HAS_").lower() for name in ALL_FLAGS if flags.get(name)]

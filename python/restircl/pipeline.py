@@ -1,0 +1,472 @@
+"""The frame pipeline: one frame reads top to bottom in Renderer.render_frame (DESIGN section 2).
+
+    1 primary    camera rays -> G-buffer (position, normals, albedo, emission, motion)
+    2 initial    RIS over `candidates` light-array samples -> reservoir        (restir)
+    3 visibility shadow ray for the initial sample, inside restir_initial        (restir, visibility_reuse)
+    4 temporal   merge with last frame's reservoir found by reprojection        (restir, temporal, history)
+    5 spatial    merge neighbours' reservoirs, `spatial_passes` times           (restir, spatial)
+    6 shade      one shadow ray to the chosen sample -> noisy direct light s_n  (every method)
+    7 taa        f_n = a s_n + (1 - a) clip(history)                            (taa, animation frames)
+    8 output     numpy arrays: colour and AOVs
+
+Steps a scene or a setting does not need are not run, and their code is not compiled (features.py).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field, fields
+
+import numpy as np
+import pyopencl as cl
+
+from . import layouts as L
+from .bvh import build_bvh, make_tris
+from .camera import camera_record, jitter
+from .device import Device, get_device
+from .features import derive_flags, describe, general_flags
+from .light_array import build_light_array
+from .lights import scene_lights
+from .program import build_program
+from .scene import Scene
+
+METHODS = ("uniform", "light_array", "ris", "restir", "reference")
+BIAS_CORRECTIONS = ("none", "z_count")
+_METHOD_CODE = {"uniform": 0, "light_array": 1, "ris": 2}
+
+
+@dataclass
+class Settings:
+    """Every parameter of a render. Defaults follow DESIGN section 3, tuned for a 2-core CPU."""
+
+    method: str = "restir"
+    candidates: int = 8  # RIS candidates per pixel (ris, restir)
+    temporal: bool = True  # restir: reuse last frame's reservoirs
+    spatial: bool = True  # restir: reuse neighbours' reservoirs
+    spatial_neighbours: int = 3
+    spatial_radius: float = 30.0  # pixels
+    spatial_passes: int = 1
+    bias_correction: str = "z_count"  # "none": plain M-weighted merge (biased); "z_count": 1/Z (unbiased)
+    m_cap: float = 20.0  # temporal history cap, as a multiple of `candidates`
+    visibility_reuse: bool = True  # shadow-test the initial sample; unbiased reuse then counts visibility
+    taa: bool = True  # temporal accumulation of animation frames
+    alpha_min: float = 0.1
+    gamma: float = 1.0  # variance clipping width
+    max_history: int = 256
+    depth_tolerance: float = 0.1  # relative view-depth mismatch rejecting a neighbour / history
+    normal_angle: float = 25.0  # degrees of normal mismatch rejecting a neighbour / history
+    slots_per_light: float = 4.0  # light array size M = k * N
+    jitter: bool = True  # sub-pixel camera jitter (Halton 2, 3)
+    seed: int = 0
+    specialise: bool = True  # False: build with every feature (for tests and benchmarks)
+
+    def validate(self) -> Settings:
+        if self.method not in METHODS:
+            raise ValueError(f"method must be one of {METHODS}, got {self.method!r}")
+        if self.bias_correction not in BIAS_CORRECTIONS:
+            raise ValueError(f"bias_correction must be one of {BIAS_CORRECTIONS}, got {self.bias_correction!r}")
+        checks = {
+            "candidates": 1 <= self.candidates <= 4096,
+            "spatial_neighbours": 0 <= self.spatial_neighbours <= 16,
+            "spatial_radius": math.isfinite(self.spatial_radius) and self.spatial_radius >= 1,
+            "spatial_passes": 0 <= self.spatial_passes <= 8,
+            "m_cap": math.isfinite(self.m_cap) and self.m_cap >= 1,
+            "alpha_min": 0 <= self.alpha_min <= 1,
+            "gamma": math.isfinite(self.gamma) and self.gamma > 0,
+            "max_history": self.max_history >= 1,
+            "depth_tolerance": self.depth_tolerance > 0,
+            "normal_angle": 0 <= self.normal_angle <= 180,
+            "slots_per_light": math.isfinite(self.slots_per_light) and self.slots_per_light >= 1,
+        }
+        for name, ok in checks.items():
+            if not ok:
+                raise ValueError(f"setting {name}={getattr(self, name)!r} is out of range")
+        return self
+
+    @classmethod
+    def names(cls) -> list[str]:
+        return [f.name for f in fields(cls)]
+
+
+@dataclass
+class Frame:
+    """One rendered frame: (H, W, ...) float32 arrays, row 0 at the top."""
+
+    color: np.ndarray  # (H, W, 4) RGBA: TAA output (animation) or the accumulated mean (still)
+    noisy: np.ndarray  # (H, W, 3) the last 1-sample direct light estimate s_n (emission included)
+    depth: np.ndarray  # (H, W) view depth, inf where the camera ray missed
+    normal: np.ndarray  # (H, W, 3) world shading normal
+    vector: np.ndarray  # (H, W, 4) Blender-style Vector pass: xy motion to the previous frame (pixels, y up)
+    albedo: np.ndarray  # (H, W, 3)
+    frame: int = 0
+    samples: int = 1
+    ms: float = 0.0
+    stage_ms: dict[str, float] = field(default_factory=dict)
+    guards: dict[str, int] = field(default_factory=dict)
+    features: list[str] = field(default_factory=list)
+    error_estimate: float | None = None  # relMSE estimated from two half buffers (still renders)
+
+
+def _resolve_device(device: Device | str | None) -> Device:
+    if isinstance(device, Device):
+        return device
+    return get_device(device)
+
+
+class Renderer:
+    """Renders a Scene frame by frame on one OpenCL device, keeping ReSTIR and TAA history between frames."""
+
+    def __init__(self, scene: Scene, settings: Settings | None = None, device: Device | str | None = None) -> None:
+        self.scene = scene.validate()
+        self.settings = (settings or Settings()).validate()
+        self.device = _resolve_device(device)
+        cam = scene.camera
+        assert cam is not None
+        self.width, self.height = int(cam.width), int(cam.height)
+        self.pixels = self.width * self.height
+        self._geometry_key: int | None = None
+        self._lights_key: int | None = None
+        self._light_count: int | None = None
+        self._sample = 0  # frames rendered so far: the random seed of the next one
+        self._last_frame: int | None = None
+        self._history_valid = False
+        self.guard_totals = dict.fromkeys(L.GUARD_NAMES[: L.GUARD_COUNT], 0)
+        self._alloc()
+        self._upload_scene(0)
+        self._build()
+
+    # ---- set-up ------------------------------------------------------------------------------------
+
+    def _buf(self, nbytes: int) -> cl.Buffer:
+        return cl.Buffer(self.device.context, cl.mem_flags.READ_WRITE, max(int(nbytes), 16))
+
+    def _upload(self, array: np.ndarray) -> cl.Buffer:
+        data = np.ascontiguousarray(array)
+        if data.nbytes == 0:
+            data = np.zeros(16, np.uint8)
+        return cl.Buffer(self.device.context, cl.mem_flags.READ_ONLY | cl.mem_flags.COPY_HOST_PTR, hostbuf=data)
+
+    def _alloc(self) -> None:
+        n = self.pixels
+        self.gbuf = [self._buf(n * L.GSAMPLE.itemsize) for _ in range(2)]
+        self.res_initial = self._buf(n * L.RESERVOIR.itemsize)
+        self.res_temp = self._buf(n * L.RESERVOIR.itemsize)
+        self.res_history = [self._buf(n * L.RESERVOIR.itemsize) for _ in range(2)]
+        self.sample_buf = self._buf(n * 16)
+        self.taa_history = [self._buf(n * 16) for _ in range(2)]
+        self.sum_buf = self._buf(n * 16)
+        self.sum_half = self._buf(n * 16)
+        self.guard_buf = self._buf(4 * L.GUARD_COUNT)
+        self.cameras = [self._buf(L.CAMERA.itemsize) for _ in range(2)]
+        cl.enqueue_fill_buffer(self.device.queue, self.guard_buf, np.int32(0), 0, 4 * L.GUARD_COUNT)
+        self._cur = 0  # index of the current frame's G-buffer / history slot
+
+    def _upload_scene(self, frame: int) -> None:
+        """Upload geometry and lights for `frame` when they differ from what the device holds."""
+        scene = self.scene
+        geo_key = frame if scene.has_moving_objects else 0
+        world = None
+        if self._geometry_key != geo_key:
+            world = scene.world_triangles(frame)
+            t0 = time.perf_counter()
+            bvh = build_bvh(world.v0, world.v1, world.v2)
+            tris = make_tris(world.v0, world.v1, world.v2, world.material, world.prim, bvh.order)
+            tris["e2"][:, 3] = L.int_bits(world.object[bvh.order])
+            self.bvh_seconds = time.perf_counter() - t0
+            self.nodes_buf = self._upload(bvh.nodes)
+            self.tris_buf = self._upload(tris)
+            self.triangle_count = len(world)
+            mats = np.zeros(max(len(scene.materials), 1), L.MATERIAL)
+            for i, m in enumerate(scene.materials):
+                mats["albedo"][i, :3] = m.albedo
+                mats["emission"][i, :3] = m.radiance
+                mats["emission"][i, 3] = float(m.is_emissive)
+            self.materials_buf = self._upload(mats)
+            self._geometry_key = geo_key
+        lights_key = frame if (scene.has_moving_lights or scene.has_moving_objects) else 0
+        if self._lights_key != lights_key:
+            if world is None:
+                world = scene.world_triangles(frame)
+            lights = scene_lights(scene, frame, world)
+            if self._light_count is not None and self._light_count != len(lights):
+                self._history_valid = False  # light indices changed: old reservoirs point elsewhere
+            self.lights = lights
+            self._light_count = len(lights)
+            self.light_array = build_light_array(lights.power, self.settings.slots_per_light)
+            self.lights_buf = self._upload(lights.records)
+            self.slots_buf = self._upload(self.light_array.slots)
+            self.light_pdf_buf = self._upload(self.light_array.pdf)
+            self._lights_key = lights_key
+        n_obj = max(len(scene.meshes), 1)
+        motion = np.zeros((n_obj, 3, 4), np.float32)
+        motion[:, :, :3] = np.eye(3)
+        if scene.has_moving_objects and self._last_frame is not None:
+            for k, mesh in enumerate(scene.meshes):
+                cur = Scene.at(mesh.transforms, frame)
+                prev = Scene.at(mesh.transforms, self._last_frame)
+                motion[k] = (prev @ np.linalg.inv(cur))[:3, :]
+        self.motion_buf = self._upload(motion)
+
+    def _build(self) -> None:
+        s = self.scene
+        moving_camera = s.camera is not None and s.camera.transforms.shape[0] > 1
+        if self.settings.specialise:
+            flags = derive_flags(self.lights.type_set, moving_camera or s.has_moving_objects, s.has_moving_objects)
+        else:
+            flags = general_flags()
+        self.flags = flags
+        self.features = describe(flags)
+        t0 = time.perf_counter()
+        self.program = build_program(self.device, flags)
+        self.build_seconds = time.perf_counter() - t0
+        names = ["primary", "shade_direct", "shade_reference", "accumulate", "restir_initial", "restir_temporal",
+                 "restir_spatial", "restir_shade", "taa"]
+        self.k = {name: cl.Kernel(self.program, name) for name in names}
+
+    def reset(self) -> None:
+        """Drop all history (ReSTIR reservoirs, TAA, accumulation)."""
+        self._history_valid = False
+        self._last_frame = None
+
+    # ---- parameters ---------------------------------------------------------------------------------
+
+    def _restir_params(self) -> np.void:
+        s = self.settings
+        p = np.zeros(1, L.RESTIR_PARAMS)
+        p["candidates"] = s.candidates
+        p["spatial_neighbours"] = s.spatial_neighbours
+        p["spatial_radius"] = s.spatial_radius
+        p["m_cap"] = s.m_cap * s.candidates
+        p["depth_tolerance"] = s.depth_tolerance
+        p["normal_cos"] = math.cos(math.radians(s.normal_angle))
+        p["frame"] = self._sample
+        p["seed"] = s.seed
+        return p[0]
+
+    def _taa_params(self, clip: bool) -> np.void:
+        s = self.settings
+        p = np.zeros(1, L.TAA_PARAMS)
+        p["alpha_min"] = s.alpha_min
+        p["gamma"] = s.gamma
+        p["depth_tolerance"] = s.depth_tolerance
+        p["normal_cos"] = math.cos(math.radians(s.normal_angle))
+        p["clip"] = int(clip)
+        p["max_history"] = s.max_history
+        return p[0]
+
+    def _run(self, name: str, size: tuple[int, ...], *args) -> None:
+        kernel = self.k[name]
+        kernel.set_args(*args)
+        cl.enqueue_nd_range_kernel(self.device.queue, kernel, size, None)
+
+    # ---- the frame -------------------------------------------------------------------------------------
+
+    def render_frame(self, frame: int, *, still: bool = False) -> Frame:
+        """Render animation frame `frame`, carrying history from the previous call (reset on a camera cut)."""
+        s, scene, q = self.settings, self.scene, self.device.queue
+        cam = scene.camera
+        assert cam is not None
+        stage: dict[str, float] = {}
+        t_frame = time.perf_counter()
+
+        def mark(name: str, t0: float) -> float:
+            q.finish()
+            t1 = time.perf_counter()
+            stage[name] = stage.get(name, 0.0) + (t1 - t0) * 1e3
+            return t1
+
+        t = time.perf_counter()
+        cut = frame in cam.cuts and frame != self._last_frame
+        consecutive = self._last_frame is not None and frame in (self._last_frame, self._last_frame + 1)
+        history = self._history_valid and consecutive and not cut
+        prev_frame = self._last_frame if history else frame
+        self._upload_scene(frame)
+        t = mark("upload", t)
+
+        # 1 primary: camera rays -> G-buffer (ping-pong with last frame's)
+        cur, prev = self._cur, 1 - self._cur
+        jit = jitter(self._sample) if s.jitter else (0.0, 0.0)
+        cl.enqueue_copy(q, self.cameras[0], camera_record(cam, frame, jit))
+        cl.enqueue_copy(q, self.cameras[1], camera_record(cam, prev_frame))
+        w, h, n = self.width, self.height, self.pixels
+        self._run("primary", (w, h), self.cameras[0], self.cameras[1], self.nodes_buf, self.tris_buf,
+                  self.materials_buf, self.motion_buf, self.gbuf[cur])
+        t = mark("primary", t)
+
+        light_count = len(self.lights) if self.light_array.slot_count and len(self.light_array.slots) else 0
+        la = (self.lights_buf, np.int32(light_count), self.slots_buf, np.int32(self.light_array.slot_count),
+              self.light_pdf_buf)
+        geo = (self.nodes_buf, self.tris_buf)
+        method = s.method
+        if method == "ris" and light_count == 1:
+            method = "light_array"  # RIS over one light picks that light: leave the loop out
+        if method == "restir":
+            params = self._restir_params()
+            bias = np.int32(BIAS_CORRECTIONS.index(s.bias_correction))
+            vis = np.int32(s.visibility_reuse)
+            # 2-3 initial reservoirs (RIS), visibility of the chosen sample
+            self._run("restir_initial", (n,), self.gbuf[cur], np.int32(n), *geo, *la, params, vis, self.res_initial)
+            t = mark("initial", t)
+            res = self.res_initial
+            # 4 temporal reuse
+            if s.temporal and history:
+                self._run("restir_temporal", (w, h), self.gbuf[cur], self.gbuf[prev], np.int32(w), np.int32(h), *geo,
+                          self.lights_buf, params, bias, vis, res, self.res_history[prev], self.res_temp,
+                          self.guard_buf)
+                res = self.res_temp
+                t = mark("temporal", t)
+            # 5 spatial reuse, ping-pong between the temporal buffer and this frame's history slot
+            if s.spatial and s.spatial_neighbours > 0:
+                bufs = [self.res_history[cur], self.res_temp if res is not self.res_temp else self.res_initial]
+                for p in range(s.spatial_passes):
+                    dst = bufs[p % 2]
+                    self._run("restir_spatial", (w, h), self.gbuf[cur], np.int32(w), np.int32(h), *geo,
+                              self.lights_buf, params, bias, vis, np.int32(p), res, dst)
+                    res = dst
+                t = mark("spatial", t)
+            if res is not self.res_history[cur]:
+                cl.enqueue_copy(q, self.res_history[cur], res)
+            # 6 shade: one shadow ray to the final sample
+            self._run("restir_shade", (n,), self.gbuf[cur], np.int32(n), *geo, self.lights_buf,
+                      self.res_history[cur], self.guard_buf, self.sample_buf)
+            t = mark("shade", t)
+        elif method == "reference":
+            self._run("shade_reference", (n,), self.gbuf[cur], np.int32(n), *geo, self.lights_buf,
+                      np.int32(light_count), np.uint32(self._sample), np.uint32(s.seed), self.guard_buf,
+                      self.sample_buf)
+            t = mark("shade", t)
+        else:
+            self._run("shade_direct", (n,), self.gbuf[cur], np.int32(n), *geo, *la, np.int32(_METHOD_CODE[method]),
+                      np.int32(s.candidates), np.uint32(self._sample), np.uint32(s.seed), self.guard_buf,
+                      self.sample_buf)
+            t = mark("shade", t)
+
+        # 7 temporal accumulation (animation frames only; a still render averages instead)
+        color_buf = self.sample_buf
+        if s.taa and not still:
+            moving = (prev_frame != frame) or scene.has_moving_lights or scene.has_moving_objects
+            self._run("taa", (w, h), self.sample_buf, self.gbuf[cur], self.gbuf[prev], self.taa_history[prev],
+                      self.taa_history[cur], np.int32(w), np.int32(h), self._taa_params(clip=moving),
+                      np.int32(not history), self.guard_buf)
+            color_buf = self.taa_history[cur]
+            t = mark("taa", t)
+
+        self._history_valid = True
+        self._last_frame = frame
+        self._sample += 1
+        self._cur = prev
+        out = self._read(color_buf, self.gbuf[cur], frame)
+        out.stage_ms = stage
+        out.ms = (time.perf_counter() - t_frame) * 1e3
+        return out
+
+    # ---- output -----------------------------------------------------------------------------------------
+
+    def _read_guards(self) -> dict[str, int]:
+        g = np.zeros(L.GUARD_COUNT, np.int32)
+        cl.enqueue_copy(self.device.queue, g, self.guard_buf)
+        cl.enqueue_fill_buffer(self.device.queue, self.guard_buf, np.int32(0), 0, 4 * L.GUARD_COUNT)
+        for i, name in enumerate(L.GUARD_NAMES[: L.GUARD_COUNT]):
+            self.guard_totals[name] += int(g[i])
+        return dict(self.guard_totals)
+
+    def _read_gbuffer(self, gbuf: cl.Buffer) -> np.ndarray:
+        g = np.empty(self.pixels, L.GSAMPLE)
+        cl.enqueue_copy(self.device.queue, g, gbuf)
+        return g.reshape(self.height, self.width)
+
+    def _read(self, color_buf: cl.Buffer, gbuf: cl.Buffer, frame: int, scale: float = 1.0) -> Frame:
+        q = self.device.queue
+        h, w = self.height, self.width
+        color = np.empty((h, w, 4), np.float32)
+        cl.enqueue_copy(q, color, color_buf)
+        noisy = np.empty((h, w, 4), np.float32)
+        cl.enqueue_copy(q, noisy, self.sample_buf)
+        g = self._read_gbuffer(gbuf)
+        hit = L.float_bits_to_int(g["normal"][..., 3]) >= 0
+        rgb = color[..., :3] * np.float32(scale)
+        bad = ~np.isfinite(rgb)
+        if bad.any():  # the kernels guard already; this keeps a NaN from ever leaving the renderer
+            rgb[bad] = 0.0
+            self.guard_totals["nonfinite_sample"] += int(bad.any(axis=-1).sum())
+        color[..., :3] = rgb
+        color[..., 3] = 1.0
+        vector = np.zeros((h, w, 4), np.float32)
+        vector[..., 0] = g["motion"][..., 0]
+        vector[..., 1] = -g["motion"][..., 1]
+        return Frame(
+            color=color,
+            noisy=noisy[..., :3].copy(),
+            depth=np.where(hit, g["pos"][..., 3], np.inf).astype(np.float32),
+            normal=np.where(hit[..., None], g["normal"][..., :3], 0.0).astype(np.float32),
+            vector=vector,
+            albedo=np.where(hit[..., None], g["albedo"][..., :3], 0.0).astype(np.float32),
+            frame=frame,
+            guards=self._read_guards(),
+            features=list(self.features),
+        )
+
+    # ---- still renders --------------------------------------------------------------------------------
+
+    def render_still(
+        self,
+        frame: int = 0,
+        samples: int = 16,
+        progress: Callable[[int, int], None] | None = None,
+        should_stop: Callable[[], bool] | None = None,
+        target_error: float | None = None,
+    ) -> Frame:
+        """Average `samples` frames of a still camera at `frame` (ReSTIR keeps reusing between them)."""
+        q = self.device.queue
+        for b in (self.sum_buf, self.sum_half):
+            cl.enqueue_fill_buffer(q, b, np.float32(0), 0, self.pixels * 16)
+        n_half = 0
+        done = 0
+        last: Frame | None = None
+        stage: dict[str, float] = {}
+        t0 = time.perf_counter()
+        estimate = None
+        for k in range(max(int(samples), 1)):
+            if should_stop is not None and should_stop() and done > 0:
+                break
+            last = self.render_frame(frame, still=True)
+            for key, v in last.stage_ms.items():
+                stage[key] = stage.get(key, 0.0) + v
+            odd = k % 2
+            self._run("accumulate", (self.pixels,), self.sample_buf, np.int32(self.pixels), np.int32(odd),
+                      self.sum_buf, self.sum_half)
+            n_half += odd
+            done += 1
+            if progress is not None:
+                progress(done, samples)
+            if target_error is not None and done >= 8 and done % 4 == 0:
+                estimate = self.error_estimate(done, n_half)
+                if estimate is not None and estimate <= target_error:
+                    break
+        assert last is not None
+        out = self._read(self.sum_buf, self.gbuf[1 - self._cur], frame, scale=1.0 / done)
+        out.noisy = last.noisy
+        out.samples = done
+        out.stage_ms = {k: v / done for k, v in stage.items()}
+        out.ms = (time.perf_counter() - t0) * 1e3 / done
+        out.error_estimate = self.error_estimate(done, n_half) if done >= 2 else None
+        return out
+
+    def error_estimate(self, done: int, n_half: int) -> float | None:
+        """relMSE of the running mean estimated from two half buffers (odd and even frames), no reference needed:
+        the halves are independent estimates, so E|a - b|^2 = var_a + var_b, and the full mean has a quarter of
+        that when the halves are equal in size."""
+        if n_half == 0 or done - n_half == 0:
+            return None
+        q = self.device.queue
+        total = np.empty((self.pixels, 4), np.float32)
+        half = np.empty((self.pixels, 4), np.float32)
+        cl.enqueue_copy(q, total, self.sum_buf)
+        cl.enqueue_copy(q, half, self.sum_half)
+        a = half[:, :3] / n_half
+        b = (total[:, :3] - half[:, :3]) / (done - n_half)
+        mean = total[:, :3] / done
+        var_mean = (a - b) ** 2 * (n_half * (done - n_half)) / (done * done)
+        return float(np.mean(var_mean / (mean * mean + 0.01)))
