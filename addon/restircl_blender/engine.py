@@ -1,0 +1,278 @@
+"""What the restircl RenderEngine does: export, render with restircl.Renderer, write the Render Result.
+
+Blender creates a new RenderEngine for every frame of an animation, so the renderer (its uploaded scene,
+compiled kernels and ReSTIR/TAA history) lives in a module-level session per view layer: the first frame of an
+animation exports the geometry once with the motion of every frame, later frames only render. The session is
+dropped when the render job completes or is cancelled. A still render (F12) accumulates `samples` frames; its
+renderer is kept and reused by the next still render of an identical scene.
+
+Nothing here lets an exception escape into Blender: failures are reported with RenderEngine.report.
+"""
+
+from __future__ import annotations
+
+import inspect
+import traceback
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import export
+
+NOISY_PASS = "Noisy Direct"
+DEPTH_MISS = 1e10  # what Blender's Depth pass holds where no surface is hit
+MAX_REPORTED_WARNINGS = 8
+
+
+def register_passes(engine, scene, view_layer) -> None:
+    """RenderEngine.update_render_passes: the passes this engine writes, following the view layer's flags."""
+    engine.register_pass(scene, view_layer, "Combined", 4, "RGBA", "COLOR")
+    if view_layer.use_pass_z:
+        engine.register_pass(scene, view_layer, "Depth", 1, "Z", "VALUE")
+    if view_layer.use_pass_normal:
+        engine.register_pass(scene, view_layer, "Normal", 3, "XYZ", "VECTOR")
+    if view_layer.use_pass_vector:
+        engine.register_pass(scene, view_layer, "Vector", 4, "XYZW", "VECTOR")
+    vl_props = getattr(view_layer, "restircl", None)
+    if vl_props is None or vl_props.use_pass_noisy_direct:
+        engine.register_pass(scene, view_layer, NOISY_PASS, 3, "RGB", "COLOR")
+
+
+@dataclass
+class _Session:
+    renderer: object
+    export: export.Export
+    fingerprint: str
+    settings_key: tuple
+    device: str
+    animation: bool
+    deforming: bool = False  # geometry changes between frames: export each frame anew
+    last_frame: int | None = None
+
+
+_SESSIONS: dict[tuple[str, str], _Session] = {}
+
+
+def clear_sessions(*_args) -> None:
+    """Drop every renderer (handler of render_complete / render_cancel / load_pre)."""
+    _SESSIONS.clear()
+
+
+def clear_animation_sessions(*_args) -> None:
+    for key in [k for k, s in _SESSIONS.items() if s.animation]:
+        del _SESSIONS[key]
+
+
+def render(engine, depsgraph) -> None:
+    """RenderEngine.render: never raises."""
+    try:
+        _render(engine, depsgraph)
+    except Exception as exc:  # a bug of ours: tell the user, never crash Blender
+        traceback.print_exc()
+        engine.report({"ERROR"}, f"restircl: unexpected {type(exc).__name__}: {exc}")
+        clear_sessions()
+
+
+def _report_warnings(engine, messages) -> None:
+    for msg in messages[:MAX_REPORTED_WARNINGS]:
+        engine.report({"WARNING"}, f"restircl: {msg}")
+    if len(messages) > MAX_REPORTED_WARNINGS:
+        engine.report({"WARNING"}, f"restircl: {len(messages) - MAX_REPORTED_WARNINGS} more warnings")
+
+
+def make_settings(restircl, props):
+    """restircl.Settings from scene.restircl, passing only the keywords this restircl version knows."""
+    kwargs = props.settings_kwargs()
+    try:
+        accepted = set(inspect.signature(restircl.Settings).parameters)
+    except (TypeError, ValueError):
+        accepted = set(kwargs)
+    return restircl.Settings(**{k: v for k, v in kwargs.items() if k in accepted})
+
+
+def _frames_to_sample(scene, frame: int, animation: bool, warmup: int, use_vector: bool,
+                      deforming: bool) -> list[int]:
+    """Blender frames whose motion is exported. An animation samples the rest of the frame range and, before
+    it, the warm-up frames (at least one when the Vector pass is on: motion needs a previous frame)."""
+    if not animation:
+        return [frame]
+    step = max(1, int(scene.frame_step))
+    before = max(int(warmup), 1 if use_vector else 0)
+    last = frame if deforming else max(frame, int(scene.frame_end))
+    return [frame - k * step for k in range(before, 0, -1)] + list(range(frame, last + 1, step))
+
+
+def _render(engine, depsgraph) -> None:
+    scene = depsgraph.scene
+    view_layer = depsgraph.view_layer
+    props = scene.restircl
+    try:
+        import restircl
+    except ImportError as exc:
+        engine.report({"ERROR"}, f"restircl: the restircl package cannot be imported ({exc}); install the "
+                      "extension with its bundled wheels, or `pip install restircl` into Blender's Python")
+        return
+    if not hasattr(restircl, "Renderer"):
+        engine.report({"ERROR"}, "restircl: this restircl package has no Renderer (too old)")
+        return
+    known = tuple(getattr(restircl, n) for n in ("DeviceError", "KernelBuildError", "SceneError")
+                  if hasattr(restircl, n)) + (export.ExportError,)
+
+    frame = int(scene.frame_current)
+    animation = bool(engine.is_animation)
+    key = (scene.name, view_layer.name)
+    width, height = export.render_resolution(scene)
+    if scene.render.use_border:
+        engine.report({"WARNING"}, "restircl: render region (border) is ignored; the full frame is rendered")
+    device_spec = props.device.strip() or None
+    settings_key = (tuple(sorted(props.settings_kwargs().items())), device_spec)
+
+    session = _SESSIONS.get(key)
+    new_sequence = True
+    if (animation and session is not None and session.animation and session.settings_key == settings_key
+            and not session.deforming and session.last_frame is not None
+            and session.last_frame < frame <= session.export.frames[-1]):
+        new_sequence = False
+    if new_sequence:
+        engine.update_stats("", "restircl | exporting the scene")
+        camera = engine.camera_override
+        if camera is not None:
+            camera = camera.evaluated_get(depsgraph)
+        deforming = animation and session is not None and session.animation and session.deforming
+        frames = _frames_to_sample(scene, frame, animation, props.warmup_frames, view_layer.use_pass_vector,
+                                   deforming)
+        try:
+            exp = export.export_scene(depsgraph, frames, frame_set=lambda f: engine.frame_set(f, 0.0),
+                                      camera=camera)
+            exp.scene.validate()
+        except known as exc:
+            engine.report({"ERROR"}, f"restircl: {exc}")
+            _SESSIONS.pop(key, None)
+            return
+        _report_warnings(engine, exp.warnings)
+        fingerprint = exp.fingerprint()
+        if (session is not None and not animation and not session.animation
+                and session.fingerprint == fingerprint and session.settings_key == settings_key):
+            session.renderer.reset()  # identical scene and settings: keep the uploaded scene and kernels
+        else:
+            _SESSIONS.pop(key, None)
+            session = None
+            if engine.test_break():
+                return
+            engine.update_stats("", "restircl | building the renderer")
+            try:
+                device_label = restircl.choose_device(device_spec)[0].label
+                with warnings.catch_warnings(record=True) as caught:
+                    warnings.simplefilter("always")
+                    renderer = restircl.Renderer(exp.scene, make_settings(restircl, props), device=device_spec)
+            except known as exc:
+                engine.report({"ERROR"}, f"restircl: {exc}")
+                return
+            _report_warnings(engine, [str(w.message) for w in caught])
+            session = _Session(renderer, exp, fingerprint, settings_key, device_label, animation,
+                               deforming=animation and (deforming or bool(exp.deforming)))
+            _SESSIONS[key] = session
+
+    exp = session.export
+    renderer = session.renderer
+    index = exp.index_of(frame)
+    stats = exp.stats
+
+    def show(done: int, total: int, ms: float | None) -> None:
+        engine.update_progress(done / total if total else 1.0)
+        timing = f" | {ms:.1f} ms/frame" if ms is not None else ""
+        engine.update_stats("", f"restircl | {session.device} | frame {frame} | sample {done}/{total}{timing} | "
+                                f"{stats['lights']} lights | {stats['triangles']} triangles")
+
+    try:
+        if animation:
+            if new_sequence:  # warm-up: the frames before the first, with their motion
+                for warm in range(index):
+                    if engine.test_break():
+                        return
+                    renderer.render_frame(warm)
+            if engine.test_break():
+                return
+            result = renderer.render_frame(index)
+            session.last_frame = frame
+            show(1, 1, getattr(result, "ms", None))
+        else:
+            total = int(props.samples)
+            show(0, total, None)
+
+            def progress(done: int, total_: int) -> None:
+                show(done, total_, None)
+
+            result = renderer.render_still(index, total, progress=progress, should_stop=engine.test_break)
+            show(total, total, getattr(result, "ms", None))
+    except known as exc:
+        engine.report({"ERROR"}, f"restircl: {exc}")
+        _SESSIONS.pop(key, None)
+        return
+    if result is None:
+        return
+    guards = getattr(result, "guards", None) or {}
+    bad = {k: int(v) for k, v in guards.items() if v}
+    if bad:
+        engine.report({"WARNING"}, "restircl: NaN/Inf values replaced by 0: "
+                      + ", ".join(f"{k} {v}" for k, v in sorted(bad.items())))
+    write_result(engine, result, width, height, view_layer, scene.render.film_transparent)
+
+
+def _pass_data(frame, name: str, height: int, width: int) -> np.ndarray | None:
+    arr = getattr(frame, name, None)
+    if arr is None:
+        return None
+    arr = np.asarray(arr, dtype=np.float32)
+    if arr.ndim == 2:
+        arr = arr[..., None]
+    if arr.shape[:2] != (height, width):
+        return None
+    return arr
+
+
+def write_result(engine, frame, width: int, height: int, view_layer, film_transparent: bool) -> None:
+    """Copy a restircl.Frame (rows top first) into the Render Result (rows bottom first)."""
+    result = engine.begin_result(0, 0, width, height, layer=view_layer.name)
+    try:
+        layer = result.layers[0]
+        depth = _pass_data(frame, "depth", height, width)
+        colour = _pass_data(frame, "color", height, width)
+        if colour is not None:
+            colour = colour.copy()
+            if colour.shape[2] == 3:
+                colour = np.concatenate([colour, np.ones_like(colour[..., :1])], axis=2)
+            if film_transparent and depth is not None:
+                colour[..., 3] = np.isfinite(depth[..., 0]).astype(np.float32)
+            elif not film_transparent:
+                colour[..., 3] = 1.0
+        if depth is not None:
+            depth = np.where(np.isfinite(depth), depth, np.float32(DEPTH_MISS)).astype(np.float32)
+        planes = {
+            "Combined": colour,
+            "Depth": depth,
+            "Normal": _pass_data(frame, "normal", height, width),
+            "Vector": _pass_data(frame, "vector", height, width),
+            NOISY_PASS: _pass_data(frame, "noisy", height, width),
+        }
+        for rp in layer.passes:
+            data = planes.get(rp.name)
+            if data is None or data.shape[2] != rp.channels:
+                continue
+            flipped = np.ascontiguousarray(data[::-1].reshape(width * height, rp.channels))
+            if not np.all(np.isfinite(flipped)):
+                flipped = np.nan_to_num(flipped, nan=0.0, posinf=0.0, neginf=0.0)
+            rp.rect = flipped
+    finally:
+        engine.end_result(result)
+
+
+def device_list() -> list[str]:
+    """Labels of the OpenCL devices, for the panel (never raises)."""
+    try:
+        import restircl
+
+        return [info.label for info, _dev in restircl.list_devices()]
+    except Exception as exc:  # no restircl, no pyopencl, no ICD: show why
+        return [f"(no OpenCL device: {exc})"]

@@ -1,0 +1,293 @@
+"""Build Blender scenes with bpy: small helpers (used by tests/test_blender_*.py too) and the example scenes.
+
+    python blend/scenes.py [outdir]      # writes many_lights.blend and area_interior.blend (default: blend/)
+
+Needs the bpy module (pip install bpy==5.0.1). The helpers build everything from data (no operators that need
+a window), so they work headless.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+from pathlib import Path
+
+import bpy
+
+# ---- scene and render settings ------------------------------------------------------------------------
+
+
+def new_scene(width: int = 64, height: int = 48, engine: str = "CYCLES") -> bpy.types.Scene:
+    """Empty factory scene with a black world, the given resolution and engine."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    sc = bpy.context.scene
+    sc.render.resolution_x, sc.render.resolution_y = width, height
+    sc.render.resolution_percentage = 100
+    world = bpy.data.worlds.new("World")
+    sc.world = world
+    bg = world.node_tree.nodes.get("Background")
+    if bg is not None:
+        bg.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+        bg.inputs["Strength"].default_value = 0.0
+    sc.view_settings.view_transform = "Standard"
+    sc.render.engine = engine
+    return sc
+
+
+def cycles_direct_only(sc: bpy.types.Scene, samples: int = 1024, seed: int = 0, threads: int = 0) -> None:
+    """Cycles as the reference for direct light: no bounces, box filter 1 px, light threshold 0, no adaptive
+    sampling, no denoising, no clamping."""
+    sc.render.engine = "CYCLES"
+    c = sc.cycles
+    c.device = "CPU"
+    c.samples = samples
+    c.seed = seed
+    for name in ("max_bounces", "diffuse_bounces", "glossy_bounces", "transmission_bounces", "volume_bounces",
+                 "transparent_max_bounces"):
+        setattr(c, name, 0)
+    c.light_sampling_threshold = 0.0
+    c.use_adaptive_sampling = False
+    c.use_denoising = False
+    c.pixel_filter_type = "BOX"
+    c.filter_width = 1.0
+    c.sample_clamp_direct = 0.0
+    c.sample_clamp_indirect = 0.0
+    if threads:
+        sc.render.threads_mode = "FIXED"
+        sc.render.threads = threads
+
+
+def exr_output(sc: bpy.types.Scene, path: str, multilayer: bool = True) -> None:
+    im = sc.render.image_settings
+    im.media_type = "MULTI_LAYER_IMAGE" if multilayer else "IMAGE"
+    if not multilayer:
+        im.file_format = "OPEN_EXR"
+    im.color_depth = "32"
+    im.exr_codec = "ZIP"
+    sc.render.filepath = path
+
+
+# ---- materials ----------------------------------------------------------------------------------------
+
+
+def _material(name: str) -> tuple[bpy.types.Material, bpy.types.NodeTree, bpy.types.Node]:
+    mat = bpy.data.materials.new(name)
+    tree = mat.node_tree
+    if tree is None:  # Blender < 5: node trees are opt-in
+        mat.use_nodes = True
+        tree = mat.node_tree
+    tree.nodes.clear()
+    out = tree.nodes.new("ShaderNodeOutputMaterial")
+    return mat, tree, out
+
+
+def diffuse_material(name: str, colour=(0.8, 0.8, 0.8)) -> bpy.types.Material:
+    mat, tree, out = _material(name)
+    d = tree.nodes.new("ShaderNodeBsdfDiffuse")
+    d.inputs["Color"].default_value = (*colour, 1.0)
+    d.inputs["Roughness"].default_value = 0.0
+    tree.links.new(d.outputs[0], out.inputs["Surface"])
+    mat.diffuse_color = (*colour, 1.0)
+    return mat
+
+
+def emission_material(name: str, colour=(1.0, 1.0, 1.0), strength: float = 1.0) -> bpy.types.Material:
+    mat, tree, out = _material(name)
+    e = tree.nodes.new("ShaderNodeEmission")
+    e.inputs["Color"].default_value = (*colour, 1.0)
+    e.inputs["Strength"].default_value = strength
+    tree.links.new(e.outputs[0], out.inputs["Surface"])
+    return mat
+
+
+def principled_material(name: str, base=(0.8, 0.8, 0.8), emission=(0.0, 0.0, 0.0),
+                        emission_strength: float = 0.0) -> bpy.types.Material:
+    mat, tree, out = _material(name)
+    p = tree.nodes.new("ShaderNodeBsdfPrincipled")
+    p.inputs["Base Color"].default_value = (*base, 1.0)
+    p.inputs["Emission Color"].default_value = (*emission, 1.0)
+    p.inputs["Emission Strength"].default_value = emission_strength
+    tree.links.new(p.outputs[0], out.inputs["Surface"])
+    return mat
+
+
+# ---- objects ------------------------------------------------------------------------------------------
+
+
+def link(ob: bpy.types.Object, collection: bpy.types.Collection | None = None) -> bpy.types.Object:
+    (collection or bpy.context.scene.collection).objects.link(ob)
+    return ob
+
+
+def mesh_object(name: str, verts, faces, material=None, location=(0, 0, 0), rotation=(0, 0, 0),
+                scale=(1, 1, 1), collection=None) -> bpy.types.Object:
+    me = bpy.data.meshes.new(name)
+    me.from_pydata([tuple(v) for v in verts], [], [tuple(f) for f in faces])
+    me.update()
+    if material is not None:
+        me.materials.append(material)
+    ob = bpy.data.objects.new(name, me)
+    ob.location, ob.rotation_euler, ob.scale = location, rotation, scale
+    return link(ob, collection)
+
+
+def quad(name: str, size_x: float, size_y: float | None = None, material=None, location=(0, 0, 0),
+         rotation=(0, 0, 0), facing_down: bool = False, collection=None) -> bpy.types.Object:
+    """A rectangle in the local XY plane, normal +Z (or -Z with facing_down)."""
+    sx, sy = size_x / 2, (size_y if size_y is not None else size_x) / 2
+    face = (3, 2, 1, 0) if facing_down else (0, 1, 2, 3)
+    return mesh_object(name, [(-sx, -sy, 0), (sx, -sy, 0), (sx, sy, 0), (-sx, sy, 0)], [face], material,
+                       location, rotation, collection=collection)
+
+
+def box(name: str, size=(1, 1, 1), material=None, location=(0, 0, 0), rotation=(0, 0, 0), inward=False,
+        collection=None) -> bpy.types.Object:
+    x, y, z = (s / 2 for s in size)
+    verts = [(-x, -y, -z), (x, -y, -z), (x, y, -z), (-x, y, -z), (-x, -y, z), (x, -y, z), (x, y, z), (-x, y, z)]
+    faces = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
+    if inward:
+        faces = [tuple(reversed(f)) for f in faces]
+    return mesh_object(name, verts, faces, material, location, rotation, collection=collection)
+
+
+def uv_sphere(name: str, radius: float = 1.0, segments: int = 16, rings: int = 8, material=None,
+              location=(0, 0, 0), collection=None) -> bpy.types.Object:
+    verts = [(0.0, 0.0, radius)]
+    for i in range(1, rings):
+        th = math.pi * i / rings
+        for j in range(segments):
+            ph = 2 * math.pi * j / segments
+            verts.append((radius * math.sin(th) * math.cos(ph), radius * math.sin(th) * math.sin(ph),
+                          radius * math.cos(th)))
+    verts.append((0.0, 0.0, -radius))
+    faces = []
+    for j in range(segments):
+        faces.append((0, 1 + j, 1 + (j + 1) % segments))
+    for i in range(rings - 2):
+        a, b = 1 + i * segments, 1 + (i + 1) * segments
+        for j in range(segments):
+            k = (j + 1) % segments
+            faces.append((a + j, b + j, b + k, a + k))
+    last = len(verts) - 1
+    a = 1 + (rings - 2) * segments
+    for j in range(segments):
+        faces.append((a + j, last, a + (j + 1) % segments))
+    return mesh_object(name, verts, faces, material, location, collection=collection)
+
+
+def light(kind: str, name: str | None = None, location=(0, 0, 0), rotation=(0, 0, 0), **props) -> bpy.types.Object:
+    """A light object; props are Light datablock attributes (energy, color, shadow_soft_size, size, ...)."""
+    ld = bpy.data.lights.new(name or kind.title(), kind)
+    for k, v in props.items():
+        setattr(ld, k, v)
+    ob = bpy.data.objects.new(name or kind.title(), ld)
+    ob.location, ob.rotation_euler = location, rotation
+    return link(ob)
+
+
+def camera(location=(0, 0, 5), target=(0, 0, 0), lens: float = 35.0, name: str = "Camera",
+           make_active: bool = True, **props) -> bpy.types.Object:
+    cd = bpy.data.cameras.new(name)
+    cd.lens = lens
+    cd.clip_start = 0.01
+    cd.clip_end = 1000.0
+    for k, v in props.items():
+        setattr(cd, k, v)
+    ob = bpy.data.objects.new(name, cd)
+    ob.location = location
+    point_at(ob, target)
+    link(ob)
+    if make_active:
+        bpy.context.scene.camera = ob
+    return ob
+
+
+def point_at(ob: bpy.types.Object, target) -> None:
+    from mathutils import Vector
+
+    direction = Vector(target) - Vector(ob.location)
+    ob.rotation_euler = direction.to_track_quat("-Z", "Y").to_euler()
+
+
+# ---- example scenes -----------------------------------------------------------------------------------
+
+
+def many_lights_scene(n_side: int = 12, frames: int = 48, width: int = 320, height: int = 180) -> bpy.types.Scene:
+    """A floor with pillars lit by n_side^2 small coloured point and spot lights and a few emissive strips;
+    the camera dollies and pans over 'frames' frames."""
+    sc = new_scene(width, height, engine="RESTIRCL" if hasattr(bpy.types, "RESTIRCL_PT_sampling") else "CYCLES")
+    floor = diffuse_material("Floor", (0.7, 0.7, 0.7))
+    stone = diffuse_material("Pillar", (0.6, 0.5, 0.4))
+    quad("Floor", 40.0, 40.0, floor)
+    for i in range(5):
+        for j in range(5):
+            box(f"Pillar.{i}{j}", (0.8, 0.8, 3.0), stone, location=(-12 + 6 * i, -12 + 6 * j, 1.5))
+    import colorsys
+
+    for i in range(n_side):
+        for j in range(n_side):
+            hue = ((i * n_side + j) * 0.618034) % 1.0
+            col = colorsys.hsv_to_rgb(hue, 0.7, 1.0)
+            x, y = -15 + 30 * (i + 0.5) / n_side, -15 + 30 * (j + 0.5) / n_side
+            if (i + j) % 4 == 0:
+                light("SPOT", f"Spot.{i}.{j}", (x, y, 3.0), (0, 0, 0), energy=60.0, color=col,
+                      spot_size=math.radians(70), spot_blend=0.3, shadow_soft_size=0.05)
+            else:
+                light("POINT", f"Point.{i}.{j}", (x, y, 0.6), energy=15.0, color=col, shadow_soft_size=0.05,
+                      use_soft_falloff=False)
+    glow = emission_material("Strip", (1.0, 0.8, 0.5), 8.0)
+    for k in range(4):
+        quad(f"Strip.{k}", 6.0, 0.2, glow, location=(-9 + 6 * k, 0.0, 3.5), facing_down=True)
+    cam = camera((-16, -16, 4), (0, 0, 0.5), lens=24.0)
+    sc.frame_start, sc.frame_end = 1, frames
+    for f, (loc, tgt) in ((1, ((-16, -16, 4), (0, 0, 0.5))), (frames, ((10, -18, 3), (4, 6, 1.0)))):
+        cam.location = loc
+        point_at(cam, tgt)
+        cam.keyframe_insert("location", frame=f)
+        cam.keyframe_insert("rotation_euler", frame=f)
+    return sc
+
+
+def area_interior_scene(width: int = 320, height: int = 240) -> bpy.types.Scene:
+    """A room lit by ceiling area lights of every shape, a window-like emissive panel and a small sun patch."""
+    sc = new_scene(width, height, engine="RESTIRCL" if hasattr(bpy.types, "RESTIRCL_PT_sampling") else "CYCLES")
+    walls = diffuse_material("Walls", (0.75, 0.75, 0.7))
+    red = diffuse_material("Red", (0.7, 0.1, 0.1))
+    green = diffuse_material("Green", (0.1, 0.6, 0.15))
+    box("Room", (8.0, 6.0, 3.0), walls, location=(0, 0, 1.5), inward=True)
+    box("Sofa", (2.4, 0.9, 0.8), red, location=(0.0, 2.0, 0.4))
+    box("Table", (1.2, 1.2, 0.5), green, location=(0.5, -0.5, 0.25), rotation=(0, 0, 0.4))
+    uv_sphere("Ball", 0.35, material=diffuse_material("Ball", (0.8, 0.8, 0.8)), location=(-2.0, -1.0, 0.35))
+    light("AREA", "Ceiling.Square", (-2.5, 0.0, 2.95), energy=150.0, shape="SQUARE", size=1.0)
+    light("AREA", "Ceiling.Rectangle", (0.0, 0.0, 2.95), energy=200.0, shape="RECTANGLE", size=2.0, size_y=0.4)
+    light("AREA", "Ceiling.Disk", (2.5, 0.0, 2.95), energy=120.0, shape="DISK", size=0.8,
+          color=(1.0, 0.85, 0.7))
+    light("AREA", "Wall.Ellipse", (3.95, -2.0, 1.6), (0, -math.pi / 2, 0), energy=80.0, shape="ELLIPSE",
+          size=1.2, size_y=0.6, color=(0.7, 0.8, 1.0))
+    quad("Window", 1.6, 1.0, emission_material("Window", (0.8, 0.9, 1.0), 3.0),
+         location=(-3.98, 1.0, 1.6), rotation=(0, math.pi / 2, 0))
+    camera((3.2, -2.6, 1.6), (-1.0, 0.8, 0.8), lens=20.0)
+    return sc
+
+
+def main(argv: list[str]) -> None:
+    outdir = Path(argv[0]) if argv else Path(__file__).resolve().parent
+    outdir.mkdir(parents=True, exist_ok=True)
+    addon = Path(__file__).resolve().parent.parent / "addon"
+    if str(addon) not in sys.path:
+        sys.path.insert(0, str(addon))
+    try:
+        import restircl_blender
+
+        restircl_blender.register()
+    except Exception as exc:  # the scenes are still useful with Cycles
+        print(f"restircl add-on not registered ({exc}); scenes use Cycles")
+    for name, build in (("many_lights", many_lights_scene), ("area_interior", area_interior_scene)):
+        build()
+        path = outdir / f"{name}.blend"
+        bpy.ops.wm.save_as_mainfile(filepath=str(path), compress=True)
+        print(f"wrote {path}")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
