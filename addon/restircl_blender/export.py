@@ -294,8 +294,8 @@ def _camera_params(cam_obj, scene, warn: Callable[[str], None]) -> dict:
         raise ExportError(f"camera {cam_obj.name!r}: orthographic cameras are not supported; "
                           "use a perspective camera")
     if cd.type != "PERSP":
-        raise ExportError(f"camera {cam_obj.name!r}: {cd.type.lower()} cameras are not supported; "
-                          "use a perspective camera")
+        kind = {"PANO": "panoramic"}.get(cd.type, cd.type.lower())
+        raise ExportError(f"camera {cam_obj.name!r}: {kind} cameras are not supported; use a perspective camera")
     w, h = render_resolution(scene)
     r = scene.render
     if abs(r.pixel_aspect_x - r.pixel_aspect_y) > 1e-6:
