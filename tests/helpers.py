@@ -1,0 +1,114 @@
+"""Shared helpers of the rendering tests: small test scenes and per-frame sample collection."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from restircl import Camera, Light, Material, Mesh, Renderer, Scene, Settings, look_at, scenes, translation
+from scipy import stats
+
+
+def mixed_lights_scene(width: int = 32, height: int = 24) -> Scene:
+    """A floor and a wall lit by every light type, with powers spanning 1e-6..1e6, a light touching the floor,
+    a grazing sun, lights below the floor (no contribution) and an occluding block."""
+    fv, ft = scenes.quad(4, 4)
+    wv, wt = scenes.quad(4, 2)
+    wall = wv @ np.array([[1, 0, 0], [0, 0, 1], [0, -1, 0]]).T + (0, 1.5, 1)  # wall in the XZ plane at y = 1.5
+    bv, bt = scenes.box((0.4, 0.4, 0.6))
+    lv, lt = scenes.quad(0.1, 0.1)  # two emissive triangles each, two-sided
+    materials = [
+        Material("floor", (0.7, 0.7, 0.7)),
+        Material("wall", (0.4, 0.6, 0.8)),
+        Material("lamp", (0, 0, 0), (1.0, 0.8, 0.6), 40.0),
+        Material("faint", (0, 0, 0), (0.5, 1.0, 0.5), 1e-6),
+    ]
+    meshes = [
+        Mesh("floor", fv, ft, 0),
+        Mesh("wall", wall, wt, 1),
+        Mesh("block", bv + (0.6, 0.3, 0.3), bt, 0),
+        Mesh("lamp", lv @ np.array([[1, 0, 0], [0, 0, 1], [0, 1, 0]]).T + (-0.8, 0.6, 0.5), lt, 2),
+        Mesh("faint", lv + (0.9, -0.9, 0.3), lt, 3),
+    ]
+    lights = [
+        Light("big", "point", (1, 1, 1), 1e6, translation(0.0, -1.2, 25.0), radius=0.3, soft_falloff=False),
+        Light("tiny", "point", (1, 0.5, 0.2), 1e-6, translation(0.5, 0.5, 0.2)),
+        Light("soft", "point", (0.6, 0.7, 1.0), 80.0, translation(-1.0, -0.5, 0.8), radius=0.2),
+        Light("spot", "spot", (1, 1, 1), 300.0, look_at((1.0, -1.0, 1.5), (0.8, -0.6, 0)), spot_size=0.6,
+              spot_blend=0.3),
+        Light("touching", "area", (1, 1, 1), 5.0, translation(-1.2, -1.2, 0.03), shape="SQUARE", size=0.3),
+        Light("disk", "area", (1, 0.9, 0.8), 60.0, translation(1.2, 1.0, 1.2), shape="DISK", size=0.4),
+        Light("grazing_sun", "sun", (1, 1, 0.9), 2.0, look_at((0, -100, 1.745), (0, 0, 0)), angle=0.02),
+        Light("below", "point", (1, 1, 1), 500.0, translation(0, 0, -0.5)),
+        Light("below_area", "area", (1, 1, 1), 500.0, translation(0.3, 0.2, -0.3) @ np.diag([1, -1, -1, 1]),
+              shape="SQUARE", size=1.0),
+    ]
+    cam = Camera(look_at((0.0, -3.2, 2.6), (0.0, 0.1, 0.3)), width, height, lens=28.0)
+    return Scene(meshes, materials, lights, cam, name="mixed_lights")
+
+
+def below_only_scene(width: int = 16, height: int = 12) -> Scene:
+    """Every light is behind the lit surface: the image must be exactly 0 (not NaN)."""
+    fv, ft = scenes.quad(4, 4)
+    lights = [
+        Light("below", "point", (1, 1, 1), 500.0, translation(0, 0, -0.5), radius=0.1),
+        Light("below_area", "area", (1, 1, 1), 500.0, translation(0.3, 0.2, -0.3) @ np.diag([1, -1, -1, 1]),
+              shape="SQUARE", size=1.0),
+        Light("below_sun", "sun", (1, 1, 1), 3.0, look_at((0, 0, -1), (0, 0, 0)), angle=0.1),
+    ]
+    cam = Camera(look_at((0.0, -3.0, 2.0), (0.0, 0.0, 0.0)), width, height, lens=35.0)
+    return Scene([Mesh("floor", fv, ft, 0)], [Material("floor", (0.7, 0.7, 0.7))], lights, cam, name="below")
+
+
+def occluder_scene(width: int = 32, height: int = 24) -> Scene:
+    """Many small lights above a floor, partly hidden behind blocks: visibility differs between neighbours."""
+    rng = np.random.default_rng(3)
+    fv, ft = scenes.quad(6, 6)
+    parts_v, parts_t = [], []
+    base = 0
+    for x, y in [(-1.0, 0.0), (0.5, -0.5), (1.2, 0.8), (-0.3, 1.2)]:
+        bv, bt = scenes.box((0.5, 0.5, 1.0))
+        parts_v.append(bv + (x, y, 0.5))
+        parts_t.append(bt + base)
+        base += len(bv)
+    lights = [Light(f"p{k}", "point", tuple(rng.uniform(0.3, 1.0, 3)), float(np.exp(rng.uniform(0, 5))),
+                    translation(*rng.uniform(-2.5, 2.5, 2), rng.uniform(0.3, 1.8)), radius=0.05)
+              for k in range(40)]
+    cam = Camera(look_at((0.0, -4.0, 3.0), (0.0, 0.0, 0.3)), width, height, lens=30.0)
+    return Scene([Mesh("floor", fv, ft, 0), Mesh("blocks", np.concatenate(parts_v), np.concatenate(parts_t), 0)],
+                 [Material("grey", (0.7, 0.7, 0.7))], lights, cam, name="occluders")
+
+
+def collect(scene: Scene, settings: Settings, frames: int, device=None, warmup: int = 0) -> np.ndarray:
+    """(frames, H, W, 3) noisy per-frame estimates of a still camera (ReSTIR keeps its history between them)."""
+    r = Renderer(scene, settings, device)
+    for _ in range(warmup):
+        r.render_frame(0, still=True)
+    return np.stack([r.render_frame(0, still=True).noisy for _ in range(frames)]).astype(np.float64)
+
+
+def batch_stats(samples: np.ndarray, batches: int = 16) -> tuple[np.ndarray, np.ndarray]:
+    """Mean and standard error from batch means (robust to heavy-tailed per-frame samples)."""
+    n = samples.shape[0] // batches * batches
+    b = samples[:n].reshape(batches, n // batches, *samples.shape[1:]).mean(axis=1)
+    return b.mean(axis=0), b.std(axis=0, ddof=1) / math.sqrt(batches)
+
+
+def allowed_outliers(n: int, batches: int = 16, z: float = 4.0) -> int:
+    """How many of n independent t-statistics (batches - 1 dof) may exceed z: the expected count plus four of
+    its standard deviations (binomial), plus one."""
+    p = 2 * stats.t.sf(z, batches - 1)
+    return int(math.ceil(n * p + 4 * math.sqrt(n * p * (1 - p)) + 1))
+
+
+def rel_mse(x: np.ndarray, ref: np.ndarray) -> float:
+    """mean of (x - r)^2 / (r^2 + 0.01), over pixels and channels (the issue's relMSE)."""
+    return float(np.mean((x - ref) ** 2 / (ref * ref + 0.01)))
+
+
+def luminance(x: np.ndarray) -> np.ndarray:
+    return x @ np.array([0.2126, 0.7152, 0.0722])
+
+
+__all__ = ["Renderer", "Settings", "allowed_outliers", "batch_stats", "below_only_scene", "collect",
+           "luminance", "mixed_lights_scene", "occluder_scene", "rel_mse"]
