@@ -170,6 +170,27 @@ def test_animation_warmup_and_camera_cut(tmp_path):
     assert not np.allclose(frames[2]["Depth"], frames[1]["Depth"])
 
 
+@pytest.mark.parametrize("name", ["many_lights", "area_interior"])
+def test_example_scenes_render(tmp_path, name):
+    path = scenes_dir() / f"{name}.blend"
+    if not path.exists():
+        pytest.skip(f"{path} not built (python blend/scenes.py)")
+    bpy.ops.wm.open_mainfile(filepath=str(path))
+    sc = bpy.context.scene
+    assert sc.render.engine == "RESTIRCL"
+    sc.render.resolution_percentage = 15
+    sc.restircl.samples = 1
+    render_to(sc, tmp_path / f"{name}.exr")
+    c = read_exr_passes(tmp_path / f"{name}.exr")["Combined"]
+    assert np.all(np.isfinite(c)) and c[..., :3].mean() > 0.005
+
+
+def scenes_dir():
+    from pathlib import Path
+
+    return Path(scenes.__file__).resolve().parent
+
+
 # ---- bad scenes: a report, not an exception -------------------------------------------------------------
 
 
