@@ -239,6 +239,19 @@ def test_missing_device_reports():
     assert "restircl:" in msg and "no-such-opencl-device" in msg
 
 
+def test_kernel_build_failure_reports(monkeypatch):
+    import restircl
+
+    def broken(*_args, **_kwargs):
+        raise restircl.KernelBuildError("OpenCL build failed: lights.h:12: error: boom", "log", "lights.h:12")
+
+    sc = small_scene()
+    sc.restircl.seed = 12345  # a fresh session: the cached renderer of an identical scene is not reused
+    monkeypatch.setattr(restircl, "Renderer", broken)
+    msg = render_error(sc)
+    assert "restircl:" in msg and "lights.h:12" in msg
+
+
 def test_empty_scene_renders_black_with_a_warning(tmp_path, capfd):
     sc = scenes.new_scene(W, H, engine="RESTIRCL")
     scenes.camera()
