@@ -31,14 +31,18 @@ class KernelBuildError(RuntimeError):
 
 
 def opencl_dir() -> Path:
-    """Directory holding the OpenCL sources (installed as the restircl.opencl package)."""
-    try:
+    """Directory holding the OpenCL sources: restircl/opencl when installed, ../../opencl in a source tree."""
+    here = Path(__file__).resolve().parent
+    for path in (here / "opencl", here.parents[1] / "opencl"):
+        if (path / MAIN_SOURCE).is_file():
+            return path
+    try:  # an editable install maps the package elsewhere
         path = Path(str(resources.files("restircl.opencl")))
         if (path / MAIN_SOURCE).is_file():
             return path
-    except ModuleNotFoundError:
+    except (ModuleNotFoundError, TypeError):
         pass
-    return Path(__file__).resolve().parents[2] / "opencl"
+    raise FileNotFoundError(f"OpenCL sources ({MAIN_SOURCE}) not found next to {here}")
 
 
 def format_options(flags: Mapping[str, int | float | bool | str]) -> list[str]:

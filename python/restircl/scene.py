@@ -175,9 +175,9 @@ class Camera:
             tx, ty = half, half * h / w
         else:
             tx, ty = half * w / h, half
-        # Blender's shift is a fraction of the larger image dimension, in the fitted view plane.
-        big = max(tx, ty)
-        return tx, ty, 2.0 * self.shift_x * big, 2.0 * self.shift_y * big
+        # Blender's shift is a fraction of the fitted dimension of the view plane (checked against Blender's
+        # own projection by tests/test_blender_camera.py).
+        return tx, ty, 2.0 * self.shift_x * half, 2.0 * self.shift_y * half
 
 
 @dataclass
