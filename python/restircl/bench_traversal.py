@@ -1,0 +1,410 @@
+"""Traversal benchmark: BVH build time and Mrays/s of opencl/bvh.h against Embree (embreex) on the same rays.
+
+    python -m restircl.bench_traversal [--triangles N] [--width W] [--height H] [--no-embree]
+
+The scene is procedural (a displaced ground grid with spheres and boxes of log-normal sizes spread over it).
+Two ray sets: camera rays (closest hit, one per pixel) and incoherent shadow rays (any hit) from the primary hit
+points towards random points in the cosine-weighted hemisphere of the surface (diffuse-like directions).
+Embree traces single rays on one thread per process: it runs in one process per core, each with its own scene,
+the rays split between them; only the tracing is timed. Our side runs on the default OpenCL device.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import multiprocessing as mp
+import os
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+KERNELS = r"""
+#include "types.h"
+#include "bvh.h"
+
+/* rays: o.xyz origin, o.w tmax; d.xyz direction */
+__kernel void bench_closest(const __global BVHNode* nodes, const __global Tri* tris, const __global float4* ro,
+                            const __global float4* rd, __global float4* out, int n)
+{
+    int i = get_global_id(0);
+    if (i >= n) return;
+    float4 o = ro[i], d = rd[i];
+    Hit h = trace_closest(nodes, tris, o.xyz, d.xyz, o.w);
+    out[i] = (float4)(h.t, as_float(h.prim), h.u, h.v);
+}
+
+__kernel void bench_any(const __global BVHNode* nodes, const __global Tri* tris, const __global float4* ro,
+                        const __global float4* rd, __global int* out, int n)
+{
+    int i = get_global_id(0);
+    if (i >= n) return;
+    float4 o = ro[i], d = rd[i];
+    out[i] = trace_any(nodes, tris, o.xyz, d.xyz, o.w) ? 1 : 0;
+}
+"""
+
+# ---- procedural scene ----------------------------------------------------------------------------------------
+
+
+def _grid(nx: int, ny: int) -> tuple[np.ndarray, np.ndarray]:
+    """Unit grid [0, 1]^2 in xy: vertices (nx+1)*(ny+1), triangles 2*nx*ny."""
+    xs, ys = np.meshgrid(np.linspace(0, 1, nx + 1), np.linspace(0, 1, ny + 1), indexing="ij")
+    verts = np.stack([xs.ravel(), ys.ravel(), np.zeros(xs.size)], 1)
+    i, j = np.meshgrid(np.arange(nx), np.arange(ny), indexing="ij")
+    a = (i * (ny + 1) + j).ravel()
+    b, c, d = a + (ny + 1), a + (ny + 1) + 1, a + 1
+    tris = np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)])
+    return verts, tris
+
+
+def _sphere(n_theta: int, n_phi: int) -> tuple[np.ndarray, np.ndarray]:
+    """Unit UV sphere, closed, outward winding."""
+    verts, tris = _grid(n_phi, n_theta)
+    u, v = verts[:, 0], verts[:, 1]
+    th, ph = v * math.pi, u * 2 * math.pi
+    verts = np.stack([np.sin(th) * np.cos(ph), np.sin(th) * np.sin(ph), np.cos(th)], 1)
+    return verts, tris[:, ::-1]
+
+
+def _box() -> tuple[np.ndarray, np.ndarray]:
+    """Unit cube [-1, 1]^3, two triangles per face, outward winding."""
+    v = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float)
+    quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    tris = [(a, b, c) for a, b, c, d in quads] + [(a, c, d) for a, b, c, d in quads]
+    return v, np.array(tris)
+
+
+def _instances(verts, tris, pos, scale, angle):
+    """Copies of a mesh, scaled (per axis), rotated about z and moved: (v0, v1, v2) arrays."""
+    c, s = np.cos(angle), np.sin(angle)
+    p = verts[None] * scale[:, None, :]
+    x = c[:, None] * p[..., 0] - s[:, None] * p[..., 1]
+    y = s[:, None] * p[..., 0] + c[:, None] * p[..., 1]
+    w = np.stack([x, y, p[..., 2]], -1) + pos[:, None, :]
+    return tuple(w[:, tris[:, k]].reshape(-1, 3) for k in range(3))
+
+
+def make_scene(triangles: int = 1_000_000, seed: int = 7):
+    """(v0, v1, v2) of about `triangles` triangles over a 200 x 200 area: 30% ground, 50% spheres, 20% boxes."""
+    rng = np.random.default_rng(seed)
+    size = 200.0
+
+    def height(x, y):
+        return 1.5 * np.sin(x * 0.07) * np.cos(y * 0.05) + 0.4 * np.sin(0.31 * x + 0.17 * y) + 0.1 * np.sin(1.7 * x)
+
+    n_ground = max(2, int(0.3 * triangles))
+    g = max(1, int(math.sqrt(n_ground / 2)))
+    gv, gt = _grid(g, g)
+    gv = (gv - 0.5) * size
+    gv[:, 2] = height(gv[:, 0], gv[:, 1])
+    parts = [tuple(gv[gt[:, k]] for k in range(3))]
+
+    sv, st = _sphere(12, 24)  # 576 triangles
+    n_sph = max(1, int(0.5 * triangles) // len(st))
+    r = np.exp(rng.normal(0.0, 0.6, n_sph)) * 0.8
+    xy = rng.uniform(-0.48, 0.48, (n_sph, 2)) * size
+    pos = np.column_stack([xy, height(xy[:, 0], xy[:, 1]) + r * rng.uniform(0.6, 3.0, n_sph)])
+    parts.append(_instances(sv, st, pos, np.repeat(r[:, None], 3, 1), rng.uniform(0, 2 * np.pi, n_sph)))
+
+    bv, bt = _box()
+    n_box = max(1, int(0.2 * triangles) // len(bt))
+    sc = np.exp(rng.normal(0.0, 0.7, (n_box, 3))) * np.array([1.0, 1.0, 1.5])
+    xy = rng.uniform(-0.48, 0.48, (n_box, 2)) * size
+    pos = np.column_stack([xy, height(xy[:, 0], xy[:, 1]) + sc[:, 2] * 0.8])
+    parts.append(_instances(bv, bt, pos, sc, rng.uniform(0, 2 * np.pi, n_box)))
+    return tuple(np.concatenate([p[k] for p in parts]) for k in range(3))
+
+
+def camera_rays(width: int, height: int):
+    """Pinhole camera above the ground looking across it: (origins, unit directions), float32, row-major."""
+    eye = np.array([-70.0, -80.0, 28.0])
+    target = np.array([10.0, 5.0, 0.0])
+    fwd = target - eye
+    fwd /= np.linalg.norm(fwd)
+    right = np.cross(fwd, [0.0, 0.0, 1.0])
+    right /= np.linalg.norm(right)
+    up = np.cross(right, fwd)
+    tx = math.tan(math.radians(60.0) / 2)
+    ty = tx * height / width
+    px = ((np.arange(width) + 0.5) / width * 2 - 1) * tx
+    py = (1 - (np.arange(height) + 0.5) / height * 2) * ty
+    X, Y = np.meshgrid(px, py)
+    d = fwd + X[..., None] * right + Y[..., None] * up
+    d = d.reshape(-1, 3)
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    o = np.broadcast_to(eye, d.shape)
+    return o.astype(np.float32), d.astype(np.float32)
+
+
+def offset_ray_origin(p: np.ndarray, ng: np.ndarray) -> np.ndarray:
+    """numpy twin of offset_ray_origin in opencl/bvh.h (float32)."""
+    p = p.astype(np.float32)
+    of = (np.float32(256.0) * ng.astype(np.float32)).astype(np.int32)
+    pi = (p.view(np.int32) + np.where(p < 0, -of, of)).view(np.float32)
+    pf = p + np.float32(1.0 / 65536.0) * ng.astype(np.float32)
+    return np.where(np.abs(p) < np.float32(1.0 / 32.0), pf, pi)
+
+
+def shadow_rays(o, d, t, prim, tris, rng):
+    """From each primary hit, a ray to a random point in the cosine-weighted hemisphere of the geometric normal
+    facing the camera, up to 40 units away (d unnormalised, tmax = 1). Only hits make rays."""
+    hit = prim >= 0
+    leaf = prim[hit]
+    tr = tris[leaf]
+    e1, e2 = tr["e1"][:, :3].astype(np.float64), tr["e2"][:, :3].astype(np.float64)
+    n = np.cross(e1, e2)
+    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    dd = d[hit].astype(np.float64)
+    n = np.where(np.sum(n * dd, 1, keepdims=True) > 0, -n, n)
+    p = (o[hit].astype(np.float64) + t[hit, None] * dd).astype(np.float32)
+    org = offset_ray_origin(p, n)
+    # cosine-weighted direction about n
+    u1, u2 = rng.random(len(n)), rng.random(len(n))
+    r, phi = np.sqrt(u1), 2 * np.pi * u2
+    a = np.where(np.abs(n[:, :1]) > 0.9, np.array([[0.0, 1.0, 0.0]]), np.array([[1.0, 0.0, 0.0]]))
+    tx = np.cross(a, n)
+    tx /= np.linalg.norm(tx, axis=1, keepdims=True)
+    ty = np.cross(n, tx)
+    w = (r * np.cos(phi))[:, None] * tx + (r * np.sin(phi))[:, None] * ty + np.sqrt(1 - u1)[:, None] * n
+    dist = rng.uniform(0.5, 40.0, len(n))[:, None]
+    return org.astype(np.float32), (w * dist).astype(np.float32)
+
+
+# ---- our traversal -------------------------------------------------------------------------------------------
+
+
+class OpenCLTracer:
+    def __init__(self, nodes: np.ndarray, tris: np.ndarray, device=None, local_size: int | None = None,
+                 flags: dict | None = None) -> None:
+        import pyopencl as cl
+
+        from .device import get_device
+        from .program import build_program
+
+        self.cl = cl
+        self.dev = device or get_device()
+        self.prog = build_program(self.dev, flags=flags or {}, source=KERNELS)
+        self.k_closest = cl.Kernel(self.prog, "bench_closest")
+        self.k_any = cl.Kernel(self.prog, "bench_any")
+        mf = cl.mem_flags
+        ctx = self.dev.context
+        self.nodes = cl.Buffer(ctx, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=nodes)
+        self.tris = cl.Buffer(ctx, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=tris if len(tris) else tris[:0].copy())
+        self.local_size = local_size
+
+    def _launch(self, kernel, o, d, tmax, out_dtype, out_shape, repeats):
+        cl = self.cl
+        n = len(o)
+        ro = np.zeros((n, 4), np.float32)
+        ro[:, :3] = o
+        ro[:, 3] = tmax
+        rd = np.zeros((n, 4), np.float32)
+        rd[:, :3] = d
+        ctx, q = self.dev.context, self.dev.queue
+        mf = cl.mem_flags
+        bro = cl.Buffer(ctx, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=ro)
+        brd = cl.Buffer(ctx, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=rd)
+        out = np.zeros(out_shape, out_dtype)
+        bout = cl.Buffer(ctx, mf.WRITE_ONLY, out.nbytes)
+        if self.local_size:
+            ls = int(self.local_size)
+            gsize, lsize = ((n + ls - 1) // ls * ls,), (ls,)
+        else:
+            gsize, lsize = (n,), None
+        kernel.set_args(self.nodes, self.tris, bro, brd, bout, np.int32(n))
+        times, cpu = [], []
+        for _ in range(repeats + 1):  # the first run warms up (PoCL finishes the work-group function then)
+            q.finish()
+            t0, c0 = time.perf_counter(), time.process_time()
+            cl.enqueue_nd_range_kernel(q, kernel, gsize, lsize)
+            q.finish()
+            times.append(time.perf_counter() - t0)
+            cpu.append(time.process_time() - c0)
+        cl.enqueue_copy(q, out, bout)
+        self.last_cpu_seconds = min(cpu[1:])  # all threads of this process: a load-independent cost figure
+        return out, min(times[1:])
+
+    def closest(self, o, d, tmax=np.inf, repeats: int = 3):
+        out, sec = self._launch(self.k_closest, o, d, tmax, np.float32, (len(o), 4), repeats)
+        return out[:, 0], out[:, 1].copy().view(np.int32), sec
+
+    def any(self, o, d, tmax=1.0, repeats: int = 3):
+        out, sec = self._launch(self.k_any, o, d, tmax, np.int32, (len(o),), repeats)
+        return out.astype(bool), sec
+
+
+# ---- Embree, one process per core -----------------------------------------------------------------------------
+
+_EMBREE = None
+
+
+def _embree_init(path: str) -> None:
+    global _EMBREE
+    from embreex import rtcore_scene as rtcs
+    from embreex.mesh_construction import TriangleMesh
+
+    verts = np.load(path)
+    scene = rtcs.EmbreeScene()
+    TriangleMesh(scene, verts)
+    scene.run(np.zeros((1, 3), np.float32), np.ones((1, 3), np.float32))  # commit and warm up
+    _EMBREE = scene
+
+
+def _embree_trace(args):
+    o, d, tfar, query = args
+    t0, c0 = time.perf_counter(), time.process_time()
+    if query == "INTERSECT":
+        res = _EMBREE.run(o, d, dists=tfar, output=1)
+        return time.perf_counter() - t0, time.process_time() - c0, res["primID"], res["tfar"]
+    res = _EMBREE.run(o, d, dists=tfar, query="OCCLUDED")
+    return time.perf_counter() - t0, time.process_time() - c0, res, None
+
+
+class EmbreeTracer:
+    def __init__(self, v0, v1, v2, processes: int | None = None) -> None:
+        self.processes = processes or os.cpu_count() or 1
+        verts = np.stack([v0, v1, v2], 1).astype(np.float32)
+        self._tmp = tempfile.TemporaryDirectory(prefix="restircl-embree-")
+        path = str(Path(self._tmp.name) / "verts.npy")
+        np.save(path, verts)
+        ctx = mp.get_context("spawn")
+        self.pool = ctx.Pool(self.processes, initializer=_embree_init, initargs=(path,))
+        self.pool.map(time.sleep, [0.2] * self.processes)  # wait until every worker has its scene
+
+    def _run(self, o, d, tfar, query, repeats):
+        chunks = np.array_split(np.arange(len(o)), self.processes)
+        jobs = [(o[c], d[c], tfar[c], query) for c in chunks]
+        best, results, cpu = math.inf, None, math.inf
+        for _ in range(repeats):
+            res = self.pool.map(_embree_trace, jobs, chunksize=1)
+            sec = max(r[0] for r in res)  # the processes run at once: the slower one is the wall time
+            cpu = min(cpu, sum(r[1] for r in res))
+            if sec < best:
+                best, results = sec, res
+        self.last_cpu_seconds = cpu
+        return best, results
+
+    def closest(self, o, d, tmax=np.inf, repeats: int = 3):
+        tfar = np.broadcast_to(np.float32(tmax), (len(o),)).astype(np.float32)
+        sec, res = self._run(o, d, tfar, "INTERSECT", repeats)
+        prim = np.concatenate([r[2] for r in res])
+        t = np.concatenate([r[3] for r in res])
+        return t, prim, sec
+
+    def any(self, o, d, tmax=1.0, repeats: int = 3):
+        tfar = np.broadcast_to(np.float32(tmax), (len(o),)).astype(np.float32)
+        sec, res = self._run(o, d, tfar, "OCCLUDED", repeats)
+        occluded = np.concatenate([r[2] for r in res]) != -1
+        return occluded, sec
+
+    def close(self) -> None:
+        self.pool.close()
+        self.pool.join()
+        self._tmp.cleanup()
+
+
+# ---- the benchmark -------------------------------------------------------------------------------------------
+
+
+def run(triangles: int = 1_000_000, width: int = 640, height: int = 360, embree: bool = True,
+        print_fn=print, local_size: int | None = None, repeats: int = 3) -> dict:
+    """Build, trace and (if embreex imports) compare with Embree; returns the figures as a dict."""
+    from .bvh import build_bvh, make_tris
+
+    res: dict = {}
+    t0 = time.perf_counter()
+    v0, v1, v2 = make_scene(triangles)
+    n = len(v0)
+    res["triangles"] = n
+    print_fn(f"scene: {n} triangles ({time.perf_counter() - t0:.2f} s to generate)")
+    bvh = build_bvh(v0, v1, v2)
+    tris = make_tris(v0, v1, v2, np.zeros(n, np.int32), np.arange(n), bvh.order)
+    res.update(build_seconds=bvh.build_seconds, nodes=bvh.node_count, leaves=bvh.leaf_count, depth=bvh.depth,
+               sah_cost=bvh.sah_cost())
+    print_fn(f"BVH build: {bvh.build_seconds:.2f} s, {bvh.node_count} nodes, {bvh.leaf_count} leaves, "
+             f"depth {bvh.depth}, SAH cost {res['sah_cost']:.1f}")
+
+    ours = OpenCLTracer(bvh.nodes, tris, local_size=local_size)
+    res["device"] = ours.dev.label
+    print_fn(f"device: {ours.dev.label}; POCL_WORK_GROUP_METHOD={os.environ.get('POCL_WORK_GROUP_METHOD', '')!r}, "
+             f"local size {local_size or 'None (chosen by the runtime)'}; load average {os.getloadavg()[0]:.1f}")
+    print_fn("Mrays/s: wall clock (best of the timed runs); in brackets per CPU-second of all threads, which does "
+             "not depend on other load")
+    o, d = camera_rays(width, height)
+    t, leaf, sec = ours.closest(o, d, repeats=repeats)
+    res["primary_rays"] = len(o)
+    res["primary_mrays"] = len(o) / sec / 1e6
+    res["primary_mrays_cpu"] = len(o) / ours.last_cpu_seconds / 1e6
+    hit = leaf >= 0
+    prim = np.full(len(o), -1, np.int64)
+    prim[hit] = bvh.order[leaf[hit]]
+    print_fn(f"ours   primary: {res['primary_mrays']:6.2f} Mrays/s [{res['primary_mrays_cpu']:5.2f}] "
+             f"({len(o)} rays, {hit.mean() * 100:.1f}% hit)")
+    rng = np.random.default_rng(1)
+    so, sd = shadow_rays(o, d, t.astype(np.float64), leaf, tris, rng)
+    occ, sec = ours.any(so, sd, 1.0, repeats=repeats)
+    res["shadow_rays"] = len(so)
+    res["shadow_mrays"] = len(so) / sec / 1e6
+    res["shadow_mrays_cpu"] = len(so) / ours.last_cpu_seconds / 1e6
+    print_fn(f"ours   shadow : {res['shadow_mrays']:6.2f} Mrays/s [{res['shadow_mrays_cpu']:5.2f}] "
+             f"({len(so)} rays, {occ.mean() * 100:.1f}% occluded)")
+
+    if embree:
+        try:
+            import embreex  # noqa: F401
+        except ImportError:
+            print_fn("embreex not installed: no Embree comparison (pip install embreex)")
+            return res
+        t1 = time.perf_counter()
+        emb = EmbreeTracer(v0, v1, v2)
+        print_fn(f"Embree: {emb.processes} processes, scenes ready in {time.perf_counter() - t1:.1f} s (not timed)")
+        try:
+            et, eprim, esec = emb.closest(o, d, repeats=repeats)
+            ecpu = emb.last_cpu_seconds
+            eocc, ssec = emb.any(so, sd, 1.0, repeats=repeats)
+            scpu = emb.last_cpu_seconds
+        finally:
+            emb.close()
+        res["embree_primary_mrays"] = len(o) / esec / 1e6
+        res["embree_shadow_mrays"] = len(so) / ssec / 1e6
+        res["embree_primary_mrays_cpu"] = len(o) / ecpu / 1e6
+        res["embree_shadow_mrays_cpu"] = len(so) / scpu / 1e6
+        res["primary_ratio"] = res["primary_mrays"] / res["embree_primary_mrays"]
+        res["shadow_ratio"] = res["shadow_mrays"] / res["embree_shadow_mrays"]
+        res["primary_ratio_cpu"] = res["primary_mrays_cpu"] / res["embree_primary_mrays_cpu"]
+        res["shadow_ratio_cpu"] = res["shadow_mrays_cpu"] / res["embree_shadow_mrays_cpu"]
+        same_prim = prim == eprim
+        both_hit = (prim >= 0) & (eprim >= 0)
+        with np.errstate(invalid="ignore"):
+            close_t = both_hit & (np.abs(t - et) <= 1e-4 * np.maximum(np.abs(et), 1.0))
+        res["primary_agreement"] = float(np.mean(same_prim | close_t))
+        res["primary_same_prim"] = float(np.mean(same_prim))
+        res["shadow_agreement"] = float(np.mean(occ == eocc))
+        for kind, label in (("primary", "primary"), ("shadow", "shadow ")):
+            print_fn(f"Embree {label}: {res[f'embree_{kind}_mrays']:6.2f} Mrays/s "
+                     f"[{res[f'embree_{kind}_mrays_cpu']:5.2f}]; ours/Embree {res[f'{kind}_ratio']:.2f} "
+                     f"[{res[f'{kind}_ratio_cpu']:.2f}]")
+        print_fn(f"agreement with Embree: primary {res['primary_agreement'] * 100:.3f}% (same triangle "
+                 f"{res['primary_same_prim'] * 100:.3f}%, else same t), shadow {res['shadow_agreement'] * 100:.3f}%")
+    return res
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m restircl.bench_traversal", description=__doc__.split("\n")[0])
+    ap.add_argument("--triangles", type=int, default=1_000_000)
+    ap.add_argument("--width", type=int, default=640)
+    ap.add_argument("--height", type=int, default=360)
+    ap.add_argument("--no-embree", action="store_true", help="skip the Embree comparison")
+    ap.add_argument("--local-size", type=int, default=None, help="OpenCL local size (default: the runtime's)")
+    ap.add_argument("--repeats", type=int, default=3, help="timed runs per measurement (best is kept)")
+    args = ap.parse_args(argv)
+    run(args.triangles, args.width, args.height, embree=not args.no_embree, local_size=args.local_size,
+        repeats=args.repeats)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

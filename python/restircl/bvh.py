@@ -1,0 +1,400 @@
+"""Bounding volume hierarchy: a binned-SAH BVH2 built top-down with vectorised numpy, and the triangle array.
+
+The build processes one whole level of the tree per step: every node of the level is binned, evaluated and
+partitioned by the same array operations, so the Python overhead is per level, not per node. Nodes use the
+"child pair" layout of opencl/types.h (one 64-byte node holds both children's boxes, in SoA form); node 0 is the
+root. The device side is opencl/bvh.h.
+
+Leaf encoding (see types.h): a child reference c >= 0 is the inner node c; c < 0 is a leaf whose triangles are
+tris[~c : ~c + count] (``~c == -c - 1``). The triangles are stored in leaf order (make_tris), so a leaf is one
+contiguous range of the Tri array.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import layouts
+
+#: largest number of triangles in one leaf
+LEAF_MAX = 2
+#: SAH bins per axis
+BINS = 12
+#: SAH cost of visiting one inner node (two box tests), in units of one triangle test
+COST_NODE = 1.0
+COST_TRI = 1.0
+
+
+@dataclass
+class BVH:
+    nodes: np.ndarray          # layouts.BVH_NODE, node 0 is the root
+    order: np.ndarray          # int64: leaf position -> input triangle index
+    build_seconds: float
+    depth: int = 0             # number of levels below the root node
+    leaf_count: int = 0
+
+    @property
+    def node_count(self) -> int:
+        return len(self.nodes)
+
+    def sah_cost(self) -> float:
+        """SAH cost of the tree (COST_NODE per inner node visit, COST_TRI per triangle), for comparing builds."""
+        n = self.nodes
+        x = n["bx"].astype(np.float64)
+        y = n["by"].astype(np.float64)
+        z = n["bz"].astype(np.float64)
+        meta = n["meta"]
+        root = _area(
+            np.minimum(x[0, 0], x[0, 1]), np.maximum(x[0, 2], x[0, 3]),
+            np.minimum(y[0, 0], y[0, 1]), np.maximum(y[0, 2], y[0, 3]),
+            np.minimum(z[0, 0], z[0, 1]), np.maximum(z[0, 2], z[0, 3]),
+        )
+        if not root > 0:
+            return 0.0
+        cost = COST_NODE  # the root
+        for side in (0, 1):
+            a = _area(x[:, side], x[:, side + 2], y[:, side], y[:, side + 2], z[:, side], z[:, side + 2])
+            child = meta[:, side]
+            count = meta[:, side + 2]
+            cost += float(np.sum(np.where(child >= 0, COST_NODE, COST_TRI * count) * a)) / root
+        return cost
+
+
+def _area(x0, x1, y0, y1, z0, z1):
+    dx, dy, dz = x1 - x0, y1 - y0, z1 - z0
+    return dx * dy + dy * dz + dz * dx
+
+
+def device_vertices(v0: np.ndarray, v1: np.ndarray, v2: np.ndarray):
+    """float32 (v0, e1, e2) as stored in Tri, and the vertices v1, v2 the device reconstructs as v0 + e1, v0 + e2.
+
+    The edges are differences of the float32-rounded vertices, so v0 + e1 gives back the rounded v1 exactly in
+    almost all cases: a vertex shared by two triangles has the same value in both, which the watertight
+    intersection test needs.
+    """
+    a = np.asarray(v0, dtype=np.float32)
+    b = np.asarray(v1, dtype=np.float32)
+    c = np.asarray(v2, dtype=np.float32)
+    e1 = (b.astype(np.float64) - a).astype(np.float32)
+    e2 = (c.astype(np.float64) - a).astype(np.float32)
+    return a, e1, e2, a + e1, a + e2
+
+
+def make_tris(
+    v0: np.ndarray,
+    v1: np.ndarray,
+    v2: np.ndarray,
+    material: np.ndarray,
+    prim: np.ndarray,
+    order: np.ndarray,
+    obj: np.ndarray | None = None,
+) -> np.ndarray:
+    """The Tri array in leaf order: v0.w = material id, e1.w = prim (the original triangle index), e2.w = obj
+    (0 when not given), all as int bits. `order` is BVH.order."""
+    order = np.asarray(order, dtype=np.int64)
+    a, e1, e2, _, _ = device_vertices(np.asarray(v0)[order], np.asarray(v1)[order], np.asarray(v2)[order])
+    out = np.zeros(len(order), dtype=layouts.TRI)
+    out["v0"][:, :3] = a
+    out["e1"][:, :3] = e1
+    out["e2"][:, :3] = e2
+    out["v0"][:, 3] = layouts.int_bits(np.asarray(material)[order])
+    out["e1"][:, 3] = layouts.int_bits(np.asarray(prim)[order])
+    if obj is not None:
+        out["e2"][:, 3] = layouts.int_bits(np.asarray(obj)[order])
+    return out
+
+
+class _Nodes:
+    """Growable node storage in SoA form (filled level by level)."""
+
+    def __init__(self, capacity: int) -> None:
+        self.box = np.zeros((capacity, 3, 4), np.float32)   # [node, axis, (lmin, rmin, lmax, rmax)]
+        self.meta = np.zeros((capacity, 4), np.int32)       # left, right, left count, right count
+        self.count = 1                                      # node 0: the root
+
+    def alloc(self, k: int) -> np.ndarray:
+        first = self.count
+        self.count += k
+        if self.count > len(self.box):
+            cap = max(self.count, 2 * len(self.box))
+            self.box = np.concatenate([self.box, np.zeros((cap - len(self.box), 3, 4), np.float32)])
+            self.meta = np.concatenate([self.meta, np.zeros((cap - len(self.meta), 4), np.int32)])
+        return np.arange(first, self.count, dtype=np.int64)
+
+    def finish(self) -> np.ndarray:
+        n = self.count
+        out = np.zeros(n, dtype=layouts.BVH_NODE)
+        out["bx"] = self.box[:n, 0]
+        out["by"] = self.box[:n, 1]
+        out["bz"] = self.box[:n, 2]
+        out["meta"] = self.meta[:n]
+        return out
+
+
+def _prefix(x: np.ndarray, op) -> np.ndarray:
+    """Running op over the rows of x (row by row: numpy's accumulate along axis 0 is strided and slow)."""
+    out = np.empty_like(x)
+    out[0] = x[0]
+    for i in range(1, len(x)):
+        op(out[i - 1], x[i], out=out[i])
+    return out
+
+
+def _suffix(x: np.ndarray, op) -> np.ndarray:
+    out = np.empty_like(x)
+    out[-1] = x[-1]
+    for i in range(len(x) - 2, -1, -1):
+        op(out[i + 1], x[i], out=out[i])
+    return out
+
+
+def _segment_ids(counts: np.ndarray) -> np.ndarray:
+    return np.repeat(np.arange(len(counts), dtype=np.int32), counts)
+
+
+def build_bvh(
+    v0: np.ndarray,
+    v1: np.ndarray,
+    v2: np.ndarray,
+    *,
+    bins: int = BINS,
+    leaf_max: int = LEAF_MAX,
+) -> BVH:
+    """Binned-SAH BVH over triangles given as (T, 3) vertex arrays (world space).
+
+    Every node with more than `leaf_max` triangles is split at the SAH-best of `bins` - 1 planes along the axis
+    of largest centroid extent (Wald 2007); nodes of up to `leaf_max` triangles are leaves. A node whose
+    centroids all coincide is split in two halves. An empty scene gives one root node with two empty leaves
+    (no ray hits anything).
+    """
+    t_start = time.perf_counter()
+    v0 = np.asarray(v0, dtype=np.float64).reshape(-1, 3)
+    v1 = np.asarray(v1, dtype=np.float64).reshape(-1, 3)
+    v2 = np.asarray(v2, dtype=np.float64).reshape(-1, 3)
+    n = len(v0)
+    if not (len(v1) == n and len(v2) == n):
+        raise ValueError("v0, v1, v2 must have the same length")
+    if n >= 2**31 - 1:
+        raise ValueError("too many triangles for 32-bit indices")
+    if n and not (np.all(np.isfinite(v0)) and np.all(np.isfinite(v1)) and np.all(np.isfinite(v2))):
+        raise ValueError("triangle vertices contain NaN or Inf")
+    leaf_max = max(1, int(leaf_max))
+    bins = max(2, int(bins))
+
+    # Boxes of the triangles as the device sees them (float32 v0 + e1, v0 + e2).
+    a, _, _, b, c = device_vertices(v0, v1, v2)
+    lo = np.minimum(np.minimum(a, b), c)
+    hi = np.maximum(np.maximum(a, b), c)
+    del a, b, c
+    # Per-triangle data of the triangles still to be placed, grouped by node (segments), structure of arrays.
+    lo_ax = [np.ascontiguousarray(lo[:, k]) for k in range(3)]
+    hi_ax = [np.ascontiguousarray(hi[:, k]) for k in range(3)]
+    ce_ax = [0.5 * lo_ax[k] + 0.5 * hi_ax[k] for k in range(3)]
+    ids = np.arange(n, dtype=np.int32)
+    del lo, hi
+
+    order = np.empty(n, dtype=np.int64)
+    nodes = _Nodes(max(16, (2 * n) // leaf_max + 16))
+    if n <= 1:
+        # Node 0 with an empty right leaf (box: the point (0, 0, 0)); the left leaf holds the triangle if any.
+        nodes.meta[0] = (-1, -1, n, 0)
+        if n:
+            order[0] = 0
+            for k in range(3):
+                nodes.box[0, k, 0] = lo_ax[k][0]
+                nodes.box[0, k, 2] = hi_ax[k][0]
+        return BVH(nodes.finish(), order, time.perf_counter() - t_start, 0, n)
+
+    cursor = 0                                    # next free leaf position in `order`
+    seg_count = np.array([n], dtype=np.int64)     # one segment per node of the current level, all inner
+    seg_node = np.array([0], dtype=np.int64)      # the node each segment becomes
+    depth = 0
+    leaf_count = 0
+    while len(seg_count):
+        S = len(seg_count)
+        m = len(ids)
+        starts = np.zeros(S, dtype=np.int64)
+        np.cumsum(seg_count[:-1], out=starts[1:])
+        seg = _segment_ids(seg_count)
+        rows = np.arange(S)
+
+        # Bin the centroids along the axis of largest centroid extent of each segment.
+        c_lo = np.stack([np.minimum.reduceat(ce_ax[k], starts) for k in range(3)], 1)
+        c_hi = np.stack([np.maximum.reduceat(ce_ax[k], starts) for k in range(3)], 1)
+        ext = c_hi - c_lo
+        axis = np.argmax(ext, axis=1)
+        e_ax = ext[rows, axis].astype(np.float64)
+        scale = np.where(e_ax > 0, bins * (1.0 - 1e-6) / np.where(e_ax > 0, e_ax, 1.0), 0.0).astype(np.float32)
+        lo_sel = c_lo[rows, axis]
+        c_sel = np.choose(axis[seg], ce_ax)
+        bk = ((c_sel - lo_sel[seg]) * scale[seg]).astype(np.int32)
+        np.clip(bk, 0, bins - 1, out=bk)
+
+        # Per (bin, segment): triangle count and box; bin-major, so that the sweeps run over contiguous rows.
+        nb = S * bins
+        key = bk * np.int32(S) + seg
+        cnt = np.bincount(key, minlength=nb).reshape(bins, S)
+        nl = np.cumsum(cnt[:-1], axis=0, dtype=np.int64)
+        nr = seg_count[None, :] - nl
+        pre_lo, pre_hi, suf_lo, suf_hi = [], [], [], []
+        for j in range(3):
+            t = np.full(nb, np.inf, np.float32)
+            np.minimum.at(t, key, lo_ax[j])
+            t = t.reshape(bins, S)
+            u = np.full(nb, -np.inf, np.float32)
+            np.maximum.at(u, key, hi_ax[j])
+            u = u.reshape(bins, S)
+            pre_lo.append(_prefix(t, np.minimum))
+            pre_hi.append(_prefix(u, np.maximum))
+            suf_lo.append(_suffix(t, np.minimum))
+            suf_hi.append(_suffix(u, np.maximum))
+        with np.errstate(invalid="ignore", over="ignore"):
+            dl = [pre_hi[j][:-1] - pre_lo[j][:-1] for j in range(3)]
+            dr = [suf_hi[j][1:] - suf_lo[j][1:] for j in range(3)]
+            al = dl[0] * dl[1] + dl[1] * dl[2] + dl[2] * dl[0]
+            ar = dr[0] * dr[1] + dr[1] * dr[2] + dr[2] * dr[0]
+            costs = al * nl + ar * nr
+        costs[(nl == 0) | (nr == 0)] = np.inf
+        plane = np.argmin(costs, axis=0)
+        # No plane separates the triangles only when all centroids coincide: split by position then.
+        halves = ~np.isfinite(costs[plane, rows])
+
+        # Children of every segment: counts and boxes (from the bin sweeps; the whole box for halves).
+        right = bk > plane[seg]
+        if np.any(halves):
+            h = halves[seg]
+            pos = np.arange(m, dtype=np.int64) - starts[seg]
+            right[h] = pos[h] >= (seg_count[seg][h] // 2)
+        n_left = np.where(halves, seg_count // 2, nl[np.minimum(plane, bins - 2), rows])
+        n_right = seg_count - n_left
+        child_count = np.stack([n_left, n_right], 1).reshape(-1)
+        child_leaf = child_count <= leaf_max
+        pl, pr = plane, np.minimum(plane + 1, bins - 1)
+        for j in range(3):
+            whole_lo, whole_hi = suf_lo[j][0], suf_hi[j][0]
+            nodes.box[seg_node, j, 0] = np.where(halves, whole_lo, pre_lo[j][pl, rows])
+            nodes.box[seg_node, j, 2] = np.where(halves, whole_hi, pre_hi[j][pl, rows])
+            nodes.box[seg_node, j, 1] = np.where(halves, whole_lo, suf_lo[j][pr, rows])
+            nodes.box[seg_node, j, 3] = np.where(halves, whole_hi, suf_hi[j][pr, rows])
+
+        # References: new nodes for inner children, leaf ranges for the others.
+        inner_c = np.nonzero(~child_leaf)[0]
+        leaf_c = np.nonzero(child_leaf)[0]
+        ref = np.empty(2 * S, dtype=np.int64)
+        ref[inner_c] = nodes.alloc(len(inner_c))
+        lc = child_count[leaf_c]
+        leaf_first = cursor + np.cumsum(lc) - lc
+        ref[leaf_c] = ~leaf_first
+        nodes.meta[seg_node, 0] = ref[0::2]
+        nodes.meta[seg_node, 1] = ref[1::2]
+        nodes.meta[seg_node, 2] = np.where(child_leaf[0::2], n_left, 0)
+        nodes.meta[seg_node, 3] = np.where(child_leaf[1::2], n_right, 0)
+
+        # Rank of every triangle within its child (stable), then its destination: the next level's arrays for
+        # inner children, the leaf order for leaves.
+        left = ~right
+        cl = np.cumsum(left, dtype=np.int64)
+        cl -= left
+        rank = np.where(right, np.arange(m, dtype=np.int64) - starts[seg] - (cl - cl[starts][seg]),
+                        cl - cl[starts][seg])
+        child = 2 * seg.astype(np.int64) + right
+        is_leaf_p = child_leaf[child]
+        k_leaf = int(lc.sum())
+        if k_leaf:
+            out_pos = leaf_first_full = np.zeros(2 * S, dtype=np.int64)
+            leaf_first_full[leaf_c] = leaf_first
+            out_pos = leaf_first_full[child[is_leaf_p]] + rank[is_leaf_p]
+            order[out_pos] = ids[is_leaf_p]
+            cursor += k_leaf
+            leaf_count += len(leaf_c)
+        if len(inner_c) == 0:
+            break
+        ic = np.where(child_leaf, 0, child_count)
+        new_start = np.cumsum(ic) - ic
+        keep = ~is_leaf_p
+        src = np.nonzero(keep)[0]
+        perm = np.empty(len(src), dtype=np.int64)
+        perm[new_start[child[src]] + rank[src]] = src
+        for arrs in (lo_ax, hi_ax, ce_ax):
+            for k in range(3):
+                arrs[k] = arrs[k][perm]
+        ids = ids[perm]
+        seg_count = child_count[inner_c]
+        seg_node = ref[inner_c]
+        depth += 1
+
+    assert cursor == n
+    meta = nodes.meta[: nodes.count]
+    box = nodes.box[: nodes.count]
+    meta, box, order = _depth_first(meta, box, order)
+    out = np.zeros(len(meta), dtype=layouts.BVH_NODE)
+    out["bx"], out["by"], out["bz"] = box[:, 0], box[:, 1], box[:, 2]
+    out["meta"] = meta
+    return BVH(out, order, time.perf_counter() - t_start, depth + 1, leaf_count)
+
+
+def _depth_first(meta: np.ndarray, box: np.ndarray, order: np.ndarray):
+    """Renumber the nodes (built level by level) in depth-first order, left child first, and put the leaves'
+    triangles in the same order: a subtree is then one contiguous range of nodes and of triangles."""
+    n_nodes = len(meta)
+    left, right = meta[:, 0].astype(np.int64), meta[:, 1].astype(np.int64)
+    inner_l, inner_r = left >= 0, right >= 0
+    # Levels: children have larger indices than their parents (nodes are allocated level by level).
+    level = np.zeros(n_nodes, np.int64)
+    frontier = np.array([0])
+    levels = [frontier]
+    while True:
+        ch = np.concatenate([left[frontier][inner_l[frontier]], right[frontier][inner_r[frontier]]])
+        if len(ch) == 0:
+            break
+        level[ch] = len(levels)
+        frontier = np.sort(ch)
+        levels.append(frontier)
+    # Subtree sizes (nodes and triangles), bottom-up.
+    size = np.ones(n_nodes, np.int64)
+    tris = np.zeros(n_nodes, np.int64)
+    for lv in reversed(levels):
+        lc, rc = left[lv], right[lv]
+        il, ir = inner_l[lv], inner_r[lv]
+        size[lv] = 1 + np.where(il, size[np.maximum(lc, 0)], 0) + np.where(ir, size[np.maximum(rc, 0)], 0)
+        tris[lv] = (np.where(il, tris[np.maximum(lc, 0)], meta[lv, 2])
+                    + np.where(ir, tris[np.maximum(rc, 0)], meta[lv, 3]))
+    # New node numbers and triangle ranges, top-down.
+    new = np.zeros(n_nodes, np.int64)
+    start = np.zeros(n_nodes, np.int64)  # first triangle of the subtree in the new order
+    new_meta = meta.copy()
+    src_first, dst_first, counts = [], [], []
+    for lv in levels:
+        lc, rc = left[lv], right[lv]
+        il, ir = inner_l[lv], inner_r[lv]
+        k, s = new[lv], start[lv]
+        n_left_tris = np.where(il, tris[np.maximum(lc, 0)], meta[lv, 2])
+        new[lc[il]] = k[il] + 1
+        start[lc[il]] = s[il]
+        new[rc[ir]] = (k + 1 + np.where(il, size[np.maximum(lc, 0)], 0))[ir]
+        start[rc[ir]] = (s + n_left_tris)[ir]
+        for side, inner, child, first in ((0, il, lc, s), (1, ir, rc, s + n_left_tris)):
+            leaf = ~inner
+            src_first.append(~child[leaf])
+            dst_first.append(first[leaf])
+            counts.append(meta[lv, side + 2][leaf])
+            col = new_meta[lv, side]
+            col[leaf] = ~first[leaf]
+            new_meta[lv, side] = col
+    src_first, dst_first, counts = (np.concatenate(x).astype(np.int64) for x in (src_first, dst_first, counts))
+    rep = np.repeat(np.arange(len(counts)), counts)
+    offs = np.arange(len(rep)) - np.repeat(np.cumsum(counts) - counts, counts)
+    new_order = np.empty_like(order)
+    new_order[dst_first[rep] + offs] = order[src_first[rep] + offs]
+    # Child references to the new node numbers.
+    for side in (0, 1):
+        c = new_meta[:, side]
+        inner = meta[:, side] >= 0
+        c[inner] = new[meta[inner, side]]
+        new_meta[:, side] = c
+    perm = np.empty(n_nodes, np.int64)
+    perm[new] = np.arange(n_nodes)
+    return new_meta[perm], box[perm], new_order
