@@ -111,4 +111,18 @@ def luminance(x: np.ndarray) -> np.ndarray:
 
 
 __all__ = ["Renderer", "Settings", "allowed_outliers", "batch_stats", "below_only_scene", "collect",
-           "luminance", "mixed_lights_scene", "occluder_scene", "rel_mse"]
+           "luminance", "mean_and_se", "mixed_lights_scene", "occluder_scene", "rel_mse", "run_means"]
+
+
+def run_means(scene: Scene, settings: Settings, runs: int, frames: int, device=None) -> np.ndarray:
+    """(runs, H, W, 3) means of `frames` frames of a still camera, each run with a fresh renderer and its own seed:
+    the runs are independent even where the frames of one run are correlated (ReSTIR's temporal reuse)."""
+    out = []
+    for k in range(runs):
+        s = Settings(**{**settings.__dict__, "seed": settings.seed * 1000 + k})
+        out.append(collect(scene, s, frames, device).mean(axis=0))
+    return np.stack(out)
+
+
+def mean_and_se(runs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    return runs.mean(axis=0), runs.std(axis=0, ddof=1) / math.sqrt(runs.shape[0])

@@ -58,6 +58,7 @@ class Settings:
     depth_tolerance: float = 0.1  # relative view-depth mismatch rejecting a neighbour / history
     normal_angle: float = 25.0  # degrees of normal mismatch rejecting a neighbour / history
     slots_per_light: float = 4.0  # light array size M = k * N
+    light_change_ratio: float = 2.0  # drop ReSTIR history when a light's power changes more than this (0: never)
     jitter: bool = True  # sub-pixel camera jitter (Halton 2, 3)
     seed: int = 0
     specialise: bool = True  # False: build with every feature (for tests and benchmarks)
@@ -79,6 +80,7 @@ class Settings:
             "depth_tolerance": self.depth_tolerance > 0,
             "normal_angle": 0 <= self.normal_angle <= 180,
             "slots_per_light": math.isfinite(self.slots_per_light) and self.slots_per_light >= 1,
+            "light_change_ratio": self.light_change_ratio == 0 or self.light_change_ratio > 1,
         }
         for name, ok in checks.items():
             if not ok:
@@ -109,6 +111,18 @@ class Frame:
     error_estimate: float | None = None  # relMSE estimated from two half buffers (still renders)
 
 
+def _lights_switched(old: np.ndarray, new: np.ndarray, ratio: float) -> bool:
+    """Did any light switch on or off, or change its power by more than `ratio`?"""
+    if ratio == 0 or len(old) != len(new):
+        return False
+    on_old, on_new = old > 0, new > 0
+    if np.any(on_old != on_new):
+        return True
+    both = on_old & on_new
+    r = new[both] / old[both]
+    return bool(np.any((r > ratio) | (r < 1.0 / ratio)))
+
+
 def _resolve_device(device: Device | str | None) -> Device:
     if isinstance(device, Device):
         return device
@@ -132,6 +146,7 @@ class Renderer:
         self._sample = 0  # frames rendered so far: the random seed of the next one
         self._last_frame: int | None = None
         self._history_valid = False
+        self._lights_switched = False
         self.guard_totals = dict.fromkeys(L.GUARD_NAMES[: L.GUARD_COUNT], 0)
         self._alloc()
         self._upload_scene(0)
@@ -192,6 +207,9 @@ class Renderer:
             lights = scene_lights(scene, frame, world)
             if self._light_count is not None and self._light_count != len(lights):
                 self._history_valid = False  # light indices changed: old reservoirs point elsewhere
+            elif self._light_count is not None:
+                self._lights_switched = _lights_switched(self.lights.power, lights.power,
+                                                         self.settings.light_change_ratio)
             self.lights = lights
             self._light_count = len(lights)
             self.light_array = build_light_array(lights.power, self.settings.slots_per_light)
@@ -278,11 +296,16 @@ class Renderer:
             return t1
 
         t = time.perf_counter()
+        self._lights_switched = False
+        self._upload_scene(frame)
         cut = frame in cam.cuts and frame != self._last_frame
         consecutive = self._last_frame is not None and frame in (self._last_frame, self._last_frame + 1)
         history = self._history_valid and consecutive and not cut
         prev_frame = self._last_frame if history else frame
-        self._upload_scene(frame)
+        # A light switched on or off (or its power jumped) makes last frame's reservoirs samples of another target:
+        # kept, they would dilute this frame's estimate for many frames. The decision depends on the scene only, not
+        # on any sample, so dropping them keeps the unbiased mode unbiased.
+        restir_history = history and not self._lights_switched
         t = mark("upload", t)
 
         # 1 primary: camera rays -> G-buffer (ping-pong with last frame's)
@@ -311,7 +334,7 @@ class Renderer:
             t = mark("initial", t)
             res = self.res_initial
             # 4 temporal reuse
-            if s.temporal and history:
+            if s.temporal and restir_history:
                 self._run("restir_temporal", (w, h), self.gbuf[cur], self.gbuf[prev], np.int32(w), np.int32(h), *geo,
                           self.lights_buf, params, bias, vis, res, self.res_history[prev], self.res_temp,
                           self.guard_buf)
