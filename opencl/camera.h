@@ -25,6 +25,17 @@ inline bool camera_project(const __global Camera* cam, float3 p, float2* px)
     return isfinite(px->x) && isfinite(px->y);
 }
 
+/* Continuous pixel coordinates of the direction d (a point at infinity); false when it points backwards. */
+inline bool camera_project_dir(const __global Camera* cam, float3 d, float2* px)
+{
+    float z = dot(d, cam->forward.xyz);
+    if (!(z > 0.0f)) return false;
+    float nx = (dot(d, cam->right.xyz) / z - cam->lens.z) / cam->lens.x;
+    float ny = (dot(d, cam->up.xyz) / z - cam->lens.w) / cam->lens.y;
+    *px = (float2)((nx + 1.0f) * 0.5f * (float)cam->width, (1.0f - ny) * 0.5f * (float)cam->height);
+    return isfinite(px->x) && isfinite(px->y);
+}
+
 inline float camera_depth(const __global Camera* cam, float3 p)
 {
     return dot(p - cam->origin.xyz, cam->forward.xyz);

@@ -22,6 +22,14 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
         g.gnormal = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
         g.albedo = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
         g.emission = (float4)(0.0f);
+        g.motion = (float4)(0.0f, 0.0f, 1.0f, INFINITY);  /* the background: reprojected by direction */
+#ifdef HAS_MOTION
+        float2 cur_px, prev_px;
+        if (camera_project_dir(cam, d, &cur_px) && camera_project_dir(prev_cam, d, &prev_px))
+            g.motion.xy = prev_px - cur_px;
+        else
+            g.motion.z = 0.0f;
+#endif
         gbuf[i] = g;
         return;
     }

@@ -1,7 +1,8 @@
 /* Temporal accumulation: f_n = a * s_n + (1 - a) * clip(history(reprojected)), a = max(1 / n, alpha_min) with a
- * per-pixel history length n. History is fetched bilinearly from the taps that show the same surface; it is
- * clipped to the current 3x3 neighbourhood's YCoCg variance box (mean +- gamma * sigma). A NaN/Inf never
- * enters the history: it is counted and the pixel restarts from the new sample. */
+ * per-pixel history length n. When something moves, history is fetched bilinearly from the taps that show the
+ * same surface and clipped to the current 3x3 neighbourhood's YCoCg variance box (mean +- gamma * sigma); in a
+ * still scene every frame's sample belongs to the pixel (the jitter moves the sample, not the scene) and the
+ * history is kept whole. A NaN/Inf never enters the history: it is counted and the pixel restarts. */
 
 inline float3 rgb_to_ycocg(float3 c)
 {
@@ -51,7 +52,7 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
             if (wt <= 0.0f || tx < 0 || ty < 0 || tx >= width || ty >= height) continue;
             int j = ty * width + tx;
             GSample pg = prev_gbuf[j];
-            if (!reproject_same_surface(&cur, &pg, p.depth_tolerance, p.normal_cos)) continue;
+            if (p.moving && !reproject_same_surface(&cur, &pg, p.depth_tolerance, p.normal_cos)) continue;
             float4 hv = history_in[j];
             wsum += wt;
             hsum += wt * hv.xyz;
@@ -66,7 +67,7 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
             }
         }
     }
-    if (n_prev > 0.0f && p.clip) {
+    if (n_prev > 0.0f && p.moving) {
         float3 m1 = (float3)(0.0f), m2 = (float3)(0.0f);
         float cnt = 0.0f;
         for (int dy = -1; dy <= 1; ++dy)

@@ -110,7 +110,8 @@ typedef struct {
     float gamma;           /* variance clipping width, in standard deviations */
     float depth_tolerance; /* relative depth mismatch that marks a disocclusion */
     float normal_cos;      /* cosine below which the normal mismatch marks a disocclusion */
-    int clip;              /* 1: clip history to the neighbourhood (YCoCg variance box) */
+    int moving;            /* 1: camera, objects or lights move: validate history by surface and clip it to the
+                              neighbourhood (YCoCg variance box); 0: a still scene accumulates everything */
     int max_history;       /* cap of the per-pixel history length n */
     int pad0;
     int pad1;

@@ -60,7 +60,7 @@ TAA_PARAMS = np.dtype(
         ("gamma", np.float32),
         ("depth_tolerance", np.float32),
         ("normal_cos", np.float32),
-        ("clip", np.int32),
+        ("moving", np.int32),
         ("max_history", np.int32),
         ("pad0", np.int32),
         ("pad1", np.int32),

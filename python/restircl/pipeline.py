@@ -263,14 +263,14 @@ class Renderer:
         p["seed"] = s.seed
         return p[0]
 
-    def _taa_params(self, clip: bool) -> np.void:
+    def _taa_params(self, moving: bool) -> np.void:
         s = self.settings
         p = np.zeros(1, L.TAA_PARAMS)
         p["alpha_min"] = s.alpha_min
         p["gamma"] = s.gamma
         p["depth_tolerance"] = s.depth_tolerance
         p["normal_cos"] = math.cos(math.radians(s.normal_angle))
-        p["clip"] = int(clip)
+        p["moving"] = int(moving)
         p["max_history"] = s.max_history
         return p[0]
 
@@ -371,7 +371,7 @@ class Renderer:
         if s.taa and not still:
             moving = (prev_frame != frame) or scene.has_moving_lights or scene.has_moving_objects
             self._run("taa", (w, h), self.sample_buf, self.gbuf[cur], self.gbuf[prev], self.taa_history[prev],
-                      self.taa_history[cur], np.int32(w), np.int32(h), self._taa_params(clip=moving),
+                      self.taa_history[cur], np.int32(w), np.int32(h), self._taa_params(moving=moving),
                       np.int32(not history), self.guard_buf)
             color_buf = self.taa_history[cur]
             t = mark("taa", t)
@@ -430,6 +430,12 @@ class Renderer:
             guards=self._read_guards(),
             features=list(self.features),
         )
+
+    def history_length(self) -> np.ndarray:
+        """(H, W) TAA history length n of the last rendered frame (1: the pixel restarted from its new sample)."""
+        hist = np.empty((self.height, self.width, 4), np.float32)
+        cl.enqueue_copy(self.device.queue, hist, self.taa_history[1 - self._cur])
+        return hist[..., 3]
 
     # ---- still renders --------------------------------------------------------------------------------
 

@@ -225,6 +225,12 @@ class Scene:
         cam = self.camera
         if cam is None:
             raise SceneError("the scene has no camera")
+        # attributes may have been replaced after construction: normalise their shapes again
+        cam.transforms = _as_transforms(cam.transforms, "camera")
+        for obj in self.meshes:
+            obj.transforms = _as_transforms(obj.transforms, f"mesh {obj.name!r}")
+        for obj in self.lights:
+            obj.transforms = _as_transforms(obj.transforms, f"light {obj.name!r}")
         for what, v in (("width", cam.width), ("height", cam.height)):
             if not isinstance(v, (int, np.integer)) or not 1 <= int(v) <= MAX_RESOLUTION:
                 raise SceneError(f"camera: {what} must be an integer in 1..{MAX_RESOLUTION}, got {v!r}")
