@@ -1,4 +1,4 @@
-"""The `restircl` command line: demo, render, devices, bench, save-scene (and `python -m restircl`)."""
+"""The `restircl` command line: demo, render, report, devices, bench, save-scene (and `python -m restircl`)."""
 
 from __future__ import annotations
 
@@ -109,7 +109,7 @@ def _render(scene: Scene, settings: Settings, frames: int, out: Path, mode: str,
 
         def progress(done: int, total: int) -> None:
             if done % 8 == 0 and done >= 8:
-                state["err"] = renderer.error_estimate(done, done // 2)
+                state["err"] = renderer.error_estimate(*renderer.still_counts)
             extra = f"est. relMSE {state['err']:.2e}" if state["err"] is not None else ""
             bar.update(done, extra)
 
@@ -169,6 +169,24 @@ def cmd_bench(a: argparse.Namespace) -> int:
     return bench.main(a)
 
 
+def cmd_report(a: argparse.Namespace) -> int:
+    from . import report
+
+    scene = load_scene(a.scene, a.width, a.height, 1)
+    methods = a.methods.split(",") if a.methods else list(report.METHODS)
+    unknown = [m for m in methods if m not in report.METHODS]
+    if unknown:
+        raise ValueError(f"unknown methods {unknown}; choose from {', '.join(report.METHODS)}")
+    budgets = tuple(float(b) for b in a.budgets.split(","))
+    ref = report.reference_image(scene, seconds_hint=a.reference_seconds, device=a.device)
+    rep = report.run_report(scene, methods, budgets, tuple(a.modes.split(",")), device=a.device, reference=ref)
+    print(f"device: {rep.device}, {rep.width}x{rep.height}")
+    print(rep.table())
+    for path in rep.write(Path(a.out)):
+        print(f"wrote {path}")
+    return 0
+
+
 def cmd_save_scene(a: argparse.Namespace) -> int:
     scene = load_scene(a.scene, a.width, a.height)
     scene.save(a.path)
@@ -217,6 +235,22 @@ def build_parser() -> argparse.ArgumentParser:
     b.add_argument("--no-embree", action="store_true")
     b.add_argument("--device", default=None)
     b.set_defaults(func=cmd_bench)
+
+    rp = sub.add_parser("report", help="error against run time for every method (CSV, JSON, log-log plot)",
+                        description="Render a still camera with each method for a series of wall-clock budgets "
+                                    "and record relMSE and RMSE (FLIP with flip-evaluator) against a converged, "
+                                    "cached reference.")
+    rp.add_argument("scene")
+    rp.add_argument("--width", type=int, default=None)
+    rp.add_argument("--height", type=int, default=None)
+    rp.add_argument("--methods", default=None, help="comma-separated subset (default: all)")
+    rp.add_argument("--budgets", default="0.25,0.5,1,2,4", help="seconds, comma-separated (%(default)s)")
+    rp.add_argument("--modes", default="accumulate,taa",
+                    help="accumulate (running mean) and/or taa (TAA with a_min): %(default)s")
+    rp.add_argument("--reference-seconds", type=float, default=120.0, help="time for the reference (%(default)s)")
+    rp.add_argument("--out", default="out")
+    rp.add_argument("--device", default=None)
+    rp.set_defaults(func=cmd_report)
 
     s = sub.add_parser("save-scene", help="write a built-in scene to a scene file (.npz)")
     s.add_argument("scene")

@@ -30,7 +30,8 @@ class DeviceInfo:
 
     @property
     def label(self) -> str:
-        return f"{self.platform_index}:{self.device_index} {self.platform_name} / {self.device_name} ({self.device_type})"
+        where = f"{self.platform_index}:{self.device_index}"
+        return f"{where} {self.platform_name} / {self.device_name} ({self.device_type})"
 
 
 def _type_name(device: cl.Device) -> str:

@@ -147,6 +147,7 @@ class Renderer:
         self._last_frame: int | None = None
         self._history_valid = False
         self._lights_switched = False
+        self._still_counts = (0, 0)
         self.guard_totals = dict.fromkeys(L.GUARD_NAMES[: L.GUARD_COUNT], 0)
         self._alloc()
         self._upload_scene(0)
@@ -283,11 +284,19 @@ class Renderer:
 
     def render_frame(self, frame: int, *, still: bool = False) -> Frame:
         """Render animation frame `frame`, carrying history from the previous call (reset on a camera cut)."""
+        t0 = time.perf_counter()
+        stage, color_buf, gbuf = self._render(frame, still)
+        out = self._read(color_buf, gbuf, frame)
+        out.stage_ms = stage
+        out.ms = (time.perf_counter() - t0) * 1e3
+        return out
+
+    def _render(self, frame: int, still: bool) -> tuple[dict[str, float], cl.Buffer, cl.Buffer]:
+        """Run the passes of one frame; returns the stage times (ms), the colour buffer and the G-buffer."""
         s, scene, q = self.settings, self.scene, self.device.queue
         cam = scene.camera
         assert cam is not None
         stage: dict[str, float] = {}
-        t_frame = time.perf_counter()
 
         def mark(name: str, t0: float) -> float:
             q.finish()
@@ -380,10 +389,7 @@ class Renderer:
         self._last_frame = frame
         self._sample += 1
         self._cur = prev
-        out = self._read(color_buf, self.gbuf[cur], frame)
-        out.stage_ms = stage
-        out.ms = (time.perf_counter() - t_frame) * 1e3
-        return out
+        return stage, color_buf, self.gbuf[cur]
 
     # ---- output -----------------------------------------------------------------------------------------
 
@@ -446,42 +452,63 @@ class Renderer:
         progress: Callable[[int, int], None] | None = None,
         should_stop: Callable[[], bool] | None = None,
         target_error: float | None = None,
+        checkpoint: Callable[[int, float], None] | None = None,
     ) -> Frame:
-        """Average `samples` frames of a still camera at `frame` (ReSTIR keeps reusing between them)."""
+        """Average up to `samples` frames of a still camera at `frame` (ReSTIR keeps reusing between them).
+
+        progress(done, samples) is called after each sample; should_stop() before each (a cancel keeps what is
+        done); target_error stops once the reference-free error estimate (relMSE) reaches it; checkpoint(done,
+        seconds) lets a caller look at the running mean (mean_image) while it accumulates."""
         q = self.device.queue
         for b in (self.sum_buf, self.sum_half):
             cl.enqueue_fill_buffer(q, b, np.float32(0), 0, self.pixels * 16)
         n_half = 0
         done = 0
-        last: Frame | None = None
         stage: dict[str, float] = {}
         t0 = time.perf_counter()
-        estimate = None
+        gbuf = self.gbuf[self._cur]
         for k in range(max(int(samples), 1)):
-            if should_stop is not None and should_stop() and done > 0:
+            if should_stop is not None and done > 0 and should_stop():
                 break
-            last = self.render_frame(frame, still=True)
-            for key, v in last.stage_ms.items():
+            st, _, gbuf = self._render(frame, still=True)
+            for key, v in st.items():
                 stage[key] = stage.get(key, 0.0) + v
             odd = k % 2
             self._run("accumulate", (self.pixels,), self.sample_buf, np.int32(self.pixels), np.int32(odd),
                       self.sum_buf, self.sum_half)
             n_half += odd
             done += 1
+            self._still_counts = (done, n_half)
             if progress is not None:
                 progress(done, samples)
+            if checkpoint is not None:
+                q.finish()
+                checkpoint(done, time.perf_counter() - t0)
             if target_error is not None and done >= 8 and done % 4 == 0:
                 estimate = self.error_estimate(done, n_half)
                 if estimate is not None and estimate <= target_error:
                     break
-        assert last is not None
-        out = self._read(self.sum_buf, self.gbuf[1 - self._cur], frame, scale=1.0 / done)
-        out.noisy = last.noisy
+        out = self._read(self.sum_buf, gbuf, frame, scale=1.0 / done)
+        noisy = np.empty((self.height, self.width, 4), np.float32)
+        cl.enqueue_copy(q, noisy, self.sample_buf)
+        out.noisy = noisy[..., :3].copy()
         out.samples = done
         out.stage_ms = {k: v / done for k, v in stage.items()}
         out.ms = (time.perf_counter() - t0) * 1e3 / done
         out.error_estimate = self.error_estimate(done, n_half) if done >= 2 else None
         return out
+
+    @property
+    def still_counts(self) -> tuple[int, int]:
+        """(samples accumulated, of which in the odd half) of the still render in progress."""
+        return self._still_counts
+
+    def mean_image(self) -> np.ndarray:
+        """(H, W, 3) running mean of the still render in progress (for checkpoint callbacks)."""
+        done, _ = self._still_counts
+        total = np.empty((self.height, self.width, 4), np.float32)
+        cl.enqueue_copy(self.device.queue, total, self.sum_buf)
+        return total[..., :3] / max(done, 1)
 
     def error_estimate(self, done: int, n_half: int) -> float | None:
         """relMSE of the running mean estimated from two half buffers (odd and even frames), no reference needed:

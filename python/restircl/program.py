@@ -67,11 +67,12 @@ def build_program(
     device: Device,
     flags: Mapping[str, int | float | bool | str] | None = None,
     source: str | None = None,
+    extra_options: tuple[str, ...] = (),
 ) -> cl.Program:
     """Build (or fetch from the cache) the program for `flags`. `source` replaces the main file's text."""
     src_dir = opencl_dir()
     text = source if source is not None else (src_dir / MAIN_SOURCE).read_text()
-    options = [f"-I{src_dir}", "-cl-std=CL1.2", *format_options(flags or {})]
+    options = [f"-I{src_dir}", "-cl-std=CL1.2", *format_options(flags or {}), *extra_options]
     for opt in options:
         if opt in FORBIDDEN_OPTIONS:
             raise ValueError(f"{opt} deletes the NaN/Inf guards and is not allowed")

@@ -1,0 +1,48 @@
+"""Device choice (deterministic, overridable by argument and env var), hand-in contexts, and build errors."""
+
+import pyopencl as cl
+import pytest
+from restircl import Device, DeviceError, KernelBuildError, Renderer, Settings, scenes
+from restircl.device import choose_device, list_devices
+from restircl.program import build_program
+
+
+def test_choice_is_deterministic_and_prefers_gpu():
+    devices = list_devices()
+    info, _ = choose_device()
+    assert info == choose_device()[0]
+    gpus = [i for i, _ in devices if i.device_type == "GPU"]
+    assert info == (gpus[0] if gpus else next(i for i, _ in devices if i.device_type == "CPU"))
+
+
+def test_override_by_argument_and_environment(monkeypatch):
+    info, _ = list_devices()[-1]
+    spec = f"{info.platform_index}:{info.device_index}"
+    assert choose_device(spec)[0] == info
+    monkeypatch.setenv("RESTIRCL_DEVICE", spec)
+    assert choose_device()[0] == info
+    monkeypatch.setenv("RESTIRCL_DEVICE", info.device_name[:6])
+    assert choose_device()[0].device_name == info.device_name
+    monkeypatch.setenv("RESTIRCL_DEVICE", "9:9")
+    with pytest.raises(DeviceError, match="no OpenCL device matches '9:9'"):
+        choose_device()
+
+
+def test_script_can_hand_in_its_own_queue(device):
+    ctx = cl.Context([device.device])
+    queue = cl.CommandQueue(ctx)
+    own = Device(queue=queue)
+    r = Renderer(scenes.cornell_box(width=16, height=16), Settings(method="ris"), own)
+    assert r.device.queue is queue and r.render_frame(0).color.shape == (16, 16, 4)
+
+
+def test_build_error_names_file_and_line(device):
+    with pytest.raises(KernelBuildError) as e:
+        build_program(device, {}, source='#include "types.h"\n__kernel void k(__global int* a) { a[0] = nope; }\n')
+    assert "nope" in str(e.value)
+    assert e.value.location is not None and ":2" in e.value.location
+
+
+def test_fast_math_is_refused(device):
+    with pytest.raises(ValueError, match="NaN/Inf guards"):
+        build_program(device, {}, source="__kernel void k() {}", extra_options=("-cl-fast-relaxed-math",))
