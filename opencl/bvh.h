@@ -1,4 +1,4 @@
-/* Ray traversal of the child-pair BVH2 built by python/restircl/bvh.py (node layout: BVHNode in types.h).
+/* Ray traversal of the 4-wide BVH built by python/restircl/bvh.py (node layout: BVHNode in types.h).
  *
  * trace_closest / trace_any take a ray o + t d, 0 < t < tmax (d need not be unit length; t is in units of d).
  * A ray with a NaN/Inf origin or direction, a zero direction, or tmax NaN or <= 0 misses everything.
@@ -8,16 +8,18 @@
  *   where the ray runs along +z through (0, 0); the 2D edge functions are evaluated without FMA contraction, so
  *   the two triangles sharing an edge compute exactly opposite values for it and a ray cannot slip between
  *   them. Both winding orders are accepted (all edge functions >= 0 or all <= 0).
- *   make_tris stores e1, e2 such that v0 + e1, v0 + e2 give back the float32 vertices exactly, so a vertex
- *   shared by several triangles has one value in all of them.
+ *   make_tris stores e1, e2 as differences of the float32 vertices, so v0 + e1, v0 + e2 give back the vertices
+ *   exactly, and a vertex shared by several triangles has one value in all of them, unless the coordinates of
+ *   a triangle differ in magnitude (then the difference is rounded, by at most one float32 step of the
+ *   triangle's coordinates); the edge test accepts -BVH_EDGE_TOL of the edge functions' sum to close that.
  * - Box test: the slab distances are computed as (b - o) * (1/d) and the far distance is enlarged by a few ulps
  *   (pbrt's 1 + 2 gamma(3) argument), so a box is never missed by rounding, at any scene offset.
  * - Self-intersection: offset_ray_origin moves a surface point along the geometric normal by an amount that
  *   scales with the magnitude of its coordinates (Waechter and Binder, Ray Tracing Gems ch. 6).
  *
- * Traversal: one ray per work-item, scalar control flow; both children's boxes are tested with float4
- * operations (per axis: left min, right min, left max, right max), nearer child first, small fixed stack;
- * leaves are intersected as soon as their box is hit. */
+ * Traversal: one ray per work-item, scalar control flow; the four children's boxes of a node are tested with
+ * float4 operations; leaves are intersected as soon as their box is hit; the inner children that are hit are
+ * visited nearest first (closest hit) or in slot order (any hit), the others wait on a small fixed stack. */
 #ifndef RESTIRCL_BVH_H
 #define RESTIRCL_BVH_H
 
@@ -29,7 +31,7 @@ typedef struct {
 } Hit;
 
 #ifndef BVH_STACK_SIZE
-#define BVH_STACK_SIZE 64  /* the builder keeps the tree depth below this */
+#define BVH_STACK_SIZE 96  /* up to 3 entries per level; the builder keeps the tree within 30 levels */
 #endif
 
 #ifndef BVH_EDGE_TOL
@@ -39,15 +41,24 @@ typedef struct {
 /* 1 + 8 ulp: enlargement of the far slab distance that covers the rounding of (b - o) * (1 / d). */
 #define BVH_FAR_SCALE 1.00000048f
 
-/* max(a, b) that returns b when a is NaN (b must not be NaN); one maxps on x86 */
+/* max / min that return b when a is NaN (b must not be NaN); one maxps / minps on x86 */
 #define BVH_MAX4(a, b) ((a) > (b) ? (a) : (b))
+#define BVH_MIN4(a, b) ((a) < (b) ? (a) : (b))
+
+/* lanes of a vector by a run-time index (PoCL does not inline vstore4) */
+typedef union { int4 v; int a[4]; } BvhInt4;
+typedef union { float4 v; float a[4]; } BvhFloat4;
+
+/* index of the lowest set bit of a 4-bit mask m != 0 (OpenCL 1.2 has no ctz) */
+#define BVH_CTZ4(m) ((0x12131210 >> (2 * (m))) & 3)
 
 /* Ray data prepared once per ray. */
 typedef struct {
-    float4 o4;     /* origin */
-    float4 ox, oy, oz;   /* origin components, broadcast */
-    float4 ix, iy, iz;   /* (1/d, 1/d, -1/d * far scale, -1/d * far scale) per axis; +-inf for d = 0 */
-    int sx, sy, sz;      /* 1: the direction component is negative (the near plane is the max plane) */
+    float4 o4;            /* origin */
+    float4 ox, oy, oz;    /* origin components, broadcast */
+    float4 ix, iy, iz;    /* 1/d per axis, broadcast; +-inf for d = 0 */
+    float4 fx, fy, fz;    /* 1/d * BVH_FAR_SCALE: for the far planes */
+    int sx, sy, sz;       /* 1: the direction component is negative (the near plane is the max plane) */
     float4 shx, shy, shz; /* shear rows: vertex p -> (dot(shx, p - o), dot(shy, p - o), dot(shz, p - o)) */
 } BvhRay;
 
@@ -57,15 +68,18 @@ static inline bool bvh_setup_ray(float3 o, float3 d, float tmax, BvhRay* r)
     float3 ad = fabs(d);
     if (!(ad.x > 0.0f || ad.y > 0.0f || ad.z > 0.0f)) return false;
     /* 1/d: a zero component gives +-inf; a box plane through the origin then gives 0 * inf = NaN in that lane,
-     * which the max chain of bvh_boxes ignores (the ray runs inside the slab: no limit from that axis). */
+     * which the max / min chains of bvh_boxes ignore (the ray runs inside the slab: no limit from that axis). */
     float3 inv = 1.0f / d;
     r->o4 = (float4)(o, 0.0f);
     r->ox = (float4)(o.x);
     r->oy = (float4)(o.y);
     r->oz = (float4)(o.z);
-    r->ix = (float4)(inv.x, inv.x, -inv.x * BVH_FAR_SCALE, -inv.x * BVH_FAR_SCALE);
-    r->iy = (float4)(inv.y, inv.y, -inv.y * BVH_FAR_SCALE, -inv.y * BVH_FAR_SCALE);
-    r->iz = (float4)(inv.z, inv.z, -inv.z * BVH_FAR_SCALE, -inv.z * BVH_FAR_SCALE);
+    r->ix = (float4)(inv.x);
+    r->iy = (float4)(inv.y);
+    r->iz = (float4)(inv.z);
+    r->fx = (float4)(inv.x * BVH_FAR_SCALE);
+    r->fy = (float4)(inv.y * BVH_FAR_SCALE);
+    r->fz = (float4)(inv.z * BVH_FAR_SCALE);
     r->sx = inv.x < 0.0f;
     r->sy = inv.y < 0.0f;
     r->sz = inv.z < 0.0f;
@@ -93,22 +107,23 @@ static inline bool bvh_setup_ray(float3 o, float3 d, float tmax, BvhRay* r)
     return true;
 }
 
-/* Both children's slab test. clip = (0, 0, -tmax, -tmax). Returns the entry distances in .xy and a hit mask:
- * bit 0 left, bit 1 right. */
-static inline int bvh_boxes(const __global BVHNode* node, const BvhRay* r, float4 clip, float2* tnear)
+/* Slab test of a node's four child boxes against [0, tmax]. Returns a mask of the boxes hit (bit k: slot k) and
+ * their entry distances in *tnear. */
+static inline int bvh_boxes(const __global BVHNode* n, const BvhRay* r, float tmax, float4* tnear)
 {
-    float4 bx = node->bx, by = node->by, bz = node->bz;
-    bx = r->sx ? bx.zwxy : bx;
-    by = r->sy ? by.zwxy : by;
-    bz = r->sz ? bz.zwxy : bz;
-    /* lanes: near left, near right, -far left, -far right */
-    float4 tx = (bx - r->ox) * r->ix;
-    float4 ty = (by - r->oy) * r->iy;
-    float4 tz = (bz - r->oz) * r->iz;
-    float4 t = BVH_MAX4(tx, BVH_MAX4(ty, BVH_MAX4(tz, clip)));  /* NaN lanes of tx, ty, tz drop out */
-    *tnear = t.xy;
-    int2 h = t.xy <= -t.zw;
-    return (h.x & 1) | (h.y & 2);
+    float4 minx = n->minx, maxx = n->maxx, miny = n->miny, maxy = n->maxy, minz = n->minz, maxz = n->maxz;
+    float4 tnx = ((r->sx ? maxx : minx) - r->ox) * r->ix;
+    float4 tfx = ((r->sx ? minx : maxx) - r->ox) * r->fx;
+    float4 tny = ((r->sy ? maxy : miny) - r->oy) * r->iy;
+    float4 tfy = ((r->sy ? miny : maxy) - r->oy) * r->fy;
+    float4 tnz = ((r->sz ? maxz : minz) - r->oz) * r->iz;
+    float4 tfz = ((r->sz ? minz : maxz) - r->oz) * r->fz;
+    /* NaN lanes (0 * inf) of the per-axis distances drop out of the chains */
+    float4 tn = BVH_MAX4(tnx, BVH_MAX4(tny, BVH_MAX4(tnz, (float4)(0.0f))));
+    float4 tf = BVH_MIN4(tfx, BVH_MIN4(tfy, BVH_MIN4(tfz, (float4)(tmax))));
+    *tnear = tn;
+    int4 h = tn <= tf;
+    return (h.x & 1) | (h.y & 2) | (h.z & 4) | (h.w & 8);
 }
 
 /* Watertight test of one triangle; on a hit with 0 < t < tmax, writes t and the barycentrics of v1, v2. */
@@ -151,6 +166,21 @@ static inline bool bvh_triangle(const __global Tri* tri, const BvhRay* r, float 
     return true;
 }
 
+/* Intersect the triangles tris[first .. first + count - 1]; keeps the nearest hit in *best / *hit. */
+static inline void bvh_leaf_closest(const __global Tri* tris, int first, int count, const BvhRay* r, float* best,
+                                    Hit* hit)
+{
+    for (int i = first; i < first + count; ++i) {
+        float t, u, v;
+        if (bvh_triangle(tris + i, r, *best, &t, &u, &v)) {
+            *best = t;
+            hit->prim = i;
+            hit->u = u;
+            hit->v = v;
+        }
+    }
+}
+
 Hit trace_closest(const __global BVHNode* nodes, const __global Tri* tris, float3 o, float3 d, float tmax)
 {
     Hit hit;
@@ -161,82 +191,90 @@ Hit trace_closest(const __global BVHNode* nodes, const __global Tri* tris, float
     BvhRay r;
     if (!bvh_setup_ray(o, d, tmax, &r)) return hit;
     float best = tmax;
-    float4 clip = (float4)(0.0f, 0.0f, -best, -best);
     int stack[BVH_STACK_SIZE];
     float stack_t[BVH_STACK_SIZE];
     int sp = 0;
     int ni = 0;
     for (;;) {
         const __global BVHNode* node = nodes + ni;
-        float2 tn;
-        int mask = bvh_boxes(node, &r, clip, &tn);
-        int4 meta = node->meta;
-        /* leaves first: their hits shorten the ray before the inner children are ordered */
-        if ((mask & 1) && meta.x < 0) {
-            int first = ~meta.x, end = ~meta.x + meta.z;
-            for (int i = first; i < end; ++i) {
-                float t, u, v;
-                if (bvh_triangle(tris + i, &r, best, &t, &u, &v)) {
-                    best = t;
-                    hit.prim = i;
-                    hit.u = u;
-                    hit.v = v;
+        float4 tn;
+        int mask = bvh_boxes(node, &r, best, &tn);
+        int4 child = node->child;
+        int leaves = mask & ((child.x >> 31 & 1) | (child.y >> 31 & 2) | (child.z >> 31 & 4) | (child.w >> 31 & 8));
+        BvhInt4 cu, cntu;
+        BvhFloat4 tu;
+        cu.v = child;
+        tu.v = tn;
+        int* c = cu.a;
+        float* t = tu.a;
+        if (leaves) {
+            cntu.v = node->count;
+            int* cnt = cntu.a;
+            do {
+                int k = BVH_CTZ4(leaves);
+                leaves &= leaves - 1;
+                if (t[k] <= best) bvh_leaf_closest(tris, ~c[k], cnt[k], &r, &best, &hit);
+            } while (leaves);
+            int4 in_range = tn <= (float4)(best);
+            mask &= (child.x >= 0 ? in_range.x & 1 : 0) | (child.y >= 0 ? in_range.y & 2 : 0)
+                  | (child.z >= 0 ? in_range.z & 4 : 0) | (child.w >= 0 ? in_range.w & 8 : 0);
+        }
+        if (mask) {
+            int k0 = BVH_CTZ4(mask);
+            mask &= mask - 1;
+            if (!mask) {  /* one inner child hit */
+                ni = c[k0];
+                continue;
+            }
+            int k1 = BVH_CTZ4(mask);
+            mask &= mask - 1;
+            if (!mask) {  /* two: the nearer next, the other on the stack */
+                int near_k = k0, far_k = k1;
+                if (t[k1] < t[k0]) {
+                    near_k = k1;
+                    far_k = k0;
+                }
+                if (sp < BVH_STACK_SIZE) {
+                    stack[sp] = c[far_k];
+                    stack_t[sp] = t[far_k];
+                    ++sp;
+                }
+                ni = c[near_k];
+                continue;
+            }
+            /* three or four: sort by distance, push the farther ones (farthest first) */
+            int ks[4] = {k0, k1, BVH_CTZ4(mask), 0};
+            mask &= mask - 1;
+            int nk = 3;
+            if (mask) ks[nk++] = BVH_CTZ4(mask);
+            for (int i = 1; i < nk; ++i) {  /* insertion sort, descending distance */
+                int kk = ks[i];
+                int j = i - 1;
+                while (j >= 0 && t[ks[j]] < t[kk]) {
+                    ks[j + 1] = ks[j];
+                    --j;
+                }
+                ks[j + 1] = kk;
+            }
+            for (int i = 0; i < nk - 1; ++i) {
+                if (sp < BVH_STACK_SIZE) {
+                    stack[sp] = c[ks[i]];
+                    stack_t[sp] = t[ks[i]];
+                    ++sp;
                 }
             }
-            clip.zw = (float2)(-best);
-            mask &= ~1;
-        }
-        if ((mask & 2) && meta.y < 0) {
-            if (tn.y <= best) {
-                int first = ~meta.y, end = ~meta.y + meta.w;
-                for (int i = first; i < end; ++i) {
-                    float t, u, v;
-                    if (bvh_triangle(tris + i, &r, best, &t, &u, &v)) {
-                        best = t;
-                        hit.prim = i;
-                        hit.u = u;
-                        hit.v = v;
-                    }
-                }
-                clip.zw = (float2)(-best);
-            }
-            mask &= ~2;
-        }
-        if (mask == 3) {
-            int near_c = meta.x, far_c = meta.y;
-            float far_t = tn.y;
-            if (tn.y < tn.x) {
-                near_c = meta.y;
-                far_c = meta.x;
-                far_t = tn.x;
-            }
-            if (sp < BVH_STACK_SIZE) {
-                stack[sp] = far_c;
-                stack_t[sp] = far_t;
-                ++sp;
-            }
-            ni = near_c;
-            continue;
-        }
-        if (mask == 1 && tn.x <= best) {
-            ni = meta.x;
-            continue;
-        }
-        if (mask == 2 && tn.y <= best) {
-            ni = meta.y;
+            ni = c[ks[nk - 1]];
             continue;
         }
         /* pop the nearest pending node that is still in range */
-        ni = -1;
-        while (sp > 0) {
+        for (;;) {
+            if (sp == 0) goto done;
             --sp;
-            if (stack_t[sp] <= best) {
-                ni = stack[sp];
-                break;
-            }
+            if (stack_t[sp] <= best) break;
         }
-        if (ni < 0) break;
+        ni = stack[sp];
     }
+done:
     if (hit.prim >= 0) hit.t = best;
     return hit;
 }
@@ -245,43 +283,40 @@ bool trace_any(const __global BVHNode* nodes, const __global Tri* tris, float3 o
 {
     BvhRay r;
     if (!bvh_setup_ray(o, d, tmax, &r)) return false;
-    float4 clip = (float4)(0.0f, 0.0f, -tmax, -tmax);
     int stack[BVH_STACK_SIZE];
     int sp = 0;
     int ni = 0;
     for (;;) {
         const __global BVHNode* node = nodes + ni;
-        float2 tn;
-        int mask = bvh_boxes(node, &r, clip, &tn);
-        int4 meta = node->meta;
-        if ((mask & 1) && meta.x < 0) {
-            int first = ~meta.x, end = ~meta.x + meta.z;
-            for (int i = first; i < end; ++i) {
-                float t, u, v;
-                if (bvh_triangle(tris + i, &r, tmax, &t, &u, &v)) return true;
-            }
-            mask &= ~1;
-        }
-        if ((mask & 2) && meta.y < 0) {
-            int first = ~meta.y, end = ~meta.y + meta.w;
-            for (int i = first; i < end; ++i) {
-                float t, u, v;
-                if (bvh_triangle(tris + i, &r, tmax, &t, &u, &v)) return true;
-            }
-            mask &= ~2;
-        }
-        if (mask == 3) {
-            int near_c = meta.x, far_c = meta.y;
-            if (tn.y < tn.x) {
-                near_c = meta.y;
-                far_c = meta.x;
-            }
-            if (sp < BVH_STACK_SIZE) stack[sp++] = far_c;
-            ni = near_c;
-            continue;
+        float4 tn;
+        int mask = bvh_boxes(node, &r, tmax, &tn);
+        int4 child = node->child;
+        int leaves = mask & ((child.x >> 31 & 1) | (child.y >> 31 & 2) | (child.z >> 31 & 4) | (child.w >> 31 & 8));
+        BvhInt4 cu;
+        cu.v = child;
+        int* c = cu.a;
+        if (leaves) {
+            BvhInt4 cntu;
+            cntu.v = node->count;
+            int* cnt = cntu.a;
+            do {
+                int k = BVH_CTZ4(leaves);
+                leaves &= leaves - 1;
+                int first = ~c[k];
+                for (int i = first; i < first + cnt[k]; ++i) {
+                    float t, u, v;
+                    if (bvh_triangle(tris + i, &r, tmax, &t, &u, &v)) return true;
+                }
+            } while (leaves);
+            mask &= (child.x >= 0 ? 1 : 0) | (child.y >= 0 ? 2 : 0) | (child.z >= 0 ? 4 : 0) | (child.w >= 0 ? 8 : 0);
         }
         if (mask) {
-            ni = (mask & 1) ? meta.x : meta.y;
+            ni = c[BVH_CTZ4(mask)];
+            mask &= mask - 1;
+            while (mask) {
+                if (sp < BVH_STACK_SIZE) stack[sp++] = c[BVH_CTZ4(mask)];
+                mask &= mask - 1;
+            }
             continue;
         }
         if (sp == 0) break;

@@ -13,17 +13,20 @@ typedef struct {
     float4 e2;   /* xyz: v2 - v0;  w: unused */
 } Tri;           /* 48 bytes */
 
-/* BVH2 node holding the boxes of both children ("child pair" layout): one 64-byte node fetch tests two boxes,
- * stored per axis so that both boxes are tested with float4 operations. Node 0 is the root.
- * Child reference c (meta.x left, meta.y right): c >= 0 is the inner node c; c < 0 is a leaf holding the
- * triangles tris[~c .. ~c + count - 1] (~c == -c - 1), count in meta.z (left) / meta.w (right), 0 for inner
- * children. A leaf of count 0 is empty (only in scenes with fewer than two triangles). */
+/* 4-wide BVH node: the boxes of up to four children in SoA form, tested together with float4 operations.
+ * Node 0 is the root; nodes are numbered depth first. Child reference c = child[k]: c >= 0 is the inner node c;
+ * c < 0 is a leaf holding the triangles tris[~c .. ~c + count[k] - 1] (~c == -c - 1). An unused slot is a leaf of
+ * count 0 whose box is empty (min +inf, max -inf), so no ray enters it. count[k] is 0 for inner children. */
 typedef struct {
-    float4 bx;     /* x bounds: left min, right min, left max, right max */
-    float4 by;     /* y bounds, same order */
-    float4 bz;     /* z bounds, same order */
-    int4 meta;     /* left child, right child, left count, right count */
-} BVHNode;         /* 64 bytes */
+    float4 minx;   /* lane k: child k's box */
+    float4 maxx;
+    float4 miny;
+    float4 maxy;
+    float4 minz;
+    float4 maxz;
+    int4 child;
+    int4 count;
+} BVHNode;         /* 128 bytes */
 
 /* ---- materials and lights -------------------------------------------------------------------- */
 

@@ -215,39 +215,45 @@ def sphere_mesh(n_theta=24, n_phi=48, radius=1.0, center=(0.0, 0.0, 0.0)):
 
 
 def check_structure(bvh, v0, v1, v2):
-    """Every leaf box holds its triangles, every inner child box holds its node's boxes, all triangles appear
-    once, and the depth fits the traversal stack."""
+    """Every leaf box holds its triangles, every inner child's box holds its node's boxes, all triangles appear
+    once, nodes are numbered depth first, and the stack the traversal needs fits."""
     nodes = bvh.nodes
     n = len(v0)
     assert sorted(bvh.order.tolist()) == list(range(n))
     a, _, _, b, c = device_vertices(v0, v1, v2)
     lo = np.minimum(np.minimum(a, b), c)[bvh.order]
     hi = np.maximum(np.maximum(a, b), c)[bvh.order]
-    boxes = np.stack([nodes["bx"], nodes["by"], nodes["bz"]], 1)  # node, axis, (lmin, rmin, lmax, rmax)
-    meta = nodes["meta"]
+    bmin = np.stack([nodes["minx"], nodes["miny"], nodes["minz"]], -1)  # node, slot, axis
+    bmax = np.stack([nodes["maxx"], nodes["maxy"], nodes["maxz"]], -1)
+    child, count = nodes["child"], nodes["count"]
     seen = np.zeros(n, int)
     stack = [(0, 0)]
     max_depth = 0
+    next_dfs = 0
     while stack:
         ni, depth = stack.pop()
+        next_dfs += 1
         max_depth = max(max_depth, depth)
-        for side in (0, 1):
-            ref, cnt = int(meta[ni, side]), int(meta[ni, side + 2])
-            bmin, bmax = boxes[ni, :, side], boxes[ni, :, side + 2]
+        inner = []
+        for k in range(4):
+            ref, cnt = int(child[ni, k]), int(count[ni, k])
             if ref >= 0:
-                assert cnt == 0
-                cmin = np.minimum(boxes[ref, :, 0], boxes[ref, :, 1])
-                cmax = np.maximum(boxes[ref, :, 2], boxes[ref, :, 3])
-                assert np.all(bmin <= cmin) and np.all(cmax <= bmax)
-                stack.append((ref, depth + 1))
+                assert cnt == 0 and ref > ni  # children after their parent (depth-first numbering)
+                used = np.nonzero((child[ref] >= 0) | (count[ref] > 0))[0]
+                assert len(used) >= 1
+                assert np.all(bmin[ni, k] <= bmin[ref, used]) and np.all(bmax[ref, used] <= bmax[ni, k])
+                inner.append((ref, depth + 1))
+            elif cnt == 0:
+                assert np.all(bmin[ni, k] == np.inf) and np.all(bmax[ni, k] == -np.inf)  # unused slot
             else:
                 first = ~ref
-                assert 0 <= cnt <= LEAF_MAX and first + cnt <= n
-                if cnt:
-                    assert np.all(bmin <= lo[first:first + cnt]) and np.all(hi[first:first + cnt] <= bmax)
+                assert 0 < cnt <= LEAF_MAX and first + cnt <= n
+                assert np.all(bmin[ni, k] <= lo[first:first + cnt]) and np.all(hi[first:first + cnt] <= bmax[ni, k])
                 seen[first:first + cnt] += 1
+        stack.extend(reversed(inner))
+    assert next_dfs == len(nodes)
     assert np.all(seen == 1)
-    assert max_depth < 60
+    assert 3 * max_depth < 96  # BVH_STACK_SIZE: at most 3 pushes per level
     return max_depth
 
 
@@ -539,7 +545,7 @@ def test_large_scene_matches_brute_force_on_sample(dev, prog):
     rng = np.random.default_rng(8)
     v0, v1, v2 = random_soup(rng, 60000, spread=30.0, size=0.3)
     sc = Scene(dev, prog, v0, v1, v2)
-    assert sc.bvh.depth < 60
+    check_structure(sc.bvh, v0, v1, v2)
     o, d = random_rays(rng, 400, spread=30.0)
     t, prim, *_ = sc.closest(o, d)
     t_ref, prim_ref, tall = brute_force(v0, v1, v2, o, d)

@@ -323,7 +323,7 @@ def run(triangles: int = 1_000_000, width: int = 640, height: int = 360, embree:
     bvh = build_bvh(v0, v1, v2)
     tris = make_tris(v0, v1, v2, np.zeros(n, np.int32), np.arange(n), bvh.order)
     res.update(build_seconds=bvh.build_seconds, nodes=bvh.node_count, leaves=bvh.leaf_count, depth=bvh.depth,
-               sah_cost=bvh.sah_cost())
+               sah_cost=bvh.sah_cost)
     print_fn(f"BVH build: {bvh.build_seconds:.2f} s, {bvh.node_count} nodes, {bvh.leaf_count} leaves, "
              f"depth {bvh.depth}, SAH cost {res['sah_cost']:.1f}")
 

@@ -1,13 +1,14 @@
-"""Bounding volume hierarchy: a binned-SAH BVH2 built top-down with vectorised numpy, and the triangle array.
+"""Bounding volume hierarchy: a binned-SAH BVH built top-down with vectorised numpy, and the triangle array.
 
-The build processes one whole level of the tree per step: every node of the level is binned, evaluated and
-partitioned by the same array operations, so the Python overhead is per level, not per node. Nodes use the
-"child pair" layout of opencl/types.h (one 64-byte node holds both children's boxes, in SoA form); node 0 is the
-root. The device side is opencl/bvh.h.
+The build processes one whole level of a binary tree per step: every node of the level is binned, evaluated and
+partitioned by the same array operations, so the Python overhead is per level, not per node. The binary tree is
+numbered depth first and then collapsed into the 4-wide nodes of opencl/types.h (each node holds the boxes of up
+to four children in SoA form: its binary children, opened down to four children); node 0 is the root. The device
+side is opencl/bvh.h.
 
 Leaf encoding (see types.h): a child reference c >= 0 is the inner node c; c < 0 is a leaf whose triangles are
-tris[~c : ~c + count] (``~c == -c - 1``). The triangles are stored in leaf order (make_tris), so a leaf is one
-contiguous range of the Tri array.
+tris[~c : ~c + count] (``~c == -c - 1``). The triangles are stored in leaf order (make_tris), depth first, so a
+leaf is one contiguous range of the Tri array.
 """
 
 from __future__ import annotations
@@ -22,8 +23,14 @@ from . import layouts
 #: largest number of triangles in one leaf
 LEAF_MAX = 2
 #: SAH bins per axis
-BINS = 12
-#: SAH cost of visiting one inner node (two box tests), in units of one triangle test
+BINS = 8
+#: evaluate the SAH on all three axes (else only along the largest centroid extent: faster, about 8% more node
+#: visits per ray)
+ALL_AXES = True
+#: most levels of 4-wide nodes the greedy collapse may give (else both binary children are opened): with 3 stack
+#: entries per level this bounds the traversal stack (BVH_STACK_SIZE in bvh.h)
+MAX_DEPTH4 = 30
+#: SAH cost of visiting one binary inner node, in units of one triangle test (for BVH.sah_cost)
 COST_NODE = 1.0
 COST_TRI = 1.0
 
@@ -33,34 +40,13 @@ class BVH:
     nodes: np.ndarray          # layouts.BVH_NODE, node 0 is the root
     order: np.ndarray          # int64: leaf position -> input triangle index
     build_seconds: float
-    depth: int = 0             # number of levels below the root node
+    depth: int = 0             # levels of the binary tree the 4-wide nodes were collapsed from
     leaf_count: int = 0
+    sah_cost: float = 0.0      # SAH cost of the binary tree (COST_NODE per node visit, COST_TRI per triangle)
 
     @property
     def node_count(self) -> int:
         return len(self.nodes)
-
-    def sah_cost(self) -> float:
-        """SAH cost of the tree (COST_NODE per inner node visit, COST_TRI per triangle), for comparing builds."""
-        n = self.nodes
-        x = n["bx"].astype(np.float64)
-        y = n["by"].astype(np.float64)
-        z = n["bz"].astype(np.float64)
-        meta = n["meta"]
-        root = _area(
-            np.minimum(x[0, 0], x[0, 1]), np.maximum(x[0, 2], x[0, 3]),
-            np.minimum(y[0, 0], y[0, 1]), np.maximum(y[0, 2], y[0, 3]),
-            np.minimum(z[0, 0], z[0, 1]), np.maximum(z[0, 2], z[0, 3]),
-        )
-        if not root > 0:
-            return 0.0
-        cost = COST_NODE  # the root
-        for side in (0, 1):
-            a = _area(x[:, side], x[:, side + 2], y[:, side], y[:, side + 2], z[:, side], z[:, side + 2])
-            child = meta[:, side]
-            count = meta[:, side + 2]
-            cost += float(np.sum(np.where(child >= 0, COST_NODE, COST_TRI * count) * a)) / root
-        return cost
 
 
 def _area(x0, x1, y0, y1, z0, z1):
@@ -124,15 +110,6 @@ class _Nodes:
             self.meta = np.concatenate([self.meta, np.zeros((cap - len(self.meta), 4), np.int32)])
         return np.arange(first, self.count, dtype=np.int64)
 
-    def finish(self) -> np.ndarray:
-        n = self.count
-        out = np.zeros(n, dtype=layouts.BVH_NODE)
-        out["bx"] = self.box[:n, 0]
-        out["by"] = self.box[:n, 1]
-        out["bz"] = self.box[:n, 2]
-        out["meta"] = self.meta[:n]
-        return out
-
 
 def _prefix(x: np.ndarray, op) -> np.ndarray:
     """Running op over the rows of x (row by row: numpy's accumulate along axis 0 is strided and slow)."""
@@ -151,6 +128,48 @@ def _suffix(x: np.ndarray, op) -> np.ndarray:
     return out
 
 
+def _bin_sah(axis, single, ext, c_lo, ce_ax, lo_ax, hi_ax, seg, seg_count, S, rows, bins):
+    """Bin every segment's centroids along `axis` (per segment; `single`: the same axis for all) and sweep the
+    SAH over the bins - 1 planes. Returns, per segment, the best plane, its cost, the left count and the
+    children's boxes (lo, hi: (S, 3) for left and right), and the bin of every triangle."""
+    e_ax = ext[rows, axis].astype(np.float64)
+    scale = np.where(e_ax > 0, bins * (1.0 - 1e-6) / np.where(e_ax > 0, e_ax, 1.0), 0.0).astype(np.float32)
+    lo_sel = c_lo[rows, axis]
+    c_sel = ce_ax[single] if single is not None else np.choose(axis[seg], ce_ax)
+    bk = ((c_sel - lo_sel[seg]) * scale[seg]).astype(np.int32)
+    np.clip(bk, 0, bins - 1, out=bk)
+    # Per (bin, segment): triangle count and box; bin-major, so that the sweeps run over contiguous rows.
+    nb = S * bins
+    key = bk * np.int32(S) + seg
+    cnt = np.bincount(key, minlength=nb).reshape(bins, S)
+    nl = np.cumsum(cnt[:-1], axis=0, dtype=np.int64)
+    nr = seg_count[None, :] - nl
+    pre_lo, pre_hi, suf_lo, suf_hi = [], [], [], []
+    for j in range(3):
+        t = np.full(nb, np.inf, np.float32)
+        np.minimum.at(t, key, lo_ax[j])
+        t = t.reshape(bins, S)
+        u = np.full(nb, -np.inf, np.float32)
+        np.maximum.at(u, key, hi_ax[j])
+        u = u.reshape(bins, S)
+        pre_lo.append(_prefix(t, np.minimum))
+        pre_hi.append(_prefix(u, np.maximum))
+        suf_lo.append(_suffix(t, np.minimum))
+        suf_hi.append(_suffix(u, np.maximum))
+    with np.errstate(invalid="ignore", over="ignore"):
+        dl = [pre_hi[j][:-1] - pre_lo[j][:-1] for j in range(3)]
+        dr = [suf_hi[j][1:] - suf_lo[j][1:] for j in range(3)]
+        al = dl[0] * dl[1] + dl[1] * dl[2] + dl[2] * dl[0]
+        ar = dr[0] * dr[1] + dr[1] * dr[2] + dr[2] * dr[0]
+        costs = al * nl + ar * nr
+    costs[(nl == 0) | (nr == 0)] = np.inf
+    plane = np.argmin(costs, axis=0)
+    pr = np.minimum(plane + 1, bins - 1)
+    boxes = tuple(np.stack([a[j][p, rows] for j in range(3)], 1)
+                  for a, p in ((pre_lo, plane), (pre_hi, plane), (suf_lo, pr), (suf_hi, pr)))
+    return plane, costs[plane, rows], nl[np.minimum(plane, bins - 2), rows], boxes, bk
+
+
 def _segment_ids(counts: np.ndarray) -> np.ndarray:
     return np.repeat(np.arange(len(counts), dtype=np.int32), counts)
 
@@ -162,13 +181,15 @@ def build_bvh(
     *,
     bins: int = BINS,
     leaf_max: int = LEAF_MAX,
+    all_axes: bool = ALL_AXES,
 ) -> BVH:
     """Binned-SAH BVH over triangles given as (T, 3) vertex arrays (world space).
 
-    Every node with more than `leaf_max` triangles is split at the SAH-best of `bins` - 1 planes along the axis
-    of largest centroid extent (Wald 2007); nodes of up to `leaf_max` triangles are leaves. A node whose
-    centroids all coincide is split in two halves. An empty scene gives one root node with two empty leaves
-    (no ray hits anything).
+    Every node with more than `leaf_max` triangles is split at the SAH-best of `bins` - 1 planes between its
+    triangles' centroids, on each axis (`all_axes`) or on the axis of largest centroid extent (Wald 2007); nodes
+    of up to `leaf_max` triangles are leaves. A node whose centroids all coincide is split in two halves, and so
+    is every node deeper than 60 - log2(T) levels, which bounds the depth. The binary tree is collapsed into
+    4-wide nodes. An empty scene gives one root node whose slots are all unused (no ray hits anything).
     """
     t_start = time.perf_counter()
     v0 = np.asarray(v0, dtype=np.float64).reshape(-1, 3)
@@ -199,15 +220,20 @@ def build_bvh(
     order = np.empty(n, dtype=np.int64)
     nodes = _Nodes(max(16, (2 * n) // leaf_max + 16))
     if n <= 1:
-        # Node 0 with an empty right leaf (box: the point (0, 0, 0)); the left leaf holds the triangle if any.
-        nodes.meta[0] = (-1, -1, n, 0)
-        if n:
+        out = np.zeros(1, dtype=layouts.BVH_NODE)
+        _empty_slots(out)
+        if n:  # one leaf in slot 0
             order[0] = 0
-            for k in range(3):
-                nodes.box[0, k, 0] = lo_ax[k][0]
-                nodes.box[0, k, 2] = hi_ax[k][0]
-        return BVH(nodes.finish(), order, time.perf_counter() - t_start, 0, n)
+            out["child"][0, 0] = -1
+            out["count"][0, 0] = 1
+            for k, ax in enumerate("xyz"):
+                out["min" + ax][0, 0] = lo_ax[k][0]
+                out["max" + ax][0, 0] = hi_ax[k][0]
+        return BVH(out, order, time.perf_counter() - t_start, 0, n, float(n) * COST_TRI)
 
+    # From this depth on every node is split in halves: the binary tree has at most 60 levels, so the traversal
+    # stack (3 entries per 4-wide level, at most 30 levels: see _collapse4) cannot overflow.
+    depth_limit = max(1, 60 - int(np.ceil(np.log2(n))))
     cursor = 0                                    # next free leaf position in `order`
     seg_count = np.array([n], dtype=np.int64)     # one segment per node of the current level, all inner
     seg_node = np.array([0], dtype=np.int64)      # the node each segment becomes
@@ -225,60 +251,45 @@ def build_bvh(
         c_lo = np.stack([np.minimum.reduceat(ce_ax[k], starts) for k in range(3)], 1)
         c_hi = np.stack([np.maximum.reduceat(ce_ax[k], starts) for k in range(3)], 1)
         ext = c_hi - c_lo
-        axis = np.argmax(ext, axis=1)
-        e_ax = ext[rows, axis].astype(np.float64)
-        scale = np.where(e_ax > 0, bins * (1.0 - 1e-6) / np.where(e_ax > 0, e_ax, 1.0), 0.0).astype(np.float32)
-        lo_sel = c_lo[rows, axis]
-        c_sel = np.choose(axis[seg], ce_ax)
-        bk = ((c_sel - lo_sel[seg]) * scale[seg]).astype(np.int32)
-        np.clip(bk, 0, bins - 1, out=bk)
-
-        # Per (bin, segment): triangle count and box; bin-major, so that the sweeps run over contiguous rows.
-        nb = S * bins
-        key = bk * np.int32(S) + seg
-        cnt = np.bincount(key, minlength=nb).reshape(bins, S)
-        nl = np.cumsum(cnt[:-1], axis=0, dtype=np.int64)
-        nr = seg_count[None, :] - nl
-        pre_lo, pre_hi, suf_lo, suf_hi = [], [], [], []
-        for j in range(3):
-            t = np.full(nb, np.inf, np.float32)
-            np.minimum.at(t, key, lo_ax[j])
-            t = t.reshape(bins, S)
-            u = np.full(nb, -np.inf, np.float32)
-            np.maximum.at(u, key, hi_ax[j])
-            u = u.reshape(bins, S)
-            pre_lo.append(_prefix(t, np.minimum))
-            pre_hi.append(_prefix(u, np.maximum))
-            suf_lo.append(_suffix(t, np.minimum))
-            suf_hi.append(_suffix(u, np.maximum))
-        with np.errstate(invalid="ignore", over="ignore"):
-            dl = [pre_hi[j][:-1] - pre_lo[j][:-1] for j in range(3)]
-            dr = [suf_hi[j][1:] - suf_lo[j][1:] for j in range(3)]
-            al = dl[0] * dl[1] + dl[1] * dl[2] + dl[2] * dl[0]
-            ar = dr[0] * dr[1] + dr[1] * dr[2] + dr[2] * dr[0]
-            costs = al * nl + ar * nr
-        costs[(nl == 0) | (nr == 0)] = np.inf
-        plane = np.argmin(costs, axis=0)
-        # No plane separates the triangles only when all centroids coincide: split by position then.
-        halves = ~np.isfinite(costs[plane, rows])
-
-        # Children of every segment: counts and boxes (from the bin sweeps; the whole box for halves).
+        axes = [np.full(S, k) for k in range(3)] if all_axes else [np.argmax(ext, axis=1)]
+        best = None
+        for i, axis in enumerate(axes):
+            r = _bin_sah(axis, i if all_axes else None, ext, c_lo, ce_ax, lo_ax, hi_ax, seg, seg_count, S, rows,
+                         bins)
+            if best is None:
+                best = list(r)
+                continue
+            better = r[1] < best[1]  # keep, per segment, the axis of lower cost
+            best[0] = np.where(better, r[0], best[0])
+            best[1] = np.where(better, r[1], best[1])
+            best[2] = np.where(better, r[2], best[2])
+            best[3] = tuple(np.where(better[:, None], x, y) for x, y in zip(r[3], best[3], strict=True))
+            best[4] = np.where(better[seg], r[4], best[4])
+        plane, cost_best, n_left, (l_lo, l_hi, r_lo, r_hi), bk = best
+        # No plane separates the triangles only when all centroids coincide: split by position then (the children
+        # get the whole box). Also below depth_limit, to bound the depth.
+        halves = ~np.isfinite(cost_best)
+        if depth >= depth_limit:
+            halves[:] = True
         right = bk > plane[seg]
         if np.any(halves):
             h = halves[seg]
             pos = np.arange(m, dtype=np.int64) - starts[seg]
             right[h] = pos[h] >= (seg_count[seg][h] // 2)
-        n_left = np.where(halves, seg_count // 2, nl[np.minimum(plane, bins - 2), rows])
+            w_lo = np.minimum(l_lo, r_lo)
+            w_hi = np.maximum(l_hi, r_hi)
+            hh = halves[:, None]
+            l_lo, r_lo = np.where(hh, w_lo, l_lo), np.where(hh, w_lo, r_lo)
+            l_hi, r_hi = np.where(hh, w_hi, l_hi), np.where(hh, w_hi, r_hi)
+        n_left = np.where(halves, seg_count // 2, n_left)
         n_right = seg_count - n_left
         child_count = np.stack([n_left, n_right], 1).reshape(-1)
         child_leaf = child_count <= leaf_max
-        pl, pr = plane, np.minimum(plane + 1, bins - 1)
         for j in range(3):
-            whole_lo, whole_hi = suf_lo[j][0], suf_hi[j][0]
-            nodes.box[seg_node, j, 0] = np.where(halves, whole_lo, pre_lo[j][pl, rows])
-            nodes.box[seg_node, j, 2] = np.where(halves, whole_hi, pre_hi[j][pl, rows])
-            nodes.box[seg_node, j, 1] = np.where(halves, whole_lo, suf_lo[j][pr, rows])
-            nodes.box[seg_node, j, 3] = np.where(halves, whole_hi, suf_hi[j][pr, rows])
+            nodes.box[seg_node, j, 0] = l_lo[:, j]
+            nodes.box[seg_node, j, 2] = l_hi[:, j]
+            nodes.box[seg_node, j, 1] = r_lo[:, j]
+            nodes.box[seg_node, j, 3] = r_hi[:, j]
 
         # References: new nodes for inner children, leaf ranges for the others.
         inner_c = np.nonzero(~child_leaf)[0]
@@ -330,10 +341,96 @@ def build_bvh(
     meta = nodes.meta[: nodes.count]
     box = nodes.box[: nodes.count]
     meta, box, order = _depth_first(meta, box, order)
-    out = np.zeros(len(meta), dtype=layouts.BVH_NODE)
-    out["bx"], out["by"], out["bz"] = box[:, 0], box[:, 1], box[:, 2]
-    out["meta"] = meta
-    return BVH(out, order, time.perf_counter() - t_start, depth + 1, leaf_count)
+    sah = _sah_cost(meta, box)
+    out, depth4 = _collapse4(meta, box, greedy=True)
+    if depth4 > MAX_DEPTH4:
+        out, depth4 = _collapse4(meta, box, greedy=False)
+    return BVH(out, order, time.perf_counter() - t_start, depth + 1, leaf_count, sah)
+
+
+def _empty_slots(out: np.ndarray) -> None:
+    """Mark every slot of the 4-wide nodes unused: an empty leaf with an empty box."""
+    out["child"] = -1
+    out["count"] = 0
+    for ax in "xyz":
+        out["min" + ax] = np.inf
+        out["max" + ax] = -np.inf
+
+
+def _sah_cost(meta: np.ndarray, box: np.ndarray) -> float:
+    """SAH cost of the binary tree: COST_NODE per inner node visit, COST_TRI per triangle test."""
+    b = box.astype(np.float64)
+    root = _area(np.minimum(b[0, 0, 0], b[0, 0, 1]), np.maximum(b[0, 0, 2], b[0, 0, 3]),
+                 np.minimum(b[0, 1, 0], b[0, 1, 1]), np.maximum(b[0, 1, 2], b[0, 1, 3]),
+                 np.minimum(b[0, 2, 0], b[0, 2, 1]), np.maximum(b[0, 2, 2], b[0, 2, 3]))
+    if not root > 0:
+        return COST_NODE
+    cost = COST_NODE
+    for side in (0, 1):
+        a = _area(b[:, 0, side], b[:, 0, side + 2], b[:, 1, side], b[:, 1, side + 2], b[:, 2, side],
+                  b[:, 2, side + 2])
+        cost += float(np.sum(np.where(meta[:, side] >= 0, COST_NODE, COST_TRI * meta[:, side + 2]) * a)) / root
+    return cost
+
+
+def _collapse4(meta: np.ndarray, box: np.ndarray, greedy: bool = True) -> tuple[np.ndarray, int]:
+    """4-wide nodes from the depth-first numbered binary tree, and their number of levels. A 4-wide node starts
+    with its binary node's two children; then (greedy) twice the inner child of largest surface area is replaced
+    by its two children, or (not greedy) both inner children are: every 4-wide level then spans two binary
+    levels, so the 4-wide tree has at most half the binary tree's levels. The binary nodes kept as 4-wide nodes,
+    taken in their depth-first order, are numbered depth first in the 4-wide tree too."""
+    n2 = len(meta)
+    # Every binary child as (node, side) -> flat id 2 * node + side: reference, count, box, area (-1: leaf).
+    ref_c = meta[:, :2].reshape(-1).astype(np.int64)
+    cnt_c = np.where(ref_c >= 0, 0, meta[:, 2:].reshape(-1))
+    lo_c = np.stack([box[:, :, 0], box[:, :, 1]], 1).reshape(-1, 3)
+    hi_c = np.stack([box[:, :, 2], box[:, :, 3]], 1).reshape(-1, 3)
+    d = (hi_c - lo_c).astype(np.float64)
+    area_c = np.where(ref_c >= 0, d[:, 0] * d[:, 1] + d[:, 1] * d[:, 2] + d[:, 2] * d[:, 0], -1.0)
+    slots = np.full((n2, 4), -1, np.int64)  # flat child ids per kept node; -1: unused
+    keep = np.zeros(n2, bool)
+    keep[0] = True
+    frontier = np.array([0], np.int64)
+    levels = 0
+    while len(frontier):
+        levels += 1
+        f = frontier
+        rows = np.arange(len(f))
+        sl = np.full((len(f), 4), -1, np.int64)
+        sl[:, 0] = 2 * f
+        sl[:, 1] = 2 * f + 1
+        first = np.zeros((len(f), 4), bool)  # slots still holding one of the binary node's own children
+        first[:, :2] = True
+        for free in (2, 3):
+            ar = np.where(sl >= 0, area_c[np.maximum(sl, 0)], -1.0)
+            if not greedy:
+                ar = np.where(first, ar, -1.0)
+            k = np.argmax(ar, axis=1)
+            ok = ar[rows, k] >= 0  # an inner child to open
+            r, kk = rows[ok], k[ok]
+            c = ref_c[sl[r, kk]]
+            sl[r, free] = 2 * c + 1
+            sl[r, kk] = 2 * c
+            first[r, kk] = False
+        slots[f] = sl
+        refs = np.where(sl >= 0, ref_c[np.maximum(sl, 0)], -1).reshape(-1)
+        frontier = refs[refs >= 0]
+        keep[frontier] = True
+    kept = np.nonzero(keep)[0]
+    new_index = np.full(n2, -1, np.int64)
+    new_index[kept] = np.arange(len(kept))
+    sl = slots[kept]
+    used = sl >= 0
+    slc = np.maximum(sl, 0)
+    ref = ref_c[slc]
+    out = np.zeros(len(kept), dtype=layouts.BVH_NODE)
+    out["child"] = np.where(used, np.where(ref >= 0, new_index[np.maximum(ref, 0)], ref), -1)
+    out["count"] = np.where(used, cnt_c[slc], 0)
+    lo, hi = lo_c[slc], hi_c[slc]
+    for k, ax in enumerate("xyz"):
+        out["min" + ax] = np.where(used, lo[:, :, k], np.inf)
+        out["max" + ax] = np.where(used, hi[:, :, k], -np.inf)
+    return out, levels
 
 
 def _depth_first(meta: np.ndarray, box: np.ndarray, order: np.ndarray):

@@ -10,7 +10,10 @@ import numpy as np
 F4 = (np.float32, 4)
 
 TRI = np.dtype([("v0", F4), ("e1", F4), ("e2", F4)])
-BVH_NODE = np.dtype([("bx", F4), ("by", F4), ("bz", F4), ("meta", (np.int32, 4))])
+BVH_NODE = np.dtype(
+    [("minx", F4), ("maxx", F4), ("miny", F4), ("maxy", F4), ("minz", F4), ("maxz", F4),
+     ("child", (np.int32, 4)), ("count", (np.int32, 4))]
+)
 MATERIAL = np.dtype([("albedo", F4), ("emission", F4)])
 LIGHT = np.dtype([("p", F4), ("a", F4), ("b", F4), ("L", F4)])
 CAMERA = np.dtype(
