@@ -193,7 +193,8 @@ def run_report(scene: Scene, methods: list[str], budgets: tuple[float, ...] = DE
 
                 stop_at = budgets[-1]
                 t0 = time.perf_counter()
-                r.render_still(0, 1_000_000, should_stop=lambda t0=t0, stop_at=stop_at: time.perf_counter() - t0
+                r.render_still(0, 1_000_000, should_stop=lambda t0=t0, stop_at=stop_at, pending=pending:
+                               time.perf_counter() - t0
                                >= stop_at + 1e-3 or not pending, checkpoint=checkpoint)
             else:
                 t0 = time.perf_counter()
