@@ -310,7 +310,7 @@ class EmbreeTracer:
 
 
 def run(triangles: int = 1_000_000, width: int = 640, height: int = 360, embree: bool = True,
-        print_fn=print, local_size: int | None = None, repeats: int = 3) -> dict:
+        print_fn=print, local_size: int | None = 64, repeats: int = 3) -> dict:
     """Build, trace and (if embreex imports) compare with Embree; returns the figures as a dict."""
     from .bvh import build_bvh, make_tris
 
@@ -398,10 +398,11 @@ def main(argv=None) -> int:
     ap.add_argument("--width", type=int, default=640)
     ap.add_argument("--height", type=int, default=360)
     ap.add_argument("--no-embree", action="store_true", help="skip the Embree comparison")
-    ap.add_argument("--local-size", type=int, default=None, help="OpenCL local size (default: the runtime's)")
+    ap.add_argument("--local-size", type=int, default=64,
+                    help="OpenCL local size; the global size is padded to a multiple (0: let the runtime choose)")
     ap.add_argument("--repeats", type=int, default=3, help="timed runs per measurement (best is kept)")
     args = ap.parse_args(argv)
-    run(args.triangles, args.width, args.height, embree=not args.no_embree, local_size=args.local_size,
+    run(args.triangles, args.width, args.height, embree=not args.no_embree, local_size=args.local_size or None,
         repeats=args.repeats)
     return 0
 
