@@ -64,8 +64,11 @@ typedef struct {
 
 static inline bool bvh_setup_ray(float3 o, float3 d, float tmax, BvhRay* r)
 {
-    if (!(all(isfinite(o)) && all(isfinite(d)) && tmax > 0.0f)) return false;  /* tmax NaN: false */
-    float3 ad = fabs(d);
+    /* |o|, |d| by clearing the sign bits: PoCL 3.0 calls isfinite / fabs out of line here */
+    float3 ao = as_float3(as_uint3(o) & (uint3)(0x7fffffffu));
+    float3 ad = as_float3(as_uint3(d) & (uint3)(0x7fffffffu));
+    if (!(ao.x < INFINITY && ao.y < INFINITY && ao.z < INFINITY && ad.x < INFINITY && ad.y < INFINITY
+          && ad.z < INFINITY && tmax > 0.0f)) return false;  /* NaN compares false */
     if (!(ad.x > 0.0f || ad.y > 0.0f || ad.z > 0.0f)) return false;
     /* 1/d: a zero component gives +-inf; a box plane through the origin then gives 0 * inf = NaN in that lane,
      * which the max / min chains of bvh_boxes ignore (the ray runs inside the slab: no limit from that axis). */
