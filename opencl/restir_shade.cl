@@ -1,8 +1,10 @@
-/* ReSTIR pass 6: one shadow ray to the pixel's final sample: f * Le * G * V * W, plus emission seen directly. */
+/* ReSTIR pass 6: one shadow ray to the pixel's final sample: f * Le * G * V * W, plus emission seen directly.
+ * visible_known: the reuse passes already kept W = 0 for samples occluded at this pixel (unbiased mode with
+ * visibility reuse), so the shadow ray is left out. */
 
 __kernel void restir_shade(const __global GSample* gbuf, int pixel_count,
                            const __global BVHNode* nodes, const __global Tri* tris,
-                           const __global Light* lights, const __global Reservoir* res,
+                           const __global Light* lights, const __global Reservoir* res, int visible_known,
                            volatile __global int* guards, __global float4* out)
 {
     int i = get_global_id(0);
@@ -12,7 +14,7 @@ __kernel void restir_shade(const __global GSample* gbuf, int pixel_count,
     Reservoir r = res[i];
     LightEval e;
     if (s.valid && r.light >= 0 && r.W > 0.0f && target_of(&s, lights, r.light, r.u, r.v, &e) > 0.0f
-        && visible(nodes, tris, &s, &e))
+        && (visible_known || visible(nodes, tris, &s, &e)))
         c += s.brdf * e.contrib * r.W;
     out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), 1.0f);
 }

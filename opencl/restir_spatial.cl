@@ -20,6 +20,7 @@ __kernel void restir_spatial(const __global GSample* gbuf, int width, int height
     res_init(&r);
     LightEval e;
     res_update(&r, c.light, c.u, c.v, c.target * c.W * c.M, c.target, rng_next(&rng), c.M);
+    int src = -1;  /* which input supplied the chosen sample: -1 the pixel's own reservoir, k neighbour k */
     int used[MAX_NEIGHBOURS];
     int n_used = 0;
     int k_max = min(p.spatial_neighbours, MAX_NEIGHBOURS);
@@ -35,19 +36,24 @@ __kernel void restir_spatial(const __global GSample* gbuf, int width, int height
             continue;
         Reservoir q = in[j];
         float tq = q.light >= 0 ? target_of(&s, lights, q.light, q.u, q.v, &e) : 0.0f;
-        res_merge(&r, &q, tq, rng_next(&rng));
+        if (res_merge(&r, &q, tq, rng_next(&rng))) src = n_used;
         used[n_used++] = j;
     }
     float norm = r.M;
     if (bias_correction == BIAS_Z_COUNT && r.light >= 0) {
         norm = c.M;
         for (int k = 0; k < n_used; ++k) {
+            /* The neighbour that supplied the sample has it in its support: with visibility reuse its W > 0
+             * means p-hat > 0 and visible there (every stored reservoir keeps that invariant). */
+            Reservoir q = in[used[k]];
             Surface sn = surface_load(gbuf, used[k]);
-            if (in_support(&sn, nodes, tris, lights, r.light, r.u, r.v, visibility_reuse)) norm += in[used[k]].M;
+            if ((k == src && q.W > 0.0f) || in_support(&sn, nodes, tris, lights, r.light, r.u, r.v, visibility_reuse))
+                norm += q.M;
         }
     }
     res_finalize(&r, norm);
-    if (visibility_reuse && bias_correction == BIAS_Z_COUNT && r.W > 0.0f
+    /* keep the invariant: a sample not visible here gets W = 0 (the own reservoir's sample is known visible) */
+    if (visibility_reuse && bias_correction == BIAS_Z_COUNT && r.W > 0.0f && !(src < 0 && c.W > 0.0f)
         && !in_support(&s, nodes, tris, lights, r.light, r.u, r.v, 1))
         r.W = 0.0f;
     out[i] = r;

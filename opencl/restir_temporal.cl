@@ -29,15 +29,18 @@ __kernel void restir_temporal(const __global GSample* gbuf, const __global GSamp
     LightEval e;
     res_update(&r, c.light, c.u, c.v, c.target * c.W * c.M, c.target, rng_next(&rng), c.M);
     float tq = q.light >= 0 ? target_of(&s, lights, q.light, q.u, q.v, &e) : 0.0f;
-    res_merge(&r, &q, tq, rng_next(&rng));
+    bool from_prev = res_merge(&r, &q, tq, rng_next(&rng));
     float norm = r.M;
     if (bias_correction == BIAS_Z_COUNT && r.light >= 0) {
         norm = c.M;
+        /* last frame's reservoir supports its own sample (W > 0: p-hat > 0 and, with visibility reuse, visible
+         * there); any other sample is tested at the previous surface */
         Surface sp = surface_load(prev_gbuf, j);
-        if (in_support(&sp, nodes, tris, lights, r.light, r.u, r.v, visibility_reuse)) norm += q.M;
+        if ((from_prev && q.W > 0.0f) || in_support(&sp, nodes, tris, lights, r.light, r.u, r.v, visibility_reuse))
+            norm += q.M;
     }
     res_finalize(&r, norm);
-    if (visibility_reuse && bias_correction == BIAS_Z_COUNT && r.W > 0.0f
+    if (visibility_reuse && bias_correction == BIAS_Z_COUNT && r.W > 0.0f && !(!from_prev && c.W > 0.0f)
         && !in_support(&s, nodes, tris, lights, r.light, r.u, r.v, 1))
         r.W = 0.0f;
     out[i] = r;

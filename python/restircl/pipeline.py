@@ -361,8 +361,9 @@ class Renderer:
             if res is not self.res_history[cur]:
                 cl.enqueue_copy(q, self.res_history[cur], res)
             # 6 shade: one shadow ray to the final sample
+            known = s.visibility_reuse and s.bias_correction == "z_count"
             self._run("restir_shade", (n,), self.gbuf[cur], np.int32(n), *geo, self.lights_buf,
-                      self.res_history[cur], self.guard_buf, self.sample_buf)
+                      self.res_history[cur], np.int32(known), self.guard_buf, self.sample_buf)
             t = mark("shade", t)
         elif method == "reference":
             self._run("shade_reference", (n,), self.gbuf[cur], np.int32(n), *geo, self.lights_buf,
