@@ -1,0 +1,133 @@
+"""`restircl bench`: benchmark figures, printed (run by hand; never timed tests).
+
+    traversal  BVH build and Mrays/s for camera and shadow rays, ours vs Embree (bench_traversal.py)
+    frame      ms per frame and per stage for every method on many_lights at 640x360
+    lights     ReSTIR frame time against the number of lights, 1e2 .. 1e6 emissive triangles
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+
+import numpy as np
+
+from .pipeline import Renderer, Settings
+from .scene import Camera, Material, Mesh, Scene, look_at
+from .scenes import icosphere, many_lights, quad
+
+FRAME_METHODS: dict[str, dict] = {
+    "uniform": dict(method="uniform"),
+    "light_array": dict(method="light_array"),
+    "ris (8)": dict(method="ris", candidates=8),
+    "restir unbiased (4)": dict(method="restir", candidates=4),
+    "restir unbiased (8)": dict(method="restir", candidates=8),
+    "restir unbiased, no vis. reuse (4)": dict(method="restir", candidates=4, visibility_reuse=False),
+    "restir biased (4)": dict(method="restir", candidates=4, bias_correction="none"),
+    "restir biased, no vis. reuse (4)": dict(method="restir", candidates=4, bias_correction="none",
+                                             visibility_reuse=False),
+}
+
+
+def time_frames(scene: Scene, settings: Settings, frames: int = 6, warmup: int = 3, device=None,
+                still: bool = False) -> tuple[float, dict[str, float]]:
+    """Median ms per frame and mean ms per stage, after warm-up frames (program build, first upload)."""
+    r = Renderer(scene, settings, device)
+    n = scene.frames
+    for i in range(warmup):
+        r.render_frame(0 if still else i % n, still=still)
+    ms, stages = [], {}
+    for i in range(warmup, warmup + frames):
+        f = r.render_frame(0 if still else i % n, still=still)
+        ms.append(f.ms)
+        for k, v in f.stage_ms.items():
+            stages[k] = stages.get(k, 0.0) + v / frames
+    return float(np.median(ms)), stages
+
+
+def bench_frame(width: int, height: int, device=None, print_fn=print) -> dict:
+    scene = many_lights(width=width, height=height, frames=16)
+    out = {}
+    print_fn(f"many_lights {width}x{height}, animated camera, TAA on; ms per frame (median of 6 after 3 warm-up)")
+    for name, kw in FRAME_METHODS.items():
+        ms, st = time_frames(scene, Settings(**kw), device=device)
+        out[name] = (ms, st)
+        stages = ", ".join(f"{k} {v:.1f}" for k, v in st.items() if k != "upload")
+        print_fn(f"  {name:<36} {ms:8.1f} ms   [{stages}]")
+    return out
+
+
+def light_scaling_scene(n_lights: int, width: int, height: int, seed: int = 0) -> Scene:
+    """A ground with spheres and n_lights small emissive triangles (64 shared emissive materials of strengths
+    spanning three decades), so that only the light count changes between sizes (and the BVH with it)."""
+    rng = np.random.default_rng(seed)
+    gv, gt = quad(40, 40)
+    parts_v, parts_t = [gv], [gt]
+    mats = [0, 0]
+    base = len(gv)
+    sv, st = icosphere(2, 1.0)
+    for _ in range(30):
+        c = np.array([*rng.uniform(-15, 15, 2), 1.0])
+        parts_v.append(sv + c)
+        parts_t.append(st + base)
+        base += len(sv)
+        mats += [1] * len(st)
+    centres = np.column_stack([rng.uniform(-20, 20, n_lights), rng.uniform(-20, 20, n_lights),
+                               rng.uniform(0.3, 5.0, n_lights)])
+    size = 0.05
+    offs = rng.normal(0, size, (n_lights, 3, 3))
+    tri_v = (centres[:, None, :] + offs).reshape(-1, 3)
+    parts_v.append(tri_v)
+    parts_t.append(np.arange(3 * n_lights).reshape(-1, 3) + base)
+    materials = [Material("ground", (0.6, 0.6, 0.6)), Material("spheres", (0.7, 0.5, 0.3))]
+    strengths = np.exp(np.linspace(math.log(1.0), math.log(1000.0), 64))
+    for k in range(64):
+        col = rng.uniform(0.3, 1.0, 3)
+        materials.append(Material(f"glow{k}", (0, 0, 0), tuple(col), float(strengths[k] * 50.0 / n_lights ** 0.5)))
+    mats += list(2 + rng.integers(0, 64, n_lights))
+    mesh = Mesh("all", np.concatenate(parts_v), np.concatenate(parts_t), np.array(mats))
+    cam = Camera(look_at((0, -22, 9), (0, 0, 0)), width, height, lens=28.0)
+    return Scene([mesh], materials, [], cam, name=f"lights_{n_lights}")
+
+
+def bench_lights(width: int, height: int, sizes=(100, 1000, 10_000, 100_000, 1_000_000), device=None,
+                 print_fn=print) -> list[tuple]:
+    rows = []
+    print_fn(f"ReSTIR (4 candidates, unbiased) frame time against the light count, {width}x{height}, still camera")
+    print_fn(f"  {'lights':>9} {'triangles':>10} {'setup s':>7} {'array s':>8} {'ms/frame':>9}   stages")
+    for n in sizes:
+        scene = light_scaling_scene(n, width, height)
+        t0 = time.perf_counter()
+        r = Renderer(scene, Settings(method="restir", candidates=4), device)
+        setup = time.perf_counter() - t0
+        del r
+        from .light_array import build_light_array
+
+        t1 = time.perf_counter()
+        from .lights import scene_lights
+
+        lights = scene_lights(scene, 0)
+        build_light_array(lights.power)
+        t_array = time.perf_counter() - t1
+        ms, st = time_frames(scene, Settings(method="restir", candidates=4), device=device, still=False)
+        stages = ", ".join(f"{k} {v:.1f}" for k, v in st.items() if k != "upload")
+        print_fn(f"  {len(lights):>9} {scene.triangle_count:>10} {setup:7.2f} {t_array:8.3f} {ms:9.1f}   [{stages}]")
+        rows.append((len(lights), scene.triangle_count, setup, t_array, ms, st))
+    return rows
+
+
+def main(a: argparse.Namespace) -> int:
+    from .device import get_device
+
+    dev = get_device(a.device)
+    print(f"device: {dev.label}")
+    if a.what in ("traversal", "all"):
+        from . import bench_traversal
+
+        bench_traversal.run(triangles=a.triangles, width=a.width, height=a.height, embree=not a.no_embree)
+    if a.what in ("frame", "all"):
+        bench_frame(a.width, a.height, dev)
+    if a.what in ("lights", "all"):
+        bench_lights(a.width, a.height, device=dev)
+    return 0
