@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pyopencl as cl
 import pytest
-from restircl import Camera, Light, Material, Mesh, Renderer, Scene, Settings, look_at, scenes, translation
+from restircl import Renderer, Scene, Settings, look_at, scenes
 from restircl.camera import camera_record
 
 from .helpers import rel_mse
@@ -17,19 +17,7 @@ FRAMES = 8
 
 
 def moving_box_scene(frames: int = FRAMES, pan: float = 0.08, speed: float = 0.3) -> Scene:
-    """A grey floor lit by a sun and a point light, a red box sliding along x, a camera panning along x."""
-    fv, ft = scenes.quad(12, 12)
-    bv, bt = scenes.box((0.8, 0.8, 0.8))
-    box_xf = np.stack([translation(-1.2 + speed * f, 0.0, 0.4) for f in range(frames)])
-    cams = np.stack([look_at((pan * f, -5.0, 3.0), (pan * f, 0.0, 0.3)) for f in range(frames)])
-    return Scene(
-        [Mesh("floor", fv, ft, 0), Mesh("box", bv, bt, 1, box_xf)],
-        [Material("grey", (0.5, 0.5, 0.5)), Material("red", (0.9, 0.05, 0.05))],
-        [Light("sun", "sun", (1, 1, 1), 2.0, look_at((0.3, -0.5, 1), (0, 0, 0)), angle=0.05),
-         Light("lamp", "point", (1, 0.9, 0.7), 150.0, translation(1.5, -1.0, 2.5), radius=0.2)],
-        Camera(cams, W, H, lens=35.0),
-        name="moving_box",
-    )
+    return scenes.moving_box(W, H, frames, pan, speed)
 
 
 def project_numpy(cam_rec: np.ndarray, p: np.ndarray) -> np.ndarray:

@@ -4,6 +4,7 @@
                   icosahedra of strengths spanning decades) plus point lights of powers spanning decades,
                   and a camera flythrough
     cornell_box   a closed box with two blocks and one area light in the ceiling
+    moving_box    a box sliding over a floor under a panning camera (reprojection, disocclusion, TAA)
 """
 
 from __future__ import annotations
@@ -197,7 +198,24 @@ def cornell_box(width: int = 256, height: int = 256, frames: int = 1, light_powe
     return Scene([Mesh("box", v, t, mat)], materials, [light], cam, name="cornell_box")
 
 
-BUILTIN = {"many_lights": many_lights, "cornell_box": cornell_box}
+def moving_box(width: int = 160, height: int = 120, frames: int = 16, pan: float = 0.08, speed: float = 0.3) -> Scene:
+    """A grey floor lit by a sun and a point light, a red box sliding along x by `speed` per frame, and a camera
+    panning along x by `pan` per frame: reprojection with camera and object motion, disocclusion, moving shadows."""
+    fv, ft = quad(12, 12)
+    bv, bt = box((0.8, 0.8, 0.8))
+    box_xf = np.stack([translation(-1.2 + speed * f, 0.0, 0.4) for f in range(frames)])
+    cams = np.stack([look_at((pan * f, -5.0, 3.0), (pan * f, 0.0, 0.3)) for f in range(frames)])
+    return Scene(
+        [Mesh("floor", fv, ft, 0), Mesh("box", bv, bt, 1, box_xf)],
+        [Material("grey", (0.5, 0.5, 0.5)), Material("red", (0.9, 0.05, 0.05))],
+        [Light("sun", "sun", (1, 1, 1), 2.0, look_at((0.3, -0.5, 1), (0, 0, 0)), angle=0.05),
+         Light("lamp", "point", (1, 0.9, 0.7), 150.0, translation(1.5, -1.0, 2.5), radius=0.2)],
+        Camera(cams, width, height, lens=35.0),
+        name="moving_box",
+    )
+
+
+BUILTIN = {"many_lights": many_lights, "cornell_box": cornell_box, "moving_box": moving_box}
 
 
 def builtin(name: str, **kwargs) -> Scene:
