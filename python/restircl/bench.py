@@ -3,6 +3,7 @@
     traversal  BVH build and Mrays/s for camera and shadow rays, ours vs Embree (bench_traversal.py)
     frame      ms per frame and per stage for every method on many_lights at 640x360
     lights     ReSTIR frame time against the number of lights, 1e2 .. 1e6 emissive triangles
+    taa        relMSE against frame number with TAA on and off (still and moving camera), TAA pass ms
 """
 
 from __future__ import annotations
@@ -117,6 +118,63 @@ def bench_lights(width: int, height: int, sizes=(100, 1000, 10_000, 100_000, 1_0
     return rows
 
 
+def bench_taa(width: int, height: int, frames: int = 32, device=None, print_fn=print,
+              plot: str | None = None) -> dict:
+    """relMSE against frame number, TAA on and off, for a still and for a moving camera (moving_box: camera pan and
+    a moving object, per-frame references), with RIS (8 candidates); and the ms of the TAA pass."""
+    from .report import rel_mse
+    from .scenes import moving_box
+
+    curves: dict[str, list[float]] = {}
+    for motion in ("still", "moving"):
+        scene = moving_box(width, height, frames=frames if motion == "moving" else 1)
+        refs = []
+        ref_r = Renderer(scene, Settings(method="reference", seed=99), device)
+        for f in range(scene.frames):
+            refs.append(ref_r.render_still(f, 256).color[..., :3])
+        for label, kw in (("taa a_min=0.1", dict(taa=True)), ("taa a=1/n", dict(taa=True, alpha_min=0.0)),
+                          ("off", dict(taa=False))):
+            if motion == "moving" and label == "taa a=1/n":
+                continue
+            r = Renderer(scene, Settings(method="ris", candidates=8, seed=5, **kw), device)
+            errs = []
+            for f in range(frames):
+                idx = f if motion == "moving" else 0
+                out = r.render_frame(idx)
+                errs.append(rel_mse(out.color[..., :3], refs[idx]))
+            curves[f"{motion}, {label}"] = errs
+    marks = [0, 1, 3, 7, 15, 31, frames - 1]
+    marks = sorted({m for m in marks if m < frames})
+    print_fn(f"relMSE against frame number (moving_box {width}x{height}, RIS 8 candidates, per-frame references)")
+    print_fn(f"  {'':<24}" + "".join(f"{m + 1:>10}" for m in marks))
+    for k, v in curves.items():
+        print_fn(f"  {k:<24}" + "".join(f"{v[m]:>10.4f}" for m in marks))
+    scene = many_lights(width=640, height=360, frames=16)
+    _, st = time_frames(scene, Settings(method="ris", candidates=4), device=device)
+    print_fn(f"TAA pass at 640x360 (many_lights): {st.get('taa', float('nan')):.1f} ms")
+    if plot:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        fig, ax = plt.subplots(figsize=(6.5, 4.2), dpi=110)
+        for k, v in curves.items():
+            ax.plot(np.arange(1, frames + 1), v, label=k, ls="-" if k.startswith("still") else "--")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("frame")
+        ax.set_ylabel("relMSE vs per-frame reference")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(plot)
+        plt.close(fig)
+        print_fn(f"wrote {plot}")
+    curves["taa_ms_640x360"] = [st.get("taa", float("nan"))]
+    return curves
+
+
 def main(a: argparse.Namespace) -> int:
     from .device import get_device
 
@@ -130,4 +188,6 @@ def main(a: argparse.Namespace) -> int:
         bench_frame(a.width, a.height, dev)
     if a.what in ("lights", "all"):
         bench_lights(a.width, a.height, device=dev)
+    if a.what in ("taa", "all"):
+        bench_taa(160, 120, device=dev, plot="taa_error.png")
     return 0

@@ -228,9 +228,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     b = sub.add_parser("bench", help="benchmarks: traversal vs Embree, frame times, light-count scaling",
                        description="Print benchmark figures (not timed tests).")
-    b.add_argument("what", nargs="?", choices=("traversal", "frame", "lights", "all"), default="all",
+    b.add_argument("what", nargs="?", choices=("traversal", "frame", "lights", "taa", "all"), default="all",
                    help="traversal: ours vs Embree; frame: ms per stage and method; lights: frame time against "
-                        "the light count (default: all)")
+                        "the light count; taa: error against frame number (default: all)")
     b.add_argument("--triangles", type=int, default=1_000_000)
     b.add_argument("--width", type=int, default=640)
     b.add_argument("--height", type=int, default=360)
