@@ -57,9 +57,12 @@ def _area(x0, x1, y0, y1, z0, z1):
 def device_vertices(v0: np.ndarray, v1: np.ndarray, v2: np.ndarray):
     """float32 (v0, e1, e2) as stored in Tri, and the vertices v1, v2 the device reconstructs as v0 + e1, v0 + e2.
 
-    The edges are differences of the float32-rounded vertices, so v0 + e1 gives back the rounded v1 exactly in
-    almost all cases: a vertex shared by two triangles has the same value in both, which the watertight
-    intersection test needs.
+    The edges are differences of the float32-rounded vertices, so v0 + e1 gives back the rounded v1 exactly
+    whenever the difference is a float32 (always when the coordinates are within a factor 2 of each other, as
+    for small triangles far from the origin): a vertex shared by two triangles then has the same value in both,
+    which the watertight intersection test needs. Otherwise it is off by at most one float32 step of the
+    triangle's coordinates, which the device's edge tolerance (BVH_EDGE_TOL in bvh.h) covers. The node boxes
+    are computed from these reconstructed vertices, so they hold what the device intersects.
     """
     a = np.asarray(v0, dtype=np.float32)
     b = np.asarray(v1, dtype=np.float32)
