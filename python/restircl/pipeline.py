@@ -129,6 +129,18 @@ def _resolve_device(device: Device | str | None) -> Device:
     return get_device(device)
 
 
+HALF_BLOCK = 8  # frames per block of a still render's two half buffers (error_estimate)
+
+
+def _half_of(k: int) -> int:
+    """Half buffer (0 or 1) of sample k of a still render: blocks of HALF_BLOCK consecutive frames, the two blocks
+    of each pair in an order drawn from a hash of the pair. Any HALF_BLOCK consecutive frames cover the same
+    Halton jitter strata, and the coin makes the finer strata exchangeable between the halves."""
+    pair = k // (2 * HALF_BLOCK)
+    flip = ((pair * 0x9E3779B1 + 0x7F4A7C15) & 0xFFFFFFFF) >> 31
+    return ((k // HALF_BLOCK) & 1) ^ flip
+
+
 class Renderer:
     """Renders a Scene frame by frame on one OpenCL device, keeping ReSTIR and TAA history between frames."""
 
@@ -468,16 +480,30 @@ class Renderer:
         stage: dict[str, float] = {}
         t0 = time.perf_counter()
         gbuf = self.gbuf[self._cur]
+        # ReSTIR's temporal reuse correlates consecutive frames: each half buffer gets its own chain of reservoirs
+        # (and G-buffers), so the two halves stay independent (error_estimate).
+        chains = self.settings.method == "restir" and self.settings.temporal
+        saved: dict[int, tuple] = {}
+        active: int | None = None
         for k in range(max(int(samples), 1)):
             if should_stop is not None and done > 0 and should_stop():
                 break
+            half = _half_of(k)
+            if chains and half != active:
+                if active is not None:
+                    saved[active] = (self.gbuf, self.res_history, self._cur, self._history_valid)
+                    if half in saved:
+                        self.gbuf, self.res_history, self._cur, self._history_valid = saved[half]
+                    else:  # the second chain starts from fresh buffers, without history
+                        self.gbuf, self.res_history = self._chain_buffers()
+                        self._history_valid = False
+                active = half
             st, _, gbuf = self._render(frame, still=True)
             for key, v in st.items():
                 stage[key] = stage.get(key, 0.0) + v
-            odd = k % 2
-            self._run("accumulate", (self.pixels,), self.sample_buf, np.int32(self.pixels), np.int32(odd),
+            self._run("accumulate", (self.pixels,), self.sample_buf, np.int32(self.pixels), np.int32(half),
                       self.sum_buf, self.sum_half)
-            n_half += odd
+            n_half += half
             done += 1
             self._still_counts = (done, n_half)
             if progress is not None:
@@ -485,10 +511,13 @@ class Renderer:
             if checkpoint is not None:
                 q.finish()
                 checkpoint(done, time.perf_counter() - t0)
-            if target_error is not None and done >= 8 and done % 4 == 0:
+            if target_error is not None and done >= 2 * HALF_BLOCK and done % 4 == 0:
                 estimate = self.error_estimate(done, n_half)
                 if estimate is not None and estimate <= target_error:
                     break
+        first = _half_of(0)
+        if chains and active is not None and active != first:  # back to the first chain's (the renderer's) buffers
+            self.gbuf, self.res_history, self._cur, self._history_valid = saved[first]
         out = self._read(self.sum_buf, gbuf, frame, scale=1.0 / done)
         noisy = np.empty((self.height, self.width, 4), np.float32)
         cl.enqueue_copy(q, noisy, self.sample_buf)
@@ -501,7 +530,7 @@ class Renderer:
 
     @property
     def still_counts(self) -> tuple[int, int]:
-        """(samples accumulated, of which in the odd half) of the still render in progress."""
+        """(samples accumulated, of which in half buffer 1) of the still render in progress."""
         return self._still_counts
 
     def mean_image(self) -> np.ndarray:
@@ -511,10 +540,23 @@ class Renderer:
         cl.enqueue_copy(self.device.queue, total, self.sum_buf)
         return total[..., :3] / max(done, 1)
 
+    def _chain_buffers(self) -> tuple[list[cl.Buffer], list[cl.Buffer]]:
+        """G-buffers and reservoir histories of the second chain of a still ReSTIR render (allocated once)."""
+        if getattr(self, "_chain2", None) is None:
+            n = self.pixels
+            self._chain2 = ([self._buf(n * L.GSAMPLE.itemsize) for _ in range(2)],
+                            [self._buf(n * L.RESERVOIR.itemsize) for _ in range(2)])
+        return self._chain2
+
     def error_estimate(self, done: int, n_half: int) -> float | None:
-        """relMSE of the running mean estimated from two half buffers (odd and even frames), no reference needed:
-        the halves are independent estimates, so E|a - b|^2 = var_a + var_b, and the full mean has a quarter of
-        that when the halves are equal in size."""
+        """relMSE of the running mean estimated from two half buffers, no reference needed: the halves are
+        independent estimates, so E|a - b|^2 = var_a + var_b, and the full mean has a quarter of that when the
+        halves are equal in size (relative to r^2 + 0.01 as relMSE is, r^2 estimated robustly, see below).
+
+        The halves are blocks of HALF_BLOCK frames (_half_of), not odd and even frames: odd and even frames sit
+        in different strata of the Halton pixel jitter, so their difference does not shrink like noise and the
+        estimate grew too large (17x at 256 samples on a small cornell_box); and ReSTIR with temporal reuse runs
+        one chain of reservoirs per half (render_still), else correlated frames made it 2-10x too small."""
         if n_half == 0 or done - n_half == 0:
             return None
         q = self.device.queue
@@ -526,4 +568,10 @@ class Renderer:
         b = (total[:, :3] - half[:, :3]) / (done - n_half)
         mean = total[:, :3] / done
         var_mean = (a - b) ** 2 * (n_half * (done - n_half)) / (done * done)
-        return float(np.mean(var_mean / (mean * mean + 0.01)))
+        # r^2 of relMSE's denominator: mean^2 is inflated by the very outliers whose error it should weigh (one
+        # firefly in a half caps the pixel's term near 1); the harmonic mean of the halves ignores one outlier
+        # half but is 0 where a half is (a sub-pixel light hit in one half only), so it is floored at mean^2 / 2.
+        s = a + b
+        hm = np.divide(2 * a * b, s, out=np.zeros_like(s), where=s > 0)
+        r2 = np.maximum(hm * hm, 0.5 * mean * mean)
+        return float(np.mean(var_mean / (r2 + 0.01)))
