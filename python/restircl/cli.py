@@ -89,7 +89,8 @@ def settings_from_args(a: argparse.Namespace) -> Settings:
     ).validate()
 
 
-def _render(scene: Scene, settings: Settings, frames: int, out: Path, mode: str, device: str | None) -> int:
+def _render(scene: Scene, settings: Settings, frames: int, out: Path, mode: str, device: str | None,
+            target_error: float | None = None) -> int:
     from .image_io import write_exr, write_png
 
     renderer = Renderer(scene, settings, device)
@@ -113,7 +114,11 @@ def _render(scene: Scene, settings: Settings, frames: int, out: Path, mode: str,
             extra = f"est. relMSE {state['err']:.2e}" if state["err"] is not None else ""
             bar.update(done, extra)
 
-        f = renderer.render_still(0, frames, progress=progress)
+        f = renderer.render_still(0, frames, progress=progress, target_error=target_error)
+        if f.samples < frames:
+            bar.update(frames, f"est. relMSE {f.error_estimate:.2e}" if f.error_estimate is not None else "")
+            print(f"stopped after {f.samples} of {frames} samples: the estimated relMSE reached the target "
+                  f"{target_error:g}")
         write_exr(out / f"{scene.name}_{settings.method}.exr", f)
         write_png(out / f"{scene.name}_{settings.method}.png", f)
         est = f"{f.error_estimate:.3e}" if f.error_estimate is not None else "n/a"
@@ -152,7 +157,7 @@ def cmd_demo(a: argparse.Namespace) -> int:
 
 def cmd_render(a: argparse.Namespace) -> int:
     scene = load_scene(a.scene, a.width, a.height, a.frames)
-    return _render(scene, settings_from_args(a), a.frames, Path(a.out), a.mode, a.device)
+    return _render(scene, settings_from_args(a), a.frames, Path(a.out), a.mode, a.device, a.target_error)
 
 
 def cmd_devices(a: argparse.Namespace) -> int:
@@ -170,18 +175,56 @@ def cmd_bench(a: argparse.Namespace) -> int:
 
 
 def cmd_report(a: argparse.Namespace) -> int:
-    from . import report
+    from . import cycles, report
 
-    scene = load_scene(a.scene, a.width, a.height, 1)
+    if a.replot:
+        for path in report.replot(Path(a.replot)):
+            print(f"wrote {path}")
+        return 0
+    if not a.scene:
+        raise ValueError("report: give a SCENE (or --replot JSON)")
     methods = a.methods.split(",") if a.methods else list(report.METHODS)
     unknown = [m for m in methods if m not in report.METHODS]
     if unknown:
         raise ValueError(f"unknown methods {unknown}; choose from {', '.join(report.METHODS)}")
+    cache = Path(a.cache_dir) if a.cache_dir else None
+    blend = a.scene.endswith(".blend")
+    if blend and not cycles.available():
+        raise ValueError("report: a .blend scene needs the bpy module (run under a Python with bpy installed)")
+    if a.moving:
+        if blend:
+            scene, _, warnings = cycles.load_blend(a.scene, a.width, a.height, all_frames=True)
+            for w in warnings:
+                print(f"export warning: {w}")
+        else:
+            scene = load_scene(a.scene, a.width, a.height, a.frames)
+        if scene.frames < 2:
+            raise ValueError(f"report --moving: {scene.name} has one frame (no camera motion)")
+        modes = tuple((a.modes or "taa").split(","))
+        mv = report.run_moving(scene, methods, a.ms_per_frame, a.every, modes, device=a.device,
+                               reference_seconds=a.reference_seconds, cache_dir=cache)
+        print(f"device: {mv.device}, {mv.width}x{mv.height}, {scene.frames} frames, {mv.budget_ms:.0f} ms per frame")
+        print(mv.table())
+        for path in mv.write(Path(a.out)):
+            print(f"wrote {path}")
+        return 0
+    target: bool | object = not a.no_cycles
+    if blend:
+        scene, bpy_scene, warnings = cycles.load_blend(a.scene, a.width, a.height)
+        for w in warnings:
+            print(f"export warning: {w}")
+        if target:
+            target = bpy_scene
+    else:
+        scene = load_scene(a.scene, a.width, a.height, 1)
     budgets = tuple(float(b) for b in a.budgets.split(","))
-    ref = report.reference_image(scene, seconds_hint=a.reference_seconds, device=a.device)
-    rep = report.run_report(scene, methods, budgets, tuple(a.modes.split(",")), device=a.device, reference=ref)
+    ref = report.get_reference(scene, 0, a.reference_seconds, device=a.device, cache_dir=cache)
+    rep = report.run_report(scene, methods, budgets, tuple((a.modes or "accumulate,taa").split(",")),
+                            device=a.device, reference=ref, cycles=target)
     print(f"device: {rep.device}, {rep.width}x{rep.height}")
     print(rep.table())
+    for note in rep.notes:
+        print(f"note: {note}")
     for path in rep.write(Path(a.out)):
         print(f"wrote {path}")
     return 0
@@ -219,6 +262,8 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--mode", choices=("auto", "still", "animation"), default="auto",
                    help="auto: still if the scene has one frame (default)")
     r.add_argument("--out", default="out")
+    r.add_argument("--target-error", type=float, default=None,
+                   help="still: stop once the estimated relMSE (from two half buffers, no reference) reaches this")
     add_settings_args(r)
     r.set_defaults(func=cmd_render)
 
@@ -239,17 +284,29 @@ def build_parser() -> argparse.ArgumentParser:
     b.set_defaults(func=cmd_bench)
 
     rp = sub.add_parser("report", help="error against run time for every method (CSV, JSON, log-log plot)",
-                        description="Render a still camera with each method for a series of wall-clock budgets "
-                                    "and record relMSE and RMSE (FLIP with flip-evaluator) against a converged, "
-                                    "cached reference.")
-    rp.add_argument("scene")
+                        description="Render a still camera with each method (and Cycles, direct light only, when "
+                                    "bpy imports) for a series of wall-clock budgets and record relMSE and RMSE "
+                                    "(FLIP with flip-evaluator) against a converged, cached reference. With "
+                                    "--moving: every frame of the animation with the same time per frame, and the "
+                                    "error of every --every-th frame against that frame's reference.")
+    rp.add_argument("scene", nargs="?", help="built-in scene, scene file (.npz) or .blend (needs bpy)")
     rp.add_argument("--width", type=int, default=None)
     rp.add_argument("--height", type=int, default=None)
     rp.add_argument("--methods", default=None, help="comma-separated subset (default: all)")
     rp.add_argument("--budgets", default="0.25,0.5,1,2,4", help="seconds, comma-separated (%(default)s)")
-    rp.add_argument("--modes", default="accumulate,taa",
-                    help="accumulate (running mean) and/or taa (TAA with a_min): %(default)s")
-    rp.add_argument("--reference-seconds", type=float, default=120.0, help="time for the reference (%(default)s)")
+    rp.add_argument("--modes", default=None,
+                    help="still: accumulate (running mean) and/or taa (TAA output), default accumulate,taa; "
+                         "--moving: taa and/or frame (mean of the frame's own samples, no TAA), default taa")
+    rp.add_argument("--no-cycles", action="store_true", help="leave Cycles out even when bpy imports")
+    rp.add_argument("--moving", action="store_true", help="moving camera: error per frame at equal time per frame")
+    rp.add_argument("--frames", type=int, default=None, help="--moving: animation length of many_lights")
+    rp.add_argument("--ms-per-frame", type=float, default=None,
+                    help="--moving: wall time per frame (default: the slowest method's frame time)")
+    rp.add_argument("--every", type=int, default=4, help="--moving: evaluate every N-th frame (%(default)s)")
+    rp.add_argument("--reference-seconds", type=float, default=120.0,
+                    help="time for a reference, per frame (%(default)s); references are cached")
+    rp.add_argument("--cache-dir", default=None, help="reference cache (default: ~/.cache/restircl)")
+    rp.add_argument("--replot", default=None, metavar="JSON", help="redraw the plot of a written report and exit")
     rp.add_argument("--out", default="out")
     rp.add_argument("--device", default=None)
     rp.set_defaults(func=cmd_report)
