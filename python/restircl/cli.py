@@ -1,8 +1,9 @@
-"""The `restircl` command line: demo, render, report, devices, bench, save-scene (and `python -m restircl`)."""
+"""The `restircl` command line: demo, render, report, devices, bench, save-scene, stress (and `python -m restircl`)."""
 
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 import time
 from pathlib import Path
@@ -237,6 +238,32 @@ def cmd_save_scene(a: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_stress(a: argparse.Namespace) -> int:
+    from . import stress
+
+    def log(line: str) -> None:
+        print(line, file=sys.stderr, flush=True)
+
+    if a.bench_specialisation:
+        rows = stress.bench_specialisation(frames=a.bench_frames, log=print)
+        if a.out:
+            Path(a.out).mkdir(parents=True, exist_ok=True)
+            (Path(a.out) / "specialisation.json").write_text(json.dumps(rows, indent=1))
+        return 0
+    methods = a.methods.split(",") if a.methods else None
+    names = a.cases.split(",") if a.cases else None
+    device = get_device(a.device)
+    print(f"device: {device.label}; {'full' if a.full else 'small'} sizes")
+    results = stress.run(full=a.full, methods=methods, names=names, device=device, log=log)
+    print(stress.format_table(results))
+    failed = [r for r in results if not r.passed]
+    print(f"{len(results) - len(failed)} of {len(results)} passed")
+    if a.out:
+        for path in stress.write(results, Path(a.out)):
+            print(f"wrote {path}")
+    return 1 if failed else 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="restircl", description=__doc__)
     sub = p.add_subparsers(dest="command", required=True)
@@ -317,6 +344,19 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--width", type=int, default=None)
     s.add_argument("--height", type=int, default=None)
     s.set_defaults(func=cmd_save_scene)
+
+    st = sub.add_parser("stress", help="stability on extreme scenes: NaN/Inf, max value, relMSE per method",
+                        description="Render the built-in extreme scenes (restircl/stress.py) with every method and "
+                                    "check them against their references; exit status 1 if any fails.")
+    st.add_argument("--full", action="store_true", help="full sizes (1e6 lights, 5000 frames, ...): minutes")
+    st.add_argument("--methods", default=None, help="comma-separated subset (default: all)")
+    st.add_argument("--cases", default=None, help="comma-separated subset (default: all)")
+    st.add_argument("--out", default=None, help="write stress.csv and stress.json here")
+    st.add_argument("--device", default=None)
+    st.add_argument("--bench-specialisation", action="store_true",
+                    help="instead: kernel build and frame times, specialised against general builds")
+    st.add_argument("--bench-frames", type=int, default=24, help="frames timed per build (%(default)s)")
+    st.set_defaults(func=cmd_stress)
     return p
 
 
