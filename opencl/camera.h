@@ -2,6 +2,8 @@
 #ifndef RESTIRCL_CAMERA_H
 #define RESTIRCL_CAMERA_H
 
+#include "numerics.h"
+
 /* Direction (not normalised) of the ray through continuous pixel coordinates (px, py); row 0 is the top. */
 inline float3 camera_direction(const __global Camera* cam, float px, float py)
 {
@@ -22,7 +24,7 @@ inline bool camera_project(const __global Camera* cam, float3 p, float2* px)
     float nx = (x - cam->lens.z) / cam->lens.x;
     float ny = (y - cam->lens.w) / cam->lens.y;
     *px = (float2)((nx + 1.0f) * 0.5f * (float)cam->width, (1.0f - ny) * 0.5f * (float)cam->height);
-    return isfinite(px->x) && isfinite(px->y);
+    return finite_f(px->x) && finite_f(px->y);
 }
 
 /* Continuous pixel coordinates of the direction d (a point at infinity); false when it points backwards. */
@@ -33,7 +35,7 @@ inline bool camera_project_dir(const __global Camera* cam, float3 d, float2* px)
     float nx = (dot(d, cam->right.xyz) / z - cam->lens.z) / cam->lens.x;
     float ny = (dot(d, cam->up.xyz) / z - cam->lens.w) / cam->lens.y;
     *px = (float2)((nx + 1.0f) * 0.5f * (float)cam->width, (1.0f - ny) * 0.5f * (float)cam->height);
-    return isfinite(px->x) && isfinite(px->y);
+    return finite_f(px->x) && finite_f(px->y);
 }
 
 inline float camera_depth(const __global Camera* cam, float3 p)

@@ -9,6 +9,8 @@
 #ifndef RESTIRCL_LIGHTS_H
 #define RESTIRCL_LIGHTS_H
 
+#include "numerics.h"
+
 #define RESTIRCL_PI 3.14159265358979f
 #define RESTIRCL_INV_PI 0.318309886183791f
 
@@ -40,7 +42,7 @@ inline float2 concentric_disk(float u, float v)
     float a = 2.0f * u - 1.0f, b = 2.0f * v - 1.0f;
     if (a == 0.0f && b == 0.0f) return (float2)(0.0f, 0.0f);
     float r, phi;
-    if (fabs(a) > fabs(b)) { r = a; phi = (RESTIRCL_PI * 0.25f) * (b / a); }
+    if (abs_f(a) > abs_f(b)) { r = a; phi = (RESTIRCL_PI * 0.25f) * (b / a); }
     else { r = b; phi = (RESTIRCL_PI * 0.5f) - (RESTIRCL_PI * 0.25f) * (a / b); }
     return (float2)(r * cos(phi), r * sin(phi));
 }

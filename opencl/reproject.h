@@ -3,13 +3,15 @@
 #ifndef RESTIRCL_REPROJECT_H
 #define RESTIRCL_REPROJECT_H
 
+#include "numerics.h"
+
 /* Continuous previous-frame pixel position of the surface at pixel (x, y); false when there is none. */
 inline bool reproject_position(const __global GSample* gbuf, int x, int y, int width, float2* prev)
 {
     float4 m = gbuf[y * width + x].motion;
     if (m.z == 0.0f) return false;
     *prev = (float2)((float)x + 0.5f, (float)y + 0.5f) + m.xy;
-    return isfinite(prev->x) && isfinite(prev->y);
+    return finite_f(prev->x) && finite_f(prev->y);
 }
 
 /* Is previous-frame G-sample `prev` the same surface as current G-sample `cur`? Misses match misses. */
@@ -19,7 +21,7 @@ inline bool reproject_same_surface(const GSample* cur, const GSample* prev, floa
     if (cur_hit != prev_hit) return false;
     if (!cur_hit) return true;
     float expected = cur->motion.w;  /* depth of the surface point in the previous camera */
-    if (!(fabs(prev->pos.w - expected) <= depth_tol * fabs(expected))) return false;
+    if (!(abs_f(prev->pos.w - expected) <= depth_tol * abs_f(expected))) return false;
     return dot(cur->normal.xyz, prev->normal.xyz) >= normal_cos;
 }
 

@@ -4,6 +4,8 @@
 #ifndef RESTIRCL_RESERVOIR_H
 #define RESTIRCL_RESERVOIR_H
 
+#include "numerics.h"
+
 inline void res_init(Reservoir* r)
 {
     r->light = -1;
@@ -21,7 +23,7 @@ inline void res_init(Reservoir* r)
 inline bool res_update(Reservoir* r, int light, float u, float v, float w, float target, float rnd, float count)
 {
     r->M += count;
-    if (!(w > 0.0f) || !isfinite(w)) return false;
+    if (!(w > 0.0f) || !finite_f(w)) return false;
     r->w_sum += w;
     if (rnd * r->w_sum < w) {
         r->light = light;
@@ -39,7 +41,7 @@ inline void res_finalize(Reservoir* r, float norm)
 {
     float denom = norm * r->target;
     r->W = (r->light >= 0 && denom > 0.0f) ? r->w_sum / denom : 0.0f;
-    if (!isfinite(r->W) || !isfinite(r->w_sum)) {
+    if (!finite_f(r->W) || !finite_f(r->w_sum)) {
         r->W = 0.0f;
         r->w_sum = 0.0f;
         r->light = -1;

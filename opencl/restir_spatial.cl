@@ -31,7 +31,7 @@ __kernel void restir_spatial(const __global GSample* gbuf, int width, int height
         if (nx < 0 || ny < 0 || nx >= width || ny >= height || (nx == x && ny == y)) continue;
         int j = ny * width + nx;
         Surface sn = surface_load(gbuf, j);
-        if (!sn.valid || !(fabs(sn.depth - s.depth) <= p.depth_tolerance * s.depth)
+        if (!sn.valid || !(abs_f(sn.depth - s.depth) <= p.depth_tolerance * s.depth)
             || dot(sn.n, s.n) < p.normal_cos)
             continue;
         Reservoir q = in[j];

@@ -22,7 +22,7 @@ __kernel void restir_temporal(const __global GSample* gbuf, const __global GSamp
     if (j < 0) { out[i] = c; return; }
     Reservoir q = previous[j];
     q.M = fmin(q.M, p.m_cap);
-    if (!isfinite(q.W) || !isfinite(q.M)) { guard_count(guards, GUARD_NONFINITE_RESERVOIR); out[i] = c; return; }
+    if (!finite_f(q.W) || !finite_f(q.M)) { guard_count(guards, GUARD_NONFINITE_RESERVOIR); out[i] = c; return; }
     uint rng = rng_seed((uint)i, (uint)p.frame, (uint)p.seed, 4u);
     Reservoir r;
     res_init(&r);

@@ -1,6 +1,7 @@
 /* The whole program: headers in dependency order, then one file per pass. The host compiles it with -D feature
  * flags derived from the scene and the settings (features.py), so a scene builds only the code it needs. */
 #include "types.h"
+#include "numerics.h"
 #include "rng.h"
 #include "bvh.h"
 #include "camera.h"

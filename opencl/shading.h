@@ -3,6 +3,8 @@
 #ifndef RESTIRCL_SHADING_H
 #define RESTIRCL_SHADING_H
 
+#include "numerics.h"
+
 typedef struct {
     float3 x;       /* world position */
     float3 n;       /* shading normal facing the camera */
@@ -31,14 +33,14 @@ inline float target_of(const Surface* s, const __global Light* lights, int light
     if (!s->valid || light < 0) return 0.0f;
     if (!light_eval(&lights[light], u, v, s->x, s->n, e)) return 0.0f;
     float t = luminance(s->brdf * e->contrib);
-    return (t > 0.0f && isfinite(t)) ? t : 0.0f;
+    return (t > 0.0f && finite_f(t)) ? t : 0.0f;
 }
 
 /* Shadow ray from surface s towards the light sample in e. */
 inline bool visible(const __global BVHNode* nodes, const __global Tri* tris, const Surface* s, const LightEval* e)
 {
     float3 o = offset_ray_origin(s->x, dot(s->ng, e->wi) >= 0.0f ? s->ng : -s->ng);
-    if (!isfinite(e->dist)) return !trace_any(nodes, tris, o, e->wi, INFINITY);
+    if (!finite_f(e->dist)) return !trace_any(nodes, tris, o, e->wi, INFINITY);
     float3 t = offset_ray_origin(e->pos, e->nl);
     float3 d = t - o;
     float len = length(d);
@@ -61,7 +63,7 @@ inline void guard_count(volatile __global int* guards, int which) { atomic_inc(&
 /* Replace a NaN/Inf colour by 0 and count it. */
 inline float3 guard_finite(float3 c, volatile __global int* guards, int which)
 {
-    if (isfinite(c.x) && isfinite(c.y) && isfinite(c.z)) return c;
+    if (finite3_f(c)) return c;
     guard_count(guards, which);
     return (float3)(0.0f);
 }

@@ -24,8 +24,6 @@ inline float3 clip_to_box(float3 h, float3 centre, float3 extent)
     return m > 1.0f ? centre + d / m : h;
 }
 
-inline bool finite3(float3 c) { return isfinite(c.x) && isfinite(c.y) && isfinite(c.z); }
-
 __kernel void taa(const __global float4* sample, const __global GSample* gbuf, const __global GSample* prev_gbuf,
                   const __global float4* history_in, __global float4* history_out, int width, int height,
                   TaaParams p, int reset, volatile __global int* guards)
@@ -34,7 +32,7 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
     if (x >= width || y >= height) return;
     int i = y * width + x;
     float3 s = sample[i].xyz;
-    if (!finite3(s)) { guard_count(guards, GUARD_NONFINITE_SAMPLE); s = (float3)(0.0f); }
+    if (!finite3_f(s)) { guard_count(guards, GUARD_NONFINITE_SAMPLE); s = (float3)(0.0f); }
     float3 h = (float3)(0.0f);
     float n_prev = 0.0f;
     float2 prev;
@@ -61,7 +59,7 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
         if (wsum > 1e-3f) {
             h = hsum / wsum;
             n_prev = nsum / wsum;
-            if (!finite3(h) || !isfinite(n_prev)) {
+            if (!finite3_f(h) || !finite_f(n_prev)) {
                 guard_count(guards, GUARD_NONFINITE_HISTORY);
                 n_prev = 0.0f;
             }
@@ -74,7 +72,7 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
             for (int dx = -1; dx <= 1; ++dx) {
                 int nx = clamp(x + dx, 0, width - 1), ny = clamp(y + dy, 0, height - 1);
                 float3 v = sample[ny * width + nx].xyz;
-                if (!finite3(v)) continue;
+                if (!finite3_f(v)) continue;
                 v = rgb_to_ycocg(v);
                 m1 += v;
                 m2 += v * v;
@@ -87,6 +85,6 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
     float n = fmin(n_prev + 1.0f, (float)p.max_history);
     float a = n_prev > 0.0f ? fmax(1.0f / n, p.alpha_min) : 1.0f;
     float3 o = a * s + (1.0f - a) * h;
-    if (!finite3(o)) { guard_count(guards, GUARD_NONFINITE_HISTORY); o = s; n = 1.0f; }
+    if (!finite3_f(o)) { guard_count(guards, GUARD_NONFINITE_HISTORY); o = s; n = 1.0f; }
     history_out[i] = (float4)(o, n);
 }

@@ -38,12 +38,15 @@ def time_frames(scene: Scene, settings: Settings, frames: int = 6, warmup: int =
     n = scene.frames
     for i in range(warmup):
         r.render_frame(0 if still else i % n, still=still)
-    ms, stages = [], {}
+    ms, cpu, stages = [], [], {}
     for i in range(warmup, warmup + frames):
+        c0 = time.process_time()
         f = r.render_frame(0 if still else i % n, still=still)
+        cpu.append((time.process_time() - c0) * 1e3)
         ms.append(f.ms)
         for k, v in f.stage_ms.items():
             stages[k] = stages.get(k, 0.0) + v / frames
+    stages["cpu"] = float(np.median(cpu))  # CPU ms of all threads: steadier than wall time on a shared machine
     return float(np.median(ms)), stages
 
 
@@ -54,8 +57,8 @@ def bench_frame(width: int, height: int, device=None, print_fn=print) -> dict:
     for name, kw in FRAME_METHODS.items():
         ms, st = time_frames(scene, Settings(**kw), device=device)
         out[name] = (ms, st)
-        stages = ", ".join(f"{k} {v:.1f}" for k, v in st.items() if k != "upload")
-        print_fn(f"  {name:<36} {ms:8.1f} ms   [{stages}]")
+        stages = ", ".join(f"{k} {v:.1f}" for k, v in st.items() if k not in ("upload", "cpu"))
+        print_fn(f"  {name:<36} {ms:8.1f} ms  (CPU {st['cpu']:7.1f} ms)   [{stages}]")
     return out
 
 
