@@ -1,11 +1,19 @@
 /* Pass 1: camera rays into the G-buffer (position, normals, albedo, emission seen directly, motion vectors).
  * motion.xy: previous minus current pixel position of the hit (jitter removed); motion.z: 1 if the hit has a
- * previous position on the previous camera's image plane; motion.w: its view depth in the previous camera. */
+ * previous position on the previous camera's image plane; motion.w: its view depth in the previous camera.
+ * vector (the Vector pass): xy as motion.xy, zw the next frame's position minus the current one (pixels, y down).
+ * object_motion: per object, 3 rows of M_prev M_cur^-1, then 3 rows of M_next M_cur^-1. */
 
-__kernel void primary(const __global Camera* cam, const __global Camera* prev_cam,
+inline float3 motion_apply(const __global float4* m, float3 p)
+{
+    float4 p4 = (float4)(p, 1.0f);
+    return (float3)(dot(m[0], p4), dot(m[1], p4), dot(m[2], p4));
+}
+
+__kernel void primary(const __global Camera* cam, const __global Camera* prev_cam, const __global Camera* next_cam,
                       const __global BVHNode* nodes, const __global Tri* tris,
                       const __global Material* materials, const __global float4* object_motion,
-                      __global GSample* gbuf)
+                      __global GSample* gbuf, __global float4* vector)
 {
     int x = get_global_id(0), y = get_global_id(1);
     int w = cam->width, h = cam->height;
@@ -23,14 +31,18 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
         g.albedo = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
         g.emission = (float4)(0.0f);
         g.motion = (float4)(0.0f, 0.0f, 1.0f, INFINITY);  /* the background: reprojected by direction */
+        float4 vec = (float4)(0.0f);
 #ifdef HAS_MOTION
-        float2 cur_px, prev_px;
+        float2 cur_px, prev_px, next_px;
         if (camera_project_dir(cam, d, &cur_px) && camera_project_dir(prev_cam, d, &prev_px))
-            g.motion.xy = prev_px - cur_px;
+            g.motion.xy = vec.xy = prev_px - cur_px;
         else
             g.motion.z = 0.0f;
+        if (camera_project_dir(cam, d, &cur_px) && camera_project_dir(next_cam, d, &next_px))
+            vec.zw = next_px - cur_px;
 #endif
         gbuf[i] = g;
+        vector[i] = vec;
         return;
     }
     Tri t = tris[hit.prim];
@@ -46,20 +58,22 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
     g.albedo = (float4)(m.albedo.xyz, as_float(obj));
     g.emission = (float4)(m.emission.xyz, 0.0f);
     g.motion = (float4)(0.0f, 0.0f, 1.0f, g.pos.w);  /* nothing moves: the previous position is this one */
+    float4 vec = (float4)(0.0f);
 #ifdef HAS_MOTION
-    float3 pp = p;
+    float3 pp = p, pn = p;
 #ifdef HAS_MOVING_OBJECTS
-    {
-        float4 p4 = (float4)(p, 1.0f);
-        pp = (float3)(dot(object_motion[3 * obj + 0], p4), dot(object_motion[3 * obj + 1], p4),
-                      dot(object_motion[3 * obj + 2], p4));
-    }
+    pp = motion_apply(object_motion + 6 * obj, p);
+    pn = motion_apply(object_motion + 6 * obj + 3, p);
 #endif
-    float2 cur_px, prev_px;
-    if (camera_project(cam, p, &cur_px) && camera_project(prev_cam, pp, &prev_px))
+    float2 cur_px, prev_px, next_px;
+    bool cur_ok = camera_project(cam, p, &cur_px);
+    if (cur_ok && camera_project(prev_cam, pp, &prev_px))
         g.motion = (float4)(prev_px - cur_px, 1.0f, camera_depth(prev_cam, pp));
     else
         g.motion = (float4)(0.0f, 0.0f, 0.0f, 0.0f);  /* z = 0: no valid previous position */
+    vec.xy = g.motion.xy;
+    if (cur_ok && camera_project(next_cam, pn, &next_px)) vec.zw = next_px - cur_px;
 #endif
     gbuf[i] = g;
+    vector[i] = vec;
 }

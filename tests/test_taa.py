@@ -57,6 +57,15 @@ def test_motion_vectors_are_exact_for_camera_and_object_motion(device):
     # the hit points really are where the pixel centres project (no jitter): current projection is exact too
     cur = project_numpy(camera_record(scene.camera, 3), pos)
     assert np.abs(cur - centres)[hit].max() < 2e-3
+    # the Vector pass (Blender's convention: y up): xy to the previous frame, zw to the next
+    vec = r._read(r.sample_buf, r.gbuf[1 - r._cur], 3).vector
+    next_pos = pos.copy()
+    next_pos[moving] += np.array([0.3, 0.0, 0.0])
+    expect_next = project_numpy(camera_record(scene.camera, 4), next_pos)
+    np.testing.assert_allclose(vec[..., 0][hit], (expect - centres)[..., 0][hit], atol=2e-3)
+    np.testing.assert_allclose(vec[..., 1][hit], -(expect - centres)[..., 1][hit], atol=2e-3)
+    np.testing.assert_allclose(vec[..., 2][hit], (expect_next - centres)[..., 0][hit], atol=2e-3)
+    np.testing.assert_allclose(vec[..., 3][hit], -(expect_next - centres)[..., 1][hit], atol=2e-3)
 
 
 def test_still_camera_converges_as_one_over_n(device):

@@ -100,7 +100,7 @@ class Frame:
     noisy: np.ndarray  # (H, W, 3) the last 1-sample direct light estimate s_n (emission included)
     depth: np.ndarray  # (H, W) view depth, inf where the camera ray missed
     normal: np.ndarray  # (H, W, 3) world shading normal
-    vector: np.ndarray  # (H, W, 4) Blender-style Vector pass: xy motion to the previous frame (pixels, y up)
+    vector: np.ndarray  # (H, W, 4) Blender-style Vector pass: xy to the previous frame, zw to the next (px, y up)
     albedo: np.ndarray  # (H, W, 3)
     frame: int = 0
     samples: int = 1
@@ -189,7 +189,8 @@ class Renderer:
         self.sum_buf = self._buf(n * 16)
         self.sum_half = self._buf(n * 16)
         self.guard_buf = self._buf(4 * L.GUARD_COUNT)
-        self.cameras = [self._buf(L.CAMERA.itemsize) for _ in range(2)]
+        self.cameras = [self._buf(L.CAMERA.itemsize) for _ in range(3)]  # current, previous, next
+        self.vector_buf = self._buf(n * 16)
         cl.enqueue_fill_buffer(self.device.queue, self.guard_buf, np.int32(0), 0, 4 * L.GUARD_COUNT)
         self._cur = 0  # index of the current frame's G-buffer / history slot
 
@@ -232,14 +233,17 @@ class Renderer:
             self.slots_buf = self._upload(self.light_array.slots)
             self.light_pdf_buf = self._upload(self.light_array.pdf)
             self._lights_key = lights_key
+        # per object: rows of M_prev M_cur^-1 (reprojection), then of M_next M_cur^-1 (the Vector pass)
         n_obj = max(len(scene.meshes), 1)
-        motion = np.zeros((n_obj, 3, 4), np.float32)
-        motion[:, :, :3] = np.eye(3)
-        if scene.has_moving_objects and self._last_frame is not None:
+        motion = np.zeros((n_obj, 2, 3, 4), np.float32)
+        motion[:, :, :, :3] = np.eye(3)
+        if scene.has_moving_objects:
+            prev_f = self._last_frame if self._last_frame is not None else frame
+            next_f = min(frame + 1, scene.frames - 1)
             for k, mesh in enumerate(scene.meshes):
-                cur = Scene.at(mesh.transforms, frame)
-                prev = Scene.at(mesh.transforms, self._last_frame)
-                motion[k] = (prev @ np.linalg.inv(cur))[:3, :]
+                inv = np.linalg.inv(Scene.at(mesh.transforms, frame))
+                motion[k, 0] = (Scene.at(mesh.transforms, prev_f) @ inv)[:3, :]
+                motion[k, 1] = (Scene.at(mesh.transforms, next_f) @ inv)[:3, :]
         self.motion_buf = self._upload(motion)
 
     def _build(self) -> None:
@@ -340,9 +344,10 @@ class Renderer:
         jit = jitter(self._sample) if s.jitter else (0.0, 0.0)
         cl.enqueue_copy(q, self.cameras[0], camera_record(cam, frame, jit))
         cl.enqueue_copy(q, self.cameras[1], camera_record(cam, prev_frame))
+        cl.enqueue_copy(q, self.cameras[2], camera_record(cam, min(frame + 1, scene.frames - 1)))
         w, h, n = self.width, self.height, self.pixels
-        self._run("primary", (w, h), self.cameras[0], self.cameras[1], self.nodes_buf, self.tris_buf,
-                  self.materials_buf, self.motion_buf, self.gbuf[cur])
+        self._run("primary", (w, h), *self.cameras, self.nodes_buf, self.tris_buf, self.materials_buf,
+                  self.motion_buf, self.gbuf[cur], self.vector_buf)
         t = mark("primary", t)
 
         light_count = len(self.lights) if self.light_array.slot_count and len(self.light_array.slots) else 0
@@ -441,9 +446,10 @@ class Renderer:
             self.guard_totals["nonfinite_sample"] += int(bad.any(axis=-1).sum())
         color[..., :3] = rgb
         color[..., 3] = 1.0
-        vector = np.zeros((h, w, 4), np.float32)
-        vector[..., 0] = g["motion"][..., 0]
-        vector[..., 1] = -g["motion"][..., 1]
+        vector = np.empty((h, w, 4), np.float32)
+        cl.enqueue_copy(q, vector, self.vector_buf)
+        vector[..., 1] *= -1.0  # Blender's pixel y points up
+        vector[..., 3] *= -1.0
         return Frame(
             color=color,
             noisy=noisy[..., :3].copy(),
