@@ -60,13 +60,15 @@ def to_srgb8(rgb: np.ndarray, exposure: float = 0.0) -> np.ndarray:
 
 
 def auto_exposure(rgb: np.ndarray) -> float:
-    """Exposure (stops) that maps the 99th percentile of luminance to 1."""
+    """Exposure (stops) that maps the log-average luminance of the lit pixels to middle grey (0.18), but never
+    lets more than 2 % of them clip: lights seen directly stay small bright spots instead of setting the scale."""
     lum = 0.2126 * rgb[..., 0] + 0.7152 * rgb[..., 1] + 0.0722 * rgb[..., 2]
     lum = lum[np.isfinite(lum) & (lum > 0)]
     if lum.size == 0:
         return 0.0
-    p = float(np.percentile(lum, 99.0))
-    return float(-np.log2(p)) if p > 0 else 0.0
+    key = float(np.exp(np.mean(np.log(lum))))
+    bright = float(np.percentile(lum, 98.0))
+    return float(min(np.log2(0.18 / key), np.log2(1.0 / bright) + 2.0))
 
 
 def write_png(path: str | Path, rgb: np.ndarray | Frame, exposure: float | None = None) -> None:
