@@ -20,7 +20,16 @@ typedef struct {
     float3 pos;       /* point on the light (shadow ray target); unused for the sun */
     float3 nl;        /* light normal at pos, facing the shading point (for offsetting the shadow ray end) */
     float dist;       /* distance to pos; INFINITY for the sun */
+    float eps;        /* emissive triangles (lights that are also geometry): a bound of the float32 error of pos, by
+                         which the shadow ray stops short of it (shading.h visible); 0 for every other light */
 } LightEval;
+
+/* Shadow ray ends are moved off their surfaces by RESTIRCL_OFFSET_ULPS float32 epsilons of the largest magnitude in
+ * the sum that computed the point (p = v0 + u e1 + v e2): a bound of its rounding error with a margin, like pbrt's
+ * error bounds (gamma(7) sum |b_i v_i|). */
+#define RESTIRCL_OFFSET_ULPS 8.0f
+
+inline float max_abs3(float3 v) { return fmax(abs_f(v.x), fmax(abs_f(v.y), abs_f(v.z))); }
 
 inline int light_type(const __global Light* l) { return as_int(l->p.w); }
 
@@ -141,6 +150,7 @@ inline bool light_eval(const __global Light* l, float u, float v, float3 x, floa
 {
     int type = light_type(l);
     float3 Le = l->L.xyz;
+    e->eps = 0.0f;
 #ifdef HAS_SUN_LIGHTS
     if (type == LIGHT_SUN) {
         float omc = l->b.y;
@@ -202,6 +212,10 @@ inline bool light_eval(const __global Light* l, float u, float v, float3 x, floa
 #endif
     float3 ny;
     float3 y = light_point(l, type, u, v, &ny);
+#ifdef HAS_TRIANGLE_LIGHTS
+    if (type == LIGHT_TRIANGLE)
+        e->eps = RESTIRCL_OFFSET_ULPS * FLT_EPSILON * (max_abs3(l->p.xyz) + max_abs3(l->a.xyz) + max_abs3(l->b.xyz));
+#endif
     return area_contrib(y, ny, Le, (as_int(l->L.w) & LIGHT_FLAG_TWO_SIDED) != 0, x, n, e);
 }
 

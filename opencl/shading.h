@@ -12,13 +12,15 @@ typedef struct {
     float3 brdf;    /* albedo / pi */
     float depth;    /* view depth */
     int valid;      /* 0: the primary ray missed */
+    int prim;       /* the triangle hit (leaf order; < 0: none), for the shadow ray offset */
 } Surface;
 
 inline Surface surface_load(const __global GSample* g, int i)
 {
     Surface s;
     GSample gs = g[i];
-    s.valid = as_int(gs.normal.w) >= 0;
+    s.prim = as_int(gs.normal.w);
+    s.valid = s.prim >= 0;
     s.x = gs.pos.xyz;
     s.depth = gs.pos.w;
     s.n = gs.normal.xyz;
@@ -36,12 +38,19 @@ inline float target_of(const Surface* s, const __global Light* lights, int light
     return (t > 0.0f && finite_f(t)) ? t : 0.0f;
 }
 
-/* Shadow ray from surface s towards the light sample in e. */
+/* Shadow ray from surface s towards the light sample in e. The origin is moved off the surface by a bound of the
+ * rounding error of the hit point p = v0 + u e1 + v e2 (RESTIRCL_OFFSET_ULPS epsilons of the largest magnitude in
+ * that sum), the end off an emissive triangle by the same bound for the light sample (e->eps); other lights are not
+ * geometry and need no offset (the ray stops 1e-4 short of them). Both ends used to go through offset_ray_origin,
+ * whose 256 ulps of p are 2 m at 1e5 from the origin: in a scene offset that far, a light closer than ~2 m to a
+ * surface was found shadowed by that surface itself (the stress case offset_1e5). */
 inline bool visible(const __global BVHNode* nodes, const __global Tri* tris, const Surface* s, const LightEval* e)
 {
-    float3 o = offset_ray_origin(s->x, dot(s->ng, e->wi) >= 0.0f ? s->ng : -s->ng);
+    Tri tri = tris[s->prim];
+    float err = RESTIRCL_OFFSET_ULPS * FLT_EPSILON * (max_abs3(s->x) + max_abs3(tri.e1.xyz) + max_abs3(tri.e2.xyz));
+    float3 o = s->x + err * (dot(s->ng, e->wi) >= 0.0f ? s->ng : -s->ng);
     if (!finite_f(e->dist)) return !trace_any(nodes, tris, o, e->wi, INFINITY);
-    float3 t = offset_ray_origin(e->pos, e->nl);
+    float3 t = e->pos + e->eps * e->nl;
     float3 d = t - o;
     float len = length(d);
     if (!(len > 0.0f)) return true;
