@@ -254,7 +254,7 @@ def cmd_stress(a: argparse.Namespace) -> int:
     names = a.cases.split(",") if a.cases else None
     device = get_device(a.device)
     print(f"device: {device.label}; {'full' if a.full else 'small'} sizes")
-    results = stress.run(full=a.full, methods=methods, names=names, device=device, log=log)
+    results = stress.run(full=a.full, methods=methods, names=names, device=device, log=log, seed=a.seed)
     print(stress.format_table(results))
     failed = [r for r in results if not r.passed]
     print(f"{len(results) - len(failed)} of {len(results)} passed")
@@ -352,6 +352,7 @@ def build_parser() -> argparse.ArgumentParser:
     st.add_argument("--methods", default=None, help="comma-separated subset (default: all)")
     st.add_argument("--cases", default=None, help="comma-separated subset (default: all)")
     st.add_argument("--out", default=None, help="write stress.csv and stress.json here")
+    st.add_argument("--seed", type=int, default=0, help="shift of every random seed (%(default)s)")
     st.add_argument("--device", default=None)
     st.add_argument("--bench-specialisation", action="store_true",
                     help="instead: kernel build and frame times, specialised against general builds")
