@@ -24,7 +24,7 @@ import pyopencl as cl
 
 from . import layouts as L
 from .bvh import build_bvh, make_tris
-from .camera import camera_record, jitter
+from .camera import camera_record, halton, jitter
 from .device import Device, get_device
 from .features import derive_flags, describe, general_flags
 from .light_array import build_light_array
@@ -132,6 +132,7 @@ def _resolve_device(device: Device | str | None) -> Device:
 LOCAL_1D = (64,)
 LOCAL_2D = (8, 8)
 HALF_BLOCK = 8  # frames per block of a still render's two half buffers (error_estimate)
+R2_FLOOR = 0.25  # error_estimate: r^2 is taken as at least R2_FLOOR * mean^2
 
 
 def _half_of(k: int) -> int:
@@ -314,7 +315,8 @@ class Renderer:
         out.ms = (time.perf_counter() - t0) * 1e3
         return out
 
-    def _render(self, frame: int, still: bool) -> tuple[dict[str, float], cl.Buffer, cl.Buffer]:
+    def _render(self, frame: int, still: bool, jitter_px: tuple[float, float] | None = None
+                ) -> tuple[dict[str, float], cl.Buffer, cl.Buffer]:
         """Run the passes of one frame; returns the stage times (ms), the colour buffer and the G-buffer."""
         s, scene, q = self.settings, self.scene, self.device.queue
         cam = scene.camera
@@ -342,7 +344,7 @@ class Renderer:
 
         # 1 primary: camera rays -> G-buffer (ping-pong with last frame's)
         cur, prev = self._cur, 1 - self._cur
-        jit = jitter(self._sample) if s.jitter else (0.0, 0.0)
+        jit = jitter_px if jitter_px is not None else jitter(self._sample) if s.jitter else (0.0, 0.0)
         cl.enqueue_copy(q, self.cameras[0], camera_record(cam, frame, jit))
         cl.enqueue_copy(q, self.cameras[1], camera_record(cam, prev_frame))
         cl.enqueue_copy(q, self.cameras[2], camera_record(cam, min(frame + 1, scene.frames - 1)))
@@ -503,10 +505,19 @@ class Renderer:
         chains = self.settings.method == "restir" and self.settings.temporal
         saved: dict[int, tuple] = {}
         active: int | None = None
+        # Pixel jitter: one Halton sequence shared by the halves would put them in different strata, and their
+        # difference would see antialiasing error as noise (stratified, the mean's error falls faster than 1/n).
+        # Two independently shifted Halton sequences (randomised QMC) are independent estimates of the pixel.
+        counts = [0, 0]
+        shifts = np.random.default_rng([self.settings.seed, 0x5EED]).random((2, 2))
         for k in range(max(int(samples), 1)):
             if should_stop is not None and done > 0 and should_stop():
                 break
             half = _half_of(k)
+            jit = None
+            if self.settings.jitter:  # each half its own Halton sequence with its own random shift (see below)
+                i = counts[half] = counts[half] + 1
+                jit = ((halton(i, 2) + shifts[half][0]) % 1.0 - 0.5, (halton(i, 3) + shifts[half][1]) % 1.0 - 0.5)
             if chains and half != active:
                 if active is not None:
                     saved[active] = (self.gbuf, self.res_history, self._cur, self._history_valid)
@@ -516,7 +527,7 @@ class Renderer:
                         self.gbuf, self.res_history = self._chain_buffers()
                         self._history_valid = False
                 active = half
-            st, _, gbuf = self._render(frame, still=True)
+            st, _, gbuf = self._render(frame, still=True, jitter_px=jit)
             for key, v in st.items():
                 stage[key] = stage.get(key, 0.0) + v
             self._run("accumulate", (self.pixels,), self.sample_buf, np.int32(self.pixels), np.int32(half),
@@ -571,10 +582,12 @@ class Renderer:
         independent estimates, so E|a - b|^2 = var_a + var_b, and the full mean has a quarter of that when the
         halves are equal in size (relative to r^2 + 0.01 as relMSE is, r^2 estimated robustly, see below).
 
-        The halves are blocks of HALF_BLOCK frames (_half_of), not odd and even frames: odd and even frames sit
-        in different strata of the Halton pixel jitter, so their difference does not shrink like noise and the
-        estimate grew too large (17x at 256 samples on a small cornell_box); and ReSTIR with temporal reuse runs
-        one chain of reservoirs per half (render_still), else correlated frames made it 2-10x too small."""
+        What makes the halves independent (render_still): they are blocks of HALF_BLOCK frames (_half_of), not
+        odd and even frames, each with its own randomly shifted Halton jitter sequence (odd and even frames of one
+        sequence sit in different strata: the estimate was 17x too large at 256 samples on a small cornell_box,
+        and with one sequence split in blocks it still grew 2x too large by 256 samples on many_lights, whose
+        sub-pixel lamps are antialiased faster than 1/n); and ReSTIR with temporal reuse runs one chain of
+        reservoirs per half (correlated frames made it 2-10x too small)."""
         if n_half == 0 or done - n_half == 0:
             return None
         q = self.device.queue
@@ -588,8 +601,8 @@ class Renderer:
         var_mean = (a - b) ** 2 * (n_half * (done - n_half)) / (done * done)
         # r^2 of relMSE's denominator: mean^2 is inflated by the very outliers whose error it should weigh (one
         # firefly in a half caps the pixel's term near 1); the harmonic mean of the halves ignores one outlier
-        # half but is 0 where a half is (a sub-pixel light hit in one half only), so it is floored at mean^2 / 2.
+        # half but is 0 where a half is (a sub-pixel light hit in one half only), so it is floored at (mean / 2)^2.
         s = a + b
         hm = np.divide(2 * a * b, s, out=np.zeros_like(s), where=s > 0)
-        r2 = np.maximum(hm * hm, 0.5 * mean * mean)
+        r2 = np.maximum(hm * hm, R2_FLOOR * mean * mean)
         return float(np.mean(var_mean / (r2 + 0.01)))
