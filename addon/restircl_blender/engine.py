@@ -179,11 +179,16 @@ def _render(engine, depsgraph) -> None:
     index = exp.index_of(frame)
     stats = exp.stats
 
+    features = getattr(renderer, "features", None)
+    compiled = f" | compiled: {', '.join(features) or 'none'}" if features is not None else ""
+    estimate: list[float | None] = [None]
+
     def show(done: int, total: int, ms: float | None) -> None:
         engine.update_progress(done / total if total else 1.0)
         timing = f" | {ms:.1f} ms/frame" if ms is not None else ""
-        engine.update_stats("", f"restircl | {session.device} | frame {frame} | sample {done}/{total}{timing} | "
-                                f"{stats['lights']} lights | {stats['triangles']} triangles")
+        err = f" | est. relMSE {estimate[0]:.2e}" if estimate[0] is not None else ""
+        engine.update_stats("", f"restircl | {session.device} | frame {frame} | sample {done}/{total}{timing}{err} | "
+                                f"{stats['lights']} lights | {stats['triangles']} triangles{compiled}")
 
     try:
         if animation:
@@ -202,10 +207,20 @@ def _render(engine, depsgraph) -> None:
             show(0, total, None)
 
             def progress(done: int, total_: int) -> None:
+                if done % 8 == 0 and hasattr(renderer, "error_estimate"):
+                    estimate[0] = renderer.error_estimate(*renderer.still_counts)
                 show(done, total_, None)
 
-            result = renderer.render_still(index, total, progress=progress, should_stop=engine.test_break)
-            show(total, total, getattr(result, "ms", None))
+            kwargs = {}
+            if props.target_error > 0:
+                kwargs["target_error"] = float(props.target_error)
+            result = renderer.render_still(index, total, progress=progress, should_stop=engine.test_break, **kwargs)
+            estimate[0] = getattr(result, "error_estimate", None)
+            done = int(getattr(result, "samples", total))
+            show(done, total, getattr(result, "ms", None))
+            if done < total and kwargs and not engine.test_break():
+                engine.report({"INFO"}, f"restircl: stopped after {done} of {total} samples, the estimated relMSE "
+                              f"{estimate[0]:.2e} reached the target {props.target_error:g}")
     except known as exc:
         engine.report({"ERROR"}, f"restircl: {exc}")
         _SESSIONS.pop(key, None)

@@ -29,6 +29,9 @@ class RestirclRenderSettings(bpy.types.PropertyGroup):
                          description="Direct-light estimator")
     samples: IntProperty(name="Samples", default=16, min=1, soft_max=1024, max=1 << 20,
                          description="Frames accumulated with a still camera for a still render (F12)")
+    target_error: FloatProperty(name="Target Error", default=0.0, min=0.0, soft_max=0.1, precision=4,
+                                description="Still render: stop before Samples once the estimated relMSE of the "
+                                "image (from two half buffers, no reference) reaches this; 0 = off")
     warmup_frames: IntProperty(name="Warm-up Frames", default=0, min=0, max=256,
                                description="Frames before the first frame of an animation render that are "
                                "rendered (with their motion) and discarded, to fill the ReSTIR and TAA history")

@@ -39,6 +39,7 @@ class RESTIRCL_PT_sampling(RestirclPanel, bpy.types.Panel):
         layout.prop(props, "method")
         col = layout.column(align=True)
         col.prop(props, "samples", text="Still Samples")
+        col.prop(props, "target_error")
         col.prop(props, "warmup_frames")
         sub = layout.column()
         sub.active = props.method in ("ris", "restir")
