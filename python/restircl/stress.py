@@ -68,6 +68,15 @@ F32_EPS = 2.0**-24
 # runs can judge them. The long animation keeps the default cap: that is where the cap itself is under test.
 STILL_SETTINGS = dict(jitter=False, taa=False, m_cap=4.0)
 
+# A 4-standard-error test of a mean needs the mean to be close to normal. One-sample estimates of the many-light
+# cases are strongly skewed where a light is picked rarely but contributes much: computed from the per-light
+# contributions of million_lights, the per-sample skewness is 4.1 for uniform picks and 1.6 for the light array
+# (median over pixels); in power_span, uniform picks of its 1e6 W light alone (p = 1/13) give about 3. The skewness
+# of a mean of n samples falls as 1/sqrt(n): uniform and light_array get 4x and 2x the frames (they are also the
+# cheapest), so that their run means are about as close to normal as RIS's. (With 2.5 m between the lights and the
+# floor and strengths over four decades, million_lights had 14 and 5, and uniform failed 3 of 7 seed sweeps.)
+FRAMES_FACTOR = {"uniform": 4, "light_array": 2}
+
 
 # ---- the cases ----------------------------------------------------------------------------------------
 
@@ -82,6 +91,7 @@ class Case:
     runs: int = 16  # still, sequence: independent runs
     frames: int = 16  # still: frames per run; long: frames in all
     before: tuple[int, ...] = ()  # sequence: frames rendered before the one under test
+    eval_repeats: int = 8  # sequence, methods without history: samples of the frame under test per run
     eval_frame: int = 0
     zero_after: tuple[int, ...] = ()  # sequence: frames rendered after it whose image must be exactly 0
     ref_batches: int = 16  # exhaustive reference: batches of ref_frames frames
@@ -160,7 +170,7 @@ def power_span(full: bool) -> Case:
 
 
 def million_lights(full: bool) -> Case:
-    """1e6 (small: 2e4) emissive triangles of strengths over four decades in a plane above a floor; analytic
+    """1e6 (small: 2e4) emissive triangles of strengths over two decades in a plane 6 m above a floor; analytic
     reference (the triangles share one plane, so none shadows another)."""
     w, h = (24, 18) if full else (16, 12)
     n = 1_000_000 if full else 20_000
@@ -171,16 +181,16 @@ def million_lights(full: bool) -> Case:
     gx, gy = np.divmod(idx, side)
     cx = (gx + rng.uniform(0.2, 0.8, n)) * cell - 10.0
     cy = (gy + rng.uniform(0.2, 0.8, n)) * cell - 10.0
-    size = 0.03
+    size = 0.2 * cell  # centre to corner
     ang = rng.uniform(0, 2 * math.pi, n)
     verts = np.zeros((n, 3, 3))
     for k in range(3):
         a = ang + k * 2 * math.pi / 3
         verts[:, k, 0] = cx + size * np.cos(a)
         verts[:, k, 1] = cy + size * np.sin(a)
-    verts[:, :, 2] = 2.5
+    verts[:, :, 2] = 6.0
     n_mat = 32
-    strengths = np.logspace(-1, 3, n_mat)
+    strengths = np.logspace(0, 2, n_mat)
     materials = _grey() + [Material(f"lamp{k}", (0, 0, 0), tuple(0.5 + 0.5 * rng.random(3)), float(strengths[k]))
                            for k in range(n_mat)]
     mats = 1 + rng.integers(0, n_mat, n)
@@ -188,7 +198,7 @@ def million_lights(full: bool) -> Case:
     eye = np.array([0.0, -3.0, 1.2])
     cam = _cam(eye, eye + (0.0, math.cos(0.55), -math.sin(0.55)), w, h, lens=35.0)
     scene = Scene([_floor(24.0), lamps], materials, [], cam, name="million_lights")
-    return Case("million_lights", f"{n} emissive triangles", scene, runs=16, frames=16 if full else 32)
+    return Case("million_lights", f"{n} emissive triangles", scene, runs=16, frames=32)
 
 
 def area_extremes(full: bool) -> Case:
@@ -364,7 +374,7 @@ def teleport_cut(full: bool) -> Case:
     """The camera jumps 1000 m with a cut marker: no temporal reuse, TAA restarts; analytic reference."""
     w, h = (64, 48) if full else (16, 12)
     return Case("teleport_cut", "camera jumps 1000 m, cut marked", _two_places(w, h, (1,)), kind="sequence",
-                runs=64 if full else 32, before=(0,) * (8 if full else 4), eval_frame=1, cut_expected=True,
+                runs=128 if full else 48, before=(0,) * (8 if full else 2), eval_frame=1, cut_expected=True,
                 no_ghost=True)
 
 
@@ -372,7 +382,7 @@ def teleport(full: bool) -> Case:
     """The camera jumps 1000 m without a cut marker: reprojection must reject every history sample."""
     w, h = (64, 48) if full else (16, 12)
     return Case("teleport", "camera jumps 1000 m, no cut marker", _two_places(w, h, ()), kind="sequence",
-                runs=64 if full else 32, before=(0,) * (8 if full else 4), eval_frame=1, no_ghost=True)
+                runs=128 if full else 48, before=(0,) * (8 if full else 2), eval_frame=1, no_ghost=True)
 
 
 def switch_off(full: bool) -> Case:
@@ -390,7 +400,7 @@ def switch_off(full: bool) -> Case:
     cam = _cam((0.0, -3.0, 2.5), (0.0, 0.0, 0.0), w, h, frames=3)
     scene = Scene([_floor(4.0)], _grey(), lights, cam, name="switch_off", frame_count=3)
     return Case("switch_off", "dominant light off in frame 1, all off in frame 2", scene, kind="sequence",
-                runs=64 if full else 32, before=(0,) * (8 if full else 4), eval_frame=1, zero_after=(2,))
+                runs=128 if full else 48, before=(0,) * (8 if full else 2), eval_frame=1, zero_after=(2,))
 
 
 def long_animation(full: bool) -> Case:
@@ -771,7 +781,7 @@ def run_method(case: Case, method: str, ref: Reference, device=None, seed: int =
         for k in range(case.runs):
             r.reset()
             r.settings.seed = seed0 + k
-            f = r.render_still(case.eval_frame, case.frames)
+            f = r.render_still(case.eval_frame, case.frames * FRAMES_FACTOR.get(method, 1))
             seen(f)
             values.append(f.color[..., :3].astype(np.float64))
             samples += f.samples
@@ -783,10 +793,17 @@ def run_method(case: Case, method: str, ref: Reference, device=None, seed: int =
                 seen(r.render_frame(fr))
             f = r.render_frame(case.eval_frame)
             seen(f)
-            samples += len(case.before) + 1
-            values.append(f.noisy.astype(np.float64))
             if case.cut_expected and "temporal" in f.stage_ms:
                 notes.append("temporal reuse across a cut")
+            value = f.noisy.astype(np.float64)
+            # a method without history gives independent samples of the frame under test: average a few
+            repeats = 1 if r.settings.method == "restir" else case.eval_repeats
+            for _ in range(repeats - 1):
+                f = r.render_frame(case.eval_frame)
+                seen(f)
+                value += f.noisy
+            values.append(value / repeats)
+            samples += len(case.before) + repeats
             for fr in case.zero_after:
                 fz = r.render_frame(fr)
                 seen(fz)
@@ -901,25 +918,34 @@ def write(results: list[Result], out: Path) -> list[Path]:
 
 _BENCH_CHILD = r"""
 import json, sys, time
-from restircl import Renderer, Settings, scenes
+import restircl.pipeline as P
+from restircl import Renderer, Settings
 from restircl.stress import bench_scene
 name, specialise, frames, still = sys.argv[1], sys.argv[2] == "1", int(sys.argv[3]), sys.argv[4] == "1"
+build_cpu = {}
+_build = P.build_program
+def timed_build(*args, **kw):
+    c0 = time.process_time()
+    prog = _build(*args, **kw)
+    build_cpu["s"] = time.process_time() - c0
+    return prog
+P.build_program = timed_build
 scene = bench_scene(name)
-t0 = time.perf_counter()
 r = Renderer(scene, Settings(method="restir", specialise=specialise, jitter=not still))
-setup = time.perf_counter() - t0
 render = (lambda i: r.render_frame(0, still=True)) if still else (lambda i: r.render_frame(i % scene.frames))
-t0 = time.perf_counter()
+t0, c0 = time.perf_counter(), time.process_time()
 render(0)
-first = time.perf_counter() - t0
-times = []
+first, first_cpu = time.perf_counter() - t0, time.process_time() - c0
+walls = []
+c0 = time.process_time()
 for i in range(1, frames + 1):
     t0 = time.perf_counter()
     render(i)
-    times.append(time.perf_counter() - t0)
-times.sort()
-print(json.dumps(dict(build_s=r.build_seconds, setup=setup, first=first, median=times[len(times) // 2],
-                      mean=sum(times) / len(times), features=r.features)))
+    walls.append(time.perf_counter() - t0)
+cpu = (time.process_time() - c0) / frames
+walls.sort()
+print(json.dumps(dict(build_s=r.build_seconds, build_cpu_s=build_cpu["s"], first_s=first, first_cpu_s=first_cpu,
+                      frame_ms=1e3 * walls[len(walls) // 2], frame_cpu_ms=1e3 * cpu, features=r.features)))
 """
 
 
@@ -938,8 +964,10 @@ def bench_scene(name: str) -> Scene:
 
 
 def bench_specialisation(frames: int = 24, log: Callable[[str], None] | None = None) -> list[dict]:
-    """Kernel build time, first frame and steady per-frame time, specialised against general builds. Each
-    measurement runs in a fresh process with empty PoCL and pyopencl caches, so that builds are real."""
+    """Kernel build time, first frame (PoCL generates each kernel's machine code when it first runs) and the
+    per-frame time after it (median wall, mean CPU), ReSTIR at 320x180, specialised against general builds. Each
+    measurement runs in a fresh process with empty PoCL and pyopencl caches, so that builds are real. CPU times
+    sum all threads of the process: on a shared machine they are the figures to compare."""
     rows = []
     for name, still in (("points", False), ("meshes", False), ("still", True)):
         for specialise in (True, False):
@@ -952,6 +980,8 @@ def bench_specialisation(frames: int = 24, log: Callable[[str], None] | None = N
                 out.stdout.strip().splitlines()[-1]))
             rows.append(row)
             if log:
-                log(f"{name:7s} {row['build']:11s} program build {row['build_s']:.2f} s, first frame "
-                    f"{row['first']:.2f} s, then {1e3 * row['median']:.1f} ms per frame (median)")
+                log(f"{name:7s} {row['build']:11s} build {row['build_s']:5.2f} s ({row['build_cpu_s']:5.2f} cpu)  "
+                    f"first frame {row['first_s']:5.2f} s ({row['first_cpu_s']:5.2f} cpu)  then "
+                    f"{row['frame_ms']:6.1f} ms/frame ({row['frame_cpu_ms']:6.1f} cpu)  "
+                    f"[{', '.join(row['features'])}]")
     return rows
