@@ -13,7 +13,7 @@ setup(
     install_requires=["numpy>=1.24", "pyopencl>=2024.1", "openexr>=3.3", "pillow>=10"],
     extras_require={
         "pocl": ["pyopencl[pocl]>=2024.1"],
-        "test": ["pytest>=8", "ruff>=0.5", "scipy>=1.10"],
+        "test": ["pytest>=8", "ruff>=0.5", "scipy>=1.10", "matplotlib>=3.7"],
         "bench": ["embreex>=4.3", "matplotlib>=3.7"],
         "blender": ["bpy==5.0.1"],
     },
