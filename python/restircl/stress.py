@@ -718,14 +718,15 @@ def _judge(case: Case, method: str, values: np.ndarray, ref: Reference, nonfinit
     lse = lum.std(axis=0, ddof=1) / math.sqrt(k)
     lref = _lum(ref.mean)
     sigma = np.sqrt(lse**2 + ref.lum_se**2)
-    live = sigma > 0
+    # exact pixels: both sides have no spread beyond rounding (identical float32 values give a standard deviation
+    # of 1e-17 in float64, not 0); they must agree to the rounding of float32 sums of `terms` terms
+    tol = (16 + ref.terms) * F32_EPS * np.maximum(np.abs(lref), np.abs(lm)) + 1e-30
+    live = sigma > tol
     z = np.abs(lm - lref)[live] / sigma[live]
     outliers = int((z > Z).sum())
     allowed = _allowed_outliers(int(live.sum()), dof)
-    # exact pixels: both sides have no spread; they must agree to the rounding of float32 sums of `terms` terms
     exact = ~live
-    tol = (16 + ref.terms) * F32_EPS * np.abs(lref[exact]) + 1e-30
-    bad_exact = int((np.abs(lm - lref)[exact] > tol).sum())
+    bad_exact = int((np.abs(lm - lref)[exact] > tol[exact]).sum())
     img = lum.mean(axis=(1, 2))
     img_se = math.hypot(float(img.std(ddof=1)) / math.sqrt(k), ref.image_se)
     ref_img = float(lref.mean())
