@@ -22,7 +22,8 @@ tests/test_restir.py bounds its darkening by. Every case requires zero NaN/Inf: 
 `expected` is what the measured variances alone predict for it (a ratio near 1 means no visible bias).
 
 Kinds of case: `still` (runs of a still camera, render_still), `sequence` (per run: a few frames, then the frame
-under test; its 1-sample image is the run's value) and `long` (one very long animation with TAA and ReSTIR,
+under test; its 1-sample image is the run's value, the mean of 8 samples of that frame for methods without
+history) and `long` (one very long animation with TAA and ReSTIR,
 compared by batch means over its second part; the ReSTIR M and the TAA history length are checked to stay
 capped).
 """
@@ -720,13 +721,14 @@ def _judge(case: Case, method: str, values: np.ndarray, ref: Reference, nonfinit
     sigma = np.sqrt(lse**2 + ref.lum_se**2)
     # exact pixels: both sides have no spread beyond rounding (identical float32 values give a standard deviation
     # of 1e-17 in float64, not 0); they must agree to the rounding of float32 sums of `terms` terms
-    tol = (16 + ref.terms) * F32_EPS * np.maximum(np.abs(lref), np.abs(lm)) + 1e-30
-    live = sigma > tol
+    scale = np.maximum(np.abs(lref), np.abs(lm))
+    live = sigma > 16 * F32_EPS * scale + 1e-30
     z = np.abs(lm - lref)[live] / sigma[live]
     outliers = int((z > Z).sum())
     allowed = _allowed_outliers(int(live.sum()), dof)
     exact = ~live
-    bad_exact = int((np.abs(lm - lref)[exact] > tol[exact]).sum())
+    tol = (16 + ref.terms) * F32_EPS * scale[exact] + 1e-30
+    bad_exact = int((np.abs(lm - lref)[exact] > tol).sum())
     img = lum.mean(axis=(1, 2))
     img_se = math.hypot(float(img.std(ddof=1)) / math.sqrt(k), ref.image_se)
     ref_img = float(lref.mean())
