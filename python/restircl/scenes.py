@@ -109,8 +109,9 @@ def many_lights(
             v, t = icosphere(2, r)
             v = v + (x, y, r)
         parts.append((v, t, np.array(mat)))
-    v, t, m = _merge(parts)
-    meshes.append(Mesh("objects", v, t, m))
+    if parts:
+        v, t, m = _merge(parts)
+        meshes.append(Mesh("objects", v, t, m))
     # lamps: small glowing icosahedra on a jittered grid, each its own emissive material
     iv, it = icosphere(0, 1.0)
     parts = []
@@ -127,8 +128,9 @@ def many_lights(
         col = _hue(hues[k])
         materials.append(Material(f"lamp{k}", (0.0, 0.0, 0.0), tuple(col), float(strengths[k])))
         parts.append((iv * r + (x, y, z), it, np.array(len(materials) - 1)))
-    v, t, m = _merge(parts)
-    meshes.append(Mesh("lamps", v, t, m))
+    if parts:
+        v, t, m = _merge(parts)
+        meshes.append(Mesh("lamps", v, t, m))
     # point lights with powers spanning five decades
     lights = []
     powers = np.exp(rng.uniform(math.log(0.01), math.log(1000.0), point_lights))
