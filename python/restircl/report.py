@@ -139,7 +139,7 @@ def get_reference(scene: Scene, frame: int = 0, seconds_hint: float = 60.0, fram
         t0 = time.perf_counter()
         r.render_still(frame, 4)
         per = (time.perf_counter() - t0) / 4
-        frames = int(min(max(seconds_hint / max(per, 1e-6), 256), 16384))
+        frames = int(min(max(seconds_hint / max(per, 1e-6), 256), 1 << 17))
     log(f"reference: {settings.method} x {frames} frames ...")
     t0 = time.perf_counter()
     out = r.render_still(frame, frames)
@@ -224,19 +224,18 @@ class Report:
             import matplotlib.pyplot as plt
         except ImportError:
             return None
-        fig, ax = plt.subplots(figsize=(8.0, 5.4), dpi=110)
+        fig, ax = plt.subplots(figsize=(9.5, 5.4), dpi=110)
         for method, mode in self.keys():
             rows = self.series(method, mode)
-            style = dict(color="black", lw=2.0) if method == "cycles" else {}
             ax.plot([r.seconds for r in rows], [r.rel_mse for r in rows], marker="o", ms=3,
-                    ls="-" if mode == "accumulate" else "--", label=f"{method} ({mode})", **style)
+                    ls="-" if mode == "accumulate" else "--", label=f"{method} ({mode})", **_style(method))
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("wall-clock seconds (after kernel build and scene upload)")
         ax.set_ylabel("relMSE vs reference")
         ax.set_title(f"{self.scene} {self.width}x{self.height} on {self.device}", fontsize=9)
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=7, ncol=2)
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
         fig.tight_layout()
         fig.savefig(path)
         plt.close(fig)
@@ -461,22 +460,31 @@ class MovingReport:
             import matplotlib.pyplot as plt
         except ImportError:
             return None
-        fig, ax = plt.subplots(figsize=(8.0, 5.0), dpi=110)
+        fig, ax = plt.subplots(figsize=(9.5, 5.0), dpi=110)
         for method, mode in self.keys():
             rows = self.series(method, mode)
             ax.plot([r.frame for r in rows], [r.rel_mse for r in rows], marker="o", ms=3,
-                    ls="-" if mode == "taa" else "--", label=f"{method} ({mode})")
+                    ls="-" if mode == "taa" else "--", label=f"{method} ({mode})", **_style(method))
         ax.set_yscale("log")
         ax.set_xlabel("animation frame")
         ax.set_ylabel("relMSE vs that frame's reference")
         ax.set_title(f"{self.scene} {self.width}x{self.height}, moving camera, {self.budget_ms:.0f} ms per frame, "
                      f"on {self.device}", fontsize=9)
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=7, ncol=2)
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
         fig.tight_layout()
         fig.savefig(path)
         plt.close(fig)
         return path
+
+
+def _style(method: str) -> dict:
+    """One colour per method (the same in every mode); Cycles thick and black."""
+    if method == "cycles":
+        return {"color": "black", "lw": 2.2}
+    colours = ["#7f7f7f", "#bcbd22", "#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#e377c2", "#17becf", "#9467bd"]
+    names = list(METHODS)
+    return {"color": colours[names.index(method) % len(colours)] if method in names else None}
 
 
 def _read_rgb(r: Renderer, buf) -> np.ndarray:
