@@ -1,5 +1,6 @@
 /* ReSTIR pass 5: merge up to `spatial_neighbours` reservoirs of random pixels within `spatial_radius` whose
- * surface is similar (view depth and normal), with the same bias correction as the temporal pass. */
+ * surface is similar (view depth and normal), with the same bias correction as the temporal pass
+ * (restir_temporal.cl; BIAS_PAIRWISE is restir_pairwise.h). */
 
 #define MAX_NEIGHBOURS 16
 
@@ -16,11 +17,7 @@ __kernel void restir_spatial(const __global GSample* gbuf, int width, int height
     Surface s = surface_load(gbuf, i);
     if (!s.valid) { out[i] = c; return; }
     uint rng = rng_seed((uint)i, (uint)p.frame, (uint)p.seed, 5u + (uint)pass);
-    Reservoir r;
-    res_init(&r);
-    LightEval e;
-    res_update(&r, c.light, c.u, c.v, c.target * c.W * c.M, c.target, rng_next(&rng), c.M);
-    int src = -1;  /* which input supplied the chosen sample: -1 the pixel's own reservoir, k neighbour k */
+    /* the neighbours: random pixels in the disk that show a similar surface */
     int used[MAX_NEIGHBOURS];
     int n_used = 0;
     int k_max = min(p.spatial_neighbours, MAX_NEIGHBOURS);
@@ -34,26 +31,49 @@ __kernel void restir_spatial(const __global GSample* gbuf, int width, int height
         if (!sn.valid || !(abs_f(sn.depth - s.depth) <= p.depth_tolerance * s.depth)
             || dot(sn.n, s.n) < p.normal_cos)
             continue;
-        Reservoir q = in[j];
-        float tq = q.light >= 0 ? target_of(&s, lights, q.light, q.u, q.v, &e) : 0.0f;
-        if (res_merge(&r, &q, tq, rng_next(&rng))) src = n_used;
         used[n_used++] = j;
     }
-    float norm = r.M;
-    if (bias_correction == BIAS_Z_COUNT && r.light >= 0) {
-        norm = c.M;
+    if (n_used == 0) { out[i] = c; return; }
+
+    Reservoir r;
+    res_init(&r);
+    LightEval e;
+    int src = -1;  /* which input supplied the chosen sample: -1 the pixel's own reservoir, k neighbour k */
+    if (bias_correction == BIAS_PAIRWISE) {
+        PairwiseMis mis = pairwise_begin(&c, (float)n_used);
         for (int k = 0; k < n_used; ++k) {
-            /* The neighbour that supplied the sample has it in its support: with visibility reuse its W > 0
-             * means p-hat > 0 and visible there (every stored reservoir keeps that invariant). */
             Reservoir q = in[used[k]];
             Surface sn = surface_load(gbuf, used[k]);
-            if ((k == src && q.W > 0.0f) || in_support(&sn, nodes, tris, lights, r.light, r.u, r.v, visibility_reuse))
-                norm += q.M;
+            if (pairwise_neighbour(&mis, &r, &s, &sn, &c, &q, q.target, nodes, tris, lights, visibility_reuse,
+                                   rng_next(&rng)))
+                src = k;
         }
+        if (pairwise_canonical(&mis, &r, &c, rng_next(&rng))) src = -1;
+        res_finalize(&r, 1.0f);
+    } else {
+        res_update(&r, c.light, c.u, c.v, c.target * c.W * c.M, c.target, rng_next(&rng), c.M);
+        for (int k = 0; k < n_used; ++k) {
+            Reservoir q = in[used[k]];
+            float tq = q.light >= 0 ? target_of(&s, lights, q.light, q.u, q.v, &e) : 0.0f;
+            if (res_merge(&r, &q, tq, rng_next(&rng))) src = k;
+        }
+        float norm = r.M;
+        if (bias_correction == BIAS_Z_COUNT && r.light >= 0) {
+            norm = c.M;
+            for (int k = 0; k < n_used; ++k) {
+                /* The neighbour that supplied the sample has it in its support: with visibility reuse its W > 0
+                 * means p-hat > 0 and visible there (every stored reservoir keeps that invariant). */
+                Reservoir q = in[used[k]];
+                Surface sn = surface_load(gbuf, used[k]);
+                if ((k == src && q.W > 0.0f)
+                    || in_support(&sn, nodes, tris, lights, r.light, r.u, r.v, visibility_reuse))
+                    norm += q.M;
+            }
+        }
+        res_finalize(&r, norm);
     }
-    res_finalize(&r, norm);
     /* keep the invariant: a sample not visible here gets W = 0 (the own reservoir's sample is known visible) */
-    if (visibility_reuse && bias_correction == BIAS_Z_COUNT && r.W > 0.0f && !(src < 0 && c.W > 0.0f)
+    if (visibility_reuse && bias_correction != BIAS_NONE && r.W > 0.0f && !(src < 0 && c.W > 0.0f)
         && !in_support(&s, nodes, tris, lights, r.light, r.u, r.v, 1))
         r.W = 0.0f;
     out[i] = r;

@@ -1,9 +1,8 @@
 /* ReSTIR pass 4: merge the pixel's new reservoir with last frame's reservoir of the same surface (found by
  * reprojection), its M capped. The target is re-evaluated with this frame's lights, so a light switched off
- * stops contributing at once. bias_correction: 0 = plain M-weighted merge (biased), 1 = 1/Z (unbiased). */
-
-#define BIAS_NONE 0
-#define BIAS_Z_COUNT 1
+ * stops contributing at once. bias_correction: BIAS_NONE plain M-weighted merge (biased), BIAS_Z_COUNT 1/Z,
+ * BIAS_PAIRWISE pairwise MIS with k = 1, i.e. the balance heuristic of the two inputs (restir_pairwise.h). The
+ * previous input's target p_prev is evaluated at last frame's surface with this frame's lights and geometry. */
 
 __kernel void restir_temporal(const __global GSample* gbuf, const __global GSample* prev_gbuf, int width, int height,
                               const __global BVHNode* nodes, const __global Tri* tris,
@@ -27,20 +26,30 @@ __kernel void restir_temporal(const __global GSample* gbuf, const __global GSamp
     Reservoir r;
     res_init(&r);
     LightEval e;
-    res_update(&r, c.light, c.u, c.v, c.target * c.W * c.M, c.target, rng_next(&rng), c.M);
-    float tq = q.light >= 0 ? target_of(&s, lights, q.light, q.u, q.v, &e) : 0.0f;
-    bool from_prev = res_merge(&r, &q, tq, rng_next(&rng));
-    float norm = r.M;
-    if (bias_correction == BIAS_Z_COUNT && r.light >= 0) {
-        norm = c.M;
-        /* last frame's reservoir supports its own sample (W > 0: p-hat > 0 and, with visibility reuse, visible
-         * there); any other sample is tested at the previous surface */
-        Surface sp = surface_load(prev_gbuf, j);
-        if ((from_prev && q.W > 0.0f) || in_support(&sp, nodes, tris, lights, r.light, r.u, r.v, visibility_reuse))
-            norm += q.M;
+    Surface sp = surface_load(prev_gbuf, j);
+    bool from_prev;
+    if (bias_correction == BIAS_PAIRWISE) {
+        PairwiseMis mis = pairwise_begin(&c, 1.0f);
+        float own = (q.light >= 0 && q.W > 0.0f) ? target_of(&sp, lights, q.light, q.u, q.v, &e) : 0.0f;
+        from_prev = pairwise_neighbour(&mis, &r, &s, &sp, &c, &q, own, nodes, tris, lights, visibility_reuse,
+                                       rng_next(&rng));
+        if (pairwise_canonical(&mis, &r, &c, rng_next(&rng))) from_prev = false;
+        res_finalize(&r, 1.0f);
+    } else {
+        res_update(&r, c.light, c.u, c.v, c.target * c.W * c.M, c.target, rng_next(&rng), c.M);
+        float tq = q.light >= 0 ? target_of(&s, lights, q.light, q.u, q.v, &e) : 0.0f;
+        from_prev = res_merge(&r, &q, tq, rng_next(&rng));
+        float norm = r.M;
+        if (bias_correction == BIAS_Z_COUNT && r.light >= 0) {
+            norm = c.M;
+            /* last frame's reservoir supports its own sample (W > 0: p-hat > 0 and, with visibility reuse, visible
+             * there); any other sample is tested at the previous surface */
+            if ((from_prev && q.W > 0.0f) || in_support(&sp, nodes, tris, lights, r.light, r.u, r.v, visibility_reuse))
+                norm += q.M;
+        }
+        res_finalize(&r, norm);
     }
-    res_finalize(&r, norm);
-    if (visibility_reuse && bias_correction == BIAS_Z_COUNT && r.W > 0.0f && !(!from_prev && c.W > 0.0f)
+    if (visibility_reuse && bias_correction != BIAS_NONE && r.W > 0.0f && !(!from_prev && c.W > 0.0f)
         && !in_support(&s, nodes, tris, lights, r.light, r.u, r.v, 1))
         r.W = 0.0f;
     out[i] = r;

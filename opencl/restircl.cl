@@ -10,6 +10,7 @@
 #include "reservoir.h"
 #include "shading.h"
 #include "reproject.h"
+#include "restir_pairwise.h"
 
 #include "primary.cl"
 #include "direct.cl"

@@ -1,6 +1,7 @@
-"""ReSTIR DI: the unbiased mode (1/Z) matches the reference; the biased mode's darkening is measured and bounded;
-temporal reuse under camera motion keeps no invalid sample; a camera cut resets; a light switched off stops
-contributing at once; one ReSTIR frame has far less error than one RIS frame with the same candidates.
+"""ReSTIR DI: the unbiased modes (pairwise MIS, the default, and 1/Z) match the reference; the biased mode's
+darkening is measured and bounded; temporal reuse under camera motion keeps no invalid sample; a camera cut resets;
+a light switched off stops contributing at once; one ReSTIR frame has far less error than one RIS frame with the
+same candidates.
 
 Frames of one ReSTIR run are correlated (temporal reuse), so the statistics use independent runs (fresh renderer,
 own seed) and compare run means with the reference within 4 standard errors."""
@@ -48,25 +49,31 @@ def assert_matches(runs: np.ndarray, ref: tuple[np.ndarray, np.ndarray], label: 
                                                                                               b.mean())
 
 
-# Temporal and spatial reuse together with the default history cap (20x) make runs heavy-tailed (a lucky sample
-# persists for tens of frames), which a 4-sigma test over 48 runs cannot judge; with both, the cap is 4x.
+# With 1/Z weights, temporal and spatial reuse together with the default history cap (20x) make runs heavy-tailed
+# (a lucky sample persists for tens of frames), which a 4-sigma test over 48 runs cannot judge: 1/Z gets the cap 4x
+# there. Pairwise MIS is tested with the default cap (measured at 16x12, 96 frames: relMSE per run 0.014 pairwise
+# vs 0.25 for 1/Z on the occluder scene).
 CONFIGS = {
     "temporal": dict(spatial=False),
     "spatial": dict(temporal=False),
-    "spatiotemporal": dict(m_cap=4.0),
+    "spatiotemporal": dict(),
 }
 
 
 @pytest.mark.parametrize("scene_name", ["occluders", "mixed_lights"])
 @pytest.mark.parametrize("config", list(CONFIGS))
 @pytest.mark.parametrize("visibility", [True, False])
-def test_unbiased_mode_matches_reference(device, references, scene_name, config, visibility):
+@pytest.mark.parametrize("bias_correction", ["pairwise", "z_count"])
+def test_unbiased_mode_matches_reference(device, references, scene_name, config, visibility, bias_correction):
+    if bias_correction == "z_count" and scene_name == "mixed_lights":
+        pytest.skip("1/Z is checked on the occluder scene; the default (pairwise) on both")
     scene = occluder_scene(W, H) if scene_name == "occluders" else mixed_lights_scene(W, H)
-    s = Settings(method="restir", bias_correction="z_count", visibility_reuse=visibility, jitter=False, taa=False,
-                 seed=3, **CONFIGS[config])
+    cap = dict(m_cap=4.0) if bias_correction == "z_count" and config == "spatiotemporal" else {}
+    s = Settings(method="restir", bias_correction=bias_correction, visibility_reuse=visibility, jitter=False,
+                 taa=False, seed=3, **CONFIGS[config], **cap)
     runs = run_means(scene, s, RUNS, FRAMES, device)
     assert np.all(np.isfinite(runs))
-    assert_matches(runs, references[scene_name], f"{scene_name} {config} vis={visibility}")
+    assert_matches(runs, references[scene_name], f"{scene_name} {config} vis={visibility} {bias_correction}")
 
 
 def test_biased_mode_darkens_by_a_bounded_amount(device, references):

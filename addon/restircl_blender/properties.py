@@ -13,6 +13,8 @@ METHODS = [
     ("reference", "Reference", "Many-sample estimator for ground truth (slow)"),
 ]
 BIAS_MODES = [
+    ("pairwise", "Pairwise MIS (unbiased)", "Weigh each neighbour's sample against this pixel's by their targets "
+     "(balance heuristic in pairs): unbiased and robust next to small or touching lights"),
     ("z_count", "1/Z (unbiased)", "Divide by the number of reservoirs whose sample could have produced this "
      "pixel's sample"),
     ("none", "None (biased)", "Plain M-weighted merge: faster, darkens at contact shadows"),
@@ -45,7 +47,7 @@ class RestirclRenderSettings(bpy.types.PropertyGroup):
     spatial_radius: FloatProperty(name="Radius", default=30.0, min=1.0, soft_max=100.0, max=1000.0,
                                   subtype="PIXEL", description="Radius of the spatial neighbourhood in pixels")
     spatial_passes: IntProperty(name="Passes", default=1, min=1, max=4, description="Spatial reuse passes")
-    bias_correction: EnumProperty(name="Bias Correction", items=BIAS_MODES, default="z_count")
+    bias_correction: EnumProperty(name="Bias Correction", items=BIAS_MODES, default="pairwise")
     m_cap: FloatProperty(name="History Cap", default=20.0, min=1.0, soft_max=100.0, max=10000.0,
                          description="Cap of the temporal history M, as a multiple of the candidates")
     visibility_reuse: BoolProperty(name="Visibility Reuse", default=True,

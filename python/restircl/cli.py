@@ -69,7 +69,8 @@ def add_settings_args(p: argparse.ArgumentParser, method: str = "restir") -> Non
     g.add_argument("--radius", type=float, default=d.spatial_radius, help="spatial radius, px (%(default)s)")
     g.add_argument("--passes", type=int, default=d.spatial_passes, help="spatial passes (%(default)s)")
     g.add_argument("--bias-correction", choices=BIAS_CORRECTIONS, default=d.bias_correction,
-                   help="none: plain M-weighted merge (biased); z_count: 1/Z (unbiased) (default: %(default)s)")
+                   help="none: plain M-weighted merge (biased); z_count: 1/Z (unbiased); pairwise: pairwise MIS "
+                        "(unbiased, robust) (default: %(default)s)")
     g.add_argument("--m-cap", type=float, default=d.m_cap, help="temporal M cap, x candidates (%(default)s)")
     g.add_argument("--no-visibility-reuse", action="store_true", help="restir: no shadow ray for initial samples")
     g.add_argument("--no-taa", action="store_true", help="no temporal accumulation of animation frames")

@@ -33,7 +33,7 @@ from .program import build_program
 from .scene import Scene
 
 METHODS = ("uniform", "light_array", "ris", "restir", "reference")
-BIAS_CORRECTIONS = ("none", "z_count")
+BIAS_CORRECTIONS = ("none", "z_count", "pairwise")  # index = the kernels' BIAS_* code
 _METHOD_CODE = {"uniform": 0, "light_array": 1, "ris": 2}
 
 
@@ -48,7 +48,8 @@ class Settings:
     spatial_neighbours: int = 3
     spatial_radius: float = 30.0  # pixels
     spatial_passes: int = 1
-    bias_correction: str = "z_count"  # "none": plain M-weighted merge (biased); "z_count": 1/Z (unbiased)
+    # "none": plain M-weighted merge (biased); "z_count": 1/Z (unbiased); "pairwise": pairwise MIS (unbiased)
+    bias_correction: str = "pairwise"
     m_cap: float = 20.0  # temporal history cap, as a multiple of `candidates`
     visibility_reuse: bool = True  # shadow-test the initial sample; unbiased reuse then counts visibility
     taa: bool = True  # temporal accumulation of animation frames
@@ -387,7 +388,7 @@ class Renderer:
             if res is not self.res_history[cur]:
                 cl.enqueue_copy(q, self.res_history[cur], res)
             # 6 shade: one shadow ray to the final sample
-            known = s.visibility_reuse and s.bias_correction == "z_count"
+            known = s.visibility_reuse and s.bias_correction != "none"
             self._run("restir_shade", (n,), self.gbuf[cur], np.int32(n), *geo, self.lights_buf,
                       self.res_history[cur], np.int32(known), self.guard_buf, self.sample_buf)
             t = mark("shade", t)

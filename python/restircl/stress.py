@@ -3,7 +3,7 @@ against general kernel builds (DESIGN section 6).
 
 Every case is a built-in scene generated here, in a small version (the tests) and a full one (the CLI, --full).
 Each is rendered with every method -- uniform, light_array, ris, restir biased (bias_correction "none") and
-unbiased ("z_count") -- and checked against its reference:
+unbiased ("pairwise") -- and checked against its reference:
 
     analytic    direct light computed on the host in float64 at the renderer's own G-buffer points: point and
                 spot lights, spheres and soft-falloff disks, suns, quads and triangles (Lambert's polygon formula)
@@ -58,7 +58,7 @@ METHODS: dict[str, dict] = {
     "light_array": dict(method="light_array"),
     "ris": dict(method="ris"),
     "restir_biased": dict(method="restir", bias_correction="none"),
-    "restir_unbiased": dict(method="restir", bias_correction="z_count"),
+    "restir_unbiased": dict(method="restir", bias_correction="pairwise"),
 }
 Z = 4.0  # standard errors
 BIASED_DARKENING = 0.15  # the bound tests/test_restir.py puts on the biased mode's darkening
