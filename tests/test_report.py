@@ -60,17 +60,23 @@ def test_reference_is_cached_and_keyed_by_sources(cornell, device, tmp_path, mon
     assert any("cached" in m for m in logs)
     assert np.array_equal(again.image, ref.image)
     assert ref.frames >= 256 and ref.est_rel_mse is not None and ref.est_rel_mse < 1e-3
-    # an edited kernel source gives another key: a stale reference is never reused
+    # a kernel edit that changes what the reference estimator renders gives another key: a stale reference is
+    # never reused (the copied sources with the BRDF's 1/pi edited; the in-process program cache is emptied)
     from restircl import program
 
     src = tmp_path / "opencl"
     shutil.copytree(program.opencl_dir(), src)
-    before = R.source_digest()
     monkeypatch.setattr(program, "opencl_dir", lambda: src)
-    assert R.source_digest() == before
-    edited = src / "rng.h"
-    edited.write_text(edited.read_text() + "// edited\n")
-    assert R.source_digest() != before
+    monkeypatch.setattr(program, "_PROGRAMS", {})
+    logs.clear()
+    same = R.get_reference(scene, 0, seconds_hint=8.0, device=device, cache_dir=cache, log=logs.append)
+    assert any("cached" in m for m in logs) and same.path == ref.path
+    edited = src / "shading.h"
+    edited.write_text(edited.read_text().replace("gs.albedo.xyz * RESTIRCL_INV_PI", "gs.albedo.xyz * 0.3f"))
+    monkeypatch.setattr(program, "_PROGRAMS", {})
+    logs.clear()
+    other = R.get_reference(scene, 0, frames=8, device=device, cache_dir=cache, log=logs.append)
+    assert not any("cached" in m for m in logs) and other.path != ref.path
 
 
 def test_report_files(still_report):

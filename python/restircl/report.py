@@ -8,8 +8,10 @@ Moving camera (run_moving): every method renders the animation in order with the
 method faster than the budget renders extra samples of that frame: more TAA history, or a longer per-frame mean),
 and the error of each evaluated frame is taken against a converged reference of that frame.
 
-References are computed once and cached on disk, keyed by the scene file's content, the frame and a digest of
-the renderer's sources (an edit of a kernel must not leave a stale reference behind). A reference is an unbiased
+References are computed once and cached on disk, keyed by the scene file's content, the frame, the device and a
+digest of the reference estimator's own first two frames (a probe: an edit of the code that changes what the
+reference estimator renders gives another key, so a stale reference is never reused; an edit that leaves it
+bit-identical, e.g. to the ReSTIR kernels, keeps the cache). A reference is an unbiased
 estimator run long: exhaustive over the lights (`reference`) when the scene has few, else RIS with 32 candidates;
 its own remaining error is estimated from its half buffers and written into the report. Unbiased methods fall
 with a slope of about -1 on the plot; a biased one levels off at its bias.
@@ -46,11 +48,6 @@ METHODS: dict[str, dict] = {
 }
 UNBIASED = ("uniform", "light_array", "ris", "restir_temporal", "restir_spatial", "restir", "cycles")
 DEFAULT_BUDGETS = (0.25, 0.5, 1.0, 2.0, 4.0)
-# what shapes the image: a change to any of these invalidates cached references
-_SOURCES = ("camera.py", "lights.py", "light_array.py", "pipeline.py", "scene.py", "layouts.py", "bvh.py",
-            "features.py", "program.py")
-
-
 def rel_mse(x: np.ndarray, ref: np.ndarray) -> float:
     """mean over pixels and channels of (x - r)^2 / (r^2 + 0.01)."""
     x = np.asarray(x, dtype=np.float64)[..., :3]
@@ -77,21 +74,11 @@ def flip(x: np.ndarray, ref: np.ndarray) -> float | None:
         return None
 
 
-def source_digest() -> str:
-    """Digest of the OpenCL sources and of the Python modules that shape the image."""
-    from .program import opencl_dir
-
+def estimator_digest(probe: np.ndarray, device_label: str) -> str:
+    """Digest of a probe image (the reference estimator's first frames, bit for bit) and of the device."""
     h = hashlib.sha256()
-    src = opencl_dir()
-    for path in sorted([*src.glob("*.cl"), *src.glob("*.h")]):
-        h.update(path.name.encode())
-        h.update(path.read_bytes())
-    here = Path(__file__).resolve().parent
-    for name in _SOURCES:
-        path = here / name
-        if path.exists():
-            h.update(name.encode())
-            h.update(path.read_bytes())
+    h.update(device_label.encode())
+    h.update(np.ascontiguousarray(probe, dtype=np.float32).tobytes())
     return h.hexdigest()[:12]
 
 
@@ -123,7 +110,12 @@ def get_reference(scene: Scene, frame: int = 0, seconds_hint: float = 60.0, fram
     """A converged image of `scene` at `frame`, cached on disk (see the module docstring)."""
     cache_dir = Path(cache_dir or default_cache_dir())
     cache_dir.mkdir(parents=True, exist_ok=True)
-    key = f"{scene_digest(scene, cache_dir)}_{source_digest()}_f{frame}"
+    n_lights = len(scene.lights) + sum(1 for m in scene.materials if m.is_emissive)
+    settings = Settings(method="reference" if n_lights <= 16 else "ris", candidates=32, seed=987654)
+    r = Renderer(scene, settings, device)
+    # the probe also keeps lazy kernel compilation and first uploads out of the timing below
+    probe = r.render_still(frame, 2).color
+    key = f"{scene_digest(scene, cache_dir)}_{estimator_digest(probe, r.device.label)}_f{frame}"
     path = cache_dir / f"reference_{scene.name}_{key}.npy"
     meta_path = path.with_suffix(".json")
     if path.exists() and meta_path.exists():
@@ -131,11 +123,7 @@ def get_reference(scene: Scene, frame: int = 0, seconds_hint: float = 60.0, fram
         log(f"reference: cached {path}")
         return Reference(np.load(path), meta["method"], meta["frames"], meta["seconds"], meta["est_rel_mse"],
                          str(path))
-    n_lights = len(scene.lights) + sum(1 for m in scene.materials if m.is_emissive)
-    settings = Settings(method="reference" if n_lights <= 16 else "ris", candidates=32, seed=987654)
-    r = Renderer(scene, settings, device)
     if frames is None:
-        r.render_still(frame, 2)  # lazy kernel compilation and first uploads stay out of the timing
         t0 = time.perf_counter()
         r.render_still(frame, 4)
         per = (time.perf_counter() - t0) / 4
