@@ -201,3 +201,16 @@ def test_reprojection_rejects_nothing_for_a_still_scene(device, angle):
         r.render_frame(0)
     n = r.history_length()
     assert np.all(n == 5.0)
+
+
+def test_frames_without_aovs_give_the_same_image(device):
+    """render_frame(aovs=False) skips the G-buffer read-back only: same colours, frame for frame."""
+    scene = scenes.moving_box(24, 16, frames=4)
+    a = Renderer(scene, Settings(method="restir", seed=4), device)
+    b = Renderer(scene, Settings(method="restir", seed=4), device)
+    for f in range(4):
+        fa, fb = a.render_frame(f), b.render_frame(f, aovs=False)
+        np.testing.assert_array_equal(fa.color, fb.color)
+        np.testing.assert_array_equal(fa.noisy, fb.noisy)
+        assert fa.depth is not None and fa.vector is not None
+        assert fb.depth is None and fb.normal is None and fb.vector is None and fb.albedo is None

@@ -33,15 +33,16 @@ FRAME_METHODS: dict[str, dict] = {
 
 def time_frames(scene: Scene, settings: Settings, frames: int = 6, warmup: int = 3, device=None,
                 still: bool = False) -> tuple[float, dict[str, float]]:
-    """Median ms per frame and mean ms per stage, after warm-up frames (program build, first upload)."""
+    """Median ms per frame and mean ms per stage, after warm-up frames (program build, first upload). A frame is
+    every pass and the read-back of the image (colour and noisy sample; the G-buffer passes are left out)."""
     r = Renderer(scene, settings, device)
     n = scene.frames
     for i in range(warmup):
-        r.render_frame(0 if still else i % n, still=still)
+        r.render_frame(0 if still else i % n, still=still, aovs=False)
     ms, cpu, stages = [], [], {}
     for i in range(warmup, warmup + frames):
         c0 = time.process_time()
-        f = r.render_frame(0 if still else i % n, still=still)
+        f = r.render_frame(0 if still else i % n, still=still, aovs=False)
         cpu.append((time.process_time() - c0) * 1e3)
         ms.append(f.ms)
         for k, v in f.stage_ms.items():

@@ -99,10 +99,11 @@ class Frame:
 
     color: np.ndarray  # (H, W, 4) RGBA: TAA output (animation) or the accumulated mean (still)
     noisy: np.ndarray  # (H, W, 3) the last 1-sample direct light estimate s_n (emission included)
-    depth: np.ndarray  # (H, W) view depth, inf where the camera ray missed
-    normal: np.ndarray  # (H, W, 3) world shading normal
-    vector: np.ndarray  # (H, W, 4) Blender-style Vector pass: xy to the previous frame, zw to the next (px, y up)
-    albedo: np.ndarray  # (H, W, 3)
+    # the passes below are None when render_frame(..., aovs=False) left their read-back out
+    depth: np.ndarray | None  # (H, W) view depth, inf where the camera ray missed
+    normal: np.ndarray | None  # (H, W, 3) world shading normal
+    vector: np.ndarray | None  # (H, W, 4) Blender-style Vector pass: xy to the previous frame, zw to the next
+    albedo: np.ndarray | None  # (H, W, 3)
     frame: int = 0
     samples: int = 1
     ms: float = 0.0
@@ -235,7 +236,10 @@ class Renderer:
             self.slots_buf = self._upload(self.light_array.slots)
             self.light_pdf_buf = self._upload(self.light_array.pdf)
             self._lights_key = lights_key
-        # per object: rows of M_prev M_cur^-1 (reprojection), then of M_next M_cur^-1 (the Vector pass)
+        # per object: rows of M_prev M_cur^-1 (reprojection), then of M_next M_cur^-1 (the Vector pass); identities
+        # (uploaded once) when nothing moves
+        if not scene.has_moving_objects and getattr(self, "motion_buf", None) is not None:
+            return
         n_obj = max(len(scene.meshes), 1)
         motion = np.zeros((n_obj, 2, 3, 4), np.float32)
         motion[:, :, :, :3] = np.eye(3)
@@ -307,11 +311,13 @@ class Renderer:
 
     # ---- the frame -------------------------------------------------------------------------------------
 
-    def render_frame(self, frame: int, *, still: bool = False) -> Frame:
-        """Render animation frame `frame`, carrying history from the previous call (reset on a camera cut)."""
+    def render_frame(self, frame: int, *, still: bool = False, aovs: bool = True) -> Frame:
+        """Render animation frame `frame`, carrying history from the previous call (reset on a camera cut).
+        aovs=False reads back the colour and the noisy sample only (no depth, normal, vector, albedo): a real-time
+        viewer needs no more, and the G-buffer read-back costs ~25 ms per 640x360 frame on a 2-core CPU."""
         t0 = time.perf_counter()
         stage, color_buf, gbuf = self._render(frame, still)
-        out = self._read(color_buf, gbuf, frame)
+        out = self._read(color_buf, gbuf, frame, aovs=aovs)
         out.stage_ms = stage
         out.ms = (time.perf_counter() - t0) * 1e3
         return out
@@ -439,15 +445,13 @@ class Renderer:
         cl.enqueue_copy(self.device.queue, g, gbuf)
         return g.reshape(self.height, self.width)
 
-    def _read(self, color_buf: cl.Buffer, gbuf: cl.Buffer, frame: int, scale: float = 1.0) -> Frame:
+    def _read(self, color_buf: cl.Buffer, gbuf: cl.Buffer, frame: int, scale: float = 1.0, aovs: bool = True) -> Frame:
         q = self.device.queue
         h, w = self.height, self.width
         color = np.empty((h, w, 4), np.float32)
         cl.enqueue_copy(q, color, color_buf)
         noisy = np.empty((h, w, 4), np.float32)
         cl.enqueue_copy(q, noisy, self.sample_buf)
-        g = self._read_gbuffer(gbuf)
-        hit = L.float_bits_to_int(g["normal"][..., 3]) >= 0
         rgb = color[..., :3] * np.float32(scale)
         bad = ~np.isfinite(rgb)
         if bad.any():  # the kernels guard already; this keeps a NaN from ever leaving the renderer
@@ -455,21 +459,20 @@ class Renderer:
             self.guard_totals["nonfinite_sample"] += int(bad.any(axis=-1).sum())
         color[..., :3] = rgb
         color[..., 3] = 1.0
-        vector = np.empty((h, w, 4), np.float32)
-        cl.enqueue_copy(q, vector, self.vector_buf)
-        vector[..., 1] *= -1.0  # Blender's pixel y points up
-        vector[..., 3] *= -1.0
-        return Frame(
-            color=color,
-            noisy=noisy[..., :3].copy(),
-            depth=np.where(hit, g["pos"][..., 3], np.inf).astype(np.float32),
-            normal=np.where(hit[..., None], g["normal"][..., :3], 0.0).astype(np.float32),
-            vector=vector,
-            albedo=np.where(hit[..., None], g["albedo"][..., :3], 0.0).astype(np.float32),
-            frame=frame,
-            guards=self._read_guards(),
-            features=list(self.features),
-        )
+        out = Frame(color=color, noisy=noisy[..., :3].copy(), depth=None, normal=None, vector=None, albedo=None,
+                    frame=frame, guards=self._read_guards(), features=list(self.features))
+        if aovs:
+            g = self._read_gbuffer(gbuf)
+            hit = L.float_bits_to_int(g["normal"][..., 3]) >= 0
+            vector = np.empty((h, w, 4), np.float32)
+            cl.enqueue_copy(q, vector, self.vector_buf)
+            vector[..., 1] *= -1.0  # Blender's pixel y points up
+            vector[..., 3] *= -1.0
+            out.depth = np.where(hit, g["pos"][..., 3], np.inf).astype(np.float32)
+            out.normal = np.where(hit[..., None], g["normal"][..., :3], 0.0).astype(np.float32)
+            out.vector = vector
+            out.albedo = np.where(hit[..., None], g["albedo"][..., :3], 0.0).astype(np.float32)
+        return out
 
     def history_length(self) -> np.ndarray:
         """(H, W) TAA history length n of the last rendered frame (1: the pixel restarted from its new sample)."""

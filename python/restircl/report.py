@@ -276,8 +276,8 @@ def run_report(scene: Scene, methods: list[str], budgets: tuple[float, ...] = DE
             if mode == "accumulate":
                 r.render_still(0, 2)
             else:
-                r.render_frame(0)
-                r.render_frame(0)
+                r.render_frame(0, aovs=False)
+                r.render_frame(0, aovs=False)
             r.reset()
             pending = list(budgets)
 
@@ -296,7 +296,7 @@ def run_report(scene: Scene, methods: list[str], budgets: tuple[float, ...] = DE
                 t0 = time.perf_counter()
                 done = 0
                 while pending:
-                    f = r.render_frame(0)
+                    f = r.render_frame(0, aovs=False)
                     done += 1
                     record(f.color[..., :3], time.perf_counter() - t0, done)
             else:
@@ -340,10 +340,10 @@ def relmse_single_frames(scene: Scene, methods: list[str], reference: np.ndarray
     for name in methods:
         r = Renderer(scene, Settings(**METHODS[name], seed=77, taa=False), device)
         for _ in range(warmup):
-            r.render_frame(0, still=True)
+            r.render_frame(0, still=True, aovs=False)
         errs, ms = [], []
         for _ in range(frames):
-            f = r.render_frame(0, still=True)
+            f = r.render_frame(0, still=True, aovs=False)
             errs.append(rel_mse(f.noisy, reference))
             ms.append(f.ms)
         out[name] = (float(np.mean(errs)), float(np.median(ms)))
@@ -484,8 +484,8 @@ def _read_rgb(r: Renderer, buf) -> np.ndarray:
 def frame_time_ms(scene: Scene, name: str, device=None, frames: int = 4, base: Settings | None = None) -> float:
     """Median wall time (ms) of one animation frame of `name` (after a warm-up frame)."""
     r = Renderer(scene, _settings(name, base, 1), device)
-    r.render_frame(0)
-    r.render_frame(1 % scene.frames)
+    r.render_frame(0, aovs=False)
+    r.render_frame(1 % scene.frames, aovs=False)
     ms = []
     for f in range(1, frames + 1):
         t0 = time.perf_counter()
