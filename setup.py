@@ -14,7 +14,7 @@ setup(
     extras_require={
         "pocl": ["pyopencl[pocl]>=2024.1"],
         "test": ["pytest>=8", "ruff>=0.5", "scipy>=1.10", "matplotlib>=3.7"],
-        "bench": ["embreex>=4.3", "matplotlib>=3.7"],
+        "bench": ["embreex>=4.3", "matplotlib>=3.7", "flip-evaluator>=1.7"],
         "blender": ["bpy==5.0.1"],
     },
     entry_points={"console_scripts": ["restircl=restircl.cli:main"]},

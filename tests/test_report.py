@@ -239,3 +239,14 @@ def test_cli_report(tmp_path, capsys, device):
             "--out", str(tmp_path / "out")]
     assert cli.main(args) == 0
     assert (tmp_path / "out" / "report_moving_many_lights_16x9.json").exists()
+
+
+def test_flip_metric_when_installed():
+    """FLIP (HDR) is reported when flip-evaluator is installed: 0 for identical images, larger for more noise."""
+    pytest.importorskip("flip_evaluator")
+    rng = np.random.default_rng(1)
+    ref = rng.uniform(0.1, 1.0, (48, 64, 3)).astype(np.float32)
+    noisy = [np.clip(ref + rng.normal(0, s, ref.shape).astype(np.float32), 0, None) for s in (0.05, 0.2)]
+    same, low, high = R.flip(ref, ref), R.flip(noisy[0], ref), R.flip(noisy[1], ref)
+    assert same is not None and low is not None and high is not None
+    assert same < 1e-6 < low < high < 1.0

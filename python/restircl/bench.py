@@ -65,7 +65,9 @@ def bench_frame(width: int, height: int, device=None, print_fn=print) -> dict:
 
 def light_scaling_scene(n_lights: int, width: int, height: int, seed: int = 0) -> Scene:
     """A ground with spheres and n_lights small emissive triangles (64 shared emissive materials of strengths
-    spanning three decades), so that only the light count changes between sizes (and the BVH with it)."""
+    spanning three decades). The total emitting area and power are the same at every size: the triangles' edge
+    shrinks as 1/sqrt(n) (0.5 m at 1e2, 0.005 m at 1e6), so they cover about the same fraction of the view and only
+    the light count changes between sizes (and the BVH with it)."""
     rng = np.random.default_rng(seed)
     gv, gt = quad(40, 40)
     parts_v, parts_t = [gv], [gt]
@@ -80,7 +82,7 @@ def light_scaling_scene(n_lights: int, width: int, height: int, seed: int = 0) -
         mats += [1] * len(st)
     centres = np.column_stack([rng.uniform(-20, 20, n_lights), rng.uniform(-20, 20, n_lights),
                                rng.uniform(0.3, 5.0, n_lights)])
-    size = 0.05
+    size = 0.5 / math.sqrt(n_lights / 100.0)
     offs = rng.normal(0, size, (n_lights, 3, 3))
     tri_v = (centres[:, None, :] + offs).reshape(-1, 3)
     parts_v.append(tri_v)
@@ -89,7 +91,7 @@ def light_scaling_scene(n_lights: int, width: int, height: int, seed: int = 0) -
     strengths = np.exp(np.linspace(math.log(1.0), math.log(1000.0), 64))
     for k in range(64):
         col = rng.uniform(0.3, 1.0, 3)
-        materials.append(Material(f"glow{k}", (0, 0, 0), tuple(col), float(strengths[k] * 50.0 / n_lights ** 0.5)))
+        materials.append(Material(f"glow{k}", (0, 0, 0), tuple(col), float(strengths[k] * 0.5)))
     mats += list(2 + rng.integers(0, 64, n_lights))
     mesh = Mesh("all", np.concatenate(parts_v), np.concatenate(parts_t), np.array(mats))
     cam = Camera(look_at((0, -22, 9), (0, 0, 0)), width, height, lens=28.0)
@@ -99,13 +101,16 @@ def light_scaling_scene(n_lights: int, width: int, height: int, seed: int = 0) -
 def bench_lights(width: int, height: int, sizes=(100, 1000, 10_000, 100_000, 1_000_000), device=None,
                  print_fn=print) -> list[tuple]:
     rows = []
-    print_fn(f"ReSTIR (4 candidates, unbiased) frame time against the light count, {width}x{height}, still camera")
-    print_fn(f"  {'lights':>9} {'triangles':>10} {'setup s':>7} {'array s':>8} {'ms/frame':>9}   stages")
+    print_fn(f"ReSTIR (4 candidates, unbiased) + TAA frame time against the light count, {width}x{height}, camera "
+             "still; lit: share of pixels showing a non-emissive surface")
+    print_fn(f"  {'lights':>9} {'triangles':>10} {'lit %':>6} {'setup s':>7} {'array s':>8} {'ms/frame':>9}   stages")
     for n in sizes:
         scene = light_scaling_scene(n, width, height)
         t0 = time.perf_counter()
         r = Renderer(scene, Settings(method="restir", candidates=4), device)
         setup = time.perf_counter() - t0
+        albedo = r.render_frame(0).albedo
+        lit = 100.0 * float(np.mean(albedo.sum(axis=-1) > 0)) if albedo is not None else math.nan
         del r
         from .light_array import build_light_array
 
@@ -117,8 +122,9 @@ def bench_lights(width: int, height: int, sizes=(100, 1000, 10_000, 100_000, 1_0
         t_array = time.perf_counter() - t1
         ms, st = time_frames(scene, Settings(method="restir", candidates=4), device=device, still=False)
         stages = ", ".join(f"{k} {v:.1f}" for k, v in st.items() if k != "upload")
-        print_fn(f"  {len(lights):>9} {scene.triangle_count:>10} {setup:7.2f} {t_array:8.3f} {ms:9.1f}   [{stages}]")
-        rows.append((len(lights), scene.triangle_count, setup, t_array, ms, st))
+        print_fn(f"  {len(lights):>9} {scene.triangle_count:>10} {lit:6.1f} {setup:7.2f} {t_array:8.3f} {ms:9.1f}   "
+                 f"[{stages}]")
+        rows.append((len(lights), scene.triangle_count, lit, setup, t_array, ms, st))
     return rows
 
 

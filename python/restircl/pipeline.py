@@ -543,7 +543,9 @@ class Renderer:
                 progress(done, samples)
             if checkpoint is not None:
                 q.finish()
-                checkpoint(done, time.perf_counter() - t0)
+                tc = time.perf_counter()
+                checkpoint(done, tc - t0)
+                t0 += time.perf_counter() - tc  # the caller's look at the image is not render time
             if target_error is not None and done >= 2 * HALF_BLOCK and done % 4 == 0:
                 estimate = self.error_estimate(done, n_half)
                 if estimate is not None and estimate <= target_error:

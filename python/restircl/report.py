@@ -295,10 +295,13 @@ def run_report(scene: Scene, methods: list[str], budgets: tuple[float, ...] = DE
             elif mode == "taa":
                 t0 = time.perf_counter()
                 done = 0
+                paused = 0.0  # time spent computing the error metrics is not render time
                 while pending:
                     f = r.render_frame(0, aovs=False)
                     done += 1
-                    record(f.color[..., :3], time.perf_counter() - t0, done)
+                    tc = time.perf_counter()
+                    record(f.color[..., :3], tc - t0 - paused, done)
+                    paused += time.perf_counter() - tc
             else:
                 raise ValueError(f"unknown mode {mode!r} (accumulate, taa)")
             last = report.series(name, mode)[-1]
