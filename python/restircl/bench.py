@@ -9,13 +9,14 @@
 from __future__ import annotations
 
 import argparse
+import gc
 import math
 import time
 
 import numpy as np
 
 from .pipeline import Renderer, Settings
-from .scene import Camera, Material, Mesh, Scene, look_at
+from .scene import Camera, Light, Material, Mesh, Scene, look_at, translation
 from .scenes import icosphere, many_lights, quad
 
 FRAME_METHODS: dict[str, dict] = {
@@ -63,11 +64,12 @@ def bench_frame(width: int, height: int, device=None, print_fn=print) -> dict:
     return out
 
 
-def light_scaling_scene(n_lights: int, width: int, height: int, seed: int = 0) -> Scene:
-    """A ground with spheres and n_lights small emissive triangles (64 shared emissive materials of strengths
-    spanning three decades). The total emitting area and power are the same at every size: the triangles' edge
-    shrinks as 1/sqrt(n) (0.5 m at 1e2, 0.005 m at 1e6), so they cover about the same fraction of the view and only
-    the light count changes between sizes (and the BVH with it)."""
+def light_scaling_scene(n_lights: int, width: int, height: int, seed: int = 0, kind: str = "triangles") -> Scene:
+    """A ground with spheres and n_lights lights of strengths spanning three decades, scattered 0.3..5 m above it.
+    kind "triangles": small emissive triangles (64 shared emissive materials); the total emitting area and power
+    are the same at every size: the triangles' edge shrinks as 1/sqrt(n) (0.5 m at 1e2, 0.005 m at 1e6), so they
+    cover about the same fraction of the view, but they are geometry: the BVH grows with them. kind "points":
+    point lights of the same total power, which are not geometry: only the light count changes."""
     rng = np.random.default_rng(seed)
     gv, gt = quad(40, 40)
     parts_v, parts_t = [gv], [gt]
@@ -82,6 +84,17 @@ def light_scaling_scene(n_lights: int, width: int, height: int, seed: int = 0) -
         mats += [1] * len(st)
     centres = np.column_stack([rng.uniform(-20, 20, n_lights), rng.uniform(-20, 20, n_lights),
                                rng.uniform(0.3, 5.0, n_lights)])
+    cam = Camera(look_at((0, -22, 9), (0, 0, 0)), width, height, lens=28.0)
+    if kind == "points":
+        mesh = Mesh("all", np.concatenate(parts_v), np.concatenate(parts_t), np.array(mats))
+        strengths = np.exp(rng.uniform(math.log(1.0), math.log(1000.0), n_lights))
+        power = strengths * (2.0e4 / strengths.sum())  # 20 kW in all, at every size
+        lights = [Light(f"p{k}", "point", (1.0, 0.9, 0.8), float(power[k]), translation(*centres[k]))
+                  for k in range(n_lights)]
+        return Scene([mesh], [Material("ground", (0.6, 0.6, 0.6)), Material("spheres", (0.7, 0.5, 0.3))],
+                     lights, cam, name=f"points_{n_lights}")
+    if kind != "triangles":
+        raise ValueError(f"kind must be triangles or points, got {kind!r}")
     size = 0.5 / math.sqrt(n_lights / 100.0)
     offs = rng.normal(0, size, (n_lights, 3, 3))
     tri_v = (centres[:, None, :] + offs).reshape(-1, 3)
@@ -94,18 +107,21 @@ def light_scaling_scene(n_lights: int, width: int, height: int, seed: int = 0) -
         materials.append(Material(f"glow{k}", (0, 0, 0), tuple(col), float(strengths[k] * 0.5)))
     mats += list(2 + rng.integers(0, 64, n_lights))
     mesh = Mesh("all", np.concatenate(parts_v), np.concatenate(parts_t), np.array(mats))
-    cam = Camera(look_at((0, -22, 9), (0, 0, 0)), width, height, lens=28.0)
     return Scene([mesh], materials, [], cam, name=f"lights_{n_lights}")
 
 
 def bench_lights(width: int, height: int, sizes=(100, 1000, 10_000, 100_000, 1_000_000), device=None,
-                 print_fn=print) -> list[tuple]:
+                 print_fn=print, kind: str = "triangles") -> list[tuple]:
     rows = []
-    print_fn(f"ReSTIR (4 candidates, unbiased) + TAA frame time against the light count, {width}x{height}, camera "
-             "still; lit: share of pixels showing a non-emissive surface")
+    print_fn(f"ReSTIR (4 candidates, unbiased) + TAA frame time against the number of {kind} lights, "
+             f"{width}x{height}, camera still; lit: share of pixels showing a non-emissive surface")
     print_fn(f"  {'lights':>9} {'triangles':>10} {'lit %':>6} {'setup s':>7} {'array s':>8} {'ms/frame':>9}   stages")
     for n in sizes:
-        scene = light_scaling_scene(n, width, height)
+        scene = light_scaling_scene(n, width, height, kind=kind)
+        # 1e6 Light objects make every full garbage collection long, and one lands in some frame: keep the
+        # scene out of the collector while timing (gc.freeze, undone below)
+        gc.collect()
+        gc.freeze()
         t0 = time.perf_counter()
         r = Renderer(scene, Settings(method="restir", candidates=4), device)
         setup = time.perf_counter() - t0
@@ -125,6 +141,7 @@ def bench_lights(width: int, height: int, sizes=(100, 1000, 10_000, 100_000, 1_0
         print_fn(f"  {len(lights):>9} {scene.triangle_count:>10} {lit:6.1f} {setup:7.2f} {t_array:8.3f} {ms:9.1f}   "
                  f"[{stages}]")
         rows.append((len(lights), scene.triangle_count, lit, setup, t_array, ms, st))
+        gc.unfreeze()
     return rows
 
 
@@ -198,6 +215,7 @@ def main(a: argparse.Namespace) -> int:
         bench_frame(a.width, a.height, dev)
     if a.what in ("lights", "all"):
         bench_lights(a.width, a.height, device=dev)
+        bench_lights(a.width, a.height, device=dev, kind="points")
     if a.what in ("taa", "all"):
         bench_taa(160, 120, device=dev, plot="taa_error.png")
     return 0

@@ -152,6 +152,11 @@ class Renderer:
     def __init__(self, scene: Scene, settings: Settings | None = None, device: Device | str | None = None) -> None:
         self.scene = scene.validate()
         self.settings = (settings or Settings()).validate()
+        # what moves and how long the animation is, decided once: each scans every light, ~50 ms per frame at 1e5
+        # explicit lights when asked every frame
+        self.moving_objects = scene.has_moving_objects
+        self.moving_lights = scene.has_moving_lights
+        self.frame_count = scene.frames
         self.device = _resolve_device(device)
         cam = scene.camera
         assert cam is not None
@@ -200,7 +205,7 @@ class Renderer:
     def _upload_scene(self, frame: int) -> None:
         """Upload geometry and lights for `frame` when they differ from what the device holds."""
         scene = self.scene
-        geo_key = frame if scene.has_moving_objects else 0
+        geo_key = frame if self.moving_objects else 0
         world = None
         if self._geometry_key != geo_key:
             world = scene.world_triangles(frame)
@@ -219,7 +224,7 @@ class Renderer:
                 mats["emission"][i, 3] = float(m.is_emissive)
             self.materials_buf = self._upload(mats)
             self._geometry_key = geo_key
-        lights_key = frame if (scene.has_moving_lights or scene.has_moving_objects) else 0
+        lights_key = frame if (self.moving_lights or self.moving_objects) else 0
         if self._lights_key != lights_key:
             if world is None:
                 world = scene.world_triangles(frame)
@@ -238,14 +243,14 @@ class Renderer:
             self._lights_key = lights_key
         # per object: rows of M_prev M_cur^-1 (reprojection), then of M_next M_cur^-1 (the Vector pass); identities
         # (uploaded once) when nothing moves
-        if not scene.has_moving_objects and getattr(self, "motion_buf", None) is not None:
+        if not self.moving_objects and getattr(self, "motion_buf", None) is not None:
             return
         n_obj = max(len(scene.meshes), 1)
         motion = np.zeros((n_obj, 2, 3, 4), np.float32)
         motion[:, :, :, :3] = np.eye(3)
-        if scene.has_moving_objects:
+        if self.moving_objects:
             prev_f = self._last_frame if self._last_frame is not None else frame
-            next_f = min(frame + 1, scene.frames - 1)
+            next_f = min(frame + 1, self.frame_count - 1)
             for k, mesh in enumerate(scene.meshes):
                 inv = np.linalg.inv(Scene.at(mesh.transforms, frame))
                 motion[k, 0] = (Scene.at(mesh.transforms, prev_f) @ inv)[:3, :]
@@ -354,7 +359,7 @@ class Renderer:
         jit = jitter_px if jitter_px is not None else jitter(self._sample) if s.jitter else (0.0, 0.0)
         cl.enqueue_copy(q, self.cameras[0], camera_record(cam, frame, jit))
         cl.enqueue_copy(q, self.cameras[1], camera_record(cam, prev_frame))
-        cl.enqueue_copy(q, self.cameras[2], camera_record(cam, min(frame + 1, scene.frames - 1)))
+        cl.enqueue_copy(q, self.cameras[2], camera_record(cam, min(frame + 1, self.frame_count - 1)))
         w, h, n = self.width, self.height, self.pixels
         self._run("primary", (w, h), *self.cameras, self.nodes_buf, self.tris_buf, self.materials_buf,
                   self.motion_buf, self.gbuf[cur], self.vector_buf)
@@ -417,7 +422,7 @@ class Renderer:
             # neighbourhood every frame, a lasting bias: the stress case long_animation came out 0.7% (ReSTIR) to
             # 16% (light_array) too dark.
             camera_moved = not np.array_equal(Scene.at(cam.transforms, prev_frame), Scene.at(cam.transforms, frame))
-            moving = camera_moved or scene.has_moving_lights or scene.has_moving_objects
+            moving = camera_moved or self.moving_lights or self.moving_objects
             self._run("taa", (w, h), self.sample_buf, self.gbuf[cur], self.gbuf[prev], self.taa_history[prev],
                       self.taa_history[cur], np.int32(w), np.int32(h), self._taa_params(moving=moving),
                       np.int32(not history), self.guard_buf)
