@@ -37,24 +37,9 @@ def new_scene(width: int = 64, height: int = 48, engine: str = "CYCLES") -> bpy.
 def cycles_direct_only(sc: bpy.types.Scene, samples: int = 1024, seed: int = 0, threads: int = 0) -> None:
     """Cycles as the reference for direct light: no bounces, box filter 1 px, light threshold 0, no adaptive
     sampling, no denoising, no clamping."""
-    sc.render.engine = "CYCLES"
-    c = sc.cycles
-    c.device = "CPU"
-    c.samples = samples
-    c.seed = seed
-    for name in ("max_bounces", "diffuse_bounces", "glossy_bounces", "transmission_bounces", "volume_bounces",
-                 "transparent_max_bounces"):
-        setattr(c, name, 0)
-    c.light_sampling_threshold = 0.0
-    c.use_adaptive_sampling = False
-    c.use_denoising = False
-    c.pixel_filter_type = "BOX"
-    c.filter_width = 1.0
-    c.sample_clamp_direct = 0.0
-    c.sample_clamp_indirect = 0.0
-    if threads:
-        sc.render.threads_mode = "FIXED"
-        sc.render.threads = threads
+    from restircl.cycles import direct_only  # one definition of these settings, shared with `restircl report`
+
+    direct_only(sc, samples, seed, threads)
 
 
 def exr_output(sc: bpy.types.Scene, path: str, multilayer: bool = True) -> None:

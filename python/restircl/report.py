@@ -174,24 +174,13 @@ class Report:
     notes: list[str] = field(default_factory=list)
 
     def write(self, out: Path) -> list[Path]:
-        out = Path(out)
-        out.mkdir(parents=True, exist_ok=True)
-        base = out / f"report_{self.scene}_{self.width}x{self.height}"
-        with open(base.with_suffix(".csv"), "w", newline="") as f:
-            w = csv.writer(f)
-            w.writerow(["method", "mode", "budget_s", "seconds", "frames", "rel_mse", "rmse", "flip"])
-            for r in self.rows:
-                w.writerow([r.method, r.mode, r.budget_s, f"{r.seconds:.4f}", "" if r.frames is None else r.frames,
-                            f"{r.rel_mse:.6g}", f"{r.rmse:.6g}", "" if r.flip is None else f"{r.flip:.6g}"])
+        header = ["method", "mode", "budget_s", "seconds", "frames", "rel_mse", "rmse", "flip"]
+        cells = [[r.method, r.mode, r.budget_s, f"{r.seconds:.4f}", "" if r.frames is None else r.frames,
+                  f"{r.rel_mse:.6g}", f"{r.rmse:.6g}", "" if r.flip is None else f"{r.flip:.6g}"] for r in self.rows]
         meta = {"scene": self.scene, "device": self.device, "width": self.width, "height": self.height,
                 "reference": self.reference, "notes": self.notes, "slopes": self.slopes(),
                 "rows": [asdict(r) for r in self.rows]}
-        base.with_suffix(".json").write_text(json.dumps(meta, indent=1))
-        paths = [base.with_suffix(".csv"), base.with_suffix(".json")]
-        png = self.plot(base.with_suffix(".png"))
-        if png:
-            paths.append(png)
-        return paths
+        return _write(Path(out) / f"report_{self.scene}_{self.width}x{self.height}", header, cells, meta, self.plot)
 
     def keys(self) -> list[tuple[str, str]]:
         order = [*METHODS, "cycles"]
@@ -205,29 +194,13 @@ class Report:
         return {f"{m} ({mode})": slope(self.series(m, mode)) for m, mode in self.keys()}
 
     def plot(self, path: Path) -> Path | None:
-        try:
-            import matplotlib
-
-            matplotlib.use("Agg")
-            import matplotlib.pyplot as plt
-        except ImportError:
-            return None
-        fig, ax = plt.subplots(figsize=(9.5, 5.4), dpi=110)
+        lines = []
         for method, mode in self.keys():
             rows = self.series(method, mode)
-            ax.plot([r.seconds for r in rows], [r.rel_mse for r in rows], marker="o", ms=3,
-                    ls="-" if mode == "accumulate" else "--", label=f"{method} ({mode})", **_style(method))
-        ax.set_xscale("log")
-        ax.set_yscale("log")
-        ax.set_xlabel("wall-clock seconds (after kernel build and scene upload)")
-        ax.set_ylabel("relMSE vs reference")
-        ax.set_title(f"{self.scene} {self.width}x{self.height} on {self.device}", fontsize=9)
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-        fig.tight_layout()
-        fig.savefig(path)
-        plt.close(fig)
-        return path
+            lines.append(([r.seconds for r in rows], [r.rel_mse for r in rows], method, mode,
+                          "-" if mode == "accumulate" else "--"))
+        return _plot(path, lines, (9.5, 5.4), True, "wall-clock seconds (after kernel build and scene upload)",
+                     "relMSE vs reference", f"{self.scene} {self.width}x{self.height} on {self.device}")
 
     def budgets(self) -> list[float]:
         return sorted({r.budget_s for r in self.rows})
@@ -424,49 +397,67 @@ class MovingReport:
         return "\n".join(lines)
 
     def write(self, out: Path) -> list[Path]:
-        out = Path(out)
-        out.mkdir(parents=True, exist_ok=True)
-        base = out / f"report_moving_{self.scene}_{self.width}x{self.height}"
-        with open(base.with_suffix(".csv"), "w", newline="") as f:
-            w = csv.writer(f)
-            w.writerow(["method", "mode", "frame", "budget_ms", "ms", "samples", "rel_mse", "rmse"])
-            for r in self.rows:
-                w.writerow([r.method, r.mode, r.frame, f"{r.budget_ms:.1f}", f"{r.ms:.1f}", r.samples,
-                            f"{r.rel_mse:.6g}", f"{r.rmse:.6g}"])
+        header = ["method", "mode", "frame", "budget_ms", "ms", "samples", "rel_mse", "rmse"]
+        cells = [[r.method, r.mode, r.frame, f"{r.budget_ms:.1f}", f"{r.ms:.1f}", r.samples, f"{r.rel_mse:.6g}",
+                  f"{r.rmse:.6g}"] for r in self.rows]
         meta = {"scene": self.scene, "device": self.device, "width": self.width, "height": self.height,
                 "budget_ms": self.budget_ms, "references": self.references, "notes": self.notes,
                 "summary": self.summary(), "rows": [asdict(r) for r in self.rows]}
-        base.with_suffix(".json").write_text(json.dumps(meta, indent=1))
-        paths = [base.with_suffix(".csv"), base.with_suffix(".json")]
-        png = self.plot(base.with_suffix(".png"))
-        if png:
-            paths.append(png)
-        return paths
+        base = Path(out) / f"report_moving_{self.scene}_{self.width}x{self.height}"
+        return _write(base, header, cells, meta, self.plot)
 
     def plot(self, path: Path) -> Path | None:
-        try:
-            import matplotlib
-
-            matplotlib.use("Agg")
-            import matplotlib.pyplot as plt
-        except ImportError:
-            return None
-        fig, ax = plt.subplots(figsize=(9.5, 5.0), dpi=110)
+        lines = []
         for method, mode in self.keys():
             rows = self.series(method, mode)
-            ax.plot([r.frame for r in rows], [r.rel_mse for r in rows], marker="o", ms=3,
-                    ls="-" if mode == "taa" else "--", label=f"{method} ({mode})", **_style(method))
-        ax.set_yscale("log")
-        ax.set_xlabel("animation frame")
-        ax.set_ylabel("relMSE vs that frame's reference")
-        ax.set_title(f"{self.scene} {self.width}x{self.height}, moving camera, {self.budget_ms:.0f} ms per frame, "
-                     f"on {self.device}", fontsize=9)
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-        fig.tight_layout()
-        fig.savefig(path)
-        plt.close(fig)
-        return path
+            lines.append(([r.frame for r in rows], [r.rel_mse for r in rows], method, mode,
+                          "-" if mode == "taa" else "--"))
+        return _plot(path, lines, (9.5, 5.0), False, "animation frame", "relMSE vs that frame's reference",
+                     f"{self.scene} {self.width}x{self.height}, moving camera, {self.budget_ms:.0f} ms per frame, "
+                     f"on {self.device}")
+
+
+def _write(base: Path, header: list[str], cells: list[list], meta: dict,
+           plot: Callable[[Path], Path | None]) -> list[Path]:
+    """base.csv (header + cells), base.json (meta) and base.png (plot, when matplotlib imports)."""
+    base.parent.mkdir(parents=True, exist_ok=True)
+    with open(base.with_suffix(".csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(header)
+        w.writerows(cells)
+    base.with_suffix(".json").write_text(json.dumps(meta, indent=1))
+    paths = [base.with_suffix(".csv"), base.with_suffix(".json")]
+    png = plot(base.with_suffix(".png"))
+    if png:
+        paths.append(png)
+    return paths
+
+
+def _plot(path: Path, lines: list, size: tuple[float, float], log_x: bool, xlabel: str, ylabel: str,
+          title: str) -> Path | None:
+    """One log-y plot, a line (xs, ys, method, mode, linestyle) per method and mode, the legend beside it."""
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        return None
+    fig, ax = plt.subplots(figsize=size, dpi=110)
+    for xs, ys, method, mode, ls in lines:
+        ax.plot(xs, ys, marker="o", ms=3, ls=ls, label=f"{method} ({mode})", **_style(method))
+    if log_x:
+        ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title, fontsize=9)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+    return path
 
 
 def _style(method: str) -> dict:
