@@ -147,7 +147,8 @@ def _half_of(k: int) -> int:
 
 
 class Renderer:
-    """Renders a Scene frame by frame on one OpenCL device, keeping ReSTIR and TAA history between frames."""
+    """Renders a Scene frame by frame on one OpenCL device, keeping ReSTIR and TAA history between frames. The scene
+    (with all its frames of animation) is taken as it is at construction: for an edited scene, make a new Renderer."""
 
     def __init__(self, scene: Scene, settings: Settings | None = None, device: Device | str | None = None) -> None:
         self.scene = scene.validate()
