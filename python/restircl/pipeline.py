@@ -320,7 +320,7 @@ class Renderer:
     def render_frame(self, frame: int, *, still: bool = False, aovs: bool = True) -> Frame:
         """Render animation frame `frame`, carrying history from the previous call (reset on a camera cut).
         aovs=False reads back the colour and the noisy sample only (no depth, normal, vector, albedo): a real-time
-        viewer needs no more, and the G-buffer read-back costs ~25 ms per 640x360 frame on a 2-core CPU."""
+        viewer needs no more, and the G-buffer read-back cost ~20 ms per 640x360 frame on a 2-core CPU."""
         t0 = time.perf_counter()
         stage, color_buf, gbuf = self._render(frame, still)
         out = self._read(color_buf, gbuf, frame, aovs=aovs)
