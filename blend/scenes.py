@@ -2,8 +2,8 @@
 
     python blend/scenes.py [outdir]      # writes many_lights.blend and area_interior.blend (default: blend/)
 
-Needs the bpy module (pip install bpy==5.0.1). The helpers build everything from data (no operators that need
-a window), so they work headless.
+Needs the bpy module (pip install bpy==5.0.1) and restircl (its Cycles settings and material helpers). The
+helpers build everything from data (no operators that need a window), so they work headless.
 """
 
 from __future__ import annotations
@@ -23,13 +23,9 @@ def new_scene(width: int = 64, height: int = 48, engine: str = "CYCLES") -> bpy.
     sc = bpy.context.scene
     sc.render.resolution_x, sc.render.resolution_y = width, height
     sc.render.resolution_percentage = 100
-    world = bpy.data.worlds.new("World")
-    sc.world = world
-    bg = world.node_tree.nodes.get("Background")
-    if bg is not None:
-        bg.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
-        bg.inputs["Strength"].default_value = 0.0
-    sc.view_settings.view_transform = "Standard"
+    from restircl.cycles import black_world  # shared with the scenes `restircl report` writes for Cycles
+
+    black_world(bpy, sc)
     sc.render.engine = engine
     return sc
 
@@ -56,14 +52,9 @@ def exr_output(sc: bpy.types.Scene, path: str, multilayer: bool = True) -> None:
 
 
 def _material(name: str) -> tuple[bpy.types.Material, bpy.types.NodeTree, bpy.types.Node]:
-    mat = bpy.data.materials.new(name)
-    tree = mat.node_tree
-    if tree is None:  # Blender < 5: node trees are opt-in
-        mat.use_nodes = True
-        tree = mat.node_tree
-    tree.nodes.clear()
-    out = tree.nodes.new("ShaderNodeOutputMaterial")
-    return mat, tree, out
+    from restircl.cycles import node_material  # shared with the scenes `restircl report` writes for Cycles
+
+    return node_material(bpy, name)
 
 
 def diffuse_material(name: str, colour=(0.8, 0.8, 0.8)) -> bpy.types.Material:

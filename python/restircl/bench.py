@@ -15,6 +15,8 @@ import time
 
 import numpy as np
 
+from .light_array import build_light_array
+from .lights import scene_lights
 from .pipeline import Renderer, Settings
 from .scene import Camera, Light, Material, Mesh, Scene, look_at, translation
 from .scenes import icosphere, many_lights, quad
@@ -33,10 +35,11 @@ FRAME_METHODS: dict[str, dict] = {
 
 
 def time_frames(scene: Scene, settings: Settings, frames: int = 6, warmup: int = 3, device=None,
-                still: bool = False) -> tuple[float, dict[str, float]]:
+                still: bool = False, renderer: Renderer | None = None) -> tuple[float, dict[str, float]]:
     """Median ms per frame and mean ms per stage, after warm-up frames (program build, first upload). A frame is
-    every pass and the read-back of the image (colour and noisy sample; the G-buffer passes are left out)."""
-    r = Renderer(scene, settings, device)
+    every pass and the read-back of the image (colour and noisy sample; the G-buffer passes are left out).
+    `renderer`: one already built for this scene and settings (else one is built here)."""
+    r = renderer or Renderer(scene, settings, device)
     n = scene.frames
     for i in range(warmup):
         r.render_frame(0 if still else i % n, still=still, aovs=False)
@@ -113,30 +116,29 @@ def light_scaling_scene(n_lights: int, width: int, height: int, seed: int = 0, k
 def bench_lights(width: int, height: int, sizes=(100, 1000, 10_000, 100_000, 1_000_000), device=None,
                  print_fn=print, kind: str = "triangles") -> list[tuple]:
     rows = []
-    print_fn(f"ReSTIR (4 candidates, unbiased) + TAA frame time against the number of {kind} lights, "
+    print_fn(f"ReSTIR (4 candidates, unbiased) + TAA frame time against the number of "
+             f"{dict(points='point', triangles='emissive-triangle')[kind]} lights, "
              f"{width}x{height}, camera still; lit: share of pixels showing a non-emissive surface")
-    print_fn(f"  {'lights':>9} {'triangles':>10} {'lit %':>6} {'setup s':>7} {'array s':>8} {'ms/frame':>9}   stages")
+    print_fn(f"  {'lights':>9} {'triangles':>10} {'lit %':>6} {'setup s':>7} {'array s':>8} {'ms/frame':>9}   stages"
+             "   (setup: Renderer construction, which includes array s: lights converted and light array built)")
     for n in sizes:
         scene = light_scaling_scene(n, width, height, kind=kind)
         # 1e6 Light objects make every full garbage collection long, and one lands in some frame: keep the
         # scene out of the collector while timing (gc.freeze, undone below)
         gc.collect()
         gc.freeze()
+        settings = Settings(method="restir", candidates=4)
         t0 = time.perf_counter()
-        r = Renderer(scene, Settings(method="restir", candidates=4), device)
+        r = Renderer(scene, settings, device)
         setup = time.perf_counter() - t0
         albedo = r.render_frame(0).albedo
         lit = 100.0 * float(np.mean(albedo.sum(axis=-1) > 0)) if albedo is not None else math.nan
-        del r
-        from .light_array import build_light_array
-
-        t1 = time.perf_counter()
-        from .lights import scene_lights
-
+        t1 = time.perf_counter()  # the part of the set-up spent on the lights, timed again on its own
         lights = scene_lights(scene, 0)
         build_light_array(lights.power)
         t_array = time.perf_counter() - t1
-        ms, st = time_frames(scene, Settings(method="restir", candidates=4), device=device, still=False)
+        ms, st = time_frames(scene, settings, device=device, still=False, renderer=r)
+        del r
         stages = ", ".join(f"{k} {v:.1f}" for k, v in st.items() if k != "upload")
         print_fn(f"  {len(lights):>9} {scene.triangle_count:>10} {lit:6.1f} {setup:7.2f} {t_array:8.3f} {ms:9.1f}   "
                  f"[{stages}]")

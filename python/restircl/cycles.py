@@ -44,15 +44,33 @@ def _matrix(m: np.ndarray):
     return Matrix([list(map(float, row)) for row in np.asarray(m, dtype=np.float64)])
 
 
-def _material(bpy, mat):
-    """A Diffuse BSDF (roughness 0) of the albedo, plus an Emission shader (two-sided, as restircl's) if any."""
-    m = bpy.data.materials.new(mat.name)
+def black_world(bpy, sc) -> None:
+    """A new world that emits nothing, and the Standard view transform (no tone mapping) for scene sc."""
+    world = bpy.data.worlds.new("World")
+    sc.world = world
+    if world.node_tree is None:
+        world.use_nodes = True
+    bg = world.node_tree.nodes.get("Background")
+    if bg is not None:
+        bg.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+        bg.inputs["Strength"].default_value = 0.0
+    sc.view_settings.view_transform = "Standard"
+
+
+def node_material(bpy, name: str):
+    """A new material with an empty node tree but for its output node: (material, tree, output node)."""
+    m = bpy.data.materials.new(name)
     tree = m.node_tree
     if tree is None:  # Blender < 5: node trees are opt-in
         m.use_nodes = True
         tree = m.node_tree
     tree.nodes.clear()
-    out = tree.nodes.new("ShaderNodeOutputMaterial")
+    return m, tree, tree.nodes.new("ShaderNodeOutputMaterial")
+
+
+def _material(bpy, mat):
+    """A Diffuse BSDF (roughness 0) of the albedo, plus an Emission shader (two-sided, as restircl's) if any."""
+    m, tree, out = node_material(bpy, mat.name)
     shaders = []
     if any(c > 0 for c in mat.albedo) or not mat.is_emissive:
         d = tree.nodes.new("ShaderNodeBsdfDiffuse")
@@ -85,15 +103,7 @@ def to_bpy(scene: Scene, frame: int = 0):
     assert cam is not None
     sc.render.resolution_x, sc.render.resolution_y = int(cam.width), int(cam.height)
     sc.render.resolution_percentage = 100
-    world = bpy.data.worlds.new("World")
-    sc.world = world
-    if world.node_tree is None:
-        world.use_nodes = True
-    bg = world.node_tree.nodes.get("Background")
-    if bg is not None:
-        bg.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
-        bg.inputs["Strength"].default_value = 0.0
-    sc.view_settings.view_transform = "Standard"
+    black_world(bpy, sc)
     mats = [_material(bpy, m) for m in scene.materials]
     for mesh in scene.meshes:
         if len(mesh.triangles) == 0:

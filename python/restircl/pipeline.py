@@ -200,6 +200,7 @@ class Renderer:
         self.guard_buf = self._buf(4 * L.GUARD_COUNT)
         self.cameras = [self._buf(L.CAMERA.itemsize) for _ in range(3)]  # current, previous, next
         self.vector_buf = self._buf(n * 16)
+        self.motion_buf: cl.Buffer | None = None  # per-object motion rows, uploaded by _upload_scene
         cl.enqueue_fill_buffer(self.device.queue, self.guard_buf, np.int32(0), 0, 4 * L.GUARD_COUNT)
         self._cur = 0  # index of the current frame's G-buffer / history slot
 
@@ -244,7 +245,7 @@ class Renderer:
             self._lights_key = lights_key
         # per object: rows of M_prev M_cur^-1 (reprojection), then of M_next M_cur^-1 (the Vector pass); identities
         # (uploaded once) when nothing moves
-        if not self.moving_objects and getattr(self, "motion_buf", None) is not None:
+        if not self.moving_objects and self.motion_buf is not None:
             return
         n_obj = max(len(scene.meshes), 1)
         motion = np.zeros((n_obj, 2, 3, 4), np.float32)
@@ -263,7 +264,7 @@ class Renderer:
         # a camera animation whose transforms are all equal does not move: no motion vectors to compile
         moving_camera = s.camera is not None and bool(np.any(s.camera.transforms != s.camera.transforms[:1]))
         if self.settings.specialise:
-            flags = derive_flags(self.lights.type_set, moving_camera or s.has_moving_objects, s.has_moving_objects)
+            flags = derive_flags(self.lights.type_set, moving_camera or self.moving_objects, self.moving_objects)
         else:
             flags = general_flags()
         self.flags = flags
