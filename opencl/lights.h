@@ -81,19 +81,19 @@ inline float3 cone_dir(float3 w, float omc, float u, float v)
     float phi = 2.0f * RESTIRCL_PI * v;
     float3 s, t;
     light_onb(w, &s, &t);
-    return normalize(sin_t * cos(phi) * s + sin_t * sin(phi) * t + (1.0f - omc_t) * w);
+    return norm3(sin_t * cos(phi) * s + sin_t * sin(phi) * t + (1.0f - omc_t) * w);
 }
 
 /* Contribution of an emitter point y with normal ny (area measure) seen from x with normal n. */
 inline bool area_contrib(float3 y, float3 ny, float3 Le, bool two_sided, float3 x, float3 n, LightEval* e)
 {
     float3 d = y - x;
-    float d2 = dot(d, d);
+    float d2 = dot3(d, d);
     if (!(d2 > 1e-30f)) return false;
     float dist = sqrt(d2);
     float3 wi = d / dist;
-    float cos_x = dot(n, wi);
-    float cos_l = -dot(ny, wi);
+    float cos_x = dot3(n, wi);
+    float cos_l = -dot3(ny, wi);
     if (two_sided) { if (cos_l < 0.0f) { cos_l = -cos_l; ny = -ny; } }
     if (!(cos_x > 0.0f) || !(cos_l > 0.0f)) return false;
     e->contrib = Le * (cos_x * cos_l / d2);
@@ -137,7 +137,7 @@ inline float3 light_point(const __global Light* l, int type, float u, float v, f
 /* Spot cone mask at unit direction `out` from the light towards the shading point (Blender 4+: smoothstep). */
 inline float spot_mask(const __global Light* l, float3 out)
 {
-    float c = dot(out, l->a.xyz);
+    float c = dot3(out, l->a.xyz);
     float cos_half = l->b.x, smooth = l->b.y;
     if (c <= cos_half) return 0.0f;
     if (smooth <= 0.0f) return 1.0f;
@@ -155,7 +155,7 @@ inline bool light_eval(const __global Light* l, float u, float v, float3 x, floa
     if (type == LIGHT_SUN) {
         float omc = l->b.y;
         float3 wi = omc > 0.0f ? cone_dir(l->a.xyz, omc, u, v) : l->a.xyz;
-        float cos_x = dot(n, wi);
+        float cos_x = dot3(n, wi);
         if (!(cos_x > 0.0f)) return false;
         e->contrib = Le * cos_x;
         e->wi = wi;
@@ -172,7 +172,7 @@ inline bool light_eval(const __global Light* l, float u, float v, float3 x, floa
 #ifdef HAS_SPOT_LIGHTS
         if (type == LIGHT_SPOT) {
             float3 out = x - c;
-            float len = length(out);
+            float len = len3(out);
             if (!(len > 0.0f)) return false;
             mask = spot_mask(l, out / len);
             if (!(mask > 0.0f)) return false;
@@ -182,7 +182,7 @@ inline bool light_eval(const __global Light* l, float u, float v, float3 x, floa
         if (r > 0.0f && (as_int(l->L.w) & LIGHT_FLAG_SOFT_FALLOFF)) {
             /* Blender's soft falloff: a disk of radius r facing the shading point */
             float3 w = c - x;
-            float dc = length(w);
+            float dc = len3(w);
             if (!(dc > 0.0f)) return false;
             w /= dc;
             float3 s, t;
@@ -196,11 +196,11 @@ inline bool light_eval(const __global Light* l, float u, float v, float3 x, floa
             return area_contrib(y, ny, Le * mask, false, x, n, e);
         }
         float3 d = c - x;
-        float d2 = dot(d, d);
+        float d2 = dot3(d, d);
         if (!(d2 > 1e-30f)) return false;
         float dist = sqrt(d2);
         float3 wi = d / dist;
-        float cos_x = dot(n, wi);
+        float cos_x = dot3(n, wi);
         if (!(cos_x > 0.0f)) return false;
         e->contrib = Le * (mask * cos_x / d2);
         e->wi = wi;
@@ -237,7 +237,7 @@ inline float2 light_sample(const __global Light* l, float3 x, float r0, float r1
         if (!(r > 0.0f)) { *pdf = 1.0f; return (float2)(r0, r1); }
         if (as_int(l->L.w) & LIGHT_FLAG_SOFT_FALLOFF) { *pdf = 1.0f / (RESTIRCL_PI * r * r); return (float2)(r0, r1); }
         float3 d = l->p.xyz - x;
-        float dc2 = dot(d, d);
+        float dc2 = dot3(d, d);
         float r2 = r * r;
         if (dc2 <= r2 * 1.0001f) {  /* inside or touching: uniform over the sphere's area */
             *pdf = 1.0f / (4.0f * RESTIRCL_PI * r2);
@@ -258,12 +258,12 @@ inline float2 light_sample(const __global Light* l, float3 x, float r0, float r1
         float3 s, t;
         light_onb(wc, &s, &t);
         float3 ny = -(sin_a * cos(phi) * s + sin_a * sin(phi) * t + cos_a * wc);
-        ny = normalize(ny);
+        ny = norm3(ny);
         /* area density of the point: pdf_omega * cos_l / dist^2 */
         float3 y = l->p.xyz + r * ny;
         float3 dy = x - y;
-        float dist2 = dot(dy, dy);
-        float cos_l = dot(ny, dy) * rsqrt(fmax(dist2, 1e-38f));
+        float dist2 = dot3(dy, dy);
+        float cos_l = dot3(ny, dy) * rsqrt(fmax(dist2, 1e-38f));
         *pdf = (cos_l > 0.0f && dist2 > 0.0f) ? cos_l / (dist2 * 2.0f * RESTIRCL_PI * omc) : 0.0f;
         return sphere_uv(ny);
     }

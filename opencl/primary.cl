@@ -20,7 +20,7 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
     if (x >= w || y >= h) return;
     int i = y * w + x;
     float3 o = cam->origin.xyz;
-    float3 d = normalize(camera_direction(cam, (float)x + 0.5f + cam->jitter.x, (float)y + 0.5f + cam->jitter.y));
+    float3 d = norm3(camera_direction(cam, (float)x + 0.5f + cam->jitter.x, (float)y + 0.5f + cam->jitter.y));
     Hit hit = trace_closest(nodes, tris, o, d, INFINITY);
     GSample g;
     g.motion = (float4)(0.0f);
@@ -47,8 +47,8 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
     }
     Tri t = tris[hit.prim];
     float3 p = t.v0.xyz + hit.u * t.e1.xyz + hit.v * t.e2.xyz;
-    float3 ng = normalize(cross(t.e1.xyz, t.e2.xyz));
-    if (dot(ng, d) > 0.0f) ng = -ng;
+    float3 ng = norm3(cross3(t.e1.xyz, t.e2.xyz));
+    if (dot3(ng, d) > 0.0f) ng = -ng;
     int mat = as_int(t.v0.w);
     int obj = as_int(t.e2.w);
     Material m = materials[mat];

@@ -22,7 +22,7 @@ inline bool reproject_same_surface(const GSample* cur, const GSample* prev, floa
     if (!cur_hit) return true;
     float expected = cur->motion.w;  /* depth of the surface point in the previous camera */
     if (!(abs_f(prev->pos.w - expected) <= depth_tol * abs_f(expected))) return false;
-    return dot(cur->normal.xyz, prev->normal.xyz) >= normal_cos;
+    return dot3(cur->normal.xyz, prev->normal.xyz) >= normal_cos;
 }
 
 /* The previous-frame pixel index holding the surface of pixel (x, y), or -1 (off-screen or disoccluded). */

@@ -40,7 +40,7 @@ __kernel void restir_spatial(const __global GSample* gbuf, int width, int height
         int j = ny * width + nx;
         Surface sn = surface_load(gbuf, j);
         if (!sn.valid || !(abs_f(sn.depth - s.depth) <= p.depth_tolerance * s.depth)
-            || dot(sn.n, s.n) < p.normal_cos)
+            || dot3(sn.n, s.n) < p.normal_cos)
             continue;
         used[n_used++] = j;
     }

@@ -48,11 +48,11 @@ inline bool visible(const __global BVHNode* nodes, const __global Tri* tris, con
 {
     Tri tri = tris[s->prim];
     float err = RESTIRCL_OFFSET_ULPS * FLT_EPSILON * (max_abs3(s->x) + max_abs3(tri.e1.xyz) + max_abs3(tri.e2.xyz));
-    float3 o = s->x + err * (dot(s->ng, e->wi) >= 0.0f ? s->ng : -s->ng);
+    float3 o = s->x + err * (dot3(s->ng, e->wi) >= 0.0f ? s->ng : -s->ng);
     if (!finite_f(e->dist)) return !trace_any(nodes, tris, o, e->wi, INFINITY);
     float3 t = e->pos + e->eps * e->nl;
     float3 d = t - o;
-    float len = length(d);
+    float len = len3(d);
     if (!(len > 0.0f)) return true;
     return !trace_any(nodes, tris, o, d / len, len * 0.9999f);
 }
