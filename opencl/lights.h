@@ -29,7 +29,7 @@ typedef struct {
  * error bounds (gamma(7) sum |b_i v_i|). */
 #define RESTIRCL_OFFSET_ULPS 8.0f
 
-inline float max_abs3(float3 v) { return fmax(abs_f(v.x), fmax(abs_f(v.y), abs_f(v.z))); }
+inline float max_abs3(float3 v) { return fmax_f(abs_f(v.x), fmax_f(abs_f(v.y), abs_f(v.z))); }
 
 inline int light_type(const __global Light* l) { return as_int(l->p.w); }
 
@@ -60,14 +60,14 @@ inline float2 concentric_disk(float u, float v)
 inline float3 sphere_dir(float u, float v)
 {
     float z = 2.0f * u - 1.0f;
-    float rxy = sqrt(fmax(0.0f, 1.0f - z * z));
+    float rxy = sqrt(fmax_f(0.0f, 1.0f - z * z));
     float phi = 2.0f * RESTIRCL_PI * v;
     return (float3)(rxy * cos(phi), rxy * sin(phi), z);
 }
 
 inline float2 sphere_uv(float3 d)
 {
-    float u = clamp(0.5f * (d.z + 1.0f), 0.0f, 1.0f);
+    float u = clamp_f(0.5f * (d.z + 1.0f), 0.0f, 1.0f);
     float v = atan2(d.y, d.x) * (0.5f * RESTIRCL_INV_PI);
     if (v < 0.0f) v += 1.0f;
     return (float2)(u, v >= 1.0f ? 0.0f : v);
@@ -77,7 +77,7 @@ inline float2 sphere_uv(float3 d)
 inline float3 cone_dir(float3 w, float omc, float u, float v)
 {
     float omc_t = u * omc;                              /* 1 - cos(theta), exact for tiny cones */
-    float sin_t = sqrt(fmax(0.0f, omc_t * (2.0f - omc_t)));
+    float sin_t = sqrt(fmax_f(0.0f, omc_t * (2.0f - omc_t)));
     float phi = 2.0f * RESTIRCL_PI * v;
     float3 s, t;
     light_onb(w, &s, &t);
@@ -111,20 +111,20 @@ inline float3 light_point(const __global Light* l, int type, float u, float v, f
 #ifdef HAS_TRIANGLE_LIGHTS
     if (type == LIGHT_TRIANGLE) {
         float su = sqrt(u);
-        *ny = normalize(cross(a, b));
+        *ny = norm3(cross3(a, b));
         return l->p.xyz + a * (su * (1.0f - v)) + b * (su * v);
     }
 #endif
 #ifdef HAS_QUAD_LIGHTS
     if (type == LIGHT_QUAD) {
-        *ny = normalize(cross(a, b));
+        *ny = norm3(cross3(a, b));
         return l->p.xyz + u * a + v * b;
     }
 #endif
 #ifdef HAS_DISK_LIGHTS
     if (type == LIGHT_DISK) {
         float2 q = concentric_disk(u, v);
-        *ny = normalize(cross(a, b));
+        *ny = norm3(cross3(a, b));
         return l->p.xyz + q.x * a + q.y * b;
     }
 #endif
@@ -141,7 +141,7 @@ inline float spot_mask(const __global Light* l, float3 out)
     float cos_half = l->b.x, smooth = l->b.y;
     if (c <= cos_half) return 0.0f;
     if (smooth <= 0.0f) return 1.0f;
-    float t = clamp((c - cos_half) / smooth, 0.0f, 1.0f);
+    float t = clamp_f((c - cos_half) / smooth, 0.0f, 1.0f);
     return t * t * (3.0f - 2.0f * t);
 }
 
@@ -246,14 +246,14 @@ inline float2 light_sample(const __global Light* l, float3 x, float r0, float r1
         float dc = sqrt(dc2);
         float3 wc = d / dc;
         float sin2max = r2 / dc2;
-        float cosmax = sqrt(fmax(0.0f, 1.0f - sin2max));
+        float cosmax = sqrt(fmax_f(0.0f, 1.0f - sin2max));
         float omc = sin2max / (1.0f + cosmax);
         float omc_t = r0 * omc;
         float sin2_t = omc_t * (2.0f - omc_t);
         float cos_t = 1.0f - omc_t;
-        float rho = fmin(sin2_t / sin2max, 1.0f);
-        float cos_a = rho * sqrt(sin2max) + cos_t * sqrt(fmax(0.0f, 1.0f - rho));
-        float sin_a = sqrt(fmax(0.0f, 1.0f - cos_a * cos_a));
+        float rho = fmin_f(sin2_t / sin2max, 1.0f);
+        float cos_a = rho * sqrt(sin2max) + cos_t * sqrt(fmax_f(0.0f, 1.0f - rho));
+        float sin_a = sqrt(fmax_f(0.0f, 1.0f - cos_a * cos_a));
         float phi = 2.0f * RESTIRCL_PI * r1;
         float3 s, t;
         light_onb(wc, &s, &t);
@@ -263,7 +263,7 @@ inline float2 light_sample(const __global Light* l, float3 x, float r0, float r1
         float3 y = l->p.xyz + r * ny;
         float3 dy = x - y;
         float dist2 = dot3(dy, dy);
-        float cos_l = dot3(ny, dy) * rsqrt(fmax(dist2, 1e-38f));
+        float cos_l = dot3(ny, dy) * rsqrt(fmax_f(dist2, 1e-38f));
         *pdf = (cos_l > 0.0f && dist2 > 0.0f) ? cos_l / (dist2 * 2.0f * RESTIRCL_PI * omc) : 0.0f;
         return sphere_uv(ny);
     }

@@ -8,6 +8,14 @@ inline bool finite_f(float x) { return (as_uint(x) & 0x7f800000u) != 0x7f800000u
 
 inline bool finite3_f(float3 c) { return finite_f(c.x) && finite_f(c.y) && finite_f(c.z); }
 
+/* fmax, fmin and clamp of floats, inline (PoCL 3.0 calls its builtins out of line), with fmax/fmin's NaN rule: a NaN
+ * operand gives the other operand. */
+inline float fmax_f(float a, float b) { return (a >= b || b != b) ? a : b; }
+
+inline float fmin_f(float a, float b) { return (a <= b || b != b) ? a : b; }
+
+inline float clamp_f(float x, float lo, float hi) { return fmin_f(fmax_f(x, lo), hi); }
+
 /* |x| */
 inline float abs_f(float x) { return as_float(as_uint(x) & 0x7fffffffu); }
 

@@ -4,6 +4,9 @@
 
 #define MAX_NEIGHBOURS 16
 
+/* round(), inline: |v| is at most the radius (<< 2^22) */
+inline int round_i(float v) { return (int)(v + (v >= 0.0f ? 0.5f : -0.5f)); }
+
 /* A point uniform in the disk of radius r, by rejection from the square (accepts pi/4 of the tries): no sqrt, sin
  * or cos, which cost more than the rest of picking a neighbour on a CPU. After 16 rejections (probability 2e-11)
  * it returns the centre, which the caller skips. */
@@ -35,12 +38,12 @@ __kernel void restir_spatial(const __global GSample* gbuf, int width, int height
     int k_max = min(p.spatial_neighbours, MAX_NEIGHBOURS);
     for (int k = 0; k < k_max; ++k) {
         float2 o = disk_offset(p.spatial_radius, &rng);
-        int nx = x + (int)round(o.x), ny = y + (int)round(o.y);
+        int nx = x + round_i(o.x), ny = y + round_i(o.y);
         if (nx < 0 || ny < 0 || nx >= width || ny >= height || (nx == x && ny == y)) continue;
         int j = ny * width + nx;
-        Surface sn = surface_load(gbuf, j);
-        if (!sn.valid || !(abs_f(sn.depth - s.depth) <= p.depth_tolerance * s.depth)
-            || dot3(sn.n, s.n) < p.normal_cos)
+        float4 nn = gbuf[j].normal;  /* w: the primitive (int bits), < 0 for a miss */
+        float nd = gbuf[j].pos.w;
+        if (as_int(nn.w) < 0 || !(abs_f(nd - s.depth) <= p.depth_tolerance * s.depth) || dot3(nn.xyz, s.n) < p.normal_cos)
             continue;
         used[n_used++] = j;
     }

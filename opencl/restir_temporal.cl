@@ -20,7 +20,7 @@ __kernel void restir_temporal(const __global GSample* gbuf, const __global GSamp
     int j = reproject_pixel(gbuf, prev_gbuf, x, y, width, height, p.depth_tolerance, p.normal_cos);
     if (j < 0) { out[i] = c; return; }
     Reservoir q = previous[j];
-    q.M = fmin(q.M, p.m_cap);
+    q.M = fmin_f(q.M, p.m_cap);
     if (!finite_f(q.W) || !finite_f(q.M)) { guard_count(guards, GUARD_NONFINITE_RESERVOIR); out[i] = c; return; }
     uint rng = rng_seed((uint)i, (uint)p.frame, (uint)p.seed, 4u);
     Reservoir r;

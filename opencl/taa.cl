@@ -20,7 +20,7 @@ inline float3 clip_to_box(float3 h, float3 centre, float3 extent)
     float3 d = h - centre;
     float3 e = fmax(extent, (float3)(1e-7f));
     float3 ratio = fabs(d) / e;
-    float m = fmax(ratio.x, fmax(ratio.y, ratio.z));
+    float m = fmax_f(ratio.x, fmax_f(ratio.y, ratio.z));
     return m > 1.0f ? centre + d / m : h;
 }
 
@@ -82,8 +82,8 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
         float3 sigma = sqrt(fmax(m2 / cnt - mean * mean, (float3)(0.0f)));
         h = ycocg_to_rgb(clip_to_box(rgb_to_ycocg(h), mean, p.gamma * sigma));
     }
-    float n = fmin(n_prev + 1.0f, (float)p.max_history);
-    float a = n_prev > 0.0f ? fmax(1.0f / n, p.alpha_min) : 1.0f;
+    float n = fmin_f(n_prev + 1.0f, (float)p.max_history);
+    float a = n_prev > 0.0f ? fmax_f(1.0f / n, p.alpha_min) : 1.0f;
     float3 o = a * s + (1.0f - a) * h;
     if (!finite3_f(o)) { guard_count(guards, GUARD_NONFINITE_HISTORY); o = s; n = 1.0f; }
     history_out[i] = (float4)(o, n);
