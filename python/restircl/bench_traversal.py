@@ -118,16 +118,31 @@ def make_scene(triangles: int = 1_000_000, seed: int = 7):
     return tuple(np.concatenate([p[k] for p in parts]) for k in range(3))
 
 
-def camera_rays(width: int, height: int):
-    """Pinhole camera above the ground looking across it: (origins, unit directions), float32, row-major."""
-    eye = np.array([-70.0, -80.0, 28.0])
-    target = np.array([10.0, 5.0, 0.0])
+def light_cloud_scene(lights: int):
+    """(v0, v1, v2) of the emissive-triangle scene of `restircl bench lights` (bench.light_scaling_scene): a ground,
+    30 spheres and `lights` small triangles scattered 0.3..5 m above it, with that benchmark's camera (eye, target,
+    horizontal field of view in degrees)."""
+    from .bench import light_scaling_scene
+
+    scene = light_scaling_scene(lights, 64, 36, kind="triangles")
+    mesh = scene.meshes[0]
+    v = np.asarray(mesh.vertices, np.float64)
+    t = np.asarray(mesh.triangles)
+    fov = math.degrees(2 * math.atan(0.5 * scene.camera.sensor_width / scene.camera.lens))
+    return tuple(v[t[:, k]] for k in range(3)), ((0.0, -22.0, 9.0), (0.0, 0.0, 0.0), fov)
+
+
+def camera_rays(width: int, height: int, eye=(-70.0, -80.0, 28.0), target=(10.0, 5.0, 0.0), fov: float = 60.0):
+    """Pinhole camera (default: above the ground of make_scene, looking across it): (origins, unit directions),
+    float32, row-major."""
+    eye = np.array(eye, np.float64)
+    target = np.array(target, np.float64)
     fwd = target - eye
     fwd /= np.linalg.norm(fwd)
     right = np.cross(fwd, [0.0, 0.0, 1.0])
     right /= np.linalg.norm(right)
     up = np.cross(right, fwd)
-    tx = math.tan(math.radians(60.0) / 2)
+    tx = math.tan(math.radians(fov) / 2)
     ty = tx * height / width
     px = ((np.arange(width) + 0.5) / width * 2 - 1) * tx
     py = (1 - (np.arange(height) + 0.5) / height * 2) * ty
@@ -310,16 +325,23 @@ class EmbreeTracer:
 
 
 def run(triangles: int = 1_000_000, width: int = 640, height: int = 360, embree: bool = True,
-        print_fn=print, local_size: int | None = 64, repeats: int = 3) -> dict:
-    """Build, trace and (if embreex imports) compare with Embree; returns the figures as a dict."""
+        print_fn=print, local_size: int | None = 64, repeats: int = 3, scene: str = "mixed") -> dict:
+    """Build, trace and (if embreex imports) compare with Embree; returns the figures as a dict. scene "mixed":
+    make_scene(triangles); "light_cloud": light_cloud_scene(triangles), `triangles` being the light count."""
     from .bvh import build_bvh, make_tris
 
     res: dict = {}
     t0 = time.perf_counter()
-    v0, v1, v2 = make_scene(triangles)
+    if scene == "light_cloud":
+        (v0, v1, v2), view = light_cloud_scene(triangles)
+    elif scene == "mixed":
+        v0, v1, v2 = make_scene(triangles)
+        view = None
+    else:
+        raise ValueError(f"scene must be mixed or light_cloud, got {scene!r}")
     n = len(v0)
     res["triangles"] = n
-    print_fn(f"scene: {n} triangles ({time.perf_counter() - t0:.2f} s to generate)")
+    print_fn(f"scene: {scene}, {n} triangles ({time.perf_counter() - t0:.2f} s to generate)")
     bvh = build_bvh(v0, v1, v2)
     tris = make_tris(v0, v1, v2, np.zeros(n, np.int32), np.arange(n), bvh.order)
     res.update(build_seconds=bvh.build_seconds, nodes=bvh.node_count, leaves=bvh.leaf_count, depth=bvh.depth,
@@ -333,7 +355,7 @@ def run(triangles: int = 1_000_000, width: int = 640, height: int = 360, embree:
              f"local size {local_size or 'None (chosen by the runtime)'}; load average {os.getloadavg()[0]:.1f}")
     print_fn("Mrays/s: wall clock (best of the timed runs); in brackets per CPU-second of all threads, which does "
              "not depend on other load")
-    o, d = camera_rays(width, height)
+    o, d = camera_rays(width, height) if view is None else camera_rays(width, height, *view)
     t, leaf, sec = ours.closest(o, d, repeats=repeats)
     res["primary_rays"] = len(o)
     res["primary_mrays"] = len(o) / sec / 1e6
@@ -401,9 +423,12 @@ def main(argv=None) -> int:
     ap.add_argument("--local-size", type=int, default=64,
                     help="OpenCL local size; the global size is padded to a multiple (0: let the runtime choose)")
     ap.add_argument("--repeats", type=int, default=3, help="timed runs per measurement (best is kept)")
+    ap.add_argument("--scene", choices=("mixed", "light_cloud"), default="mixed",
+                    help="mixed: ground, spheres and boxes of --triangles triangles; light_cloud: the emissive-triangle "
+                         "scene of `restircl bench lights` with --triangles lights, seen from its camera")
     args = ap.parse_args(argv)
     run(args.triangles, args.width, args.height, embree=not args.no_embree, local_size=args.local_size or None,
-        repeats=args.repeats)
+        repeats=args.repeats, scene=args.scene)
     return 0
 
 
