@@ -34,20 +34,30 @@ __kernel void restir_spatial(const __global GSample* gbuf, int width, int height
     uint rng = rng_seed((uint)i, (uint)p.frame, (uint)p.seed, 5u + (uint)pass);
     /* the neighbours: random pixels in the disk that show a similar surface */
     int used[MAX_NEIGHBOURS];
-    int n_used = 0;
     int k_max = min(p.spatial_neighbours, MAX_NEIGHBOURS);
     for (int k = 0; k < k_max; ++k) {
         float2 o = disk_offset(p.spatial_radius, &rng);
         int nx = x + round_i(o.x), ny = y + round_i(o.y);
-        if (nx < 0 || ny < 0 || nx >= width || ny >= height || (nx == x && ny == y)) continue;
-        int j = ny * width + nx;
-        float4 nn = gbuf[j].normal;  /* w: the primitive (int bits), < 0 for a miss */
-        float nd = gbuf[j].pos.w;
-        if (as_int(nn.w) < 0 || !(abs_f(nd - s.depth) <= p.depth_tolerance * s.depth) || dot3(nn.xyz, s.n) < p.normal_cos)
-            continue;
-        used[n_used++] = j;
+        bool inside = nx >= 0 && ny >= 0 && nx < width && ny < height && !(nx == x && ny == y);
+        used[k] = inside ? ny * width + nx : i;  /* i: rejected below */
+    }
+    /* The neighbours' depth and normal are read in one loop and tested in the next: the reads (cache misses,
+     * random pixels within the radius) then overlap instead of each waiting behind the branch on the last one. */
+    float4 nn[MAX_NEIGHBOURS];  /* normal; w: the primitive (int bits), < 0 for a miss */
+    float nd[MAX_NEIGHBOURS];
+    for (int k = 0; k < k_max; ++k) {
+        nn[k] = gbuf[used[k]].normal;
+        nd[k] = gbuf[used[k]].pos.w;
+    }
+    int n_used = 0;
+    for (int k = 0; k < k_max; ++k) {
+        bool similar = used[k] != i && as_int(nn[k].w) >= 0 && abs_f(nd[k] - s.depth) <= p.depth_tolerance * s.depth
+                       && dot3(nn[k].xyz, s.n) >= p.normal_cos;
+        if (similar) used[n_used++] = used[k];
     }
     if (n_used == 0) { out[i] = c; return; }
+    Reservoir qs[MAX_NEIGHBOURS];  /* their reservoirs, read before any is used (the same overlap) */
+    for (int k = 0; k < n_used; ++k) qs[k] = in[used[k]];
 
     Reservoir r;
     res_init(&r);
@@ -56,7 +66,7 @@ __kernel void restir_spatial(const __global GSample* gbuf, int width, int height
     if (bias_correction == BIAS_PAIRWISE) {
         PairwiseMis mis = pairwise_begin(&c, (float)n_used);
         for (int k = 0; k < n_used; ++k) {
-            Reservoir q = in[used[k]];
+            Reservoir q = qs[k];
             Surface sn = surface_load(gbuf, used[k]);
             if (pairwise_neighbour(&mis, &r, &s, &sn, &c, &q, q.target, nodes, tris, lights, visibility_reuse,
                                    rng_next(&rng)))
@@ -67,7 +77,7 @@ __kernel void restir_spatial(const __global GSample* gbuf, int width, int height
     } else {
         res_update(&r, c.light, c.u, c.v, c.target * c.W * c.M, c.target, rng_next(&rng), c.M);
         for (int k = 0; k < n_used; ++k) {
-            Reservoir q = in[used[k]];
+            Reservoir q = qs[k];
             float tq = q.light >= 0 ? target_of(&s, lights, q.light, q.u, q.v, &e) : 0.0f;
             if (res_merge(&r, &q, tq, rng_next(&rng))) src = k;
         }
@@ -77,7 +87,7 @@ __kernel void restir_spatial(const __global GSample* gbuf, int width, int height
             for (int k = 0; k < n_used; ++k) {
                 /* The neighbour that supplied the sample has it in its support: with visibility reuse its W > 0
                  * means p-hat > 0 and visible there (every stored reservoir keeps that invariant). */
-                Reservoir q = in[used[k]];
+                Reservoir q = qs[k];
                 Surface sn = surface_load(gbuf, used[k]);
                 if ((k == src && q.W > 0.0f)
                     || in_support(&sn, nodes, tris, lights, r.light, r.u, r.v, visibility_reuse))
