@@ -424,8 +424,9 @@ def main(argv=None) -> int:
                     help="OpenCL local size; the global size is padded to a multiple (0: let the runtime choose)")
     ap.add_argument("--repeats", type=int, default=3, help="timed runs per measurement (best is kept)")
     ap.add_argument("--scene", choices=("mixed", "light_cloud"), default="mixed",
-                    help="mixed: ground, spheres and boxes of --triangles triangles; light_cloud: the emissive-triangle "
-                         "scene of `restircl bench lights` with --triangles lights, seen from its camera")
+                    help="mixed: ground, spheres and boxes of --triangles triangles; light_cloud: the "
+                         "emissive-triangle scene of `restircl bench lights` with --triangles lights, seen from its "
+                         "camera")
     args = ap.parse_args(argv)
     run(args.triangles, args.width, args.height, embree=not args.no_embree, local_size=args.local_size or None,
         repeats=args.repeats, scene=args.scene)
