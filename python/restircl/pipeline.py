@@ -131,8 +131,22 @@ def _resolve_device(device: Device | str | None) -> Device:
     return get_device(device)
 
 
-LOCAL_1D = (64,)
-LOCAL_2D = (8, 8)
+LOCAL_ITEMS = 64  # work-items per work-group: 64 in 1D, 8x8 in 2D (docs/benchmarks.md: PoCL's own pick was slower)
+
+
+def local_size(dims: int, max_items: int) -> tuple[int, ...]:
+    """The local size of a launch: LOCAL_ITEMS work-items (8x8 in 2D), or the largest power of two within
+    max_items, the kernel's limit on the device (CL_KERNEL_WORK_GROUP_SIZE: a GPU may allow fewer to a kernel that
+    uses many registers or much private memory, as the BVH stacks do)."""
+    n = LOCAL_ITEMS
+    while n > 1 and n > max_items:
+        n //= 2
+    if dims == 1:
+        return (n,)
+    x = 1
+    while x * x < n:
+        x *= 2
+    return (x, n // x)
 HALF_BLOCK = 8  # frames per block of a still render's two half buffers (error_estimate)
 R2_FLOOR = 0.25  # error_estimate: r^2 is taken as at least R2_FLOOR * mean^2
 
@@ -275,6 +289,9 @@ class Renderer:
         names = ["primary", "shade_direct", "shade_reference", "accumulate", "restir_initial", "restir_temporal",
                  "restir_spatial", "restir_shade", "taa"]
         self.k = {name: cl.Kernel(self.program, name) for name in names}
+        self.max_local = {name: int(k.get_work_group_info(cl.kernel_work_group_info.WORK_GROUP_SIZE,
+                                                          self.device.device))
+                          for name, k in self.k.items()}
 
     def reset(self) -> None:
         """Drop all history (ReSTIR reservoirs, TAA, accumulation)."""
@@ -308,11 +325,12 @@ class Renderer:
         return p[0]
 
     def _run(self, name: str, size: tuple[int, ...], *args) -> None:
-        """Launch with a fixed local size (64 or 8x8), the global size padded to a multiple of it (OpenCL 1.2):
-        every kernel returns early outside the image. PoCL's own choice was 25-40 % slower (docs/benchmarks.md)."""
+        """Launch with a fixed local size (64 or 8x8, smaller only where the device allows the kernel fewer
+        work-items: local_size), the global size padded to a multiple of it (OpenCL 1.2): every kernel returns
+        early outside the image. PoCL's own choice was 25-40 % slower (docs/benchmarks.md)."""
         kernel = self.k[name]
         kernel.set_args(*args)
-        local = LOCAL_1D if len(size) == 1 else LOCAL_2D
+        local = local_size(len(size), self.max_local[name])
         padded = tuple(-(-n // m) * m for n, m in zip(size, local, strict=True))
         cl.enqueue_nd_range_kernel(self.device.queue, kernel, padded, local)
 
