@@ -1,8 +1,9 @@
 """Traversal benchmark: BVH build time and Mrays/s of opencl/bvh.h against Embree (embreex) on the same rays.
 
-    python -m restircl.bench_traversal [--triangles N] [--width W] [--height H] [--no-embree]
+    python -m restircl.bench_traversal [--triangles N] [--width W] [--height H] [--no-embree] [--scene S]
 
-The scene is procedural (a displaced ground grid with spheres and boxes of log-normal sizes spread over it).
+The scene is procedural (a displaced ground grid with spheres and boxes of log-normal sizes spread over it), or
+with --scene light_cloud the emissive-triangle scene of `restircl bench lights` with N lights, seen from its camera.
 Two ray sets: camera rays (closest hit, one per pixel) and incoherent shadow rays (any hit) from the primary hit
 points towards random points in the cosine-weighted hemisphere of the surface (diffuse-like directions).
 Embree traces single rays on one thread per process: it runs in one process per core, each with its own scene,
