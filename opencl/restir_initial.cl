@@ -14,18 +14,17 @@ __kernel void restir_initial(const __global GSample* gbuf, int pixel_count,
     res_init(&r);
     if (s.valid && light_count > 0) {
         uint rng = rng_seed((uint)i, (uint)p.frame, (uint)p.seed, 3u);
-        LightEval e;
+        LightEval e, chosen;  /* chosen: the evaluation of the picked candidate, for its shadow ray */
         for (int k = 0; k < p.candidates; ++k) {
             float2 uv;
             float pdf;
             int light = light_draw(false, lights, light_count, slots, slot_count, light_pdf, s.x, &rng, &uv, &pdf);
             float t = pdf > 0.0f ? target_of(&s, lights, light, uv.x, uv.y, &e) : 0.0f;
-            res_update(&r, light, uv.x, uv.y, t / pdf, t, rng_next(&rng), 1.0f);
+            if (res_update(&r, light, uv.x, uv.y, t / pdf, t, rng_next(&rng), 1.0f)) chosen = e;
         }
         res_finalize(&r, r.M);
-        if (visibility_reuse && r.W > 0.0f) {
-            if (!(target_of(&s, lights, r.light, r.u, r.v, &e) > 0.0f) || !visible(nodes, tris, &s, &e)) r.W = 0.0f;
-        }
+        /* W > 0: a candidate with target > 0 was picked, and chosen holds its evaluation */
+        if (visibility_reuse && r.W > 0.0f && !visible(nodes, tris, &s, &chosen)) r.W = 0.0f;
     }
     out[i] = r;
 }

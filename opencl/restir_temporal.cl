@@ -2,12 +2,14 @@
  * reprojection), its M capped. The target is re-evaluated with this frame's lights, so a light switched off
  * stops contributing at once. bias_correction: BIAS_NONE plain M-weighted merge (biased), BIAS_Z_COUNT 1/Z,
  * BIAS_PAIRWISE pairwise MIS with k = 1, i.e. the balance heuristic of the two inputs (restir_pairwise.h). The
- * previous input's target p_prev is evaluated at last frame's surface with this frame's lights and geometry. */
+ * previous input's target p_prev is evaluated at last frame's surface with this frame's lights and geometry;
+ * lights_static: the light records are last frame's, so p_prev of last frame's own sample is the target it stored
+ * (computed at that surface with those records) and is not evaluated again. */
 
 __kernel void restir_temporal(const __global GSample* gbuf, const __global GSample* prev_gbuf, int width, int height,
                               const __global BVHNode* nodes, const __global Tri* tris,
                               const __global Light* lights, RestirParams p, int bias_correction,
-                              int visibility_reuse, const __global Reservoir* current,
+                              int visibility_reuse, int lights_static, const __global Reservoir* current,
                               const __global Reservoir* previous, __global Reservoir* out,
                               volatile __global int* guards)
 {
@@ -30,7 +32,8 @@ __kernel void restir_temporal(const __global GSample* gbuf, const __global GSamp
     bool from_prev;
     if (bias_correction == BIAS_PAIRWISE) {
         PairwiseMis mis = pairwise_begin(&c, 1.0f);
-        float own = (q.light >= 0 && q.W > 0.0f) ? target_of(&sp, lights, q.light, q.u, q.v, &e) : 0.0f;
+        float own = !(q.light >= 0 && q.W > 0.0f) ? 0.0f
+                    : lights_static ? q.target : target_of(&sp, lights, q.light, q.u, q.v, &e);
         from_prev = pairwise_neighbour(&mis, &r, &s, &sp, &c, &q, own, nodes, tris, lights, visibility_reuse,
                                        rng_next(&rng));
         if (pairwise_canonical(&mis, &r, &c, rng_next(&rng))) from_prev = false;

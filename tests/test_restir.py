@@ -179,3 +179,25 @@ def test_dimmed_light_keeps_history_switched_light_drops_it(device):
     assert "temporal" in r.render_frame(1).stage_ms  # 1.5x: below the light_change_ratio of 2
     assert "temporal" not in r.render_frame(2).stage_ms  # switched off
     assert "temporal" in r.render_frame(2).stage_ms
+
+
+def test_static_lights_reuse_the_stored_target(device, monkeypatch):
+    """With last frame's light records, temporal reuse takes p_prev of last frame's sample from the target its
+    reservoir stored instead of evaluating it again: the same number, so the images are bit-identical to a
+    renderer that re-evaluates it every frame (as it must when the lights changed)."""
+    scene = occluder_scene()
+    assert not scene.has_moving_lights and not scene.has_moving_objects
+    outs = []
+    for force_changed in (False, True):
+        r = Renderer(scene, Settings(method="restir", candidates=4), device)
+        if force_changed:
+            upload = r._upload_scene
+
+            def upload_and_mark(frame, r=r, upload=upload):
+                upload(frame)
+                r._lights_changed = True
+
+            monkeypatch.setattr(r, "_upload_scene", upload_and_mark)
+        outs.append(np.stack([r.render_frame(0, still=False).noisy for _ in range(4)]))
+    assert outs[0].max() > 0
+    np.testing.assert_array_equal(outs[0], outs[1])

@@ -184,6 +184,7 @@ class Renderer:
         self._last_frame: int | None = None
         self._history_valid = False
         self._lights_switched = False
+        self._lights_changed = True  # this frame's light records differ from (or may differ from) the last frame's
         self._still_counts = (0, 0)
         self.guard_totals = dict.fromkeys(L.GUARD_NAMES[: L.GUARD_COUNT], 0)
         self._alloc()
@@ -241,7 +242,8 @@ class Renderer:
             self.materials_buf = self._upload(mats)
             self._geometry_key = geo_key
         lights_key = frame if (self.moving_lights or self.moving_objects) else 0
-        if self._lights_key != lights_key:
+        self._lights_changed = self._lights_key != lights_key
+        if self._lights_changed:
             if world is None:
                 world = scene.world_triangles(frame)
             lights = scene_lights(scene, frame, world)
@@ -403,8 +405,8 @@ class Renderer:
             # 4 temporal reuse
             if s.temporal and restir_history:
                 self._run("restir_temporal", (w, h), self.gbuf[cur], self.gbuf[prev], np.int32(w), np.int32(h), *geo,
-                          self.lights_buf, params, bias, vis, res, self.res_history[prev], self.res_temp,
-                          self.guard_buf)
+                          self.lights_buf, params, bias, vis, np.int32(not self._lights_changed), res,
+                          self.res_history[prev], self.res_temp, self.guard_buf)
                 res = self.res_temp
                 t = mark("temporal", t)
             # 5 spatial reuse, ping-pong between the temporal buffer and this frame's history slot
