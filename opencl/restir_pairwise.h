@@ -40,10 +40,12 @@ inline PairwiseMis pairwise_begin(const Reservoir* c, float k)
 }
 
 /* Stream neighbour q (whose target at its own sample is target_q_own) into r and add its pair's share of the
- * canonical weight. s, sn: this pixel's and the neighbour's surfaces. Returns true if q's sample was picked. */
+ * canonical weight. s, sn: this pixel's and the neighbour's surfaces. Returns true if q's sample was picked, and
+ * then its evaluation at s in *picked (for the caller's shadow ray). */
 inline bool pairwise_neighbour(PairwiseMis* m, Reservoir* r, const Surface* s, const Surface* sn, const Reservoir* c,
                                const Reservoir* q, float target_q_own, const __global BVHNode* nodes,
-                               const __global Tri* tris, const __global Light* lights, int visibility, float rnd)
+                               const __global Tri* tris, const __global Light* lights, int visibility, float rnd,
+                               LightEval* picked_eval)
 {
     LightEval e;
     bool picked = false;
@@ -53,6 +55,7 @@ inline bool pairwise_neighbour(PairwiseMis* m, Reservoir* r, const Surface* s, c
         float a = q->M * target_q_own, b = m->conf_c * t_c;
         float mis = a / (a + b) / m->k;  /* a + b >= b > 0 */
         picked = res_update(r, q->light, q->u, q->v, mis * t_c * q->W, t_c, rnd, q->M);
+        if (picked) *picked_eval = e;
     } else {
         r->M += q->M;
     }

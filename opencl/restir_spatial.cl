@@ -61,7 +61,7 @@ __kernel void restir_spatial(const __global GSample* gbuf, int width, int height
 
     Reservoir r;
     res_init(&r);
-    LightEval e;
+    LightEval e, chosen;  /* chosen: the evaluation at s of the sample picked from a neighbour */
     int src = -1;  /* which input supplied the chosen sample: -1 the pixel's own reservoir, k neighbour k */
     if (bias_correction == BIAS_PAIRWISE) {
         PairwiseMis mis = pairwise_begin(&c, (float)n_used);
@@ -69,7 +69,7 @@ __kernel void restir_spatial(const __global GSample* gbuf, int width, int height
             Reservoir q = qs[k];
             Surface sn = surface_load(gbuf, used[k]);
             if (pairwise_neighbour(&mis, &r, &s, &sn, &c, &q, q.target, nodes, tris, lights, visibility_reuse,
-                                   rng_next(&rng)))
+                                   rng_next(&rng), &chosen))
                 src = k;
         }
         if (pairwise_canonical(&mis, &r, &c, rng_next(&rng))) src = -1;
@@ -79,7 +79,10 @@ __kernel void restir_spatial(const __global GSample* gbuf, int width, int height
         for (int k = 0; k < n_used; ++k) {
             Reservoir q = qs[k];
             float tq = q.light >= 0 ? target_of(&s, lights, q.light, q.u, q.v, &e) : 0.0f;
-            if (res_merge(&r, &q, tq, rng_next(&rng))) src = k;
+            if (res_merge(&r, &q, tq, rng_next(&rng))) {
+                src = k;
+                chosen = e;
+            }
         }
         float norm = r.M;
         if (bias_correction == BIAS_Z_COUNT && r.light >= 0) {
@@ -96,9 +99,11 @@ __kernel void restir_spatial(const __global GSample* gbuf, int width, int height
         }
         res_finalize(&r, norm);
     }
-    /* keep the invariant: a sample not visible here gets W = 0 (the own reservoir's sample is known visible) */
-    if (visibility_reuse && bias_correction != BIAS_NONE && r.W > 0.0f && !(src < 0 && c.W > 0.0f)
-        && !in_support(&s, nodes, tris, lights, r.light, r.u, r.v, 1))
+    /* keep the invariant: a sample not visible here gets W = 0. The own reservoir's sample is known visible; r.W > 0
+     * with src < 0 means the own sample was picked (an input of weight 0 never is); a neighbour's sample was picked
+     * with target > 0 at s, evaluated in chosen. */
+    if (visibility_reuse && bias_correction != BIAS_NONE && r.W > 0.0f && src >= 0
+        && !visible(nodes, tris, &s, &chosen))
         r.W = 0.0f;
     out[i] = r;
 }

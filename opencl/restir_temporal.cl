@@ -27,7 +27,7 @@ __kernel void restir_temporal(const __global GSample* gbuf, const __global GSamp
     uint rng = rng_seed((uint)i, (uint)p.frame, (uint)p.seed, 4u);
     Reservoir r;
     res_init(&r);
-    LightEval e;
+    LightEval e, chosen;  /* chosen: the evaluation at s of last frame's sample, when it is picked */
     Surface sp = surface_load(prev_gbuf, j);
     bool from_prev;
     if (bias_correction == BIAS_PAIRWISE) {
@@ -35,13 +35,14 @@ __kernel void restir_temporal(const __global GSample* gbuf, const __global GSamp
         float own = !(q.light >= 0 && q.W > 0.0f) ? 0.0f
                     : lights_static ? q.target : target_of(&sp, lights, q.light, q.u, q.v, &e);
         from_prev = pairwise_neighbour(&mis, &r, &s, &sp, &c, &q, own, nodes, tris, lights, visibility_reuse,
-                                       rng_next(&rng));
+                                       rng_next(&rng), &chosen);
         if (pairwise_canonical(&mis, &r, &c, rng_next(&rng))) from_prev = false;
         res_finalize(&r, 1.0f);
     } else {
         res_update(&r, c.light, c.u, c.v, c.target * c.W * c.M, c.target, rng_next(&rng), c.M);
         float tq = q.light >= 0 ? target_of(&s, lights, q.light, q.u, q.v, &e) : 0.0f;
         from_prev = res_merge(&r, &q, tq, rng_next(&rng));
+        if (from_prev) chosen = e;
         float norm = r.M;
         if (bias_correction == BIAS_Z_COUNT && r.light >= 0) {
             norm = c.M;
@@ -52,8 +53,9 @@ __kernel void restir_temporal(const __global GSample* gbuf, const __global GSamp
         }
         res_finalize(&r, norm);
     }
-    if (visibility_reuse && bias_correction != BIAS_NONE && r.W > 0.0f && !(!from_prev && c.W > 0.0f)
-        && !in_support(&s, nodes, tris, lights, r.light, r.u, r.v, 1))
+    /* as in restir_spatial.cl: only a sample taken from last frame needs its shadow ray here */
+    if (visibility_reuse && bias_correction != BIAS_NONE && r.W > 0.0f && from_prev
+        && !visible(nodes, tris, &s, &chosen))
         r.W = 0.0f;
     out[i] = r;
 }
