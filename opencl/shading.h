@@ -58,8 +58,8 @@ inline bool visible(const __global BVHNode* nodes, const __global Tri* tris, con
 }
 
 /* Is sample y = (light, u, v) in the support of the reservoir of surface s: p-hat_s(y) > 0 and, when
- * reservoirs keep only visible samples (visibility reuse), V_s(y) = 1? Used by the unbiased reuse: the 1/Z support
- * tests, and the test of a sample taken from another pixel (both unbiased modes). */
+ * reservoirs keep only visible samples (visibility reuse), V_s(y) = 1? Used by the 1/Z support tests of the
+ * unbiased reuse (a sample taken from another pixel is shadow-tested with the evaluation made when it was picked). */
 inline bool in_support(const Surface* s, const __global BVHNode* nodes, const __global Tri* tris,
                        const __global Light* lights, int light, float u, float v, int visibility)
 {
