@@ -13,7 +13,8 @@ setup(
     install_requires=["numpy>=1.24", "pyopencl>=2024.1", "openexr>=3.3", "pillow>=10"],
     extras_require={
         "pocl": ["pyopencl[pocl]>=2024.1"],
-        "test": ["pytest>=8", "ruff>=0.5", "scipy>=1.10", "matplotlib>=3.7"],
+        # libclang: the OpenCL C front end for NVIDIA, AMD and SPIR targets (tests/test_portability.py)
+        "test": ["pytest>=8", "ruff>=0.5", "scipy>=1.10", "matplotlib>=3.7", "libclang>=16"],
         "bench": ["embreex>=4.3", "matplotlib>=3.7", "flip-evaluator>=1.7"],
         "blender": ["bpy==5.0.1"],
     },
