@@ -221,9 +221,8 @@ inline bool light_eval(const __global Light* l, float u, float v, float3 x, floa
 
 /* Draw a sample (u, v) of light l for shading point x; *pdf is the density of the sampled point in the light's
  * measure (0: nothing could be sampled). Uniform in (u, v) except for spheres seen from outside (visible cone). */
-inline float2 light_sample(const __global Light* l, float3 x, float r0, float r1, float* pdf)
+inline float2 light_sample_typed(const __global Light* l, int type, float3 x, float r0, float r1, float* pdf)
 {
-    int type = light_type(l);
 #ifdef HAS_SUN_LIGHTS
     if (type == LIGHT_SUN) {
         float omc = l->b.y;
@@ -270,6 +269,12 @@ inline float2 light_sample(const __global Light* l, float3 x, float r0, float r1
 #endif
     *pdf = 1.0f / l->b.w;
     return (float2)(r0, r1);
+}
+
+/* light_sample with the light's type read here; light_sample_typed takes it from a caller that read it earlier. */
+inline float2 light_sample(const __global Light* l, float3 x, float r0, float r1, float* pdf)
+{
+    return light_sample_typed(l, light_type(l), x, r0, r1, pdf);
 }
 
 #endif
