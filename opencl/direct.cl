@@ -18,15 +18,10 @@ __kernel void shade_direct(const __global GSample* gbuf, int pixel_count,
         if (method == METHOD_RIS) {
             Reservoir r;
             res_init(&r);
-            for (int k = 0; k < candidates; ++k) {
-                float2 uv;
-                float pdf;
-                int light = light_draw(method == METHOD_UNIFORM, lights, light_count, slots, slot_count, light_pdf, s.x, &rng, &uv, &pdf);
-                float t = pdf > 0.0f ? target_of(&s, lights, light, uv.x, uv.y, &e) : 0.0f;
-                res_update(&r, light, uv.x, uv.y, t / pdf, t, rng_next(&rng), 1.0f);
-            }
+            ris_candidates(&s, lights, slots, slot_count, light_pdf, candidates, &rng, &r, &e);
             res_finalize(&r, r.M);
-            if (r.W > 0.0f && target_of(&s, lights, r.light, r.u, r.v, &e) > 0.0f && visible(nodes, tris, &s, &e))
+            /* W > 0: a candidate of target > 0 was picked, and e holds its evaluation */
+            if (r.W > 0.0f && visible(nodes, tris, &s, &e))
                 c += s.brdf * e.contrib * r.W;
         } else {
             float2 uv;

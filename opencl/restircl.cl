@@ -9,6 +9,7 @@
 #include "light_array.h"
 #include "reservoir.h"
 #include "shading.h"
+#include "ris.h"
 #include "reproject.h"
 #include "restir_pairwise.h"
 
