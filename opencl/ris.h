@@ -22,15 +22,15 @@ inline void ris_candidates(const Surface* s, const __global Light* lights, const
     LightEval e;
     for (int k0 = 0; k0 < candidates; k0 += RIS_BATCH) {
         int n = min(RIS_BATCH, candidates - k0);
-        int light[RIS_BATCH], type[RIS_BATCH];
+        int slot[RIS_BATCH], light[RIS_BATCH], type[RIS_BATCH];
         float r0[RIS_BATCH], r1[RIS_BATCH], rnd[RIS_BATCH], pick_pdf[RIS_BATCH];
         for (int k = 0; k < n; ++k) {
-            light[k] = (int)rng_below(rng, (uint)slot_count);  /* the slot, for now */
+            slot[k] = (int)rng_below(rng, (uint)slot_count);
             r0[k] = rng_next(rng);
             r1[k] = rng_next(rng);
             rnd[k] = rng_next(rng);
         }
-        for (int k = 0; k < n; ++k) light[k] = slots[light[k]];
+        for (int k = 0; k < n; ++k) light[k] = slots[slot[k]];
         for (int k = 0; k < n; ++k) {
             pick_pdf[k] = light_pdf[light[k]];
             type[k] = light_type(&lights[light[k]]);  /* read here, so that the record's line is on its way early */

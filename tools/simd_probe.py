@@ -11,6 +11,7 @@ import time
 import numpy as np
 import pyopencl as cl
 from restircl.device import get_device
+from restircl.program import BASE_OPTIONS
 
 d = get_device()
 ctx, q = d.context, d.queue
@@ -110,7 +111,7 @@ def main() -> None:
     mf = cl.mem_flags
     bufs = [cl.Buffer(ctx, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=a) for a in (pos, nrm, lights)]
     out = cl.Buffer(ctx, mf.WRITE_ONLY, n * 16)
-    prg = cl.Program(ctx, SRC).build(options=["-cl-std=CL1.2", "-cl-denorms-are-zero", "-DNCAND=4"])
+    prg = cl.Program(ctx, SRC).build(options=[*BASE_OPTIONS, "-DNCAND=4"])
     res = {}
     print(f"device: {d.label}")
     for name, items in (("cand1", n), ("cand8", n // 8)):

@@ -147,6 +147,8 @@ def local_size(dims: int, max_items: int) -> tuple[int, ...]:
     while x * x < n:
         x *= 2
     return (x, n // x)
+
+
 HALF_BLOCK = 8  # frames per block of a still render's two half buffers (error_estimate)
 R2_FLOOR = 0.25  # error_estimate: r^2 is taken as at least R2_FLOOR * mean^2
 

@@ -18,11 +18,11 @@ import pyopencl as cl
 from .device import Device
 
 MAIN_SOURCE = "restircl.cl"
-# Denormals flushed to zero: on x86 CPUs every float op on a denormal operand takes a microcode assist (~100
-# cycles), and our records keep integers in the w lanes of float4s (light type and flags, primitive ids), which
-# the float3 arithmetic of their xyz carries along in the vector registers as denormals. Measured with PoCL 3.0
-# on this 2-core VM, many_lights 640x360, ReSTIR unbiased: 264 -> 187 ms per frame. No quantity we compute is
-# near 1e-38 (the stress suite's smallest powers and areas are 1e-6 and 1e-8); GPUs flush at full speed too.
+# Denormals flushed to zero: on x86 CPUs a float op on a denormal operand takes a microcode assist, and our records
+# keep integers in the w lanes of float4s (light type and flags, primitive ids), which the float3 arithmetic of
+# their xyz carries along in the vector registers as denormals. Measured with PoCL 3.0 on this 2-core VM,
+# many_lights 640x360, ReSTIR unbiased: 264 -> 187 ms per frame. No quantity we compute is near 1e-38 (the stress
+# suite's smallest powers and areas are 1e-6 and 1e-8); GPUs flush at full speed too.
 BASE_OPTIONS = ("-cl-std=CL1.2", "-cl-denorms-are-zero")
 FORBIDDEN_OPTIONS = ("-cl-fast-relaxed-math", "-cl-finite-math-only", "-cl-unsafe-math-optimizations")
 
