@@ -1,11 +1,13 @@
 /* Direct lighting with one light sample per pixel, without reuse: the samplers `uniform`, `light_array` and
- * `ris`, and the exhaustive `reference` (every light, one sample each). One shadow ray per light sample. */
+ * `ris` (candidates from the light array or the presampled light tiles), and the exhaustive `reference` (every
+ * light, one sample each). One shadow ray per light sample. */
 
 __kernel void shade_direct(const __global GSample* gbuf, int pixel_count,
                            const __global BVHNode* nodes, const __global Tri* tris,
                            const __global Light* lights, int light_count,
                            const __global int* slots, int slot_count, const __global float* light_pdf,
-                           int method, int candidates, uint frame, uint seed,
+                           const __global Light* tile_rec, const __global int2* tile_info, int tile_count,
+                           int tile_size, int method, int candidates, uint frame, uint seed,
                            volatile __global int* guards, __global float4* out)
 {
     int i = get_global_id(0);
@@ -18,7 +20,9 @@ __kernel void shade_direct(const __global GSample* gbuf, int pixel_count,
         if (method == METHOD_RIS) {
             Reservoir r;
             res_init(&r);
-            ris_candidates(&s, lights, slots, slot_count, light_pdf, candidates, &rng, &r, &e);
+            RisSource src = {slot_count, tile_count, tile_size, 0};
+            if (tile_count > 0) src.tile_base = light_tile_base(i, frame, seed, tile_count, tile_size);
+            ris_candidates(&s, lights, slots, light_pdf, tile_rec, tile_info, src, candidates, &rng, &r, &e);
             res_finalize(&r, r.M);
             /* W > 0: a candidate of target > 0 was picked, and e holds its evaluation */
             if (r.W > 0.0f && visible(nodes, tris, &s, &e))

@@ -1,11 +1,13 @@
-/* ReSTIR pass 2: per pixel, RIS over `candidates` light samples drawn from the light array into a reservoir
- * (ris.h); with visibility reuse, a chosen sample that is occluded gets W = 0 (its M stays). */
+/* ReSTIR pass 2: per pixel, RIS over `candidates` light samples drawn from the light array (or from the pixel's
+ * presampled light tile, light_tiles.h) into a reservoir (ris.h); with visibility reuse, a chosen sample that is
+ * occluded gets W = 0 (its M stays). */
 
 __kernel void restir_initial(const __global GSample* gbuf, int pixel_count,
                              const __global BVHNode* nodes, const __global Tri* tris,
                              const __global Light* lights, int light_count,
                              const __global int* slots, int slot_count, const __global float* light_pdf,
-                             RestirParams p, int visibility_reuse, __global Reservoir* out)
+                             const __global Light* tile_rec, const __global int2* tile_info, int tile_count,
+                             int tile_size, RestirParams p, int visibility_reuse, __global Reservoir* out)
 {
     int i = get_global_id(0);
     if (i >= pixel_count) return;
@@ -15,7 +17,9 @@ __kernel void restir_initial(const __global GSample* gbuf, int pixel_count,
     if (s.valid && light_count > 0) {
         uint rng = rng_seed((uint)i, (uint)p.frame, (uint)p.seed, 3u);
         LightEval chosen;  /* the evaluation of the picked candidate, for its shadow ray */
-        ris_candidates(&s, lights, slots, slot_count, light_pdf, p.candidates, &rng, &r, &chosen);
+        RisSource src = {slot_count, tile_count, tile_size, 0};
+        if (tile_count > 0) src.tile_base = light_tile_base(i, (uint)p.frame, (uint)p.seed, tile_count, tile_size);
+        ris_candidates(&s, lights, slots, light_pdf, tile_rec, tile_info, src, p.candidates, &rng, &r, &chosen);
         res_finalize(&r, r.M);
         /* W > 0: a candidate with target > 0 was picked, and chosen holds its evaluation */
         if (visibility_reuse && r.W > 0.0f && !visible(nodes, tris, &s, &chosen)) r.W = 0.0f;

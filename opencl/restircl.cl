@@ -7,6 +7,7 @@
 #include "camera.h"
 #include "lights.h"
 #include "light_array.h"
+#include "light_tiles.h"
 #include "reservoir.h"
 #include "shading.h"
 #include "ris.h"
@@ -14,6 +15,7 @@
 #include "restir_pairwise.h"
 
 #include "primary.cl"
+#include "light_tiles.cl"
 #include "direct.cl"
 #include "restir_initial.cl"
 #include "restir_temporal.cl"

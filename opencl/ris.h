@@ -7,39 +7,63 @@
  * the light record's type), then the evaluations. With a million lights each of those reads is a cache miss; read
  * for a whole batch first, the misses overlap instead of each waiting behind the previous candidate's evaluation
  * (1e6 point lights: ReSTIR's initial pass 91-95 -> 65-66 ms). The random numbers are drawn in the same order as
- * one candidate at a time (slot, r0, r1, resampling): the same samples. (OpenCL's prefetch() did nothing on PoCL.) */
+ * one candidate at a time (slot, r0, r1, resampling): the same samples. (OpenCL's prefetch() did nothing on PoCL.)
+ * With presampled light tiles (light_tiles.h) a candidate is an entry of the pixel's tile instead of a slot. */
 #ifndef RESTIRCL_RIS_H
 #define RESTIRCL_RIS_H
 
 #define RIS_BATCH 8
 
+/* Where the candidates come from: the light array (tile_count 0), or the presampled tile of this pixel
+ * (light_tiles.h; tile_base: its first entry). */
+typedef struct {
+    int slot_count;
+    int tile_count;
+    int tile_size;
+    int tile_base;
+} RisSource;
+
 /* Stream `candidates` light-array samples for surface s into r (not finalised). *chosen: the evaluation of the
  * candidate r holds (valid when r->light >= 0 and its target > 0), for the caller's shadow ray. */
-inline void ris_candidates(const Surface* s, const __global Light* lights, const __global int* slots, int slot_count,
-                           const __global float* light_pdf, int candidates, uint* rng, Reservoir* r,
+inline void ris_candidates(const Surface* s, const __global Light* lights, const __global int* slots,
+                           const __global float* light_pdf, const __global Light* tile_rec,
+                           const __global int2* tile_info, RisSource src, int candidates, uint* rng, Reservoir* r,
                            LightEval* chosen)
 {
     LightEval e;
+    bool tiled = src.tile_count > 0;
+    uint draw_range = (uint)(tiled ? src.tile_size : src.slot_count);
     for (int k0 = 0; k0 < candidates; k0 += RIS_BATCH) {
         int n = min(RIS_BATCH, candidates - k0);
-        int slot[RIS_BATCH], light[RIS_BATCH], type[RIS_BATCH];
+        int pick[RIS_BATCH], light[RIS_BATCH], type[RIS_BATCH];
+        const __global Light* rec[RIS_BATCH];
         float r0[RIS_BATCH], r1[RIS_BATCH], rnd[RIS_BATCH], pick_pdf[RIS_BATCH];
         for (int k = 0; k < n; ++k) {
-            slot[k] = (int)rng_below(rng, (uint)slot_count);
+            pick[k] = (int)rng_below(rng, draw_range);  /* a slot, or an entry of the tile */
             r0[k] = rng_next(rng);
             r1[k] = rng_next(rng);
             rnd[k] = rng_next(rng);
         }
-        for (int k = 0; k < n; ++k) light[k] = slots[slot[k]];
-        for (int k = 0; k < n; ++k) {
-            pick_pdf[k] = light_pdf[light[k]];
-            type[k] = light_type(&lights[light[k]]);  /* read here, so that the record's line is on its way early */
+        if (tiled) {
+            for (int k = 0; k < n; ++k) {
+                int2 info = tile_info[src.tile_base + pick[k]];
+                light[k] = info.x;
+                pick_pdf[k] = as_float(info.y);
+                rec[k] = &tile_rec[src.tile_base + pick[k]];
+            }
+        } else {
+            for (int k = 0; k < n; ++k) light[k] = slots[pick[k]];
+            for (int k = 0; k < n; ++k) {
+                pick_pdf[k] = light_pdf[light[k]];
+                rec[k] = &lights[light[k]];
+            }
         }
+        for (int k = 0; k < n; ++k) type[k] = light_type(rec[k]);  /* read here: the record's line on its way early */
         for (int k = 0; k < n; ++k) {
             float py;
-            float2 uv = light_sample_typed(&lights[light[k]], type[k], s->x, r0[k], r1[k], &py);
+            float2 uv = light_sample_typed(rec[k], type[k], s->x, r0[k], r1[k], &py);
             float pdf = pick_pdf[k] * py;
-            float t = pdf > 0.0f ? target_of(s, lights, light[k], uv.x, uv.y, &e) : 0.0f;
+            float t = pdf > 0.0f ? target_of_record(s, rec[k], uv.x, uv.y, &e) : 0.0f;
             if (res_update(r, light[k], uv.x, uv.y, t / pdf, t, rnd[k], 1.0f)) *chosen = e;
         }
     }

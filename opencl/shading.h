@@ -29,13 +29,20 @@ inline Surface surface_load(const __global GSample* g, int i)
     return s;
 }
 
-/* p-hat(y) at surface s: luminance of the unshadowed contribution f * Le * cos_x * G. Fills *e when > 0. */
-inline float target_of(const Surface* s, const __global Light* lights, int light, float u, float v, LightEval* e)
+/* p-hat(y) at surface s for light record rec: luminance of the unshadowed contribution f * Le * cos_x * G. Fills *e
+ * when > 0. */
+inline float target_of_record(const Surface* s, const __global Light* rec, float u, float v, LightEval* e)
 {
-    if (!s->valid || light < 0) return 0.0f;
-    if (!light_eval(&lights[light], u, v, s->x, s->n, e)) return 0.0f;
+    if (!s->valid) return 0.0f;
+    if (!light_eval(rec, u, v, s->x, s->n, e)) return 0.0f;
     float t = luminance(s->brdf * e->contrib);
     return (t > 0.0f && finite_f(t)) ? t : 0.0f;
+}
+
+/* target_of_record of lights[light]; 0 for light < 0 */
+inline float target_of(const Surface* s, const __global Light* lights, int light, float u, float v, LightEval* e)
+{
+    return light < 0 ? 0.0f : target_of_record(s, &lights[light], u, v, e);
 }
 
 /* Shadow ray from surface s towards the light sample in e. The origin is moved off the surface by a bound of the

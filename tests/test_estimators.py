@@ -27,10 +27,16 @@ def reference(device):
     return collect(mixed_lights_scene(W, H), Settings(method="reference", seed=101, jitter=False), FRAMES, device)
 
 
-@pytest.mark.parametrize("method", ["uniform", "light_array", "ris"])
+# "ris_tiles": RIS over candidates from presampled light tiles (light_tiles.h), small tiles so that every pixel
+# strip's candidates come from a few dozen light-array draws: correlated, but of the right marginal pdf.
+SAMPLERS = {"uniform": {}, "light_array": {}, "ris": {},
+            "ris_tiles": dict(light_tiles="on", light_tile_count=4, light_tile_size=32)}
+
+
+@pytest.mark.parametrize("method", list(SAMPLERS))
 def test_sampler_mean_equals_reference(device, reference, method):
-    samples = collect(mixed_lights_scene(W, H), Settings(method=method, candidates=4, seed=7, jitter=False), FRAMES,
-                      device)
+    s = Settings(method=method.removesuffix("_tiles"), candidates=4, seed=7, jitter=False, **SAMPLERS[method])
+    samples = collect(mixed_lights_scene(W, H), s, FRAMES, device)
     assert np.all(np.isfinite(samples))
     m, se = batch_stats(luminance(samples), BATCHES)
     mr, ser = batch_stats(luminance(reference), BATCHES)

@@ -76,6 +76,17 @@ def test_unbiased_mode_matches_reference(device, references, scene_name, config,
     assert_matches(runs, references[scene_name], f"{scene_name} {config} vis={visibility} {bias_correction}")
 
 
+def test_unbiased_mode_with_light_tiles_matches_reference(device, references):
+    """Initial candidates from presampled light tiles (light_tiles.h; small tiles: 4 x 32 draws per frame for the
+    16x12 image's 3 pixel strips), then temporal and spatial reuse: still unbiased."""
+    scene = mixed_lights_scene(W, H)
+    s = Settings(method="restir", jitter=False, taa=False, seed=8, light_tiles="on", light_tile_count=4,
+                 light_tile_size=32)
+    runs = run_means(scene, s, RUNS, FRAMES, device)
+    assert np.all(np.isfinite(runs))
+    assert_matches(runs, references["mixed_lights"], "mixed_lights light tiles")
+
+
 def test_biased_mode_darkens_by_a_bounded_amount(device, references):
     """Plain M-weighted reuse keeps neighbours' samples that are occluded here: it darkens contact shadows.
     Measured on the occluder scene (image mean): about -2% to -5%; bounded here by -15% and required to be no

@@ -71,8 +71,11 @@ def light_scaling_scene(n_lights: int, width: int, height: int, seed: int = 0, k
     """A ground with spheres and n_lights lights of strengths spanning three decades, scattered 0.3..5 m above it.
     kind "triangles": small emissive triangles (64 shared emissive materials); the total emitting area and power
     are the same at every size: the triangles' edge shrinks as 1/sqrt(n) (0.5 m at 1e2, 0.005 m at 1e6), so they
-    cover about the same fraction of the view, but they are geometry: the BVH grows with them. kind "points":
-    point lights of the same total power, which are not geometry: only the light count changes."""
+    cover about the same fraction of the view, but they are geometry: the BVH grows with them. kind "panels": the
+    same triangles lying flat in one horizontal layer at 5 m (a lit ceiling seen through from above, as lights on a
+    surface are): a ray crosses the layer once, where it crosses the cloud's 4.7 m slab through ever more of its
+    shrinking boxes. kind "points": point lights of the same total power, which are not geometry: only the light
+    count changes."""
     rng = np.random.default_rng(seed)
     gv, gt = quad(40, 40)
     parts_v, parts_t = [gv], [gt]
@@ -96,10 +99,13 @@ def light_scaling_scene(n_lights: int, width: int, height: int, seed: int = 0, k
                   for k in range(n_lights)]
         return Scene([mesh], [Material("ground", (0.6, 0.6, 0.6)), Material("spheres", (0.7, 0.5, 0.3))],
                      lights, cam, name=f"points_{n_lights}")
-    if kind != "triangles":
-        raise ValueError(f"kind must be triangles or points, got {kind!r}")
+    if kind not in ("triangles", "panels"):
+        raise ValueError(f"kind must be triangles, panels or points, got {kind!r}")
     size = 0.5 / math.sqrt(n_lights / 100.0)
     offs = rng.normal(0, size, (n_lights, 3, 3))
+    if kind == "panels":
+        centres[:, 2] = 5.0
+        offs[:, :, 2] = 0.0
     tri_v = (centres[:, None, :] + offs).reshape(-1, 3)
     parts_v.append(tri_v)
     parts_t.append(np.arange(3 * n_lights).reshape(-1, 3) + base)
@@ -117,7 +123,8 @@ def bench_lights(width: int, height: int, sizes=(100, 1000, 10_000, 100_000, 1_0
                  print_fn=print, kind: str = "triangles") -> list[tuple]:
     rows = []
     print_fn(f"ReSTIR (4 candidates, unbiased) + TAA frame time against the number of "
-             f"{dict(points='point', triangles='emissive-triangle')[kind]} lights, "
+             f"{dict(points='point', triangles='emissive-triangle', panels='flat emissive-triangle')[kind]} "
+             "lights, "
              f"{width}x{height}, camera still; lit: share of pixels showing a non-emissive surface")
     print_fn(f"  {'lights':>9} {'triangles':>10} {'lit %':>6} {'setup s':>7} {'array s':>8} {'ms/frame':>9}   stages"
              "   (setup: Renderer construction, which includes array s: lights converted and light array built)")
@@ -217,6 +224,7 @@ def main(a: argparse.Namespace) -> int:
         bench_frame(a.width, a.height, dev)
     if a.what in ("lights", "all"):
         bench_lights(a.width, a.height, device=dev)
+        bench_lights(a.width, a.height, device=dev, kind="panels")
         bench_lights(a.width, a.height, device=dev, kind="points")
     if a.what in ("taa", "all"):
         bench_taa(160, 120, device=dev, plot="taa_error.png")

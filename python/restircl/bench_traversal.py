@@ -3,7 +3,8 @@
     python -m restircl.bench_traversal [--triangles N] [--width W] [--height H] [--no-embree] [--scene S]
 
 The scene is procedural (a displaced ground grid with spheres and boxes of log-normal sizes spread over it), or
-with --scene light_cloud the emissive-triangle scene of `restircl bench lights` with N lights, seen from its camera.
+with --scene light_cloud / light_panels the emissive-triangle scenes of `restircl bench lights` (triangles scattered
+in a slab / lying flat in one layer) with N lights, seen from their camera.
 Two ray sets: camera rays (closest hit, one per pixel) and incoherent shadow rays (any hit) from the primary hit
 points towards random points in the cosine-weighted hemisphere of the surface (diffuse-like directions).
 Embree traces single rays on one thread per process: it runs in one process per core, each with its own scene,
@@ -119,13 +120,13 @@ def make_scene(triangles: int = 1_000_000, seed: int = 7):
     return tuple(np.concatenate([p[k] for p in parts]) for k in range(3))
 
 
-def light_cloud_scene(lights: int):
-    """(v0, v1, v2) of the emissive-triangle scene of `restircl bench lights` (bench.light_scaling_scene): a ground,
-    30 spheres and `lights` small triangles scattered 0.3..5 m above it, with that benchmark's camera (eye, target,
-    horizontal field of view in degrees)."""
+def light_cloud_scene(lights: int, kind: str = "triangles"):
+    """(v0, v1, v2) of the emissive-triangle scenes of `restircl bench lights` (bench.light_scaling_scene): a ground,
+    30 spheres and `lights` small triangles scattered 0.3..5 m above it (kind "triangles") or lying flat at 5 m
+    ("panels"), with that benchmark's camera (eye, target, horizontal field of view in degrees)."""
     from .bench import light_scaling_scene
 
-    scene = light_scaling_scene(lights, 64, 36, kind="triangles")
+    scene = light_scaling_scene(lights, 64, 36, kind=kind)
     mesh = scene.meshes[0]
     v = np.asarray(mesh.vertices, np.float64)
     t = np.asarray(mesh.triangles)
@@ -328,18 +329,19 @@ class EmbreeTracer:
 def run(triangles: int = 1_000_000, width: int = 640, height: int = 360, embree: bool = True,
         print_fn=print, local_size: int | None = 64, repeats: int = 3, scene: str = "mixed") -> dict:
     """Build, trace and (if embreex imports) compare with Embree; returns the figures as a dict. scene "mixed":
-    make_scene(triangles); "light_cloud": light_cloud_scene(triangles), `triangles` being the light count."""
+    make_scene(triangles); "light_cloud" / "light_panels": light_cloud_scene(triangles), `triangles` being the
+    light count."""
     from .bvh import build_bvh, make_tris
 
     res: dict = {}
     t0 = time.perf_counter()
-    if scene == "light_cloud":
-        (v0, v1, v2), view = light_cloud_scene(triangles)
+    if scene in ("light_cloud", "light_panels"):
+        (v0, v1, v2), view = light_cloud_scene(triangles, "triangles" if scene == "light_cloud" else "panels")
     elif scene == "mixed":
         v0, v1, v2 = make_scene(triangles)
         view = None
     else:
-        raise ValueError(f"scene must be mixed or light_cloud, got {scene!r}")
+        raise ValueError(f"scene must be mixed, light_cloud or light_panels, got {scene!r}")
     n = len(v0)
     res["triangles"] = n
     print_fn(f"scene: {scene}, {n} triangles ({time.perf_counter() - t0:.2f} s to generate)")
@@ -424,10 +426,10 @@ def main(argv=None) -> int:
     ap.add_argument("--local-size", type=int, default=64,
                     help="OpenCL local size; the global size is padded to a multiple (0: let the runtime choose)")
     ap.add_argument("--repeats", type=int, default=3, help="timed runs per measurement (best is kept)")
-    ap.add_argument("--scene", choices=("mixed", "light_cloud"), default="mixed",
-                    help="mixed: ground, spheres and boxes of --triangles triangles; light_cloud: the "
-                         "emissive-triangle scene of `restircl bench lights` with --triangles lights, seen from its "
-                         "camera")
+    ap.add_argument("--scene", choices=("mixed", "light_cloud", "light_panels"), default="mixed",
+                    help="mixed: ground, spheres and boxes of --triangles triangles; light_cloud / light_panels: "
+                         "the emissive-triangle scenes of `restircl bench lights` (scattered / flat) with "
+                         "--triangles lights, seen from their camera")
     args = ap.parse_args(argv)
     run(args.triangles, args.width, args.height, embree=not args.no_embree, local_size=args.local_size or None,
         repeats=args.repeats, scene=args.scene)

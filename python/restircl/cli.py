@@ -10,7 +10,7 @@ from pathlib import Path
 
 from . import scenes
 from .device import DeviceError, get_device, list_devices
-from .pipeline import BIAS_CORRECTIONS, METHODS, Renderer, Settings
+from .pipeline import BIAS_CORRECTIONS, LIGHT_TILES, LIGHT_TILES_AUTO, METHODS, Renderer, Settings
 from .program import KernelBuildError
 from .scene import Scene, SceneError
 
@@ -73,6 +73,9 @@ def add_settings_args(p: argparse.ArgumentParser, method: str = "restir") -> Non
                         "(unbiased, robust) (default: %(default)s)")
     g.add_argument("--m-cap", type=float, default=d.m_cap, help="temporal M cap, x candidates (%(default)s)")
     g.add_argument("--no-visibility-reuse", action="store_true", help="restir: no shadow ray for initial samples")
+    g.add_argument("--light-tiles", choices=LIGHT_TILES, default=d.light_tiles,
+                   help="ris, restir: draw candidates from presampled light tiles; auto: from "
+                        f"{LIGHT_TILES_AUTO} lights on (default: %(default)s)")
     g.add_argument("--no-taa", action="store_true", help="no temporal accumulation of animation frames")
     g.add_argument("--alpha-min", type=float, default=d.alpha_min, help="TAA minimum blend factor (%(default)s)")
     g.add_argument("--gamma", type=float, default=d.gamma, help="TAA variance clipping width (%(default)s)")
@@ -88,6 +91,7 @@ def settings_from_args(a: argparse.Namespace) -> Settings:
         spatial_neighbours=a.neighbours, spatial_radius=a.radius, spatial_passes=a.passes,
         bias_correction=a.bias_correction, m_cap=a.m_cap, visibility_reuse=not a.no_visibility_reuse,
         taa=not a.no_taa, alpha_min=a.alpha_min, gamma=a.gamma, seed=a.seed, specialise=not a.general,
+        light_tiles=a.light_tiles,
     ).validate()
 
 
@@ -103,6 +107,8 @@ def _render(scene: Scene, settings: Settings, frames: int, out: Path, mode: str,
           f"resolution {cam.width}x{cam.height}, method {settings.method}")
     print(f"features compiled: {', '.join(renderer.features) or 'none'} (build {renderer.build_seconds:.2f} s, "
           f"BVH {renderer.bvh_seconds:.2f} s)")
+    if renderer.will_use_light_tiles():
+        print(f"light tiles: {settings.light_tile_count} x {settings.light_tile_size} presampled lights per frame")
     out.mkdir(parents=True, exist_ok=True)
     if mode == "auto":
         mode = "still" if scene.frames == 1 else "animation"

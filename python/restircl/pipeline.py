@@ -33,6 +33,10 @@ from .program import build_program
 from .scene import Scene
 
 METHODS = ("uniform", "light_array", "ris", "restir", "reference")
+LIGHT_TILES = ("auto", "on", "off")
+#: light count from which light_tiles="auto" draws RIS candidates from presampled tiles: measured on the 2-core VM
+#: (docs/benchmarks.md), tiles cost 2 % of a ReSTIR frame at 1e4 point lights and saved 5 % at 3e4 and a quarter at 1e6
+LIGHT_TILES_AUTO = 20000
 BIAS_CORRECTIONS = ("none", "z_count", "pairwise")  # index = the kernels' BIAS_* code
 _METHOD_CODE = {"uniform": 0, "light_array": 1, "ris": 2}
 
@@ -59,6 +63,11 @@ class Settings:
     depth_tolerance: float = 0.1  # relative view-depth mismatch rejecting a neighbour / history
     normal_angle: float = 25.0  # degrees of normal mismatch rejecting a neighbour / history
     slots_per_light: float = 4.0  # light array size M = k * N
+    # RIS candidates (ris, restir) from presampled light tiles (light_tiles.h): "auto" from LIGHT_TILES_AUTO lights,
+    # where the light records no longer fit a CPU core's cache; "on"; "off" (straight from the light array)
+    light_tiles: str = "auto"
+    light_tile_count: int = 128
+    light_tile_size: int = 1024
     light_change_ratio: float = 2.0  # drop ReSTIR history when a light's power changes more than this (0: never)
     jitter: bool = True  # sub-pixel camera jitter (Halton 2, 3)
     seed: int = 0
@@ -82,7 +91,11 @@ class Settings:
             "normal_angle": 0 <= self.normal_angle <= 180,
             "slots_per_light": math.isfinite(self.slots_per_light) and self.slots_per_light >= 1,
             "light_change_ratio": self.light_change_ratio == 0 or self.light_change_ratio > 1,
+            "light_tile_count": 1 <= self.light_tile_count <= 4096,
+            "light_tile_size": 1 <= self.light_tile_size <= 65536,
         }
+        if self.light_tiles not in LIGHT_TILES:
+            raise ValueError(f"light_tiles must be one of {LIGHT_TILES}, got {self.light_tiles!r}")
         for name, ok in checks.items():
             if not ok:
                 raise ValueError(f"setting {name}={getattr(self, name)!r} is out of range")
@@ -218,6 +231,10 @@ class Renderer:
         self.cameras = [self._buf(L.CAMERA.itemsize) for _ in range(3)]  # current, previous, next
         self.vector_buf = self._buf(n * 16)
         self.motion_buf: cl.Buffer | None = None  # per-object motion rows, uploaded by _upload_scene
+        self.tile_rec: cl.Buffer | None = None  # presampled light tiles, allocated when first used
+        self.tile_info: cl.Buffer | None = None
+        self.light_tiles_used = False  # whether the last frame drew its RIS candidates from the tiles
+        self._no_buffer = self._buf(16)  # bound to the tile arguments of kernels that run without tiles
         cl.enqueue_fill_buffer(self.device.queue, self.guard_buf, np.int32(0), 0, 4 * L.GUARD_COUNT)
         self._cur = 0  # index of the current frame's G-buffer / history slot
 
@@ -290,8 +307,8 @@ class Renderer:
         t0 = time.perf_counter()
         self.program = build_program(self.device, flags)
         self.build_seconds = time.perf_counter() - t0
-        names = ["primary", "shade_direct", "shade_reference", "accumulate", "restir_initial", "restir_temporal",
-                 "restir_spatial", "restir_shade", "taa"]
+        names = ["primary", "light_tiles_fill", "shade_direct", "shade_reference", "accumulate", "restir_initial",
+                 "restir_temporal", "restir_spatial", "restir_shade", "taa"]
         self.k = {name: cl.Kernel(self.program, name) for name in names}
         self.max_local = {name: int(k.get_work_group_info(cl.kernel_work_group_info.WORK_GROUP_SIZE,
                                                           self.device.device))
@@ -337,6 +354,30 @@ class Renderer:
         local = local_size(len(size), self.max_local[name])
         padded = tuple(-(-n // m) * m for n, m in zip(size, local, strict=True))
         cl.enqueue_nd_range_kernel(self.device.queue, kernel, padded, local)
+
+    def _use_light_tiles(self, method: str, light_count: int) -> bool:
+        """RIS candidates from presampled tiles: only for the RIS-based methods, and ("auto") only where the light
+        array is too large to stay in cache (LIGHT_TILES_AUTO lights), since the tiles cost a pass per frame."""
+        mode = self.settings.light_tiles
+        if method not in ("ris", "restir") or light_count < 2 or mode == "off":
+            return False
+        return mode == "on" or light_count >= LIGHT_TILES_AUTO
+
+    def will_use_light_tiles(self) -> bool:
+        """Whether the frames of this scene and settings draw their RIS candidates from light tiles."""
+        return self._use_light_tiles(self.settings.method, len(self.lights))
+
+    def _fill_light_tiles(self) -> tuple:
+        """Draw this frame's light tiles; returns the tile arguments of the RIS kernels."""
+        s = self.settings
+        entries = s.light_tile_count * s.light_tile_size
+        if self.tile_rec is None or self.tile_rec.size < entries * L.LIGHT.itemsize:
+            self.tile_rec = self._buf(entries * L.LIGHT.itemsize)
+            self.tile_info = self._buf(entries * 8)
+        self._run("light_tiles_fill", (entries,), self.lights_buf, self.slots_buf,
+                  np.int32(self.light_array.slot_count), self.light_pdf_buf, np.int32(entries),
+                  np.uint32(self._sample), np.uint32(s.seed), self.tile_rec, self.tile_info)
+        return self.tile_rec, self.tile_info, np.int32(s.light_tile_count), np.int32(s.light_tile_size)
 
     # ---- the frame -------------------------------------------------------------------------------------
 
@@ -396,12 +437,19 @@ class Renderer:
         method = s.method
         if method == "ris" and light_count == 1:
             method = "light_array"  # RIS over one light picks that light: leave the loop out
+        # presampled light tiles (many lights): the RIS candidates of this frame come from them
+        self.light_tiles_used = self._use_light_tiles(method, light_count)
+        tiles = (self._no_buffer, self._no_buffer, np.int32(0), np.int32(0))
+        if self.light_tiles_used:
+            tiles = self._fill_light_tiles()
+            t = mark("tiles", t)
         if method == "restir":
             params = self._restir_params()
             bias = np.int32(BIAS_CORRECTIONS.index(s.bias_correction))
             vis = np.int32(s.visibility_reuse)
             # 2-3 initial reservoirs (RIS), visibility of the chosen sample
-            self._run("restir_initial", (n,), self.gbuf[cur], np.int32(n), *geo, *la, params, vis, self.res_initial)
+            self._run("restir_initial", (n,), self.gbuf[cur], np.int32(n), *geo, *la, *tiles, params, vis,
+                      self.res_initial)
             t = mark("initial", t)
             res = self.res_initial
             # 4 temporal reuse
@@ -433,9 +481,9 @@ class Renderer:
                       self.sample_buf)
             t = mark("shade", t)
         else:
-            self._run("shade_direct", (n,), self.gbuf[cur], np.int32(n), *geo, *la, np.int32(_METHOD_CODE[method]),
-                      np.int32(s.candidates), np.uint32(self._sample), np.uint32(s.seed), self.guard_buf,
-                      self.sample_buf)
+            self._run("shade_direct", (n,), self.gbuf[cur], np.int32(n), *geo, *la, *tiles,
+                      np.int32(_METHOD_CODE[method]), np.int32(s.candidates), np.uint32(self._sample),
+                      np.uint32(s.seed), self.guard_buf, self.sample_buf)
             t = mark("shade", t)
 
         # 7 temporal accumulation (animation frames only; a still render averages instead)

@@ -1,0 +1,15 @@
+/* Fill the presampled light tiles of this frame (light_tiles.h): entry k holds a light drawn from the light array,
+ * its record and its pick probability. info.x: light index; info.y: pick pdf (float bits). */
+
+__kernel void light_tiles_fill(const __global Light* lights, const __global int* slots, int slot_count,
+                               const __global float* light_pdf, int entries, uint frame, uint seed,
+                               __global Light* tile_rec, __global int2* tile_info)
+{
+    int k = get_global_id(0);
+    if (k >= entries) return;
+    uint rng = rng_seed((uint)k, frame, seed, 16u);
+    float pdf;
+    int light = light_array_pick(slots, slot_count, light_pdf, &rng, &pdf);
+    tile_rec[k] = lights[light];
+    tile_info[k] = (int2)(light, as_int(pdf));
+}
