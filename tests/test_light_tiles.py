@@ -6,7 +6,7 @@ LIGHT_TILES_AUTO lights."""
 import numpy as np
 import pyopencl as cl
 import pytest
-from restircl import Renderer, Settings, pipeline
+from restircl import Camera, Light, Material, Mesh, Renderer, Scene, Settings, look_at, pipeline, scenes, translation
 
 from .helpers import mixed_lights_scene
 from .stats import pooled_chi2
@@ -47,6 +47,33 @@ def test_tile_entries_are_light_array_draws(device):
     assert dof >= 5 and p > 1e-4, (stat, p, dof)
 
 
+def above_and_below_scene() -> Scene:
+    """A floor lit by one point light above it; a second light of the same power lies below it (no contribution)."""
+    fv, ft = scenes.quad(4, 4)
+    lights = [Light("above", "point", (1, 1, 1), 100.0, translation(0.0, 0.0, 1.0)),
+              Light("below", "point", (1, 1, 1), 100.0, translation(0.0, 0.0, -1.0))]
+    cam = Camera(look_at((0.0, -3.0, 2.0), (0.0, 0.0, 0.0)), 16, 12, lens=30.0)
+    return Scene([Mesh("floor", fv, ft, 0)], [Material("floor", (0.7, 0.7, 0.7))], lights, cam, name="above_below")
+
+
+@pytest.mark.parametrize("method", ["ris", "restir"])
+def test_candidates_come_from_the_tiles(device, method):
+    """With one tile of one entry, every candidate of a frame is that entry's light: the image is black exactly in
+    the frames whose tile holds the light below the floor. (Drawn from the light array instead, 4 candidates per
+    pixel would bring the light above into almost every pixel of every frame.)"""
+    s = Settings(method=method, candidates=4, temporal=False, spatial=False, seed=12, light_tiles="on",
+                 light_tile_count=1, light_tile_size=1)
+    r = Renderer(above_and_below_scene(), s, device)
+    seen = set()
+    for _ in range(24):
+        f = r.render_frame(0, still=True)
+        light = int(tile_contents(r)[0][0, 0])
+        seen.add(light)
+        lit = f.noisy.max() > 0
+        assert lit == (light == 0), (light, f.noisy.max())
+    assert seen == {0, 1}
+
+
 def test_auto_uses_tiles_for_ris_methods_with_many_lights(device, monkeypatch):
     scene = mixed_lights_scene(16, 12)
     for method in ("ris", "restir", "light_array", "uniform", "reference"):
@@ -68,6 +95,6 @@ def test_auto_uses_tiles_for_ris_methods_with_many_lights(device, monkeypatch):
 
 def test_tile_settings_are_checked():
     for bad in (dict(light_tiles="yes"), dict(light_tile_count=0), dict(light_tile_size=0),
-                dict(light_tile_size=1 << 20)):
+                dict(light_tile_size=1 << 20), dict(light_tile_count=4096, light_tile_size=2048)):
         with pytest.raises(ValueError):
             Settings(**bad).validate()

@@ -37,6 +37,7 @@ LIGHT_TILES = ("auto", "on", "off")
 #: light count from which light_tiles="auto" draws RIS candidates from presampled tiles: measured on the 2-core VM
 #: (docs/benchmarks.md), tiles cost 2 % of a ReSTIR frame at 1e4 point lights and saved 5 % at 3e4 and a quarter at 1e6
 LIGHT_TILES_AUTO = 20000
+MAX_LIGHT_TILE_ENTRIES = 1 << 22  # light_tile_count * light_tile_size: 72 bytes each
 BIAS_CORRECTIONS = ("none", "z_count", "pairwise")  # index = the kernels' BIAS_* code
 _METHOD_CODE = {"uniform": 0, "light_array": 1, "ris": 2}
 
@@ -99,6 +100,10 @@ class Settings:
         for name, ok in checks.items():
             if not ok:
                 raise ValueError(f"setting {name}={getattr(self, name)!r} is out of range")
+        entries = self.light_tile_count * self.light_tile_size
+        if entries > MAX_LIGHT_TILE_ENTRIES:
+            raise ValueError(f"light_tile_count * light_tile_size = {entries} light tile entries, more than "
+                             f"{MAX_LIGHT_TILE_ENTRIES} ({MAX_LIGHT_TILE_ENTRIES * 72 >> 20} MiB of tiles)")
         return self
 
     @classmethod
@@ -363,9 +368,14 @@ class Renderer:
             return False
         return mode == "on" or light_count >= LIGHT_TILES_AUTO
 
+    def _sampled_light_count(self) -> int:
+        """The number of lights the samplers draw from: 0 when no light emits (an empty light array)."""
+        return len(self.lights) if self.light_array.slot_count and len(self.light_array.slots) else 0
+
     def will_use_light_tiles(self) -> bool:
-        """Whether the frames of this scene and settings draw their RIS candidates from light tiles."""
-        return self._use_light_tiles(self.settings.method, len(self.lights))
+        """Whether the frames of this scene and settings (with its current lights) draw their RIS candidates from
+        light tiles."""
+        return self._use_light_tiles(self.settings.method, self._sampled_light_count())
 
     def _fill_light_tiles(self) -> tuple:
         """Draw this frame's light tiles; returns the tile arguments of the RIS kernels."""
@@ -430,7 +440,7 @@ class Renderer:
                   self.motion_buf, self.gbuf[cur], self.vector_buf)
         t = mark("primary", t)
 
-        light_count = len(self.lights) if self.light_array.slot_count and len(self.light_array.slots) else 0
+        light_count = self._sampled_light_count()
         la = (self.lights_buf, np.int32(light_count), self.slots_buf, np.int32(self.light_array.slot_count),
               self.light_pdf_buf)
         geo = (self.nodes_buf, self.tris_buf)
