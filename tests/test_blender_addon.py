@@ -75,9 +75,11 @@ def test_settings_reach_restircl():
     p.taa = False
     p.alpha_min = 0.25
     p.seed = 9
+    p.light_tiles = "off"
     s = engine.make_settings(restircl, p)
     assert (s.method, s.candidates, s.temporal, s.spatial_neighbours, s.spatial_radius) == ("ris", 5, False, 4, 12.0)
-    assert (s.bias_correction, s.m_cap, s.taa, s.alpha_min, s.seed) == ("none", 7.0, False, 0.25, 9)
+    assert (s.bias_correction, s.m_cap, s.taa, s.alpha_min, s.seed, s.light_tiles) == ("none", 7.0, False, 0.25, 9,
+                                                                                         "off")
     # every Blender setting is a Settings field
     from restircl_blender.properties import SETTINGS_KEYS
 
@@ -87,10 +89,12 @@ def test_settings_reach_restircl():
 def test_methods_match_renderer():
     restircl = pytest.importorskip("restircl")
     pipeline = pytest.importorskip("restircl.pipeline")
-    from restircl_blender.properties import BIAS_MODES, METHODS
+    from restircl_blender.properties import BIAS_MODES, LIGHT_TILES, METHODS
 
     assert {m[0] for m in METHODS} == set(pipeline.METHODS)
     assert {b[0] for b in BIAS_MODES} == set(pipeline.BIAS_CORRECTIONS)
+    assert {t[0] for t in LIGHT_TILES} == set(pipeline.LIGHT_TILES)
+    assert f"{pipeline.LIGHT_TILES_AUTO:,} lights" in LIGHT_TILES[0][2]  # the panel's tooltip names the threshold
     del restircl
 
 

@@ -19,11 +19,16 @@ BIAS_MODES = [
      "pixel's sample"),
     ("none", "None (biased)", "Plain M-weighted merge: faster, darkens at contact shadows"),
 ]
+LIGHT_TILES = [
+    ("auto", "Auto", "Presampled light tiles from 20,000 lights on, where the lights no longer fit the CPU cache"),
+    ("on", "On", "Draw the RIS candidates from presampled light tiles"),
+    ("off", "Off", "Draw the RIS candidates from the whole light array"),
+]
 
 # Blender's render settings -> restircl.Settings keyword arguments (property name == keyword).
 SETTINGS_KEYS = ("method", "candidates", "temporal", "spatial", "spatial_neighbours", "spatial_radius",
                  "spatial_passes", "bias_correction", "m_cap", "visibility_reuse", "taa", "alpha_min", "gamma",
-                 "seed")
+                 "seed", "light_tiles")
 
 
 class RestirclRenderSettings(bpy.types.PropertyGroup):
@@ -59,6 +64,9 @@ class RestirclRenderSettings(bpy.types.PropertyGroup):
     gamma: FloatProperty(name="Clip Gamma", default=1.0, min=0.0, soft_max=4.0, max=100.0,
                          description="Width of the TAA colour clipping box in standard deviations")
     seed: IntProperty(name="Seed", default=0, min=0, description="Random seed")
+    light_tiles: EnumProperty(name="Light Tiles", items=LIGHT_TILES, default="auto",
+                              description="RIS and ReSTIR: candidates from per-frame presampled light tiles (many "
+                                          "lights)")
     device: StringProperty(name="Device", default="",
                            description="OpenCL device: 'P:D' (platform:device index) or part of its name; "
                            "empty = $RESTIRCL_DEVICE or the default choice")

@@ -44,6 +44,7 @@ class RESTIRCL_PT_sampling(RestirclPanel, bpy.types.Panel):
         sub = layout.column()
         sub.active = props.method in ("ris", "restir")
         sub.prop(props, "candidates")
+        sub.prop(props, "light_tiles")
         layout.prop(props, "seed")
 
 
