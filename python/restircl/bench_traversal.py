@@ -327,10 +327,10 @@ class EmbreeTracer:
 
 
 def run(triangles: int = 1_000_000, width: int = 640, height: int = 360, embree: bool = True,
-        print_fn=print, local_size: int | None = 64, repeats: int = 3, scene: str = "mixed") -> dict:
+        print_fn=print, local_size: int | None = 64, repeats: int = 3, scene: str = "mixed", device=None) -> dict:
     """Build, trace and (if embreex imports) compare with Embree; returns the figures as a dict. scene "mixed":
     make_scene(triangles); "light_cloud" / "light_panels": light_cloud_scene(triangles), `triangles` being the
-    light count."""
+    light count. device: a restircl Device (default: the default choice)."""
     from .bvh import build_bvh, make_tris
 
     res: dict = {}
@@ -352,7 +352,7 @@ def run(triangles: int = 1_000_000, width: int = 640, height: int = 360, embree:
     print_fn(f"BVH build: {bvh.build_seconds:.2f} s, {bvh.node_count} nodes, {bvh.leaf_count} leaves, "
              f"depth {bvh.depth}, SAH cost {res['sah_cost']:.1f}")
 
-    ours = OpenCLTracer(bvh.nodes, tris, local_size=local_size)
+    ours = OpenCLTracer(bvh.nodes, tris, device=device, local_size=local_size)
     res["device"] = ours.dev.label
     print_fn(f"device: {ours.dev.label}; POCL_WORK_GROUP_METHOD={os.environ.get('POCL_WORK_GROUP_METHOD', '')!r}, "
              f"local size {local_size or 'None (chosen by the runtime)'}; load average {os.getloadavg()[0]:.1f}")
