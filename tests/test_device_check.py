@@ -37,9 +37,11 @@ def test_script_runs_on_the_cpu(device, tmp_path, monkeypatch):
     monkeypatch.setenv("OUT", str(tmp_path))
     spec = f"{device.info.platform_index}:{device.info.device_index}"
     assert dc.main(["--devices", f"{spec},{spec}", "--sizes", "48x27", "--image-size", "24x16", "--frames", "8",
-                    "--methods", "ris (8)", "--no-traversal"]) == 0
+                    "--methods", "ris (8)", "--triangles", "3000"]) == 0
     out = json.loads((tmp_path / "device_check.json").read_text())
     assert len(out["devices"]) == 2 and len(out["images"]) == 2 and len(out["frame_ms"]) == 2
     for c in out["images"].values():  # one device against itself: identical
         assert c["frame0_bit_identical"] == 1.0 and c["image_mean_z"] == 0
     assert all(np.isfinite(v["ms"]) for v in out["frame_ms"].values())
+    assert len(out["traversal"]) == 2
+    assert all(v["primary_mrays"] > 0 and v["shadow_mrays"] > 0 for v in out["traversal"].values())
