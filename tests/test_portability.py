@@ -20,14 +20,17 @@ def _builtin_headers() -> Path:
     pytest.skip("opencl-c-base.h not found in pocl_binary_distribution")
 
 
+def _clang_args(target: str) -> list[str]:
+    return ["-x", "cl", "-cl-std=CL1.2", f"--target={target}", "-Xclang", "-fdeclare-opencl-builtins",
+            "-Xclang", "-finclude-default-header", "-isystem", str(_builtin_headers())]
+
+
 @pytest.mark.parametrize("target", TARGETS)
 @pytest.mark.parametrize("features", ["all", "none"])
 def test_program_parses_cleanly_for_other_vendors(target, features):
     flags = dict.fromkeys(ALL_FLAGS, features == "all")
     src = opencl_dir() / MAIN_SOURCE
-    args = ["-x", "cl", "-cl-std=CL1.2", f"--target={target}", "-Xclang", "-fdeclare-opencl-builtins",
-            "-Xclang", "-finclude-default-header", "-isystem", str(_builtin_headers()), "-nogpulib",
-            f"-I{opencl_dir()}", *format_options(flags)]
+    args = [*_clang_args(target), "-nogpulib", f"-I{opencl_dir()}", *format_options(flags)]
     tu = cindex.Index.create().parse(str(src), args=args)
     diags = [f"{d.location.file}:{d.location.line}: {d.spelling}" for d in tu.diagnostics
              if d.severity >= cindex.Diagnostic.Warning]
@@ -37,8 +40,6 @@ def test_program_parses_cleanly_for_other_vendors(target, features):
 def test_the_check_sees_errors():
     """The same parse of a broken kernel reports it (so a clean result above means something)."""
     src = "__kernel void k(__global float* a) { a[0] = undefined_name; int2 v = (int2)(1.5f, 2); }"
-    args = ["-x", "cl", "-cl-std=CL1.2", f"--target={TARGETS[0]}", "-Xclang", "-fdeclare-opencl-builtins",
-            "-Xclang", "-finclude-default-header", "-isystem", str(_builtin_headers())]
-    tu = cindex.Index.create().parse("broken.cl", args=args, unsaved_files=[("broken.cl", src)])
+    tu = cindex.Index.create().parse("broken.cl", args=_clang_args(TARGETS[0]), unsaved_files=[("broken.cl", src)])
     messages = " ".join(d.spelling for d in tu.diagnostics)
     assert "undefined_name" in messages and "changes value" in messages

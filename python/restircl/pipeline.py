@@ -37,7 +37,8 @@ LIGHT_TILES = ("auto", "on", "off")
 #: light count from which light_tiles="auto" draws RIS candidates from presampled tiles: measured on the 2-core VM
 #: (docs/benchmarks.md), tiles cost 2 % of a ReSTIR frame at 1e4 point lights and saved 5 % at 3e4 and a quarter at 1e6
 LIGHT_TILES_AUTO = 20000
-MAX_LIGHT_TILE_ENTRIES = 1 << 22  # light_tile_count * light_tile_size: 72 bytes each
+TILE_INFO_BYTES = 8  # a tile entry's int2 (light index, pick pdf bits), next to its Light record
+MAX_LIGHT_TILE_ENTRIES = 1 << 22  # light_tile_count * light_tile_size
 BIAS_CORRECTIONS = ("none", "z_count", "pairwise")  # index = the kernels' BIAS_* code
 _METHOD_CODE = {"uniform": 0, "light_array": 1, "ris": 2}
 
@@ -103,7 +104,8 @@ class Settings:
         entries = self.light_tile_count * self.light_tile_size
         if entries > MAX_LIGHT_TILE_ENTRIES:
             raise ValueError(f"light_tile_count * light_tile_size = {entries} light tile entries, more than "
-                             f"{MAX_LIGHT_TILE_ENTRIES} ({MAX_LIGHT_TILE_ENTRIES * 72 >> 20} MiB of tiles)")
+                             f"{MAX_LIGHT_TILE_ENTRIES} "
+                             f"({MAX_LIGHT_TILE_ENTRIES * (L.LIGHT.itemsize + TILE_INFO_BYTES) >> 20} MiB of tiles)")
         return self
 
     @classmethod
@@ -383,7 +385,7 @@ class Renderer:
         entries = s.light_tile_count * s.light_tile_size
         if self.tile_rec is None or self.tile_rec.size < entries * L.LIGHT.itemsize:
             self.tile_rec = self._buf(entries * L.LIGHT.itemsize)
-            self.tile_info = self._buf(entries * 8)
+            self.tile_info = self._buf(entries * TILE_INFO_BYTES)
         self._run("light_tiles_fill", (entries,), self.lights_buf, self.slots_buf,
                   np.int32(self.light_array.slot_count), self.light_pdf_buf, np.int32(entries),
                   np.uint32(self._sample), np.uint32(s.seed), self.tile_rec, self.tile_info)
