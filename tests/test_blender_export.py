@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -10,7 +11,13 @@ import pytest
 bpy = pytest.importorskip("bpy")
 restircl = pytest.importorskip("restircl")
 
-from .test_blender_support import ensure_registered, scenes  # noqa: E402
+from .test_blender_support import (  # noqa: E402
+    ensure_registered,
+    needs_renderer,
+    read_exr_passes,
+    render_to,
+    scenes,
+)
 
 pytestmark = pytest.mark.blender
 
@@ -412,9 +419,102 @@ def test_world_lighting_warns():
     assert any("world" in w for w in export().warnings)
 
 
+# ---- the fingerprint the engine compares to reuse a renderer --------------------------------------------
+
+
 def test_fingerprint_tracks_changes():
     basic_scene()
     a = export().fingerprint()
     assert export().fingerprint() == a
     bpy.data.objects["Sun"].data.energy = 5.0
     assert export().fingerprint() != a
+
+
+def test_fingerprint_tracks_soft_falloff():
+    basic_scene()
+    lamp = scenes.light("POINT", "Soft", (0, 0, 1), energy=50.0, shadow_soft_size=0.3, use_soft_falloff=True)
+    a = export().fingerprint()
+    lamp.data.use_soft_falloff = False
+    assert export().fingerprint() != a
+
+
+def _every_field_scene():
+    """A Scene with one of each part and no field left at None, so that every field can be changed."""
+    mesh = restircl.Mesh(name="m", vertices=np.eye(3), triangles=np.array([[0, 1, 2]]),
+                         material_ids=np.array([0]), transforms=np.eye(4))
+    light = restircl.Light(name="l", type="point", transforms=np.eye(4), radius=0.2,
+                           power_per_frame=np.array([1.0, 0.5]))
+    cam = restircl.Camera(transforms=np.eye(4), cuts=(1,))
+    return restircl.Scene(meshes=[mesh], materials=[restircl.Material(name="a")], lights=[light], camera=cam,
+                          frame_count=2)
+
+
+def _changed(value):
+    """Some other value of the same kind."""
+    if isinstance(value, bool):
+        return not value
+    if isinstance(value, int | float):
+        return value + 1
+    if isinstance(value, str):
+        return value + "x"
+    if isinstance(value, np.ndarray):
+        return value + 1
+    if isinstance(value, list | tuple):
+        return type(value)(value[:-1]) if value else type(value)((1,))
+    return None  # a nested part (the camera) or None: changed to None / from None
+
+
+def test_fingerprint_covers_every_field():
+    from restircl_blender.export import Export
+
+    sc = _every_field_scene()
+    base = Export(scene=sc, frames=[1, 2]).fingerprint()
+    assert Export(scene=_every_field_scene(), frames=[1, 2]).fingerprint() == base
+    assert Export(scene=sc, frames=[1, 3]).fingerprint() != base
+    parts = [sc, sc.meshes[0], sc.materials[0], sc.lights[0], sc.camera]
+    assert {type(p) for p in parts} == {restircl.Scene, restircl.Mesh, restircl.Material, restircl.Light,
+                                        restircl.Camera}
+    checked = []
+    for part in parts:
+        for f in dataclasses.fields(part):
+            if not f.compare:
+                continue
+            old = getattr(part, f.name)
+            setattr(part, f.name, _changed(old))
+            try:
+                assert Export(scene=sc, frames=[1, 2]).fingerprint() != base, f"{type(part).__name__}.{f.name}"
+            finally:
+                setattr(part, f.name, old)
+            checked.append(f"{type(part).__name__}.{f.name}")
+    assert "Light.soft_falloff" in checked
+    assert Export(scene=sc, frames=[1, 2]).fingerprint() == base
+
+
+def test_fingerprint_refuses_values_without_a_stable_hash():
+    from restircl_blender.export import Export
+
+    sc = _every_field_scene()
+    sc.lights[0].name = object()  # its repr holds an address: equal scenes would never match
+    with pytest.raises(TypeError, match=r"lights\[0\]\.name"):
+        Export(scene=sc, frames=[1]).fingerprint()
+
+
+@needs_renderer
+def test_soft_falloff_toggle_between_renders_rebuilds_the_renderer(tmp_path):
+    from restircl_blender import engine
+
+    sc = scenes.new_scene(24, 16, engine="RESTIRCL")
+    scenes.quad("Floor", 6.0, 6.0, scenes.diffuse_material("Floor", (0.8, 0.8, 0.8)))
+    lamp = scenes.light("POINT", "Near", (0, 0, 0.4), energy=40.0, shadow_soft_size=0.3, use_soft_falloff=True)
+    scenes.camera((0, -3, 2), (0, 0, 0))
+    sc.restircl.method = "reference"
+    sc.restircl.samples = 1
+    key = (sc.name, sc.view_layers[0].name)
+    render_to(sc, tmp_path / "soft.exr")
+    first = engine._SESSIONS[key].renderer
+    lamp.data.use_soft_falloff = False
+    render_to(sc, tmp_path / "hard.exr")
+    assert engine._SESSIONS[key].renderer is not first
+    soft = read_exr_passes(tmp_path / "soft.exr")["Combined"][..., :3]
+    hard = read_exr_passes(tmp_path / "hard.exr")["Combined"][..., :3]
+    assert not np.allclose(soft, hard, rtol=1e-3)

@@ -8,7 +8,7 @@ as a plain package in any bpy process:
     restircl_blender.register()
     bpy.context.scene.render.engine = "RESTIRCL"
 
-The engine class is thin; the work is in engine.py (render), export.py (depsgraph -> restircl.Scene),
+The engine class is thin; the work is in engine.py (render), export/ (depsgraph -> restircl.Scene),
 properties.py (settings) and ui.py (panels).
 """
 

@@ -1,0 +1,83 @@
+"""The Blender camera -> restircl.Camera: a perspective projection with Blender's sensor fit and shift, its
+motion per sampled frame, and cuts where timeline markers switch to another camera."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from .convert import matrix
+from .motion import Frames, fill_gaps, transforms
+from .report import ExportError
+
+
+def render_resolution(scene) -> tuple[int, int]:
+    r = scene.render
+    return (max(1, int(r.resolution_x * r.resolution_percentage / 100)),
+            max(1, int(r.resolution_y * r.resolution_percentage / 100)))
+
+
+class CameraReader:
+    """The render camera at the current frame (`read`), then at the other frames (`sample`). `override` (an
+    evaluated camera object) replaces the scene camera at every frame."""
+
+    def __init__(self, frames: Frames, override=None):
+        self.frames = frames
+        self.override = override
+        self._params: dict = {}
+        self._track: list = []  # camera-to-world matrix per sampled frame
+        self._names: list = []  # the camera object seen at each sampled frame
+
+    def read(self, scene, warn: Callable[[str], None]) -> None:
+        cam_obj = self.override if self.override is not None else scene.camera
+        if cam_obj is None:
+            raise ExportError("the scene has no camera; add one and make it the active camera")
+        self._params = _camera_params(cam_obj, scene, warn)
+        self._track = self.frames.track(_orthonormal(matrix(cam_obj.matrix_world)))
+        self._names = self.frames.track(cam_obj.name)
+
+    def sample(self, scene, k: int) -> None:
+        cam = self.override if self.override is not None else scene.camera
+        if cam is not None:
+            self._track[k] = _orthonormal(matrix(cam.matrix_world))
+            self._names[k] = cam.name
+
+    def build(self):
+        import restircl
+
+        fill_gaps(self._track)
+        fill_gaps(self._names)
+        cuts = tuple(i for i in range(1, self.frames.count) if self._names[i] != self._names[i - 1])
+        return restircl.Camera(transforms=transforms(self._track), cuts=cuts, **self._params)
+
+
+def _orthonormal(m: np.ndarray) -> np.ndarray:
+    """Drop scale (and shear) from an object matrix, keeping its rotation, mirroring and position."""
+    out = np.array(m, dtype=np.float64)
+    for i in range(3):
+        n = np.linalg.norm(out[:3, i])
+        if n > 0 and np.isfinite(n):
+            out[:3, i] /= n
+    return out
+
+
+def _camera_params(cam_obj, scene, warn: Callable[[str], None]) -> dict:
+    cd = cam_obj.data
+    if cd.type == "ORTHO":
+        raise ExportError(f"camera {cam_obj.name!r}: orthographic cameras are not supported; "
+                          "use a perspective camera")
+    if cd.type != "PERSP":
+        kind = {"PANO": "panoramic"}.get(cd.type, cd.type.lower())
+        raise ExportError(f"camera {cam_obj.name!r}: {kind} cameras are not supported; use a perspective camera")
+    w, h = render_resolution(scene)
+    r = scene.render
+    if abs(r.pixel_aspect_x - r.pixel_aspect_y) > 1e-6:
+        warn("non-square pixel aspect is rendered with square pixels")
+    if getattr(cd, "dof", None) is not None and cd.dof.use_dof:
+        warn(f"camera {cam_obj.name!r}: depth of field is not rendered")
+    return {
+        "width": w, "height": h, "lens": float(cd.lens), "sensor_width": float(cd.sensor_width),
+        "sensor_height": float(cd.sensor_height), "sensor_fit": cd.sensor_fit,
+        "shift_x": float(cd.shift_x), "shift_y": float(cd.shift_y),
+    }

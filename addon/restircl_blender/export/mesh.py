@@ -1,0 +1,141 @@
+"""Blender geometry -> restircl.Mesh: meshes with modifiers applied (and curves, text, metaballs through
+`to_mesh`), collection and geometry-nodes instances (geometry read once per mesh datablock, one transform per
+instance), and the probes that tell whether an object deforms during an animation."""
+
+from __future__ import annotations
+
+import hashlib
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from .convert import matrix
+from .motion import Frames, fill_gaps, instance_key, transforms
+
+GEOMETRY_TYPES = {"MESH", "CURVE", "CURVES", "SURFACE", "META", "FONT", "POINTCLOUD"}
+
+
+@dataclass
+class _Geometry:
+    vertices: np.ndarray
+    triangles: np.ndarray
+    slot_ids: np.ndarray  # material slot per triangle
+    materials: list  # Blender materials by slot
+
+
+@dataclass
+class _Record:
+    name: str
+    vertices: np.ndarray
+    triangles: np.ndarray
+    material_ids: np.ndarray
+    track: list  # object-to-world matrix per sampled frame
+
+
+class MeshReader:
+    """The meshes of the current frame (`read`), then their matrices at the other frames (`sample`)."""
+
+    def __init__(self, frames: Frames, material_id: Callable[[object], int]):
+        self.frames = frames
+        self._material_id = material_id
+        self._geometry: dict[int, _Geometry | None] = {}
+        self._records: list[_Record] = []
+        self._by_key: dict[tuple, int] = {}
+        self._probes: dict[str, tuple[int, bytes]] = {}  # object -> (vertex count, digest) at the current frame
+        self.deforming: list[str] = []  # objects whose geometry changes between frames
+        self.instances = 0
+
+    def read(self, inst) -> None:
+        ob = inst.object
+        data = ob.data
+        gkey = data.as_pointer() if data is not None and ob.type == "MESH" else ob.as_pointer()
+        if gkey not in self._geometry or ob.type != "MESH":  # evaluated non-meshes are not shared
+            self._geometry[gkey] = _read_geometry(ob)
+        geo = self._geometry[gkey]
+        if geo is None or len(geo.triangles) == 0:
+            return
+        n_slots = len(geo.materials)
+        ids = np.array([self._material_id(geo.materials[s] if n_slots and s < n_slots else None)
+                        for s in range(max(n_slots, 1))], dtype=np.int64)
+        tri_ids = ids[np.clip(geo.slot_ids, 0, len(ids) - 1)]
+        if not inst.is_instance and _may_deform(ob):
+            self._probes[ob.name] = (len(geo.vertices), _digest(geo.vertices))
+        self._by_key[instance_key(inst)] = len(self._records)
+        self._records.append(_Record(ob.name, geo.vertices, geo.triangles, tri_ids,
+                                     self.frames.track(matrix(inst.matrix_world))))
+        self.instances += int(inst.is_instance)
+
+    def sample(self, inst, k: int) -> None:
+        """The instance's matrix at frame index k; instances that appear only after the current frame are not
+        exported (their geometry was never read)."""
+        i = self._by_key.get(instance_key(inst))
+        if i is None:
+            return
+        ob = inst.object
+        self._records[i].track[k] = matrix(inst.matrix_world)
+        probe = self._probes.get(ob.name)
+        if probe is not None and ob.name not in self.deforming and _deformed(ob, probe):
+            self.deforming.append(ob.name)
+
+    @property
+    def count(self) -> int:
+        return len(self._records)
+
+    def build(self) -> list:
+        import restircl
+
+        for r in self._records:
+            fill_gaps(r.track)
+        return [restircl.Mesh(name=r.name, vertices=r.vertices, triangles=r.triangles, material_ids=r.material_ids,
+                              transforms=transforms(r.track)) for r in self._records]
+
+
+def _read_geometry(ob) -> _Geometry | None:
+    try:
+        me = ob.to_mesh()
+    except RuntimeError:
+        return None
+    if me is None:
+        return None
+    try:
+        me.calc_loop_triangles()
+        nv, nt = len(me.vertices), len(me.loop_triangles)
+        verts = np.empty(nv * 3, dtype=np.float32)
+        me.vertices.foreach_get("co", verts)
+        tris = np.empty(nt * 3, dtype=np.int32)
+        me.loop_triangles.foreach_get("vertices", tris)
+        slots = np.empty(nt, dtype=np.int32)
+        me.loop_triangles.foreach_get("material_index", slots)
+        if len(ob.material_slots):
+            mats = [s.material for s in ob.material_slots]
+        else:
+            mats = list(me.materials)
+    finally:
+        ob.to_mesh_clear()
+    return _Geometry(verts.reshape(-1, 3).astype(np.float64), tris.reshape(-1, 3).astype(np.int64),
+                     slots.astype(np.int64), mats)
+
+
+def _digest(arr: np.ndarray) -> bytes:
+    return hashlib.blake2b(np.ascontiguousarray(arr, dtype=np.float32).tobytes(), digest_size=16).digest()
+
+
+def _may_deform(ob) -> bool:
+    orig = ob.original if ob.original is not None else ob
+    if ob.type != "MESH":
+        return True
+    if len(orig.modifiers):
+        return True
+    keys = getattr(orig.data, "shape_keys", None)
+    if keys is not None:
+        return True
+    ad = getattr(orig.data, "animation_data", None)
+    return ad is not None and (ad.action is not None or len(ad.drivers) > 0)
+
+
+def _deformed(ob, probe: tuple[int, bytes]) -> bool:
+    geo = _read_geometry(ob)
+    if geo is None:
+        return probe[0] != 0
+    return len(geo.vertices) != probe[0] or _digest(geo.vertices) != probe[1]

@@ -1,0 +1,92 @@
+"""The export of one evaluated depsgraph: Export, and export_scene calling the reader of each data-block type."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+from .camera import CameraReader
+from .fingerprint import fingerprint
+from .light import LightReader
+from .material import MaterialTable
+from .mesh import GEOMETRY_TYPES, MeshReader
+from .motion import Frames
+from .report import Warnings
+from .world import world_warning
+
+
+@dataclass
+class Export:
+    scene: object  # restircl.Scene
+    frames: list[int]  # Blender frame number of each scene frame index
+    warnings: list[str] = field(default_factory=list)
+    stats: dict = field(default_factory=dict)
+    deforming: list[str] = field(default_factory=list)  # objects whose geometry changes between frames
+
+    def index_of(self, frame: int) -> int:
+        """Scene frame index of a Blender frame (the last sampled frame at or before it)."""
+        best = 0
+        for i, f in enumerate(self.frames):
+            if f <= frame:
+                best = i
+        return best
+
+    def fingerprint(self) -> str:
+        """A hash of everything exported: equal fingerprints mean an identical scene."""
+        return fingerprint(scene=self.scene, frames=self.frames)
+
+
+def export_scene(depsgraph, frames: Sequence[int] | None = None,
+                 frame_set: Callable[[int], None] | None = None, camera=None) -> Export:
+    """Export the evaluated scene.
+
+    `frames` are the Blender frame numbers to sample motion at (default: only the current frame); it must
+    contain the current frame, where the geometry is read. `frame_set(frame)` moves the depsgraph to a frame
+    (RenderEngine.frame_set or Scene.frame_set); the depsgraph is moved back to the current frame at the end.
+    `camera` overrides the scene camera (an evaluated camera object)."""
+    import restircl
+
+    scene = depsgraph.scene
+    sampled = Frames.choose(frames, int(scene.frame_current), frame_set is not None)
+    warnings = Warnings()
+    materials = MaterialTable(warnings.add)
+    meshes = MeshReader(sampled, materials.id_of)
+    lights = LightReader(sampled, warnings.add)
+    cameras = CameraReader(sampled, camera)
+
+    readers: dict[str, MeshReader | LightReader] = {kind: meshes for kind in GEOMETRY_TYPES}
+    readers["LIGHT"] = lights
+    for inst in depsgraph.object_instances:  # the current frame: geometry, materials, lights, camera
+        reader = readers.get(inst.object.type)
+        if reader is not None:
+            reader.read(inst)
+    cameras.read(scene, warnings.add)
+
+    def other_frame(k: int) -> None:  # motion (and light power) only
+        for inst in depsgraph.object_instances:
+            reader = readers.get(inst.object.type)
+            if reader is not None:
+                reader.sample(inst, k)
+        cameras.sample(depsgraph.scene, k)
+
+    sampled.visit_others(frame_set, other_frame)
+
+    sc = restircl.Scene(name=scene.name, frame_count=sampled.count)
+    sc.materials = materials.materials
+    sc.meshes = meshes.build()
+    sc.lights = lights.build()
+    if meshes.deforming:
+        warnings.add(f"object(s) {', '.join(repr(n) for n in meshes.deforming[:5])} deform during the animation: "
+                     "the geometry is exported again each frame and the reuse history starts over")
+    sc.camera = cameras.build()
+    world_warning(scene, warnings.add)
+    stats = {
+        "objects": meshes.count, "instances": meshes.instances, "triangles": sc.triangle_count,
+        "lights": len(sc.lights), "materials": len(sc.materials), "emissive_materials": materials.emissive_count,
+    }
+    if not sc.meshes and not sc.lights:
+        warnings.add("the scene is empty: nothing to render")
+    elif not sc.lights and not stats["emissive_materials"]:
+        warnings.add("the scene has no lights and no emissive materials: the image is black")
+    return Export(scene=sc, frames=sampled.numbers, warnings=list(warnings), stats=stats,
+                  deforming=meshes.deforming)
