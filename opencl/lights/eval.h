@@ -24,14 +24,24 @@ inline float max_abs3(float3 v) { return fmax_f(abs_f(v.x), fmax_f(abs_f(v.y), a
 
 inline float luminance(float3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 
+/* The unit direction *wi from x towards the light point y, the distance *dist and its square *d2; false when y is
+ * too close to x for a direction. */
+inline bool towards(float3 y, float3 x, float3* wi, float* dist, float* d2)
+{
+    float3 d = y - x;
+    *d2 = dot3(d, d);
+    if (!(*d2 > 1e-30f)) return false;
+    *dist = sqrt(*d2);
+    *wi = d / *dist;
+    return true;
+}
+
 /* Contribution of an emitter point y with normal ny (area measure) seen from x with normal n. */
 inline bool area_contrib(float3 y, float3 ny, float3 Le, bool two_sided, float3 x, float3 n, LightEval* e)
 {
-    float3 d = y - x;
-    float d2 = dot3(d, d);
-    if (!(d2 > 1e-30f)) return false;
-    float dist = sqrt(d2);
-    float3 wi = d / dist;
+    float3 wi;
+    float dist, d2;
+    if (!towards(y, x, &wi, &dist, &d2)) return false;
     float cos_x = dot3(n, wi);
     float cos_l = -dot3(ny, wi);
     if (two_sided) { if (cos_l < 0.0f) { cos_l = -cos_l; ny = -ny; } }

@@ -45,11 +45,9 @@ inline bool sphere_emit(SphereLight sp, float3 Le, float mask, float u, float v,
         float3 ny = sphere_dir(u, v);
         return area_contrib(c + r * ny, ny, Le * mask, false, x, n, e);
     }
-    float3 d = c - x;
-    float d2 = dot3(d, d);
-    if (!(d2 > 1e-30f)) return false;
-    float dist = sqrt(d2);
-    float3 wi = d / dist;
+    float3 wi;
+    float dist, d2;
+    if (!towards(c, x, &wi, &dist, &d2)) return false;
     float cos_x = dot3(n, wi);
     if (!(cos_x > 0.0f)) return false;
     e->contrib = Le * (mask * cos_x / d2);
