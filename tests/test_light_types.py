@@ -112,3 +112,19 @@ def test_dispatch_compiles_each_type_behind_its_flag(device):
         assert general[:, mine, 0, 3].any(), t.name  # the type lights some point
         assert np.array_equal(one[:, mine].view(np.uint32), general[:, mine].view(np.uint32)), t.name
         assert not one[:, ~mine, 0, 2:].any(), t.name  # pdf 0, no contribution
+
+
+@pytest.mark.parametrize("name", [t.name for t in TYPES])
+def test_each_type_header_builds_alone(device, name):
+    """A type's header is all a kernel needs to use that type (what a new type's author starts from)."""
+    src = f"""
+#include "lights/{name}.h"
+__kernel void one(const __global Light* l, __global float4* out)
+{{
+    float pdf;
+    float2 uv = {name}_sample(l, (float3)(0.0f), 0.5f, 0.5f, &pdf);
+    LightEval e;
+    out[0] = (float4)(uv, pdf, {name}_eval(l, uv.x, uv.y, (float3)(0.0f), (float3)(0.0f, 0.0f, 1.0f), &e));
+}}
+"""
+    assert build_program(device, {}, source=src).one is not None
