@@ -7,9 +7,9 @@ setup(
     version="0.1.0",
     description="Many-light direct lighting with ReSTIR DI and TAA, in OpenCL C on PoCL or any OpenCL GPU",
     python_requires=">=3.11",
-    packages=["restircl", "restircl.opencl"],
+    packages=["restircl", "restircl.lights", "restircl.opencl"],
     package_dir={"restircl": "python/restircl", "restircl.opencl": "opencl"},
-    package_data={"restircl.opencl": ["*.h", "*.cl"]},
+    package_data={"restircl.opencl": ["*.h", "*.cl", "lights/*.h"]},
     install_requires=["numpy>=1.24", "pyopencl>=2024.1", "openexr>=3.3", "pillow>=10"],
     extras_require={
         "pocl": ["pyopencl[pocl]>=2024.1"],

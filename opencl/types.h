@@ -35,23 +35,14 @@ typedef struct {
     float4 emission;   /* rgb: emitted radiance (colour * strength); w: 1 if emissive */
 } Material;            /* 32 bytes */
 
-#define LIGHT_TRIANGLE 0  /* p: v0, a: e1, b: e2 (b.w area); two-sided if flags & 1 */
-#define LIGHT_QUAD     1  /* p: corner, a: edge u, b: edge v (b.w area); emits along cross(a, b) */
-#define LIGHT_DISK     2  /* p: centre, a: semi-axis u, b: semi-axis v (b.w area); emits along cross(a, b) */
-#define LIGHT_SPHERE   3  /* p: centre, a.w: radius (0 = point); L: radiance (radius > 0) or intensity */
-#define LIGHT_SPOT     4  /* as SPHERE, a.xyz: unit axis; b.x: cos half-angle, b.y: (1 - b.x) * blend */
-#define LIGHT_SUN      5  /* a.xyz: unit direction towards the sun; b.x: cos, b.y: 1 - cos half-angle; L: radiance */
-#define LIGHT_TYPES    6
-
-#define LIGHT_FLAG_TWO_SIDED 1     /* triangle: emits on both sides */
-#define LIGHT_FLAG_SOFT_FALLOFF 2  /* sphere, spot of radius > 0: a disk facing the shading point (Blender's default) */
-
-/* One packed 64-byte record per light: a candidate costs one cache line, even with 1e6 lights. */
+/* One packed 64-byte record per light: a candidate costs one cache line, even with 1e6 lights. Every type keeps
+ * its code in p.w, its radiance (intensity for points) in L.xyz and its flags in L.w (lights/record.h); what the
+ * other lanes hold is the type's: see its decode step in lights/<type>.h. */
 typedef struct {
-    float4 p;    /* xyz: position / corner / centre / v0;  w: type (int bits) */
-    float4 a;    /* xyz: see LIGHT_*;                     w: radius (sphere, spot) */
-    float4 b;    /* xyz: see LIGHT_*;                     w: area (triangle, quad, disk) */
-    float4 L;    /* rgb: radiance or intensity (see LIGHT_*); w: flags (int bits) */
+    float4 p;    /* xyz: per type;  w: type (int bits) */
+    float4 a;    /* per type */
+    float4 b;    /* per type */
+    float4 L;    /* rgb: radiance or intensity; w: flags (int bits) */
 } Light;         /* 64 bytes */
 
 /* ---- camera ----------------------------------------------------------------------------------- */

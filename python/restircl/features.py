@@ -4,16 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-from . import layouts as L
+from .lights import FEATURE_FLAGS
 
-LIGHT_FLAGS = {
-    L.LIGHT_TRIANGLE: "HAS_TRIANGLE_LIGHTS",
-    L.LIGHT_QUAD: "HAS_QUAD_LIGHTS",
-    L.LIGHT_DISK: "HAS_DISK_LIGHTS",
-    L.LIGHT_SPHERE: "HAS_SPHERE_LIGHTS",
-    L.LIGHT_SPOT: "HAS_SPOT_LIGHTS",
-    L.LIGHT_SUN: "HAS_SUN_LIGHTS",
-}
+LIGHT_FLAGS = FEATURE_FLAGS  # light type code -> HAS_<TYPE>_LIGHTS, from each type's entry (restircl.lights)
 ALL_FLAGS = (*LIGHT_FLAGS.values(), "HAS_MOTION", "HAS_MOVING_OBJECTS")
 
 

@@ -84,9 +84,6 @@ STRUCTS: dict[str, np.dtype] = {
 }
 
 # Constants from types.h that the host needs.
-LIGHT_TRIANGLE, LIGHT_QUAD, LIGHT_DISK, LIGHT_SPHERE, LIGHT_SPOT, LIGHT_SUN = range(6)
-LIGHT_FLAG_TWO_SIDED = 1
-LIGHT_FLAG_SOFT_FALLOFF = 2
 GUARD_NONFINITE_SAMPLE, GUARD_NONFINITE_HISTORY, GUARD_NONFINITE_RESERVOIR = range(3)
 GUARD_COUNT = 4
 GUARD_NAMES = ("nonfinite_sample", "nonfinite_history", "nonfinite_reservoir", "unused")
@@ -100,3 +97,16 @@ def int_bits(values: np.ndarray) -> np.ndarray:
 def float_bits_to_int(values: np.ndarray) -> np.ndarray:
     """Inverse of int_bits."""
     return np.ascontiguousarray(values, dtype=np.float32).view(np.int32)
+
+
+# The light type codes and flags live with their types (restircl.lights, one module per type); these names stay for
+# the modules that read them from here. Imported last: restircl.lights packs into LIGHT, defined above.
+from .lights import record as _record  # noqa: E402
+from .lights import registry as _registry  # noqa: E402
+from .lights import sphere as _sphere  # noqa: E402
+
+_CODES = {t.name: t.code for t in _registry.TYPES}
+LIGHT_TRIANGLE, LIGHT_QUAD, LIGHT_DISK = _CODES["triangle"], _CODES["quad"], _CODES["disk"]
+LIGHT_SPHERE, LIGHT_SPOT, LIGHT_SUN = _CODES["sphere"], _CODES["spot"], _CODES["sun"]
+LIGHT_FLAG_TWO_SIDED = _record.FLAG_TWO_SIDED
+LIGHT_FLAG_SOFT_FALLOFF = _sphere.FLAG_SOFT_FALLOFF

@@ -1,0 +1,37 @@
+/* The record lanes of the planar emitters (triangle, quad, disk): a point and two vectors that span the shape, its
+ * area, and uniform sampling in area; each type maps (u, v) to its shape. */
+#ifndef RESTIRCL_LIGHTS_PLANAR_H
+#define RESTIRCL_LIGHTS_PLANAR_H
+
+#include "lights/eval.h"
+#include "lights/record.h"
+
+typedef struct {
+    float3 origin;   /* p.xyz: triangle v0, quad corner, disk centre */
+    float3 span_u;   /* a.xyz: triangle v1 - v0, quad edge, disk semi-axis */
+    float3 span_v;   /* b.xyz: triangle v2 - v0, quad edge, disk semi-axis */
+    float area;      /* b.w */
+} PlanarLight;
+
+inline PlanarLight planar_light(const __global Light* l)
+{
+    PlanarLight pl = {l->p.xyz, l->a.xyz, l->b.xyz, l->b.w};
+    return pl;
+}
+
+/* The emitting side: along cross(span_u, span_v), and the other side too where the record is two-sided. */
+inline float3 planar_normal(PlanarLight pl) { return norm3(cross3(pl.span_u, pl.span_v)); }
+
+/* Point y of a planar light l: its contribution at x with normal n. */
+inline bool planar_contrib(const __global Light* l, PlanarLight pl, float3 y, float3 x, float3 n, LightEval* e)
+{
+    return area_contrib(y, planar_normal(pl), light_radiance(l), light_two_sided(l), x, n, e);
+}
+
+inline float2 planar_sample(const __global Light* l, float r0, float r1, float* pdf)
+{
+    *pdf = 1.0f / planar_light(l).area;
+    return (float2)(r0, r1);
+}
+
+#endif

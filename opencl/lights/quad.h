@@ -1,0 +1,22 @@
+/* Quad lights (Blender's square and rectangle area lights): a parallelogram sampled uniformly in area. Lanes:
+ * planar.h, origin a corner, spans the two edges from it. */
+#ifndef RESTIRCL_LIGHTS_QUAD_H
+#define RESTIRCL_LIGHTS_QUAD_H
+
+#include "lights/planar.h"
+
+#define LIGHT_QUAD 1
+
+inline bool quad_eval(const __global Light* l, float u, float v, float3 x, float3 n, LightEval* e)
+{
+    PlanarLight pl = planar_light(l);
+    float3 corner = pl.origin, edge_u = pl.span_u, edge_v = pl.span_v;
+    return planar_contrib(l, pl, corner + u * edge_u + v * edge_v, x, n, e);
+}
+
+inline float2 quad_sample(const __global Light* l, float3 x, float r0, float r1, float* pdf)
+{
+    return planar_sample(l, r0, r1, pdf);
+}
+
+#endif

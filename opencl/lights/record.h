@@ -1,0 +1,20 @@
+/* The lanes of the 64-byte Light record (types.h) that every light type reads the same way: the type code in p.w,
+ * the emitted radiance (or intensity, for points) in L.xyz and the flag bits in L.w. What the other lanes mean
+ * depends on the type: each lights/<type>.h decodes them into named fields. */
+#ifndef RESTIRCL_LIGHTS_RECORD_H
+#define RESTIRCL_LIGHTS_RECORD_H
+
+#include "types.h"
+
+/* Any area emitter (triangle, quad, disk) emits on both sides; the host sets it for emissive triangles. */
+#define LIGHT_FLAG_TWO_SIDED 1
+
+inline int light_type(const __global Light* l) { return as_int(l->p.w); }
+
+inline float3 light_radiance(const __global Light* l) { return l->L.xyz; }
+
+inline int light_flags(const __global Light* l) { return as_int(l->L.w); }
+
+inline bool light_two_sided(const __global Light* l) { return (light_flags(l) & LIGHT_FLAG_TWO_SIDED) != 0; }
+
+#endif

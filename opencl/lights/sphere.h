@@ -1,0 +1,106 @@
+/* Sphere lights (Blender's point light): radius 0 is a point, a delta in position, and L holds its intensity;
+ * otherwise L is the radiance of the sphere's surface. Blender's default soft falloff maps (u, v) to a disk of the
+ * sphere's radius facing the shading point: its measure is the disk's area, the same for every pixel, so reuse
+ * across pixels stays valid (the point moves with the pixel, the measure does not). Without it the sphere is
+ * sampled in the cone it subtends, seen from outside. */
+#ifndef RESTIRCL_LIGHTS_SPHERE_H
+#define RESTIRCL_LIGHTS_SPHERE_H
+
+#include "lights/eval.h"
+#include "lights/record.h"
+#include "lights/warps.h"
+
+#define LIGHT_SPHERE 3
+
+#define LIGHT_FLAG_SOFT_FALLOFF 2  /* radius > 0: a disk facing the shading point (Blender's default) */
+
+typedef struct {
+    float3 centre;       /* p.xyz */
+    float radius;        /* a.w; 0: a point */
+    bool soft_falloff;   /* flags & LIGHT_FLAG_SOFT_FALLOFF */
+} SphereLight;
+
+inline SphereLight sphere_light(const __global Light* l)
+{
+    SphereLight s = {l->p.xyz, l->a.w, (light_flags(l) & LIGHT_FLAG_SOFT_FALLOFF) != 0};
+    return s;
+}
+
+/* Sample (u, v) of sphere sp emitting Le, times mask: a spot's cone (spot.h), 1 for a sphere. */
+inline bool sphere_emit(SphereLight sp, float3 Le, float mask, float u, float v, float3 x, float3 n, LightEval* e)
+{
+    float3 c = sp.centre;
+    float r = sp.radius;
+    if (r > 0.0f && sp.soft_falloff) {
+        float3 w = c - x;
+        float dc = len3(w);
+        if (!(dc > 0.0f)) return false;
+        w /= dc;
+        float3 s, t;
+        light_onb(w, &s, &t);
+        float2 q = concentric_disk(u, v);
+        return area_contrib(c + r * (q.x * s + q.y * t), -w, Le * mask, false, x, n, e);
+    }
+    if (r > 0.0f) {
+        float3 ny = sphere_dir(u, v);
+        return area_contrib(c + r * ny, ny, Le * mask, false, x, n, e);
+    }
+    float3 wi;
+    float dist, d2;
+    if (!towards(c, x, &wi, &dist, &d2)) return false;
+    float cos_x = dot3(n, wi);
+    if (!(cos_x > 0.0f)) return false;
+    e->contrib = Le * (mask * cos_x / d2);
+    e->wi = wi;
+    e->pos = c;
+    e->nl = -wi;
+    e->dist = dist;
+    return true;
+}
+
+inline bool sphere_eval(const __global Light* l, float u, float v, float3 x, float3 n, LightEval* e)
+{
+    return sphere_emit(sphere_light(l), light_radiance(l), 1.0f, u, v, x, n, e);
+}
+
+/* Uniform in (u, v) for points, soft-falloff disks and shading points inside the sphere; from outside, uniform in
+ * the solid angle of the visible cap, with *pdf converted to the sphere's area measure. */
+inline float2 sphere_sample(const __global Light* l, float3 x, float r0, float r1, float* pdf)
+{
+    SphereLight sp = sphere_light(l);
+    float r = sp.radius;
+    if (!(r > 0.0f)) { *pdf = 1.0f; return (float2)(r0, r1); }
+    if (sp.soft_falloff) { *pdf = 1.0f / (RESTIRCL_PI * r * r); return (float2)(r0, r1); }
+    float3 d = sp.centre - x;
+    float dc2 = dot3(d, d);
+    float r2 = r * r;
+    if (dc2 <= r2 * 1.0001f) {  /* inside or touching: uniform over the sphere's area */
+        *pdf = 1.0f / (4.0f * RESTIRCL_PI * r2);
+        return (float2)(r0, r1);
+    }
+    float dc = sqrt(dc2);
+    float3 wc = d / dc;
+    float sin2max = r2 / dc2;
+    float cosmax = sqrt(fmax_f(0.0f, 1.0f - sin2max));
+    float omc = sin2max / (1.0f + cosmax);
+    float omc_t = r0 * omc;
+    float sin2_t = omc_t * (2.0f - omc_t);
+    float cos_t = 1.0f - omc_t;
+    float rho = fmin_f(sin2_t / sin2max, 1.0f);
+    float cos_a = rho * sqrt(sin2max) + cos_t * sqrt(fmax_f(0.0f, 1.0f - rho));
+    float sin_a = sqrt(fmax_f(0.0f, 1.0f - cos_a * cos_a));
+    float phi = 2.0f * RESTIRCL_PI * r1;
+    float3 s, t;
+    light_onb(wc, &s, &t);
+    float3 ny = -(sin_a * cos(phi) * s + sin_a * sin(phi) * t + cos_a * wc);
+    ny = norm3(ny);
+    /* area density of the point: pdf_omega * cos_l / dist^2 */
+    float3 y = sp.centre + r * ny;
+    float3 dy = x - y;
+    float dist2 = dot3(dy, dy);
+    float cos_l = dot3(ny, dy) * rsqrt(fmax_f(dist2, 1e-38f));
+    *pdf = (cos_l > 0.0f && dist2 > 0.0f) ? cos_l / (dist2 * 2.0f * RESTIRCL_PI * omc) : 0.0f;
+    return sphere_uv(ny);
+}
+
+#endif

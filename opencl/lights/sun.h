@@ -1,0 +1,45 @@
+/* The sun: directions in a cone of the sun's angular diameter, uniform in solid angle (the measure), or one
+ * direction (a delta) for a diameter of 0. L is the radiance inside the cone. */
+#ifndef RESTIRCL_LIGHTS_SUN_H
+#define RESTIRCL_LIGHTS_SUN_H
+
+#include "lights/eval.h"
+#include "lights/record.h"
+#include "lights/warps.h"
+
+#define LIGHT_SUN 5
+
+typedef struct {
+    float3 dir;       /* a.xyz: unit direction towards the sun */
+    float cos_half;   /* b.x: cos of half the angular diameter */
+    float omc;        /* b.y: 1 - cos_half, exact for tiny angles; 0: a delta direction */
+} SunLight;
+
+inline SunLight sun_light(const __global Light* l)
+{
+    SunLight s = {l->a.xyz, l->b.x, l->b.y};
+    return s;
+}
+
+inline bool sun_eval(const __global Light* l, float u, float v, float3 x, float3 n, LightEval* e)
+{
+    SunLight sun = sun_light(l);
+    float3 wi = sun.omc > 0.0f ? cone_dir(sun.dir, sun.omc, u, v) : sun.dir;
+    float cos_x = dot3(n, wi);
+    if (!(cos_x > 0.0f)) return false;
+    e->contrib = light_radiance(l) * cos_x;
+    e->wi = wi;
+    e->pos = x + wi;
+    e->nl = -wi;
+    e->dist = INFINITY;
+    return true;
+}
+
+inline float2 sun_sample(const __global Light* l, float3 x, float r0, float r1, float* pdf)
+{
+    float omc = sun_light(l).omc;
+    *pdf = omc > 0.0f ? 1.0f / (2.0f * RESTIRCL_PI * omc) : 1.0f;
+    return (float2)(r0, r1);
+}
+
+#endif

@@ -1,0 +1,27 @@
+"""Blender's area light, shared by the quad and disk types: a shape in the light's local XY plane, emitting
+along local -Z, one-sided, of power P and area A: radiance P / (pi A)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .light_type import PlacedLight
+from .record import LUMINANCE
+
+
+def axes(s: PlacedLight) -> tuple[np.ndarray, np.ndarray]:
+    """The shape's full extents along local X and Y in world space."""
+    lt = s.light
+    ux = s.matrix[:3, 0] * lt.size
+    vy = s.matrix[:3, 1] * (lt.size_y if lt.shape in ("RECTANGLE", "ELLIPSE") else lt.size)
+    return ux, vy
+
+
+def radiance(s: PlacedLight, area: float) -> np.ndarray:
+    return s.rgb_power / (math.pi * area)
+
+
+def power(s: PlacedLight, area: float) -> float:
+    return float(LUMINANCE @ radiance(s, area)) * area * math.pi

@@ -1,0 +1,70 @@
+"""Scene lights and emissive triangles -> packed device Light records (opencl/types.h), with Blender's units.
+
+Each type's conversion is in its module (sphere, spot, sun, quad, disk, triangle; measured against Cycles,
+docs/units.md); this gathers them in the order the device sees: the scene's lights first, then emissive triangles.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import layouts as L
+from ..scene import Scene
+from .light_type import PlacedLight
+from .record import LANES
+from .registry import type_of
+from .triangle import TYPE as TRIANGLE
+from .triangle import emissive_triangles
+
+
+@dataclass
+class DeviceLights:
+    records: np.ndarray  # layouts.LIGHT
+    power: np.ndarray  # (N,) coarse importance of each light (luminance-weighted power, W)
+    types: np.ndarray  # (N,) LIGHT_* codes
+    source: np.ndarray  # (N,) index into scene.lights, or -1 - triangle index for emissive triangles
+
+    def __len__(self) -> int:
+        return len(self.records)
+
+    @property
+    def type_set(self) -> set[int]:
+        return {int(t) for t in np.unique(self.types)}
+
+
+def scene_lights(scene: Scene, frame: int, world=None) -> DeviceLights:
+    """Device light records for `frame`: the scene's lights first (in order), then emissive triangles."""
+    if world is None:
+        world = scene.world_triangles(frame)
+    recs: list[np.ndarray] = []
+    power: list[float] = []
+    types: list[int] = []
+    radius = _scene_radius(world)
+    for lt in scene.lights:
+        rgb_power = np.asarray(lt.color, dtype=np.float64) * lt.power_at(frame)
+        placed = PlacedLight(lt, Scene.at(lt.transforms, frame), rgb_power, radius)
+        kind = type_of(lt)
+        recs.append(kind.record(placed))
+        power.append(kind.power(placed))
+        types.append(kind.code)
+    rad = np.array([m.radiance for m in scene.materials]).reshape(-1, 3) if scene.materials else np.zeros((0, 3))
+    tri_recs, tri_power, tri_src = emissive_triangles(world, rad)
+    all_recs = np.concatenate([np.array(recs, np.float32).reshape(-1, LANES), tri_recs]) if recs else tri_recs
+    records = np.zeros(len(all_recs), L.LIGHT)
+    records.view(np.float32).reshape(-1, LANES)[:] = all_recs
+    return DeviceLights(
+        records,
+        np.concatenate([np.array(power, np.float64), tri_power]),
+        np.concatenate([np.array(types, np.int64), np.full(len(tri_recs), TRIANGLE.code, np.int64)]),
+        np.concatenate([np.arange(len(recs), dtype=np.int64), tri_src]),
+    )
+
+
+def _scene_radius(world) -> float:
+    if len(world) == 0:
+        return 1.0
+    pts = np.concatenate([world.v0, world.v1, world.v2])
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    return max(0.5 * float(np.linalg.norm(hi - lo)), 1e-3)
