@@ -19,8 +19,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 from restircl import Renderer, Settings, scenes
+from restircl.eval.report import METHODS, get_reference, rel_mse
 from restircl.pipeline import HALF_BLOCK, _half_of
-from restircl.report import METHODS, get_reference, rel_mse
 
 CHECKS = (64, 256)
 SEEDS = 3

@@ -16,8 +16,9 @@ import shutil
 
 import numpy as np
 import pytest
-from restircl import Renderer, Settings, cycles, scenes
-from restircl import report as R
+from restircl import Renderer, Settings, scenes
+from restircl.eval import cycles
+from restircl.eval import report as R
 
 W = H = 32
 BUDGETS = (0.05, 0.1, 0.2, 0.4)

@@ -1,5 +1,5 @@
 """The stress suite (DESIGN section 5) at its small sizes: every extreme case with every method -- zero NaN/Inf
-(guard counters and returned arrays) and an error bounded by the measured variance (restircl/stress.py explains
+(guard counters and returned arrays) and an error bounded by the measured variance (restircl/eval/stress.py explains
 the statistics: independent runs, 4 standard errors, allowed outliers); plus checks of the analytic reference the
 suite compares most cases with."""
 
@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 from restircl import layouts as L
-from restircl import stress
 from restircl.cli import main
+from restircl.eval import stress
 
 
 @pytest.mark.parametrize("name", list(stress.CASES))

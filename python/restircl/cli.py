@@ -177,13 +177,13 @@ def cmd_devices(a: argparse.Namespace) -> int:
 
 
 def cmd_bench(a: argparse.Namespace) -> int:
-    from . import bench
+    from .eval import bench
 
     return bench.main(a)
 
 
 def cmd_report(a: argparse.Namespace) -> int:
-    from . import cycles, report
+    from .eval import cycles, report
 
     if a.replot:
         for path in report.replot(Path(a.replot)):
@@ -246,7 +246,7 @@ def cmd_save_scene(a: argparse.Namespace) -> int:
 
 
 def cmd_stress(a: argparse.Namespace) -> int:
-    from . import stress
+    from .eval import stress
 
     def log(line: str) -> None:
         print(line, file=sys.stderr, flush=True)

@@ -15,11 +15,11 @@ import time
 
 import numpy as np
 
-from .light_array import build_light_array
-from .lights import scene_lights
-from .pipeline import Renderer, Settings
-from .scene import Camera, Light, Material, Mesh, Scene, look_at, translation
-from .scenes import icosphere, many_lights, quad
+from ..light_array import build_light_array
+from ..lights import scene_lights
+from ..pipeline import Renderer, Settings
+from ..scene import Camera, Light, Material, Mesh, Scene, look_at, translation
+from ..scenes import icosphere, many_lights, quad
 
 FRAME_METHODS: dict[str, dict] = {
     "uniform": dict(method="uniform"),
@@ -158,8 +158,8 @@ def bench_taa(width: int, height: int, frames: int = 32, device=None, print_fn=p
               plot: str | None = None) -> dict:
     """relMSE against frame number, TAA on and off, for a still and for a moving camera (moving_box: camera pan and
     a moving object, per-frame references), with RIS (8 candidates); and the ms of the TAA pass."""
+    from ..scenes import moving_box
     from .report import rel_mse
-    from .scenes import moving_box
 
     curves: dict[str, list[float]] = {}
     for motion in ("still", "moving"):
@@ -212,7 +212,7 @@ def bench_taa(width: int, height: int, frames: int = 32, device=None, print_fn=p
 
 
 def main(a: argparse.Namespace) -> int:
-    from .device import get_device
+    from ..device import get_device
 
     dev = get_device(a.device)
     print(f"device: {dev.label}")

@@ -31,8 +31,8 @@ from pathlib import Path
 import numpy as np
 import pyopencl as cl
 
-from .pipeline import Renderer, Settings
-from .scene import Scene
+from ..pipeline import Renderer, Settings
+from ..scene import Scene
 
 # name -> Settings overrides
 METHODS: dict[str, dict] = {

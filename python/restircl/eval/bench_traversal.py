@@ -198,8 +198,8 @@ class OpenCLTracer:
                  flags: dict | None = None) -> None:
         import pyopencl as cl
 
-        from .device import get_device
-        from .program import build_program
+        from ..device import get_device
+        from ..program import build_program
 
         self.cl = cl
         self.dev = device or get_device()
@@ -331,7 +331,7 @@ def run(triangles: int = 1_000_000, width: int = 640, height: int = 360, embree:
     """Build, trace and (if embreex imports) compare with Embree; returns the figures as a dict. scene "mixed":
     make_scene(triangles); "light_cloud" / "light_panels": light_cloud_scene(triangles), `triangles` being the
     light count. device: a restircl Device (default: the default choice)."""
-    from .bvh import build_bvh, make_tris
+    from ..bvh import build_bvh, make_tris
 
     res: dict = {}
     t0 = time.perf_counter()

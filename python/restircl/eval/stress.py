@@ -46,11 +46,11 @@ from pathlib import Path
 import numpy as np
 import pyopencl as cl
 
-from . import layouts as L
-from .lights import LUMINANCE, scene_lights
-from .pipeline import Frame, Renderer, Settings
-from .scene import Camera, Light, Material, Mesh, Scene, look_at, translation
-from .scenes import box, quad
+from .. import layouts as L
+from ..lights import LUMINANCE, scene_lights
+from ..pipeline import Frame, Renderer, Settings
+from ..scene import Camera, Light, Material, Mesh, Scene, look_at, translation
+from ..scenes import box, quad
 
 # name -> Settings overrides
 METHODS: dict[str, dict] = {
@@ -923,7 +923,7 @@ _BENCH_CHILD = r"""
 import json, sys, time
 import restircl.pipeline as P
 from restircl import Renderer, Settings
-from restircl.stress import bench_scene
+from restircl.eval.stress import bench_scene
 name, specialise, frames, still = sys.argv[1], sys.argv[2] == "1", int(sys.argv[3]), sys.argv[4] == "1"
 build_cpu = {}
 _build = P.build_program
@@ -955,7 +955,7 @@ print(json.dumps(dict(build_s=r.build_seconds, build_cpu_s=build_cpu["s"], first
 def bench_scene(name: str) -> Scene:
     """Scenes of the specialisation benchmark: many_lights with point lights only, with emissive meshes only,
     and a still frame of the full scene (its camera does not move)."""
-    from . import scenes
+    from .. import scenes
 
     if name == "points":  # (many_lights(lamps=0) fails in scenes._merge: drop the lamps instead)
         scene = scenes.many_lights(width=320, height=180, frames=16, lamps=1, point_lights=256)
