@@ -21,7 +21,7 @@ import numpy as np
 from ..pipeline import Renderer, Settings
 from ..scene import Scene
 from .metrics import flip, rel_mse, rmse
-from .report_files import plot_lines, write_files
+from .report_files import ReportBase, plot_lines, write_files
 from .report_methods import METHODS, method_settings
 from .report_moving import FrameRow, MovingReport
 from .report_reference import Reference, get_reference
@@ -42,11 +42,7 @@ class Row:
 
 
 @dataclass
-class Report:
-    scene: str
-    device: str
-    width: int
-    height: int
+class Report(ReportBase):
     rows: list[Row] = field(default_factory=list)
     reference: dict = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
@@ -62,24 +58,15 @@ class Report:
         return write_files(base, header, cells, meta, self.plot)
 
     def keys(self) -> list[tuple[str, str]]:
-        order = [*METHODS, "cycles"]
-        return sorted(dict.fromkeys((r.method, r.mode) for r in self.rows),
-                      key=lambda k: (k[1] != "accumulate", order.index(k[0]) if k[0] in order else 99))
-
-    def series(self, method: str, mode: str) -> list[Row]:
-        return [r for r in self.rows if r.method == method and r.mode == mode]
+        return self._keys("accumulate", [*METHODS, "cycles"])
 
     def slopes(self) -> dict[str, float]:
         return {f"{m} ({mode})": slope(self.series(m, mode)) for m, mode in self.keys()}
 
     def plot(self, path: Path) -> Path | None:
-        lines = []
-        for method, mode in self.keys():
-            rows = self.series(method, mode)
-            lines.append(([r.seconds for r in rows], [r.rel_mse for r in rows], method, mode,
-                          "-" if mode == "accumulate" else "--"))
-        return plot_lines(path, lines, (9.5, 5.4), True, "wall-clock seconds (after kernel build and scene upload)",
-                     "relMSE vs reference", f"{self.scene} {self.width}x{self.height} on {self.device}")
+        return plot_lines(path, self._lines("seconds", "accumulate"), (9.5, 5.4), True,
+                          "wall-clock seconds (after kernel build and scene upload)", "relMSE vs reference",
+                          f"{self.scene} {self.width}x{self.height} on {self.device}")
 
     def budgets(self) -> list[float]:
         return sorted({r.budget_s for r in self.rows})

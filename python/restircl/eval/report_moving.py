@@ -18,7 +18,7 @@ import pyopencl as cl
 from ..pipeline import Renderer, Settings
 from ..scene import Scene
 from .metrics import rel_mse, rmse
-from .report_files import plot_lines, write_files
+from .report_files import ReportBase, plot_lines, write_files
 from .report_methods import METHODS, method_settings
 from .report_reference import get_reference
 
@@ -36,23 +36,14 @@ class FrameRow:
 
 
 @dataclass
-class MovingReport:
-    scene: str
-    device: str
-    width: int
-    height: int
+class MovingReport(ReportBase):
     budget_ms: float
     rows: list[FrameRow] = field(default_factory=list)
     references: dict = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
 
     def keys(self) -> list[tuple[str, str]]:
-        order = list(METHODS)
-        return sorted(dict.fromkeys((r.method, r.mode) for r in self.rows),
-                      key=lambda k: (k[1] != "taa", order.index(k[0]) if k[0] in order else 99))
-
-    def series(self, method: str, mode: str) -> list[FrameRow]:
-        return [r for r in self.rows if r.method == method and r.mode == mode]
+        return self._keys("taa", list(METHODS))
 
     def summary(self) -> dict[str, dict]:
         out = {}
@@ -90,14 +81,10 @@ class MovingReport:
         return write_files(base, header, cells, meta, self.plot)
 
     def plot(self, path: Path) -> Path | None:
-        lines = []
-        for method, mode in self.keys():
-            rows = self.series(method, mode)
-            lines.append(([r.frame for r in rows], [r.rel_mse for r in rows], method, mode,
-                          "-" if mode == "taa" else "--"))
-        return plot_lines(path, lines, (9.5, 5.0), False, "animation frame", "relMSE vs that frame's reference",
-                     f"{self.scene} {self.width}x{self.height}, moving camera, {self.budget_ms:.0f} ms per frame, "
-                     f"on {self.device}")
+        return plot_lines(path, self._lines("frame", "taa"), (9.5, 5.0), False, "animation frame",
+                          "relMSE vs that frame's reference",
+                          f"{self.scene} {self.width}x{self.height}, moving camera, {self.budget_ms:.0f} ms per "
+                          f"frame, on {self.device}")
 
 
 def _read_rgb(r: Renderer, buf) -> np.ndarray:
