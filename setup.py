@@ -7,7 +7,7 @@ setup(
     version="0.1.0",
     description="Many-light direct lighting with ReSTIR DI and TAA, in OpenCL C on PoCL or any OpenCL GPU",
     python_requires=">=3.11",
-    packages=["restircl", "restircl.lights", "restircl.opencl"],
+    packages=["restircl", "restircl.eval", "restircl.lights", "restircl.opencl"],
     package_dir={"restircl": "python/restircl", "restircl.opencl": "opencl"},
     package_data={"restircl.opencl": ["*.h", "*.cl", "lights/*.h"]},
     install_requires=["numpy>=1.24", "pyopencl>=2024.1", "openexr>=3.3", "pillow>=10"],

@@ -19,8 +19,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 from restircl import Renderer, Settings, scenes
+from restircl.eval.metrics import rel_mse
+from restircl.eval.report_methods import METHODS
+from restircl.eval.report_reference import get_reference
 from restircl.pipeline import HALF_BLOCK, _half_of
-from restircl.report import METHODS, get_reference, rel_mse
 
 CHECKS = (64, 256)
 SEEDS = 3

@@ -1,6 +1,6 @@
-"""`restircl report` (report.py): error against run time for a still camera, error per frame for a moving camera,
-the reference cache, the files written, and Cycles beside the methods where bpy imports (tests/test_report.py
-runs in both venvs: without bpy the Cycles rows are replaced by a note).
+"""`restircl report` (restircl/eval/report*.py): error against run time for a still camera, error per frame for a
+moving camera, the reference cache, the files written, and Cycles beside the methods where bpy imports
+(tests/test_report.py runs in both venvs: without bpy the Cycles rows are replaced by a note).
 
 The bounds on the slope of relMSE against time come from the variance of the relMSE measurements: relMSE is a
 mean of per-pixel terms, so its relative standard error is std(terms) / (mean(terms) sqrt(pixels)), measured on
@@ -16,8 +16,12 @@ import shutil
 
 import numpy as np
 import pytest
-from restircl import Renderer, Settings, cycles, scenes
-from restircl import report as R
+from restircl import Renderer, Settings, scenes
+from restircl.eval import cycles
+from restircl.eval import report as R
+from restircl.eval.metrics import flip, rel_mse
+from restircl.eval.report_moving import run_moving
+from restircl.eval.report_reference import get_reference
 
 W = H = 32
 BUDGETS = (0.05, 0.1, 0.2, 0.4)
@@ -40,7 +44,7 @@ def relmse_cv(img: np.ndarray, ref: np.ndarray) -> float:
 def cornell(tmp_path_factory, device):
     cache = tmp_path_factory.mktemp("refs")
     scene = scenes.cornell_box(W, H)
-    ref = R.get_reference(scene, 0, seconds_hint=8.0, device=device, cache_dir=cache, log=quiet)
+    ref = get_reference(scene, 0, seconds_hint=8.0, device=device, cache_dir=cache, log=quiet)
     return scene, ref, cache
 
 
@@ -56,7 +60,7 @@ def still_report(cornell, device, tmp_path_factory):
 def test_reference_is_cached_and_keyed_by_sources(cornell, device, tmp_path, monkeypatch):
     scene, ref, cache = cornell
     logs: list[str] = []
-    again = R.get_reference(scene, 0, seconds_hint=8.0, device=device, cache_dir=cache, log=logs.append)
+    again = get_reference(scene, 0, seconds_hint=8.0, device=device, cache_dir=cache, log=logs.append)
     assert any("cached" in m for m in logs)
     assert np.array_equal(again.image, ref.image)
     assert ref.frames >= 256 and ref.est_rel_mse is not None and ref.est_rel_mse < 1e-3
@@ -69,13 +73,13 @@ def test_reference_is_cached_and_keyed_by_sources(cornell, device, tmp_path, mon
     monkeypatch.setattr(program, "opencl_dir", lambda: src)
     monkeypatch.setattr(program, "_PROGRAMS", {})
     logs.clear()
-    same = R.get_reference(scene, 0, seconds_hint=8.0, device=device, cache_dir=cache, log=logs.append)
+    same = get_reference(scene, 0, seconds_hint=8.0, device=device, cache_dir=cache, log=logs.append)
     assert any("cached" in m for m in logs) and same.path == ref.path
     edited = src / "shading.h"
     edited.write_text(edited.read_text().replace("gs.albedo.xyz * RESTIRCL_INV_PI", "gs.albedo.xyz * 0.3f"))
     monkeypatch.setattr(program, "_PROGRAMS", {})
     logs.clear()
-    other = R.get_reference(scene, 0, frames=8, device=device, cache_dir=cache, log=logs.append)
+    other = get_reference(scene, 0, frames=8, device=device, cache_dir=cache, log=logs.append)
     assert not any("cached" in m for m in logs) and other.path != ref.path
 
 
@@ -176,7 +180,7 @@ def test_scene_written_to_bpy_renders_like_ours(cornell):
     scene, ref, _ = cornell
     res = cycles.render(cycles.to_bpy(scene), samples=256, seed=3)
     assert res.image.shape == (H, W, 3) and res.samples == 256 and res.render_seconds > 0
-    assert R.rel_mse(res.image, ref.image) < 0.01
+    assert rel_mse(res.image, ref.image) < 0.01
     assert float(res.image.sum() / ref.image.sum()) == pytest.approx(1.0, abs=0.01)
 
 
@@ -203,7 +207,7 @@ def test_moving_report(tmp_path, device):
     scene = scenes.many_lights(32, 18, frames=5)
     cache = tmp_path / "refs"
     logs: list[str] = []
-    rep = R.run_moving(scene, ["light_array", "restir"], None, every=2, modes=("taa", "frame"), device=device,
+    rep = run_moving(scene, ["light_array", "restir"], None, every=2, modes=("taa", "frame"), device=device,
                        log=logs.append, reference_seconds=1.0, cache_dir=cache)
     frames = [0, 2, 4]
     assert sorted({r.frame for r in rep.rows}) == frames
@@ -219,7 +223,7 @@ def test_moving_report(tmp_path, device):
     assert meta["budget_ms"] == rep.budget_ms and set(meta["references"]) == {"0", "2", "4"}
     assert R.load(paths[1]).rows == rep.rows
     logs.clear()
-    R.run_moving(scene, ["light_array"], rep.budget_ms, every=2, device=device, log=logs.append, cache_dir=cache)
+    run_moving(scene, ["light_array"], rep.budget_ms, every=2, device=device, log=logs.append, cache_dir=cache)
     assert sum("reference: cached" in m for m in logs) == len(frames)
 
 
@@ -247,6 +251,6 @@ def test_flip_metric_when_installed():
     rng = np.random.default_rng(1)
     ref = rng.uniform(0.1, 1.0, (48, 64, 3)).astype(np.float32)
     noisy = [np.clip(ref + rng.normal(0, s, ref.shape).astype(np.float32), 0, None) for s in (0.05, 0.2)]
-    same, low, high = R.flip(ref, ref), R.flip(noisy[0], ref), R.flip(noisy[1], ref)
+    same, low, high = flip(ref, ref), flip(noisy[0], ref), flip(noisy[1], ref)
     assert same is not None and low is not None and high is not None
     assert same < 1e-6 < low < high < 1.0

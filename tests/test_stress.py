@@ -1,5 +1,5 @@
 """The stress suite (DESIGN section 5) at its small sizes: every extreme case with every method -- zero NaN/Inf
-(guard counters and returned arrays) and an error bounded by the measured variance (restircl/stress.py explains
+(guard counters and returned arrays) and an error bounded by the measured variance (restircl/eval/stress.py explains
 the statistics: independent runs, 4 standard errors, allowed outliers); plus checks of the analytic reference the
 suite compares most cases with."""
 
@@ -8,15 +8,18 @@ import math
 import numpy as np
 import pytest
 from restircl import layouts as L
-from restircl import stress
 from restircl.cli import main
+from restircl.eval import stress
+from restircl.eval.stress_cases import CASES
+from restircl.eval.stress_judging import METHODS, format_table
+from restircl.eval.stress_references import NotAnalytic, analytic_direct
 
 
-@pytest.mark.parametrize("name", list(stress.CASES))
+@pytest.mark.parametrize("name", list(CASES))
 def test_stress_case(device, name):
     results = stress.run(names=[name], device=device)
-    assert [r.method for r in results] == list(stress.METHODS)
-    print("\n" + stress.format_table(results))
+    assert [r.method for r in results] == list(METHODS)
+    print("\n" + format_table(results))
     for r in results:
         assert r.nonfinite == 0, (r.case, r.method, r.notes)
         assert r.passed, (r.case, r.method, r.notes)
@@ -45,25 +48,25 @@ def test_analytic_reference_closed_forms():
     d = np.array([0.2, 0.1, 1.5]) - x
     dist = np.linalg.norm(d, axis=1)
     expect = 2 * d[:, 2] / dist**3
-    np.testing.assert_allclose(stress.analytic_direct(x, n, pt)[:, 0], expect, rtol=1e-6)
+    np.testing.assert_allclose(analytic_direct(x, n, pt)[:, 0], expect, rtol=1e-6)
     # a square of side 2a centred h above the point, facing down: four a x a rectangles with a corner above the
     # point, each of projected solid angle (form factor * pi) a / sqrt(a^2 + h^2) atan(a / sqrt(a^2 + h^2))
     a, h = 0.5, 1.0
     down = _records(_record(L.LIGHT_QUAD, (-a, -a, h), (0, 2 * a, 0), (2 * a, 0, 0)))
     k = a / math.sqrt(a * a + h * h)
-    np.testing.assert_allclose(stress.analytic_direct(x[:1], n[:1], down)[0, 0], 4 * k * math.atan(k), rtol=1e-6)
+    np.testing.assert_allclose(analytic_direct(x[:1], n[:1], down)[0, 0], 4 * k * math.atan(k), rtol=1e-6)
     # one-sided: the same square facing up lights nothing below it
     up = _records(_record(L.LIGHT_QUAD, (-a, -a, h), (2 * a, 0, 0), (0, 2 * a, 0)))
-    assert stress.analytic_direct(x[:1], n[:1], up)[0, 0] == 0
+    assert analytic_direct(x[:1], n[:1], up)[0, 0] == 0
     # a tiny square of radiance 2 facing down is a point light of intensity 2 A cos_l
     s = 1e-3
     tiny = _records(_record(L.LIGHT_QUAD, (0.2 - s / 2, 0.1 - s / 2, 1.5), (0, s, 0), (s, 0, 0), (2, 2, 2)))
-    as_point = stress.analytic_direct(x, n, tiny)[:, 0] / (s * s)
+    as_point = analytic_direct(x, n, tiny)[:, 0] / (s * s)
     np.testing.assert_allclose(as_point, expect * (1.5 / dist), rtol=1e-5)
     # a light across the horizon is refused, not guessed
     across = _records(_record(L.LIGHT_QUAD, (-a, -a, -0.5), (0, 0, 1), (2 * a, 0, 0)))
-    with pytest.raises(stress.NotAnalytic):
-        stress.analytic_direct(x[:1], n[:1], across)
+    with pytest.raises(NotAnalytic):
+        analytic_direct(x[:1], n[:1], across)
 
 
 def test_cli_stress_prints_the_table(tmp_path, capsys):

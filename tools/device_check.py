@@ -36,8 +36,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "python"))
 
 from restircl import Renderer, Settings, scenes  # noqa: E402
-from restircl.bench import FRAME_METHODS, time_frames  # noqa: E402
 from restircl.device import Device, list_devices  # noqa: E402
+from restircl.eval.bench import FRAME_METHODS, time_frames  # noqa: E402
 
 Z_LIMIT = 4.0
 NORMAL_TAIL = 6.3e-5  # P(|z| > 4) for a standard normal
@@ -139,7 +139,7 @@ def main(argv: list[str] | None = None) -> int:
 
     # traversal
     if not a.no_traversal:
-        from restircl import bench_traversal
+        from restircl.eval import bench_traversal
 
         for di, d in enumerate(devices):
             t0 = time.perf_counter()

@@ -177,13 +177,14 @@ def cmd_devices(a: argparse.Namespace) -> int:
 
 
 def cmd_bench(a: argparse.Namespace) -> int:
-    from . import bench
+    from .eval import bench
 
     return bench.main(a)
 
 
 def cmd_report(a: argparse.Namespace) -> int:
-    from . import cycles, report
+    from .eval import cycles, report, report_moving, report_reference
+    from .eval.report_methods import METHODS as REPORT_METHODS
 
     if a.replot:
         for path in report.replot(Path(a.replot)):
@@ -191,10 +192,10 @@ def cmd_report(a: argparse.Namespace) -> int:
         return 0
     if not a.scene:
         raise ValueError("report: give a SCENE (or --replot JSON)")
-    methods = a.methods.split(",") if a.methods else list(report.METHODS)
-    unknown = [m for m in methods if m not in report.METHODS]
+    methods = a.methods.split(",") if a.methods else list(REPORT_METHODS)
+    unknown = [m for m in methods if m not in REPORT_METHODS]
     if unknown:
-        raise ValueError(f"unknown methods {unknown}; choose from {', '.join(report.METHODS)}")
+        raise ValueError(f"unknown methods {unknown}; choose from {', '.join(REPORT_METHODS)}")
     cache = Path(a.cache_dir) if a.cache_dir else None
     blend = a.scene.endswith(".blend")
     if blend and not cycles.available():
@@ -209,8 +210,8 @@ def cmd_report(a: argparse.Namespace) -> int:
         if scene.frames < 2:
             raise ValueError(f"report --moving: {scene.name} has one frame (no camera motion)")
         modes = tuple((a.modes or "taa").split(","))
-        mv = report.run_moving(scene, methods, a.ms_per_frame, a.every, modes, device=a.device,
-                               reference_seconds=a.reference_seconds, cache_dir=cache)
+        mv = report_moving.run_moving(scene, methods, a.ms_per_frame, a.every, modes, device=a.device,
+                                      reference_seconds=a.reference_seconds, cache_dir=cache)
         print(f"device: {mv.device}, {mv.width}x{mv.height}, {scene.frames} frames, {mv.budget_ms:.0f} ms per frame")
         print(mv.table())
         for path in mv.write(Path(a.out)):
@@ -226,7 +227,7 @@ def cmd_report(a: argparse.Namespace) -> int:
     else:
         scene = load_scene(a.scene, a.width, a.height, 1)
     budgets = tuple(float(b) for b in a.budgets.split(","))
-    ref = report.get_reference(scene, 0, a.reference_seconds, device=a.device, cache_dir=cache)
+    ref = report_reference.get_reference(scene, 0, a.reference_seconds, device=a.device, cache_dir=cache)
     rep = report.run_report(scene, methods, budgets, tuple((a.modes or "accumulate,taa").split(",")),
                             device=a.device, reference=ref, cycles=target)
     print(f"device: {rep.device}, {rep.width}x{rep.height}")
@@ -246,13 +247,13 @@ def cmd_save_scene(a: argparse.Namespace) -> int:
 
 
 def cmd_stress(a: argparse.Namespace) -> int:
-    from . import stress
+    from .eval import bench_specialisation, stress, stress_judging
 
     def log(line: str) -> None:
         print(line, file=sys.stderr, flush=True)
 
     if a.bench_specialisation:
-        rows = stress.bench_specialisation(frames=a.bench_frames, log=print)
+        rows = bench_specialisation.bench_specialisation(frames=a.bench_frames, log=print)
         if a.out:
             Path(a.out).mkdir(parents=True, exist_ok=True)
             (Path(a.out) / "specialisation.json").write_text(json.dumps(rows, indent=1))
@@ -262,11 +263,11 @@ def cmd_stress(a: argparse.Namespace) -> int:
     device = get_device(a.device)
     print(f"device: {device.label}; {'full' if a.full else 'small'} sizes")
     results = stress.run(full=a.full, methods=methods, names=names, device=device, log=log, seed=a.seed)
-    print(stress.format_table(results))
+    print(stress_judging.format_table(results))
     failed = [r for r in results if not r.passed]
     print(f"{len(results) - len(failed)} of {len(results)} passed")
     if a.out:
-        for path in stress.write(results, Path(a.out)):
+        for path in stress_judging.write(results, Path(a.out)):
             print(f"wrote {path}")
     return 1 if failed else 0
 

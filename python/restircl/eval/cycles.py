@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .scene import Scene
+from ..scene import Scene
 
 
 def available() -> bool:
@@ -160,7 +160,7 @@ def _addon():
     try:
         import restircl_blender  # an installed extension or add-on
     except ImportError:
-        addon_dir = Path(__file__).resolve().parents[2] / "addon"  # a source checkout
+        addon_dir = Path(__file__).resolve().parents[3] / "addon"  # a source checkout
         if not (addon_dir / "restircl_blender").is_dir():
             raise
         sys.path.insert(0, str(addon_dir))

@@ -1,0 +1,31 @@
+"""Error metrics of an image against its reference, shared by the report and the benchmarks."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def rel_mse(x: np.ndarray, ref: np.ndarray) -> float:
+    """mean over pixels and channels of (x - r)^2 / (r^2 + 0.01)."""
+    x = np.asarray(x, dtype=np.float64)[..., :3]
+    ref = np.asarray(ref, dtype=np.float64)[..., :3]
+    return float(np.mean((x - ref) ** 2 / (ref * ref + 0.01)))
+
+
+def rmse(x: np.ndarray, ref: np.ndarray) -> float:
+    x = np.asarray(x, dtype=np.float64)[..., :3]
+    ref = np.asarray(ref, dtype=np.float64)[..., :3]
+    return float(np.sqrt(np.mean((x - ref) ** 2)))
+
+
+def flip(x: np.ndarray, ref: np.ndarray) -> float | None:
+    """Mean FLIP (HDR) when `flip-evaluator` is installed, else None."""
+    try:
+        import flip_evaluator as flip_mod  # type: ignore[import-not-found]
+    except ImportError:
+        return None
+    try:
+        _, mean, _ = flip_mod.evaluate(ref[..., :3].astype(np.float32), x[..., :3].astype(np.float32), "HDR")
+        return float(mean)
+    except Exception:
+        return None

@@ -1,0 +1,61 @@
+"""Stability on stiff and extreme cases (`restircl stress`, DESIGN section 5): the suite runner.
+
+Every case is a built-in scene (stress_cases.py), in a small version (the tests) and a full one (the CLI, --full).
+Each is rendered with every method -- uniform, light_array, ris, restir biased (bias_correction "none") and
+unbiased ("pairwise") -- and checked against its reference (stress_references.py):
+
+    analytic    direct light computed on the host in float64 at the renderer's own G-buffer points: point and
+                spot lights, spheres and soft-falloff disks, suns, quads and triangles (Lambert's polygon formula)
+                fully above or below each point's horizon; only for scenes where nothing occludes a light
+    exhaustive  the `reference` method (every light, one sample each), averaged over batches of frames; a
+                scene of delta lights only needs one frame
+    zero        the image must be exactly 0 (every light behind the surfaces)
+
+A case is judged by its statistics, never by a tuned threshold (stress_judging.py). Independent runs (fresh
+history, own seed) give run means whose spread is the standard error; an unbiased method passes when at most
+`allowed_outliers` pixels are more than 4 standard errors from the reference (t with runs - 1 degrees of freedom;
+pixels where both sides are exact must agree to float32 rounding) and the image mean is within 4 standard errors.
+The biased ReSTIR mode must not be brighter than the reference beyond 4 standard errors and not darker than the
+15% that tests/test_restir.py bounds its darkening by. Every case requires zero NaN/Inf: the renderer's guard
+counters (Frame.guards) plus a scan of every array it returned. relMSE = mean (x - r)^2 / (r^2 + 0.01) of the mean
+image; `expected` is what the measured variances alone predict for it (a ratio near 1 means no visible bias).
+
+Kinds of case: `still` (runs of a still camera, render_still), `sequence` (per run: a few frames, then the frame
+under test; its 1-sample image is the run's value, the mean of 8 samples of that frame for methods without
+history) and `long` (one very long animation with TAA and ReSTIR,
+compared by batch means over its second part; the ReSTIR M and the TAA history length are checked to stay
+capped).
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Callable
+
+from .stress_cases import cases
+from .stress_judging import METHODS, Result, run_method
+from .stress_references import compute_reference
+
+
+def run(full: bool = False, methods: list[str] | None = None, names: list[str] | None = None, device=None,
+        log: Callable[[str], None] | None = None, seed: int = 0) -> list[Result]:
+    """Every case with every method. `seed` shifts every random seed (the tests use 0; other values give
+    independent repetitions, to see how often a correct renderer fails a 4-standard-error test)."""
+    methods = methods or list(METHODS)
+    unknown = [m for m in methods if m not in METHODS]
+    if unknown:
+        raise ValueError(f"unknown methods {unknown}; methods: {', '.join(METHODS)}")
+    results = []
+    for case in cases(full, names):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            ref = compute_reference(case, device, seed=seed)
+        if log:
+            log(f"{case.name}: {case.description}; {case.reference} reference ({ref.seconds:.1f} s)")
+        for m in methods:
+            res = run_method(case, m, ref, device, seed)
+            results.append(res)
+            if log:
+                log("  " + " | ".join(res.row()))
+    return results
+
