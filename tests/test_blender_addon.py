@@ -6,6 +6,8 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
+from restircl.setting_spec import declared  # noqa: E402
+
 from .test_blender_support import ensure_registered, scenes  # noqa: E402
 
 pytestmark = pytest.mark.blender
@@ -80,22 +82,127 @@ def test_settings_reach_restircl():
     assert (s.method, s.candidates, s.temporal, s.spatial_neighbours, s.spatial_radius) == ("ris", 5, False, 4, 12.0)
     assert (s.bias_correction, s.m_cap, s.taa, s.alpha_min, s.seed, s.light_tiles) == ("none", 7.0, False, 0.25, 9,
                                                                                          "off")
-    # every Blender setting is a Settings field
-    from restircl_blender.properties import SETTINGS_KEYS
-
-    assert set(SETTINGS_KEYS) <= set(restircl.Settings.__dataclass_fields__)
+    assert set(p.settings_kwargs()) == set(restircl.Settings.names())  # every Settings field, nothing else
 
 
-def test_methods_match_renderer():
+def _scene_settings():
+    from restircl_blender.properties import SCENE_SETTINGS
+
+    return SCENE_SETTINGS
+
+
+def test_properties_are_generated_from_the_table():
+    """Label, description, default, choices and range of each property are the table's; ints within a C int."""
+    ensure_registered()
+    from restircl.settings import Settings
+    from restircl_blender.properties import INT_MAX, INT_MIN
+
+    rna = bpy.types.Scene.bl_rna.properties["restircl"].fixed_type.properties
+    assert {d.name for d in declared(Settings)} <= set(rna.keys())
+    for d in _scene_settings():
+        prop = rna[d.name]
+        assert (prop.name, prop.description) == (d.spec.label, d.spec.description), d.name
+        if d.spec.choices:
+            items = sorted(d.spec.choices, key=lambda c: c.number)
+            assert [(i.identifier, i.name, i.description, i.value) for i in prop.enum_items] == [
+                (c.id, c.label, c.description, c.number) for c in items], d.name
+            assert prop.default == d.default
+            continue
+        assert prop.default == pytest.approx(d.default), d.name
+        r = d.spec.range
+        if r is None:
+            continue
+        lo = r.lowest() if r.off is None else min(r.lowest(), r.off)
+        hi = r.highest()
+        if d.kind is int:
+            lo, hi = max(lo, INT_MIN), INT_MAX if hi is None else min(hi, INT_MAX)
+        assert prop.hard_min == lo, d.name
+        if hi is not None:
+            assert prop.hard_max == hi, d.name
+        if d.spec.soft_max is not None:
+            assert prop.soft_max == pytest.approx(d.spec.soft_max, rel=1e-7), d.name
+
+
+def test_every_value_the_addon_allows_at_its_limits_validates():
+    """At each property's hard min and max (the other settings at their defaults; those limited together with it at
+    their minimum) restircl accepts the settings: Blender no longer offers values that stop the render."""
     restircl = pytest.importorskip("restircl")
-    pipeline = pytest.importorskip("restircl.pipeline")
-    from restircl_blender.properties import BIAS_MODES, LIGHT_TILES, METHODS
+    ensure_registered()
+    from restircl.settings import JOINT_LIMITS, Settings
+    from restircl_blender import engine
 
-    assert {m[0] for m in METHODS} == set(pipeline.METHODS)
-    assert {b[0] for b in BIAS_MODES} == set(pipeline.BIAS_CORRECTIONS)
-    assert {t[0] for t in LIGHT_TILES} == set(pipeline.LIGHT_TILES)
-    assert f"{pipeline.LIGHT_TILES_AUTO:,} lights" in LIGHT_TILES[0][2]  # the panel's tooltip names the threshold
-    del restircl
+    sc = scenes.new_scene(8, 8)
+    p = sc.restircl
+    rna = p.bl_rna.properties
+    numbers = [d for d in declared(Settings) if d.spec.range is not None]
+    for d in numbers:
+        for end in ("hard_min", "hard_max"):
+            for other in numbers:
+                setattr(p, other.name, other.default)
+            for group in JOINT_LIMITS:
+                if d.name in group:
+                    for name in group:
+                        if name != d.name:
+                            setattr(p, name, rna[name].hard_min)
+            setattr(p, d.name, getattr(rna[d.name], end))
+            engine.make_settings(restircl, p).validate()
+    for d in numbers:
+        setattr(p, d.name, d.default)
+
+
+def test_panels_show_every_setting():
+    ensure_registered()
+    from restircl_blender import ui
+
+    panels = {cls.settings_panel for cls in ui.CLASSES}
+    for d in _scene_settings():
+        assert d.spec.panel in panels, f"{d.name}: no panel draws {d.spec.panel!r}"
+
+
+def test_every_pass_reaches_blender():
+    """register_passes names every pass of the list (with its toggle on) and write_result fills each."""
+    ensure_registered()
+    import numpy as np
+    from restircl.passes import PASSES
+    from restircl_blender import engine
+
+    sc = scenes.new_scene(4, 3)
+    vl = sc.view_layers[0]
+    for p in PASSES:
+        if p.blender_toggle is not None:
+            owner, name = engine.toggle_owner(vl, p.blender_toggle)
+            setattr(owner, name, True)
+
+    class Rp:
+        def __init__(self, name, channels):
+            self.name, self.channels, self.rect = name, channels, None
+
+    class FakeEngine:
+        def __init__(self):
+            self.passes = []
+
+        def register_pass(self, scene, layer, name, channels, chan_id, kind):
+            self.passes.append(Rp(name, channels))
+
+        def begin_result(self, *args, layer=None):
+            return type("Result", (), {"layers": [type("Layer", (), {"passes": self.passes})]})
+
+        def end_result(self, result):
+            pass
+
+    fake = FakeEngine()
+    engine.register_passes(fake, sc, vl)
+    assert [rp.name for rp in fake.passes] == [p.blender for p in PASSES]
+    assert "DiffCol" in [rp.name for rp in fake.passes]  # the albedo, as Cycles' Diffuse Color
+    frame = type("Frame", (), {p.attr: np.full((3, 4, len(p.channels)), k + 1.0, np.float32)
+                               for k, p in enumerate(PASSES)})
+    frame.depth = np.full((3, 4), np.inf, np.float32)
+    engine.write_result(fake, frame, 4, 3, vl, False)
+    for k, (p, rp) in enumerate(zip(PASSES, fake.passes, strict=True)):
+        assert rp.rect is not None and rp.rect.shape == (12, len(p.channels)), p.blender
+        if p.attr != "color":
+            expected = p.miss if p.miss is not None else k + 1.0
+            assert np.all(rp.rect == np.float32(expected)), p.blender
 
 
 def test_device_list_never_raises():

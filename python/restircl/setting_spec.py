@@ -115,6 +115,7 @@ class Spec:
     applies_when: tuple[tuple[str, tuple[Any, ...]], ...] = ()
     soft_max: float | None = None  # Blender's slider end (typing allows up to the range's maximum)
     subtype: str = "NONE"  # Blender's property subtype (PIXEL, FACTOR, ...)
+    precision: int = 3  # digits Blender shows
     kernel_limit: str | None = None  # the kernels get the range's maximum as this -D define
 
     def choice_ids(self) -> tuple[str, ...]:
