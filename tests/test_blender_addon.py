@@ -8,7 +8,7 @@ bpy = pytest.importorskip("bpy")
 
 from restircl.setting_spec import declared  # noqa: E402
 
-from .test_blender_support import ensure_registered, scenes  # noqa: E402
+from .test_blender_support import ensure_registered, needs_renderer, read_exr_passes, render_to, scenes  # noqa: E402
 
 pytestmark = pytest.mark.blender
 
@@ -150,20 +150,47 @@ def test_every_value_the_addon_allows_at_its_limits_validates():
         setattr(p, d.name, d.default)
 
 
-def test_panels_show_every_setting():
+class _Layout:
+    """Records what a panel's draw() puts in its layout."""
+
+    def __init__(self, drawn: list) -> None:
+        self.drawn, self.active, self.use_property_split, self.use_property_decorate = drawn, True, False, True
+
+    def column(self, **_kw):
+        return _Layout(self.drawn)
+
+    row = column
+
+    def prop(self, owner, name, **_kw):
+        assert hasattr(owner, name), name
+        self.drawn.append(name)
+
+    def label(self, **_kw):
+        pass
+
+
+def test_panels_draw_every_setting_once():
     ensure_registered()
+    from restircl.passes import PASSES
     from restircl_blender import ui
 
-    panels = {cls.settings_panel for cls in ui.CLASSES}
-    for d in _scene_settings():
-        assert d.spec.panel in panels, f"{d.name}: no panel draws {d.spec.panel!r}"
+    sc = scenes.new_scene(8, 8)
+    context = type("Context", (), {"scene": sc, "view_layer": sc.view_layers[0], "engine": "RESTIRCL"})
+    drawn: list[str] = []
+    for cls in ui.CLASSES:
+        panel = type("P", (), {"layout": _Layout(drawn), "settings_panel": getattr(cls, "settings_panel", ""),
+                               "header": getattr(cls, "header", None)})
+        cls.draw_header(panel, context)
+        cls.draw(panel, context)
+    toggles = [p.blender_toggle.rpartition(".")[2] for p in PASSES if p.blender_toggle]
+    assert sorted(drawn) == sorted([d.name for d in _scene_settings()] + toggles)
 
 
 def test_every_pass_reaches_blender():
     """register_passes names every pass of the list (with its toggle on) and write_result fills each."""
     ensure_registered()
     import numpy as np
-    from restircl.passes import PASSES
+    from restircl.passes import PASSES, blender_name
     from restircl_blender import engine
 
     sc = scenes.new_scene(4, 3)
@@ -192,8 +219,10 @@ def test_every_pass_reaches_blender():
 
     fake = FakeEngine()
     engine.register_passes(fake, sc, vl)
-    assert [rp.name for rp in fake.passes] == [p.blender for p in PASSES]
-    assert "DiffCol" in [rp.name for rp in fake.passes]  # the albedo, as Cycles' Diffuse Color
+    names = [blender_name(p, bpy.app.version) for p in PASSES]
+    assert [rp.name for rp in fake.passes] == names
+    assert ("Diffuse Color" if bpy.app.version >= (5, 0, 0) else "DiffCol") in names  # the albedo, as Cycles'
+    assert blender_name(PASSES[-1], (4, 2, 0)) == "DiffCol"
     frame = type("Frame", (), {p.attr: np.full((3, 4, len(p.channels)), k + 1.0, np.float32)
                                for k, p in enumerate(PASSES)})
     frame.depth = np.full((3, 4), np.inf, np.float32)
@@ -211,3 +240,28 @@ def test_device_list_never_raises():
 
     labels = engine.device_list()
     assert labels and all(isinstance(x, str) for x in labels)
+
+
+@needs_renderer
+def test_albedo_is_the_diffuse_colour_pass_cycles_writes(tmp_path):
+    """F12 with Diffuse Color on writes the albedo as that pass, equal to what Cycles writes for the same scene."""
+    import math
+
+    import numpy as np
+
+    ensure_registered()
+    sc = scenes.new_scene(24, 16, engine="RESTIRCL")
+    scenes.quad("Floor", 10.0, 10.0, scenes.diffuse_material("Floor", (0.8, 0.6, 0.4)))
+    scenes.box("Box", (0.8, 0.8, 0.8), scenes.diffuse_material("Red", (0.7, 0.2, 0.1)), location=(0.3, 0, 0.4),
+               rotation=(0, 0, math.radians(30)))
+    scenes.light("POINT", "Point", (-1.0, -0.5, 1.5), energy=60.0)
+    scenes.camera((0.0, -4.0, 2.5), (0.0, 0.3, 0.3), lens=28.0)
+    sc.view_layers[0].use_pass_diffuse_color = True
+    sc.restircl.samples = 2
+    render_to(sc, tmp_path / "ours.exr")
+    scenes.cycles_direct_only(sc, samples=4, threads=2)
+    render_to(sc, tmp_path / "cycles.exr")
+    name = "Diffuse Color" if bpy.app.version >= (5, 0, 0) else "DiffCol"
+    ours, cyc = read_exr_passes(tmp_path / "ours.exr")[name], read_exr_passes(tmp_path / "cycles.exr")[name]
+    assert ours.shape == cyc.shape == (16, 24, 3)
+    assert np.median(np.abs(ours - cyc)) < 0.01 and ours.max() > 0.3

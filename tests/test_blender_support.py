@@ -24,7 +24,7 @@ from restircl.passes import PASSES  # noqa: E402
 
 pytestmark = pytest.mark.blender
 
-CHANNEL_ORDER = {p.blender: p.channels for p in PASSES}
+CHANNEL_ORDER = {name: p.channels for p in PASSES for name in {p.blender, p.blender_4} if name}
 
 
 def ensure_registered():

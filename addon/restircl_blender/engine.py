@@ -16,7 +16,7 @@ import warnings
 from dataclasses import dataclass
 
 import numpy as np
-from restircl.passes import PASSES
+from restircl.passes import PASSES, blender_name
 
 from . import export
 
@@ -43,7 +43,14 @@ def register_passes(engine, scene, view_layer) -> None:
     """RenderEngine.update_render_passes: the passes of restircl.passes.PASSES the view layer has turned on."""
     for p in PASSES:
         if _pass_on(view_layer, p):
-            engine.register_pass(scene, view_layer, p.blender, len(p.channels), p.channels, p.blender_type)
+            engine.register_pass(scene, view_layer, blender_name(p, _version()), len(p.channels), p.channels,
+                                 p.blender_type)
+
+
+def _version() -> tuple[int, ...]:
+    import bpy
+
+    return tuple(bpy.app.version)
 
 
 @dataclass
@@ -275,7 +282,8 @@ def write_result(engine, frame, width: int, height: int, view_layer, film_transp
     result = engine.begin_result(0, 0, width, height, layer=view_layer.name)
     try:
         layer = result.layers[0]
-        planes = {p.blender: _pass_data(frame, p, height, width) for p in PASSES[1:]}
+        version = _version()
+        planes = {blender_name(p, version): _pass_data(frame, p, height, width) for p in PASSES[1:]}
         planes[PASSES[0].blender] = _combined(frame, height, width, film_transparent)
         for rp in layer.passes:
             data = planes.get(rp.name)

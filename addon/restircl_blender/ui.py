@@ -84,7 +84,7 @@ class RESTIRCL_PT_device(RestirclPanel, bpy.types.Panel):
     _devices: list[str] | None = None
 
     def draw(self, context):
-        super().draw(context)
+        RestirclPanel.draw(self, context)
         if RESTIRCL_PT_device._devices is None:  # listing devices loads the OpenCL ICDs: do it once
             RESTIRCL_PT_device._devices = engine.device_list()
         col = self.layout.column(align=True)

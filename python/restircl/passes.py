@@ -15,6 +15,7 @@ class Pass:
     # the view layer property that turns the pass on in Blender (dotted: one of the add-on's); None: always on
     blender_toggle: str | None
     miss: float | None = None  # written instead of inf where the camera ray hits nothing (as Blender does)
+    blender_4: str | None = None  # its name before Blender 5.0 (which renamed the built-in passes), if other
 
 
 DEPTH_MISS = 1e10
@@ -26,8 +27,13 @@ PASSES = (
     Pass("noisy", "RGB", "Noisy", "Noisy Direct", "COLOR", "restircl.use_pass_noisy_direct"),
     # the surface's diffuse albedo is what Cycles writes as Diffuse Color, the pass compositors and denoisers
     # (OIDN's Albedo input) take from it
-    Pass("albedo", "RGB", "Albedo", "DiffCol", "COLOR", "use_pass_diffuse_color"),
+    Pass("albedo", "RGB", "Albedo", "Diffuse Color", "COLOR", "use_pass_diffuse_color", blender_4="DiffCol"),
 )
+
+
+def blender_name(p: Pass, version: tuple[int, ...]) -> str:
+    """The pass's name in Blender `version` (bpy.app.version)."""
+    return p.blender_4 if p.blender_4 is not None and tuple(version) < (5, 0, 0) else p.blender
 
 
 def exr_names(p: Pass) -> list[str]:
