@@ -8,6 +8,7 @@ import argparse
 import math
 import re
 from dataclasses import fields
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -150,3 +151,10 @@ def test_kernel_limits_come_from_the_table(device):
     prog.k(device.queue, (1,), None, buf)
     cl.enqueue_copy(device.queue, out, buf)
     assert int(out[0]) == limits["MAX_NEIGHBOURS"]
+
+
+def test_docs_list_every_setting():
+    """docs/blender.md's settings table names each Blender label and each Settings field."""
+    text = (Path(__file__).resolve().parents[1] / "docs" / "blender.md").read_text()
+    for d in declared(Settings):
+        assert d.spec.label in text and f"`{d.name}`" in text, d.name
