@@ -265,3 +265,23 @@ def test_albedo_is_the_diffuse_colour_pass_cycles_writes(tmp_path):
     ours, cyc = read_exr_passes(tmp_path / "ours.exr")[name], read_exr_passes(tmp_path / "cycles.exr")[name]
     assert ours.shape == cyc.shape == (16, 24, 3)
     assert np.median(np.abs(ours - cyc)) < 0.01 and ours.max() > 0.3
+
+
+@needs_renderer
+def test_a_setting_out_of_range_is_an_error_report_naming_it(tmp_path, monkeypatch):
+    """The one value the panel allows and restircl refuses (a Light Change Ratio in (0, 1]) is a report, not a
+    crash caught by the engine's last-resort handler."""
+    addon = ensure_registered()
+    crashes = []
+    monkeypatch.setattr(addon.engine.traceback, "print_exc", lambda *a, **k: crashes.append(1))
+    sc = scenes.new_scene(8, 6, engine="RESTIRCL")
+    scenes.quad("Floor", 4.0, 4.0, scenes.diffuse_material("Floor"))
+    scenes.light("POINT", "Point", (0.0, 0.0, 1.5), energy=20.0)
+    scenes.camera((0.0, -3.0, 2.0), (0.0, 0.0, 0.0))
+    sc.restircl.light_change_ratio = 0.5
+    try:
+        with pytest.raises(RuntimeError, match="light_change_ratio"):
+            render_to(sc, tmp_path / "x.exr")
+    finally:
+        sc.restircl.light_change_ratio = 2.0
+    assert not crashes

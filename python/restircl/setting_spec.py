@@ -9,9 +9,11 @@ from __future__ import annotations
 import argparse
 import math
 import numbers
-from collections.abc import Callable, Iterable
+from collections.abc import Callable
 from dataclasses import MISSING, dataclass, field, fields
 from typing import Any, TypeVar
+
+import numpy as np
 
 T = TypeVar("T")
 SPEC = "restircl.spec"  # the key of a field's metadata that holds its Spec
@@ -124,7 +126,7 @@ class Spec:
 
 def setting(default: T, label: str, description: str, **spec: Any) -> T:
     """A dataclass field declaring a setting (see Spec for the keywords)."""
-    return field(default=default, metadata={SPEC: Spec(label, description, **spec)})  # type: ignore[no-any-return]
+    return field(default=default, metadata={SPEC: Spec(label, description, **spec)})
 
 
 @dataclass(frozen=True)
@@ -165,11 +167,11 @@ def check(obj: Any) -> None:
             raise SettingError(f"setting {d.name}={value!r} {why}", (d.name,))
 
 
-def add_arguments(group: argparse._ActionsContainer, cls: type, skip: Iterable[str] = ()) -> None:
+def add_arguments(group: argparse._ActionsContainer, cls: type) -> None:
     """One command-line option per setting of `cls` that has a flag."""
     for d in declared(cls):
         spec = d.spec
-        if spec.flag is None or d.name in skip:
+        if spec.flag is None:
             continue
         help_text = spec.description.replace("%", "%%")
         if d.kind is bool:
@@ -208,6 +210,5 @@ def _step(x: float | None, kind: type, up: bool) -> float | None:
         return None
     if kind is int:
         return x + 1 if up else x - 1
-    import numpy as np  # Blender stores floats as float32: the next one it can hold
-
+    # Blender stores floats as float32: the next one it can hold
     return float(np.nextafter(np.float32(x), np.float32(np.inf if up else -np.inf)))
