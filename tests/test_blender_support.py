@@ -20,10 +20,11 @@ for _p in (ROOT / "addon", ROOT / "blend"):
         sys.path.insert(0, str(_p))
 
 import scenes  # noqa: E402  (blend/scenes.py)
+from restircl.passes import PASSES  # noqa: E402
 
 pytestmark = pytest.mark.blender
 
-CHANNEL_ORDER = {"Combined": "RGBA", "Depth": "Z", "Normal": "XYZ", "Vector": "XYZW", "Noisy Direct": "RGB"}
+CHANNEL_ORDER = {name: p.channels for p in PASSES for name in {p.blender, p.blender_4} if name}
 
 
 def ensure_registered():

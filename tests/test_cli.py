@@ -6,7 +6,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from restircl import read_exr
-from restircl.cli import main
+from restircl.cli import build_parser, main, settings_from_args
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -42,7 +42,60 @@ def test_bad_input_gives_a_clear_error_not_a_traceback(tmp_path, capsys):
     assert main(["render", "no_such_scene"]) == 2
     assert main(["render", "cornell_box", "--width", "8", "--height", "8", "--device", "no-such-device-xyz"]) == 2
     assert "no OpenCL device matches" in capsys.readouterr().err
-    assert main(["render", "cornell_box", "--width", "8", "--height", "8", "--candidates", "0"]) == 2
+
+
+BAD_NUMBERS = """
+render cornell_box --width 0
+render cornell_box --height -2
+render cornell_box --frames -3
+render cornell_box --frames 0
+render cornell_box --target-error nan
+render cornell_box --target-error 0
+render cornell_box --candidates 0
+render cornell_box --gamma inf
+render cornell_box --neighbours 17
+demo --frames 0
+demo --width 1.5
+save-scene cornell_box x.npz --width 0
+bench frame --width 0
+bench traversal --triangles -1
+report cornell_box --budgets 1,nan
+report cornell_box --budgets 0.5,-1
+report cornell_box --every 0
+report cornell_box --reference-seconds inf
+report cornell_box --ms-per-frame 0
+stress --bench-frames 0
+stress --seed -1
+""".strip().splitlines()
+
+
+@pytest.mark.parametrize("command", BAD_NUMBERS)
+def test_numbers_out_of_range_are_argparse_errors_naming_the_option(command, capsys):
+    """No number falls back to a default or renders something else silently: exit status 2 and the option named."""
+    argv = command.split()
+    with pytest.raises(SystemExit) as e:
+        main(argv)
+    assert e.value.code == 2
+    flag = next(a for a in reversed(argv) if a.startswith("--"))
+    err = capsys.readouterr().err
+    assert f"argument {flag}: " in err and ("out of range" in err or "is not" in err), err
+
+
+def test_every_setting_is_an_option():
+    """The README's promise: every Settings field has a command-line flag, in render and demo."""
+    from restircl import Settings
+    from restircl.setting_spec import declared
+
+    for cmd in (["render", "cornell_box"], ["demo"]):
+        args = vars(build_parser().parse_args(cmd))
+        assert set(Settings.names()) <= set(args), cmd
+    s = settings_from_args(build_parser().parse_args(
+        ["render", "x", "--depth-tolerance", "0.2", "--normal-angle", "30", "--max-history", "64",
+         "--slots-per-light", "2", "--light-tile-count", "16", "--light-tile-size", "256",
+         "--light-change-ratio", "0", "--no-jitter"]))
+    assert (s.depth_tolerance, s.normal_angle, s.max_history, s.slots_per_light, s.light_tile_count,
+            s.light_tile_size, s.light_change_ratio, s.jitter) == (0.2, 30.0, 64, 2.0, 16, 256, 0.0, False)
+    assert all(d.spec.flag for d in declared(Settings))
 
 
 def test_help_texts():

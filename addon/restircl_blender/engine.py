@@ -11,32 +11,46 @@ Nothing here lets an exception escape into Blender: failures are reported with R
 
 from __future__ import annotations
 
-import inspect
 import traceback
 import warnings
 from dataclasses import dataclass
 
 import numpy as np
+from restircl.passes import PASSES, blender_name
 
 from . import export
 
-NOISY_PASS = "Noisy Direct"
-DEPTH_MISS = 1e10  # what Blender's Depth pass holds where no surface is hit
 MAX_REPORTED_WARNINGS = 8
 
 
+def toggle_owner(view_layer, toggle: str):
+    """The object and property name of a pass's toggle: 'use_pass_z' on the view layer, 'restircl.x' on ours."""
+    owner_path, _, name = toggle.rpartition(".")
+    owner = view_layer
+    for part in filter(None, owner_path.split(".")):
+        owner = getattr(owner, part, None)
+    return owner, name
+
+
+def _pass_on(view_layer, p) -> bool:
+    if p.blender_toggle is None:
+        return True
+    owner, name = toggle_owner(view_layer, p.blender_toggle)
+    return owner is None or bool(getattr(owner, name, True))  # the add-on's own toggles: on when unregistered
+
+
 def register_passes(engine, scene, view_layer) -> None:
-    """RenderEngine.update_render_passes: the passes this engine writes, following the view layer's flags."""
-    engine.register_pass(scene, view_layer, "Combined", 4, "RGBA", "COLOR")
-    if view_layer.use_pass_z:
-        engine.register_pass(scene, view_layer, "Depth", 1, "Z", "VALUE")
-    if view_layer.use_pass_normal:
-        engine.register_pass(scene, view_layer, "Normal", 3, "XYZ", "VECTOR")
-    if view_layer.use_pass_vector:
-        engine.register_pass(scene, view_layer, "Vector", 4, "XYZW", "VECTOR")
-    vl_props = getattr(view_layer, "restircl", None)
-    if vl_props is None or vl_props.use_pass_noisy_direct:
-        engine.register_pass(scene, view_layer, NOISY_PASS, 3, "RGB", "COLOR")
+    """RenderEngine.update_render_passes: the passes of restircl.passes.PASSES the view layer has turned on."""
+    for p in PASSES:
+        if _pass_on(view_layer, p):
+            engine.register_pass(scene, view_layer, blender_name(p, _version()), len(p.channels), p.channels,
+                                 p.blender_type)
+
+
+def _version() -> tuple[int, ...]:
+    import bpy
+
+    return tuple(bpy.app.version)
 
 
 @dataclass
@@ -82,13 +96,8 @@ def _report_warnings(engine, messages) -> None:
 
 
 def make_settings(restircl, props):
-    """restircl.Settings from scene.restircl, passing only the keywords this restircl version knows."""
-    kwargs = props.settings_kwargs()
-    try:
-        accepted = set(inspect.signature(restircl.Settings).parameters)
-    except (TypeError, ValueError):
-        accepted = set(kwargs)
-    return restircl.Settings(**{k: v for k, v in kwargs.items() if k in accepted})
+    """restircl.Settings from scene.restircl (its properties are generated from the same table)."""
+    return restircl.Settings(**props.settings_kwargs())
 
 
 def _frames_to_sample(scene, frame: int, animation: bool, warmup: int, use_vector: bool,
@@ -116,7 +125,7 @@ def _render(engine, depsgraph) -> None:
     if not hasattr(restircl, "Renderer"):
         engine.report({"ERROR"}, "restircl: this restircl package has no Renderer (too old)")
         return
-    known = tuple(getattr(restircl, n) for n in ("DeviceError", "KernelBuildError", "SceneError")
+    known = tuple(getattr(restircl, n) for n in ("DeviceError", "KernelBuildError", "SceneError", "SettingError")
                   if hasattr(restircl, n)) + (export.ExportError,)
 
     frame = int(scene.frame_current)
@@ -235,8 +244,9 @@ def _render(engine, depsgraph) -> None:
     write_result(engine, result, width, height, view_layer, scene.render.film_transparent)
 
 
-def _pass_data(frame, name: str, height: int, width: int) -> np.ndarray | None:
-    arr = getattr(frame, name, None)
+def _pass_data(frame, p, height: int, width: int) -> np.ndarray | None:
+    """A pass of a restircl.Frame as (H, W, C) float32, with Blender's value where nothing is hit."""
+    arr = getattr(frame, p.attr, None)
     if arr is None:
         return None
     arr = np.asarray(arr, dtype=np.float32)
@@ -244,7 +254,27 @@ def _pass_data(frame, name: str, height: int, width: int) -> np.ndarray | None:
         arr = arr[..., None]
     if arr.shape[:2] != (height, width):
         return None
+    if p.miss is not None:
+        arr = np.where(np.isfinite(arr), arr, np.float32(p.miss)).astype(np.float32)
     return arr
+
+
+def _combined(frame, height: int, width: int, film_transparent: bool) -> np.ndarray | None:
+    """RGBA of the image; with a transparent film, alpha 0 where the camera ray hits nothing."""
+    colour = _pass_data(frame, PASSES[0], height, width)
+    if colour is None:
+        return None
+    colour = colour.copy()
+    if colour.shape[2] == 3:
+        colour = np.concatenate([colour, np.ones_like(colour[..., :1])], axis=2)
+    depth = getattr(frame, "depth", None)
+    if depth is not None and np.shape(depth)[:2] != (height, width):
+        depth = None
+    if film_transparent and depth is not None:
+        colour[..., 3] = np.isfinite(np.asarray(depth, dtype=np.float32)).reshape(height, width)
+    elif not film_transparent:
+        colour[..., 3] = 1.0
+    return colour
 
 
 def write_result(engine, frame, width: int, height: int, view_layer, film_transparent: bool) -> None:
@@ -252,25 +282,9 @@ def write_result(engine, frame, width: int, height: int, view_layer, film_transp
     result = engine.begin_result(0, 0, width, height, layer=view_layer.name)
     try:
         layer = result.layers[0]
-        depth = _pass_data(frame, "depth", height, width)
-        colour = _pass_data(frame, "color", height, width)
-        if colour is not None:
-            colour = colour.copy()
-            if colour.shape[2] == 3:
-                colour = np.concatenate([colour, np.ones_like(colour[..., :1])], axis=2)
-            if film_transparent and depth is not None:
-                colour[..., 3] = np.isfinite(depth[..., 0]).astype(np.float32)
-            elif not film_transparent:
-                colour[..., 3] = 1.0
-        if depth is not None:
-            depth = np.where(np.isfinite(depth), depth, np.float32(DEPTH_MISS)).astype(np.float32)
-        planes = {
-            "Combined": colour,
-            "Depth": depth,
-            "Normal": _pass_data(frame, "normal", height, width),
-            "Vector": _pass_data(frame, "vector", height, width),
-            NOISY_PASS: _pass_data(frame, "noisy", height, width),
-        }
+        version = _version()
+        planes = {blender_name(p, version): _pass_data(frame, p, height, width) for p in PASSES[1:]}
+        planes[PASSES[0].blender] = _combined(frame, height, width, film_transparent)
         for rp in layer.passes:
             data = planes.get(rp.name)
             if data is None or data.shape[2] != rp.channels:

@@ -4,8 +4,9 @@ our engine added to the built-in light, material and post-processing panels that
 from __future__ import annotations
 
 import bpy
+from restircl.passes import PASSES
 
-from . import engine
+from . import engine, properties
 
 ENGINE = "RESTIRCL"
 # Built-in panels whose settings restircl reads (light type/colour/power/shape, material surface nodes).
@@ -18,94 +19,82 @@ _added_to: list[str] = []
 
 
 class RestirclPanel:
+    """A panel that draws the settings the table puts in `settings_panel`, each greyed out where it has no effect."""
+
     bl_space_type = "PROPERTIES"
     bl_region_type = "WINDOW"
     bl_context = "render"
     COMPAT_ENGINES = {ENGINE}
+    settings_panel = ""
+    header: str | None = None  # a bool setting drawn in the panel's header: the switch of what the panel holds
 
     @classmethod
     def poll(cls, context):
         return context.engine in cls.COMPAT_ENGINES
 
-
-class RESTIRCL_PT_sampling(RestirclPanel, bpy.types.Panel):
-    bl_label = "Sampling"
+    def draw_header(self, context):
+        if self.header is not None:
+            self.layout.prop(context.scene.restircl, self.header, text="")
 
     def draw(self, context):
-        props = context.scene.restircl
         layout = self.layout
         layout.use_property_split = True
         layout.use_property_decorate = False
-        layout.prop(props, "method")
-        col = layout.column(align=True)
-        col.prop(props, "samples", text="Still Samples")
-        col.prop(props, "target_error")
-        col.prop(props, "warmup_frames")
-        sub = layout.column()
-        sub.active = props.method in ("ris", "restir")
-        sub.prop(props, "candidates")
-        sub.prop(props, "light_tiles")
-        layout.prop(props, "seed")
+        draw_settings(layout, context.scene.restircl, properties.SCENE_SETTINGS, self.settings_panel, self.header)
+
+
+def draw_settings(layout, props, settings, panel: str, skip: str | None = None) -> None:
+    col = layout.column()
+    for d in settings:
+        if d.spec.panel != panel or d.name == skip:
+            continue
+        row = col.row()
+        row.active = all(getattr(props, name) in values for name, values in d.spec.applies_when)
+        row.prop(props, d.name)
+
+
+class RESTIRCL_PT_sampling(RestirclPanel, bpy.types.Panel):
+    bl_label = "Sampling"
+    settings_panel = "sampling"
+
+
+class RESTIRCL_PT_lights(RestirclPanel, bpy.types.Panel):
+    bl_label = "Light Sampling"
+    bl_parent_id = "RESTIRCL_PT_sampling"
+    bl_options = {"DEFAULT_CLOSED"}
+    settings_panel = "lights"
 
 
 class RESTIRCL_PT_reuse(RestirclPanel, bpy.types.Panel):
     bl_label = "Reuse"
     bl_parent_id = "RESTIRCL_PT_sampling"
-
-    def draw(self, context):
-        props = context.scene.restircl
-        layout = self.layout
-        layout.use_property_split = True
-        layout.use_property_decorate = False
-        layout.active = props.method == "restir"
-        layout.prop(props, "temporal")
-        sub = layout.column()
-        sub.active = props.temporal
-        sub.prop(props, "m_cap")
-        layout.prop(props, "spatial")
-        sub = layout.column(align=True)
-        sub.active = props.spatial
-        sub.prop(props, "spatial_neighbours")
-        sub.prop(props, "spatial_radius")
-        sub.prop(props, "spatial_passes")
-        layout.prop(props, "bias_correction")
-        layout.prop(props, "visibility_reuse")
+    settings_panel = "reuse"
 
 
 class RESTIRCL_PT_taa(RestirclPanel, bpy.types.Panel):
     bl_label = "Temporal Anti-Aliasing"
-
-    def draw_header(self, context):
-        self.layout.prop(context.scene.restircl, "taa", text="")
-
-    def draw(self, context):
-        props = context.scene.restircl
-        layout = self.layout
-        layout.use_property_split = True
-        layout.use_property_decorate = False
-        layout.active = props.taa
-        layout.prop(props, "alpha_min")
-        layout.prop(props, "gamma")
+    settings_panel = "taa"
+    header = "taa"
 
 
 class RESTIRCL_PT_device(RestirclPanel, bpy.types.Panel):
     bl_label = "Device"
     bl_options = {"DEFAULT_CLOSED"}
+    settings_panel = "device"
     _devices: list[str] | None = None
 
     def draw(self, context):
-        layout = self.layout
-        layout.use_property_split = True
-        layout.use_property_decorate = False
-        layout.prop(context.scene.restircl, "device")
+        RestirclPanel.draw(self, context)
         if RESTIRCL_PT_device._devices is None:  # listing devices loads the OpenCL ICDs: do it once
             RESTIRCL_PT_device._devices = engine.device_list()
-        col = layout.column(align=True)
+        col = self.layout.column(align=True)
         for label in RESTIRCL_PT_device._devices:
             col.label(text=label)
 
 
 class RESTIRCL_PT_passes(RestirclPanel, bpy.types.Panel):
+    """The passes of restircl.passes.PASSES that can be turned off, under Blender's own headings."""
+
     bl_label = "Passes"
     bl_context = "view_layer"
 
@@ -114,15 +103,16 @@ class RESTIRCL_PT_passes(RestirclPanel, bpy.types.Panel):
         layout.use_property_split = True
         layout.use_property_decorate = False
         vl = context.view_layer
-        col = layout.column(heading="Data", align=True)
-        col.prop(vl, "use_pass_z")
-        col.prop(vl, "use_pass_normal")
-        col.prop(vl, "use_pass_vector")
-        col = layout.column(heading="Light", align=True)
-        col.prop(vl.restircl, "use_pass_noisy_direct")
+        for heading, light in (("Data", False), ("Light", True)):
+            col = layout.column(heading=heading, align=True)
+            for p in PASSES:
+                if p.blender_toggle is not None and (p.blender_type == "COLOR") == light:
+                    owner, name = engine.toggle_owner(vl, p.blender_toggle)
+                    col.prop(owner, name)
 
 
-CLASSES = (RESTIRCL_PT_sampling, RESTIRCL_PT_reuse, RESTIRCL_PT_taa, RESTIRCL_PT_device, RESTIRCL_PT_passes)
+CLASSES = (RESTIRCL_PT_sampling, RESTIRCL_PT_lights, RESTIRCL_PT_reuse, RESTIRCL_PT_taa, RESTIRCL_PT_device,
+           RESTIRCL_PT_passes)
 
 
 def register() -> None:

@@ -15,10 +15,11 @@ from .image_io import read_exr, write_exr, write_png
 from .pipeline import Frame, Renderer, Settings
 from .program import KernelBuildError
 from .scene import Camera, Light, Material, Mesh, Scene, SceneError, SceneFileError, look_at, translation
+from .setting_spec import SettingError
 
 __all__ = [
     "Camera", "Device", "DeviceError", "Frame", "KernelBuildError", "Light", "Material", "Mesh", "Renderer",
-    "Scene", "SceneError", "SceneFileError", "Settings", "choose_device", "get_device", "list_devices", "look_at",
-    "read_exr", "scenes", "translation", "write_exr", "write_png",
+    "Scene", "SceneError", "SceneFileError", "SettingError", "Settings", "choose_device", "get_device", "list_devices",
+    "look_at", "read_exr", "scenes", "translation", "write_exr", "write_png",
 ]
 __version__ = "0.1.0"

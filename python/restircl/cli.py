@@ -10,9 +10,15 @@ from pathlib import Path
 
 from . import scenes
 from .device import DeviceError, get_device, list_devices
-from .pipeline import BIAS_CORRECTIONS, LIGHT_TILES, LIGHT_TILES_AUTO, METHODS, Renderer, Settings
+from .pipeline import Renderer
 from .program import KernelBuildError
 from .scene import Scene, SceneError
+from .setting_spec import Range, SettingError, add_arguments, flag_of, from_arguments
+from .settings import Settings
+
+COUNT = Range(int, 1).parse  # sizes, frame counts: 0 or less is a mistake, not "the default"
+POSITIVE = Range(float, 0, min_open=True, finite=True)  # seconds, error targets
+SECONDS = POSITIVE.parse
 
 
 class Progress:
@@ -58,41 +64,16 @@ def load_scene(spec: str, width: int | None, height: int | None, frames: int | N
     return scene
 
 
-def add_settings_args(p: argparse.ArgumentParser, method: str = "restir") -> None:
-    d = Settings()
-    g = p.add_argument_group("rendering method and its parameters")
-    g.add_argument("--method", choices=METHODS, default=method, help="light sampling method (default: %(default)s)")
-    g.add_argument("--candidates", type=int, default=d.candidates, help="RIS candidates per pixel (%(default)s)")
-    g.add_argument("--no-temporal", action="store_true", help="restir: no temporal reuse")
-    g.add_argument("--no-spatial", action="store_true", help="restir: no spatial reuse")
-    g.add_argument("--neighbours", type=int, default=d.spatial_neighbours, help="spatial neighbours (%(default)s)")
-    g.add_argument("--radius", type=float, default=d.spatial_radius, help="spatial radius, px (%(default)s)")
-    g.add_argument("--passes", type=int, default=d.spatial_passes, help="spatial passes (%(default)s)")
-    g.add_argument("--bias-correction", choices=BIAS_CORRECTIONS, default=d.bias_correction,
-                   help="none: plain M-weighted merge (biased); z_count: 1/Z (unbiased); pairwise: pairwise MIS "
-                        "(unbiased, robust) (default: %(default)s)")
-    g.add_argument("--m-cap", type=float, default=d.m_cap, help="temporal M cap, x candidates (%(default)s)")
-    g.add_argument("--no-visibility-reuse", action="store_true", help="restir: no shadow ray for initial samples")
-    g.add_argument("--light-tiles", choices=LIGHT_TILES, default=d.light_tiles,
-                   help="ris, restir: draw candidates from presampled light tiles; auto: from "
-                        f"{LIGHT_TILES_AUTO} lights on (default: %(default)s)")
-    g.add_argument("--no-taa", action="store_true", help="no temporal accumulation of animation frames")
-    g.add_argument("--alpha-min", type=float, default=d.alpha_min, help="TAA minimum blend factor (%(default)s)")
-    g.add_argument("--gamma", type=float, default=d.gamma, help="TAA variance clipping width (%(default)s)")
-    g.add_argument("--seed", type=int, default=d.seed, help="random seed (%(default)s)")
-    g.add_argument("--general", action="store_true", help="compile every feature, not only what the scene needs")
+def add_settings_args(p: argparse.ArgumentParser) -> None:
+    """One option per Settings field (the table in settings.py), and --device."""
+    add_arguments(p.add_argument_group("rendering method and its parameters"), Settings)
     p.add_argument("--device", default=None, help="OpenCL device: 'P:D' or a name substring (default: "
                    "$RESTIRCL_DEVICE, else the first GPU, else the first CPU)")
+    p.set_defaults(settings_parser=p)
 
 
 def settings_from_args(a: argparse.Namespace) -> Settings:
-    return Settings(
-        method=a.method, candidates=a.candidates, temporal=not a.no_temporal, spatial=not a.no_spatial,
-        spatial_neighbours=a.neighbours, spatial_radius=a.radius, spatial_passes=a.passes,
-        bias_correction=a.bias_correction, m_cap=a.m_cap, visibility_reuse=not a.no_visibility_reuse,
-        taa=not a.no_taa, alpha_min=a.alpha_min, gamma=a.gamma, seed=a.seed, specialise=not a.general,
-        light_tiles=a.light_tiles,
-    ).validate()
+    return from_arguments(Settings, a).validate()
 
 
 def _render(scene: Scene, settings: Settings, frames: int, out: Path, mode: str, device: str | None,
@@ -160,12 +141,12 @@ def _print_guards(guards: dict[str, int]) -> None:
 
 def cmd_demo(a: argparse.Namespace) -> int:
     scene = scenes.many_lights(width=a.width, height=a.height, frames=a.frames)
-    return _render(scene, settings_from_args(a), a.frames, Path(a.out), "animation", a.device)
+    return _render(scene, a.settings, a.frames, Path(a.out), "animation", a.device)
 
 
 def cmd_render(a: argparse.Namespace) -> int:
     scene = load_scene(a.scene, a.width, a.height, a.frames)
-    return _render(scene, settings_from_args(a), a.frames, Path(a.out), a.mode, a.device, a.target_error)
+    return _render(scene, a.settings, a.frames, Path(a.out), a.mode, a.device, a.target_error)
 
 
 def cmd_devices(a: argparse.Namespace) -> int:
@@ -226,7 +207,7 @@ def cmd_report(a: argparse.Namespace) -> int:
             target = bpy_scene
     else:
         scene = load_scene(a.scene, a.width, a.height, 1)
-    budgets = tuple(float(b) for b in a.budgets.split(","))
+    budgets = tuple(a.budgets)
     ref = report_reference.get_reference(scene, 0, a.reference_seconds, device=a.device, cache_dir=cache)
     rep = report.run_report(scene, methods, budgets, tuple((a.modes or "accumulate,taa").split(",")),
                             device=a.device, reference=ref, cycles=target)
@@ -279,9 +260,9 @@ def build_parser() -> argparse.ArgumentParser:
     d = sub.add_parser("demo", help="render the built-in many_lights flythrough into out/",
                        description="Render several frames of the built-in many_lights scene (animated camera) "
                                    "with ReSTIR + TAA into --out as EXR (with AOVs) and PNG previews.")
-    d.add_argument("--width", type=int, default=640)
-    d.add_argument("--height", type=int, default=360)
-    d.add_argument("--frames", type=int, default=16)
+    d.add_argument("--width", type=COUNT, default=640)
+    d.add_argument("--height", type=COUNT, default=360)
+    d.add_argument("--frames", type=COUNT, default=16)
     d.add_argument("--out", default="out")
     add_settings_args(d)
     d.set_defaults(func=cmd_demo)
@@ -291,13 +272,13 @@ def build_parser() -> argparse.ArgumentParser:
                                    "accumulates --frames samples into one image; an animated one writes one "
                                    "image per frame.")
     r.add_argument("scene", help=f"built-in scene ({', '.join(scenes.BUILTIN)}) or a scene file")
-    r.add_argument("--width", type=int, default=None)
-    r.add_argument("--height", type=int, default=None)
-    r.add_argument("--frames", type=int, default=16, help="samples (still) or frames (animation)")
+    r.add_argument("--width", type=COUNT, default=None)
+    r.add_argument("--height", type=COUNT, default=None)
+    r.add_argument("--frames", type=COUNT, default=16, help="samples (still) or frames (animation)")
     r.add_argument("--mode", choices=("auto", "still", "animation"), default="auto",
                    help="auto: still if the scene has one frame (default)")
     r.add_argument("--out", default="out")
-    r.add_argument("--target-error", type=float, default=None,
+    r.add_argument("--target-error", type=POSITIVE.parse, default=None,
                    help="still: stop once the estimated relMSE (from two half buffers, no reference) reaches this")
     add_settings_args(r)
     r.set_defaults(func=cmd_render)
@@ -311,9 +292,9 @@ def build_parser() -> argparse.ArgumentParser:
     b.add_argument("what", nargs="?", choices=("traversal", "frame", "lights", "taa", "all"), default="all",
                    help="traversal: ours vs Embree; frame: ms per stage and method; lights: frame time against "
                         "the light count; taa: error against frame number (default: all)")
-    b.add_argument("--triangles", type=int, default=1_000_000)
-    b.add_argument("--width", type=int, default=640)
-    b.add_argument("--height", type=int, default=360)
+    b.add_argument("--triangles", type=COUNT, default=1_000_000)
+    b.add_argument("--width", type=COUNT, default=640)
+    b.add_argument("--height", type=COUNT, default=360)
     b.add_argument("--no-embree", action="store_true")
     b.add_argument("--device", default=None)
     b.set_defaults(func=cmd_bench)
@@ -325,20 +306,21 @@ def build_parser() -> argparse.ArgumentParser:
                                     "--moving: every frame of the animation with the same time per frame, and the "
                                     "error of every --every-th frame against that frame's reference.")
     rp.add_argument("scene", nargs="?", help="built-in scene, scene file (.npz) or .blend (needs bpy)")
-    rp.add_argument("--width", type=int, default=None)
-    rp.add_argument("--height", type=int, default=None)
+    rp.add_argument("--width", type=COUNT, default=None)
+    rp.add_argument("--height", type=COUNT, default=None)
     rp.add_argument("--methods", default=None, help="comma-separated subset (default: all)")
-    rp.add_argument("--budgets", default="0.25,0.5,1,2,4", help="seconds, comma-separated (%(default)s)")
+    rp.add_argument("--budgets", type=POSITIVE.parse_list, default="0.25,0.5,1,2,4",
+                    help="seconds, comma-separated (%(default)s)")
     rp.add_argument("--modes", default=None,
                     help="still: accumulate (running mean) and/or taa (TAA output), default accumulate,taa; "
                          "--moving: taa and/or frame (mean of the frame's own samples, no TAA), default taa")
     rp.add_argument("--no-cycles", action="store_true", help="leave Cycles out even when bpy imports")
     rp.add_argument("--moving", action="store_true", help="moving camera: error per frame at equal time per frame")
-    rp.add_argument("--frames", type=int, default=None, help="--moving: animation length of many_lights")
-    rp.add_argument("--ms-per-frame", type=float, default=None,
+    rp.add_argument("--frames", type=COUNT, default=None, help="--moving: animation length of many_lights")
+    rp.add_argument("--ms-per-frame", type=SECONDS, default=None,
                     help="--moving: wall time per frame (default: the slowest method's frame time)")
-    rp.add_argument("--every", type=int, default=4, help="--moving: evaluate every N-th frame (%(default)s)")
-    rp.add_argument("--reference-seconds", type=float, default=120.0,
+    rp.add_argument("--every", type=COUNT, default=4, help="--moving: evaluate every N-th frame (%(default)s)")
+    rp.add_argument("--reference-seconds", type=SECONDS, default=120.0,
                     help="time for a reference, per frame (%(default)s); references are cached")
     rp.add_argument("--cache-dir", default=None, help="reference cache (default: ~/.cache/restircl)")
     rp.add_argument("--replot", default=None, metavar="JSON", help="redraw the plot of a written report and exit")
@@ -349,28 +331,34 @@ def build_parser() -> argparse.ArgumentParser:
     s = sub.add_parser("save-scene", help="write a built-in scene to a scene file (.npz)")
     s.add_argument("scene")
     s.add_argument("path")
-    s.add_argument("--width", type=int, default=None)
-    s.add_argument("--height", type=int, default=None)
+    s.add_argument("--width", type=COUNT, default=None)
+    s.add_argument("--height", type=COUNT, default=None)
     s.set_defaults(func=cmd_save_scene)
 
     st = sub.add_parser("stress", help="stability on extreme scenes: NaN/Inf, max value, relMSE per method",
-                        description="Render the built-in extreme scenes (restircl/stress.py) with every method and "
+                        description="Render the built-in extreme scenes (restircl/eval/stress.py) with every method and "
                                     "check them against their references; exit status 1 if any fails.")
     st.add_argument("--full", action="store_true", help="full sizes (1e6 lights, 5000 frames, ...): minutes")
     st.add_argument("--methods", default=None, help="comma-separated subset (default: all)")
     st.add_argument("--cases", default=None, help="comma-separated subset (default: all)")
     st.add_argument("--out", default=None, help="write stress.csv and stress.json here")
-    st.add_argument("--seed", type=int, default=0, help="shift of every random seed (%(default)s)")
+    st.add_argument("--seed", type=Range(int, 0).parse, default=0, help="shift of every random seed (%(default)s)")
     st.add_argument("--device", default=None)
     st.add_argument("--bench-specialisation", action="store_true",
                     help="instead: kernel build and frame times, specialised against general builds")
-    st.add_argument("--bench-frames", type=int, default=24, help="frames timed per build (%(default)s)")
+    st.add_argument("--bench-frames", type=COUNT, default=24, help="frames timed per build (%(default)s)")
     st.set_defaults(func=cmd_stress)
     return p
 
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
+    sub = getattr(args, "settings_parser", None)
+    if sub is not None:  # a setting out of range together with another one: an argparse error too
+        try:
+            args.settings = settings_from_args(args)
+        except SettingError as exc:
+            sub.error(f"argument {'/'.join(flag_of(Settings, n) for n in exc.names)}: {exc}")
     try:
         return int(args.func(args) or 0)
     except (DeviceError, KernelBuildError, SceneError, ValueError) as exc:

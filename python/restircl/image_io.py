@@ -6,27 +6,27 @@ from pathlib import Path
 
 import numpy as np
 
+from .passes import PASSES, exr_names
 from .pipeline import Frame
 
 
 def exr_channels(frame: Frame) -> dict[str, np.ndarray]:
-    """Blender-style channels: RGBA of the Combined image plus Depth.Z, Normal.XYZ, Vector.XYZW, Noisy.RGB,
-    Albedo.RGB. Depth is the view depth, with misses written as 1e10 (Blender writes a large finite value)."""
-    c = np.ascontiguousarray
-    depth = np.where(np.isfinite(frame.depth), frame.depth, np.float32(1e10)).astype(np.float32)
-    ch = {
-        "R": c(frame.color[..., 0]), "G": c(frame.color[..., 1]), "B": c(frame.color[..., 2]),
-        "A": c(frame.color[..., 3]),
-        "Depth.Z": c(depth),
-    }
-    for i, a in enumerate("XYZ"):
-        ch[f"Normal.{a}"] = c(frame.normal[..., i])
-    for i, a in enumerate("XYZW"):
-        ch[f"Vector.{a}"] = c(frame.vector[..., i])
-    for i, a in enumerate("RGB"):
-        ch[f"Noisy.{a}"] = c(frame.noisy[..., i])
-        ch[f"Albedo.{a}"] = c(frame.albedo[..., i])
-    return {k: v.astype(np.float32) for k, v in ch.items()}
+    """Blender-style channels of every pass in PASSES that the frame holds: R, G, B, A of the Combined image,
+    Depth.Z, Normal.XYZ, Vector.XYZW, Noisy.RGB, Albedo.RGB. Depth is the view depth, with misses written as 1e10
+    (Blender writes a large finite value)."""
+    ch: dict[str, np.ndarray] = {}
+    for p in PASSES:
+        data = getattr(frame, p.attr, None)
+        if data is None:  # left out of the read-back (render_frame(aovs=False))
+            continue
+        data = np.asarray(data, dtype=np.float32)
+        if p.miss is not None:
+            data = np.where(np.isfinite(data), data, np.float32(p.miss)).astype(np.float32)
+        if data.ndim == 2:
+            data = data[..., None]
+        for i, name in enumerate(exr_names(p)):
+            ch[name] = np.ascontiguousarray(data[..., i])
+    return ch
 
 
 def write_exr(path: str | Path, frame: Frame | np.ndarray) -> None:

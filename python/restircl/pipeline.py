@@ -17,7 +17,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 
 import numpy as np
 import pyopencl as cl
@@ -31,86 +31,17 @@ from .light_array import build_light_array
 from .lights import scene_lights
 from .program import build_program
 from .scene import Scene
+from .settings import (  # noqa: F401  (restircl.pipeline.Settings etc. are public)
+    BIAS_CORRECTIONS,
+    LIGHT_TILES,
+    LIGHT_TILES_AUTO,
+    MAX_LIGHT_TILE_ENTRIES,
+    METHODS,
+    TILE_INFO_BYTES,
+    Settings,
+)
 
-METHODS = ("uniform", "light_array", "ris", "restir", "reference")
-LIGHT_TILES = ("auto", "on", "off")
-#: light count from which light_tiles="auto" draws RIS candidates from presampled tiles: measured on the 2-core VM
-#: (docs/benchmarks.md), tiles cost 2 % of a ReSTIR frame at 1e4 point lights and saved 5 % at 3e4 and a quarter at 1e6
-LIGHT_TILES_AUTO = 20000
-TILE_INFO_BYTES = 8  # a tile entry's int2 (light index, pick pdf bits), next to its Light record
-MAX_LIGHT_TILE_ENTRIES = 1 << 22  # light_tile_count * light_tile_size
-BIAS_CORRECTIONS = ("none", "z_count", "pairwise")  # index = the kernels' BIAS_* code
 _METHOD_CODE = {"uniform": 0, "light_array": 1, "ris": 2}
-
-
-@dataclass
-class Settings:
-    """Every parameter of a render. Defaults follow DESIGN section 3, tuned for a 2-core CPU."""
-
-    method: str = "restir"
-    candidates: int = 8  # RIS candidates per pixel (ris, restir)
-    temporal: bool = True  # restir: reuse last frame's reservoirs
-    spatial: bool = True  # restir: reuse neighbours' reservoirs
-    spatial_neighbours: int = 3
-    spatial_radius: float = 30.0  # pixels
-    spatial_passes: int = 1
-    # "none": plain M-weighted merge (biased); "z_count": 1/Z (unbiased); "pairwise": pairwise MIS (unbiased)
-    bias_correction: str = "pairwise"
-    m_cap: float = 20.0  # temporal history cap, as a multiple of `candidates`
-    visibility_reuse: bool = True  # shadow-test the initial sample; unbiased reuse then counts visibility
-    taa: bool = True  # temporal accumulation of animation frames
-    alpha_min: float = 0.1
-    gamma: float = 1.0  # variance clipping width
-    max_history: int = 256
-    depth_tolerance: float = 0.1  # relative view-depth mismatch rejecting a neighbour / history
-    normal_angle: float = 25.0  # degrees of normal mismatch rejecting a neighbour / history
-    slots_per_light: float = 4.0  # light array size M = k * N
-    # RIS candidates (ris, restir) from presampled light tiles (light_tiles.h): "auto" from LIGHT_TILES_AUTO lights,
-    # where the light records no longer fit a CPU core's cache; "on"; "off" (straight from the light array)
-    light_tiles: str = "auto"
-    light_tile_count: int = 128
-    light_tile_size: int = 1024
-    light_change_ratio: float = 2.0  # drop ReSTIR history when a light's power changes more than this (0: never)
-    jitter: bool = True  # sub-pixel camera jitter (Halton 2, 3)
-    seed: int = 0
-    specialise: bool = True  # False: build with every feature (for tests and benchmarks)
-
-    def validate(self) -> Settings:
-        if self.method not in METHODS:
-            raise ValueError(f"method must be one of {METHODS}, got {self.method!r}")
-        if self.bias_correction not in BIAS_CORRECTIONS:
-            raise ValueError(f"bias_correction must be one of {BIAS_CORRECTIONS}, got {self.bias_correction!r}")
-        checks = {
-            "candidates": 1 <= self.candidates <= 4096,
-            "spatial_neighbours": 0 <= self.spatial_neighbours <= 16,
-            "spatial_radius": math.isfinite(self.spatial_radius) and self.spatial_radius >= 1,
-            "spatial_passes": 0 <= self.spatial_passes <= 8,
-            "m_cap": math.isfinite(self.m_cap) and self.m_cap >= 1,
-            "alpha_min": 0 <= self.alpha_min <= 1,
-            "gamma": math.isfinite(self.gamma) and self.gamma > 0,
-            "max_history": self.max_history >= 1,
-            "depth_tolerance": self.depth_tolerance > 0,
-            "normal_angle": 0 <= self.normal_angle <= 180,
-            "slots_per_light": math.isfinite(self.slots_per_light) and self.slots_per_light >= 1,
-            "light_change_ratio": self.light_change_ratio == 0 or self.light_change_ratio > 1,
-            "light_tile_count": 1 <= self.light_tile_count <= 4096,
-            "light_tile_size": 1 <= self.light_tile_size <= 65536,
-        }
-        if self.light_tiles not in LIGHT_TILES:
-            raise ValueError(f"light_tiles must be one of {LIGHT_TILES}, got {self.light_tiles!r}")
-        for name, ok in checks.items():
-            if not ok:
-                raise ValueError(f"setting {name}={getattr(self, name)!r} is out of range")
-        entries = self.light_tile_count * self.light_tile_size
-        if entries > MAX_LIGHT_TILE_ENTRIES:
-            raise ValueError(f"light_tile_count * light_tile_size = {entries} light tile entries, more than "
-                             f"{MAX_LIGHT_TILE_ENTRIES} "
-                             f"({MAX_LIGHT_TILE_ENTRIES * (L.LIGHT.itemsize + TILE_INFO_BYTES) >> 20} MiB of tiles)")
-        return self
-
-    @classmethod
-    def names(cls) -> list[str]:
-        return [f.name for f in fields(cls)]
 
 
 @dataclass

@@ -16,6 +16,7 @@ from pathlib import Path
 import pyopencl as cl
 
 from .device import Device
+from .settings import kernel_defines
 
 MAIN_SOURCE = "restircl.cl"
 # Denormals flushed to zero: on x86 CPUs a float op on a denormal operand takes a microcode assist, and our records
@@ -78,7 +79,9 @@ def build_program(
     """Build (or fetch from the cache) the program for `flags`. `source` replaces the main file's text."""
     src_dir = opencl_dir()
     text = source if source is not None else (src_dir / MAIN_SOURCE).read_text()
-    options = [f"-I{src_dir}", *BASE_OPTIONS, *format_options(flags or {}), *extra_options]
+    # the array limits the kernels share with validate() come from the settings table
+    options = [f"-I{src_dir}", *BASE_OPTIONS, *format_options(kernel_defines()), *format_options(flags or {}),
+               *extra_options]
     for opt in options:
         if opt in FORBIDDEN_OPTIONS:
             raise ValueError(f"{opt} deletes the NaN/Inf guards and is not allowed")

@@ -1,0 +1,41 @@
+"""The passes (AOVs) of a Frame, declared once: where each goes in an EXR file and in Blender's Render Result."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Pass:
+    attr: str  # the Frame field holding it, (H, W) or (H, W, C)
+    channels: str  # one letter per channel: the EXR channel suffixes and Blender's chan_id
+    exr_layer: str  # EXR layer name ("" for the unprefixed R, G, B, A of the image)
+    blender: str  # Blender's pass name
+    blender_type: str  # Blender's pass type: COLOR, VALUE or VECTOR
+    # the view layer property that turns the pass on in Blender (dotted: one of the add-on's); None: always on
+    blender_toggle: str | None
+    miss: float | None = None  # written instead of inf where the camera ray hits nothing (as Blender does)
+    blender_4: str | None = None  # its name before Blender 5.0 (which renamed the built-in passes), if other
+
+
+DEPTH_MISS = 1e10
+PASSES = (
+    Pass("color", "RGBA", "", "Combined", "COLOR", None),
+    Pass("depth", "Z", "Depth", "Depth", "VALUE", "use_pass_z", miss=DEPTH_MISS),
+    Pass("normal", "XYZ", "Normal", "Normal", "VECTOR", "use_pass_normal"),
+    Pass("vector", "XYZW", "Vector", "Vector", "VECTOR", "use_pass_vector"),
+    Pass("noisy", "RGB", "Noisy", "Noisy Direct", "COLOR", "restircl.use_pass_noisy_direct"),
+    # the surface's diffuse albedo is what Cycles writes as Diffuse Color, the pass compositors and denoisers
+    # (OIDN's Albedo input) take from it
+    Pass("albedo", "RGB", "Albedo", "Diffuse Color", "COLOR", "use_pass_diffuse_color", blender_4="DiffCol"),
+)
+
+
+def blender_name(p: Pass, version: tuple[int, ...]) -> str:
+    """The pass's name in Blender `version` (bpy.app.version)."""
+    return p.blender_4 if p.blender_4 is not None and tuple(version) < (5, 0, 0) else p.blender
+
+
+def exr_names(p: Pass) -> list[str]:
+    """The EXR channel names of a pass, in channel order: Depth.Z, Normal.X, ..., or R, G, B, A."""
+    return [f"{p.exr_layer}.{c}" if p.exr_layer else c for c in p.channels]

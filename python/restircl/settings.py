@@ -1,0 +1,146 @@
+"""The settings table: every parameter of a render, declared once as a field of `Settings` with its type, default,
+range, choices, command-line flag, Blender label and description (setting_spec.py says how). `validate()`, the
+command line's options (cli.py), the add-on's properties and panels, and the kernels' -D limits all read it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+
+from . import layouts as L
+from .setting_spec import Choice, Range, SettingError, check, declared, setting
+
+METHOD_CHOICES = (
+    Choice("uniform", "Uniform", "One light picked uniformly", 3),
+    Choice("light_array", "Light Array", "One light picked from the power-proportional light array", 2),
+    Choice("ris", "RIS", "Resampled importance sampling over light-array candidates, no reuse", 1),
+    Choice("restir", "ReSTIR", "Reservoir resampling with temporal and spatial reuse", 0),
+    Choice("reference", "Reference", "Every light, one sample each: exhaustive, for ground truth (slow)", 4),
+)
+METHODS = tuple(c.id for c in METHOD_CHOICES)
+# in the order of the kernels' BIAS_* codes (index = code)
+BIAS_CHOICES = (
+    Choice("none", "None (biased)", "Plain M-weighted merge: faster, darkens at contact shadows", 2),
+    Choice("z_count", "1/Z (unbiased)", "Divide by the number of reservoirs whose sample could have produced this "
+           "pixel's sample", 1),
+    Choice("pairwise", "Pairwise MIS (unbiased)", "Weigh each neighbour's sample against this pixel's by their "
+           "targets (balance heuristic in pairs): unbiased and robust next to small or touching lights", 0),
+)
+BIAS_CORRECTIONS = tuple(c.id for c in BIAS_CHOICES)
+#: light count from which light_tiles="auto" draws RIS candidates from presampled tiles: measured on the 2-core VM
+#: (docs/benchmarks.md), tiles cost 2 % of a ReSTIR frame at 1e4 point lights and saved 5 % at 3e4 and a quarter at 1e6
+LIGHT_TILES_AUTO = 20000
+LIGHT_TILE_CHOICES = (
+    Choice("auto", "Auto", f"Presampled light tiles from {LIGHT_TILES_AUTO:,} lights on, where the lights no longer "
+           "fit the CPU cache", 0),
+    Choice("on", "On", "Draw the RIS candidates from presampled light tiles", 1),
+    Choice("off", "Off", "Draw the RIS candidates from the whole light array", 2),
+)
+LIGHT_TILES = tuple(c.id for c in LIGHT_TILE_CHOICES)
+TILE_INFO_BYTES = 8  # a tile entry's int2 (light index, pick pdf bits), next to its Light record
+MAX_LIGHT_TILE_ENTRIES = 1 << 22  # light_tile_count * light_tile_size
+UINT32_MAX = (1 << 32) - 1
+
+# Blender's greying-out conditions: a setting that has no effect under the other settings' values
+_RIS = (("method", ("ris", "restir")),)
+_RESTIR = (("method", ("restir",)),)
+_TEMPORAL = (*_RESTIR, ("temporal", (True,)))
+_SPATIAL = (*_RESTIR, ("spatial", (True,)))
+_TILES = (*_RIS, ("light_tiles", ("auto", "on")))
+_TAA = (("taa", (True,)),)
+
+
+@dataclass
+class Settings:
+    """Every parameter of a render. Defaults follow DESIGN section 3, tuned for a 2-core CPU."""
+
+    method: str = setting("restir", "Method", "Direct-light estimator", flag="--method", choices=METHOD_CHOICES,
+                          panel="sampling")
+    candidates: int = setting(8, "Candidates", "Light candidates per pixel and frame (RIS, ReSTIR)",
+                              flag="--candidates", range=Range(int, 1, 4096), panel="sampling", applies_when=_RIS,
+                              soft_max=64)
+    temporal: bool = setting(True, "Temporal Reuse", "ReSTIR: merge the reprojected reservoir of the previous frame",
+                             flag="--no-temporal", panel="reuse", applies_when=_RESTIR)
+    spatial: bool = setting(True, "Spatial Reuse", "ReSTIR: merge neighbouring reservoirs", flag="--no-spatial",
+                            panel="reuse", applies_when=_RESTIR)
+    spatial_neighbours: int = setting(3, "Neighbours", "Neighbour reservoirs merged per spatial pass",
+                                      flag="--neighbours", range=Range(int, 0, 16), panel="reuse",
+                                      applies_when=_SPATIAL, kernel_limit="MAX_NEIGHBOURS")
+    spatial_radius: float = setting(30.0, "Radius", "Radius of the spatial neighbourhood in pixels", flag="--radius",
+                                    range=Range(float, 1, finite=True), panel="reuse", applies_when=_SPATIAL,
+                                    soft_max=100.0, subtype="PIXEL")
+    spatial_passes: int = setting(1, "Passes", "Spatial reuse passes", flag="--passes", range=Range(int, 0, 8),
+                                  panel="reuse", applies_when=_SPATIAL)
+    bias_correction: str = setting("pairwise", "Bias Correction", "How reuse weighs the merged reservoirs",
+                                   flag="--bias-correction", choices=BIAS_CHOICES, panel="reuse",
+                                   applies_when=_RESTIR)
+    m_cap: float = setting(20.0, "History Cap", "Cap of the temporal history M, as a multiple of the candidates",
+                           flag="--m-cap", range=Range(float, 1, finite=True), panel="reuse", applies_when=_TEMPORAL,
+                           soft_max=100.0)
+    visibility_reuse: bool = setting(True, "Visibility Reuse", "Shadow-test the initial sample before reuse; "
+                                     "unbiased reuse then counts visibility", flag="--no-visibility-reuse",
+                                     panel="reuse", applies_when=_RESTIR)
+    taa: bool = setting(True, "Temporal Anti-Aliasing", "Blend each animation frame with the reprojected, clipped "
+                        "colour history", flag="--no-taa", panel="taa")
+    alpha_min: float = setting(0.1, "Minimum Blend", "Smallest weight of the new frame in the TAA blend",
+                               flag="--alpha-min", range=Range(float, 0, 1), panel="taa", applies_when=_TAA,
+                               subtype="FACTOR")
+    gamma: float = setting(1.0, "Clip Gamma", "Width of the TAA colour clipping box in standard deviations",
+                           flag="--gamma", range=Range(float, 0, min_open=True, finite=True), panel="taa",
+                           applies_when=_TAA, soft_max=4.0)
+    max_history: int = setting(256, "History Length", "Longest TAA history in frames: a new frame weighs at least "
+                               "1/this", flag="--max-history", range=Range(int, 1), panel="taa", applies_when=_TAA,
+                               soft_max=1024)
+    depth_tolerance: float = setting(0.1, "Depth Tolerance", "Relative view-depth mismatch that rejects a neighbour "
+                                     "or the history", flag="--depth-tolerance", range=Range(float, 0, min_open=True),
+                                     panel="reuse", applies_when=_RESTIR, soft_max=1.0)
+    normal_angle: float = setting(25.0, "Normal Angle", "Degrees of normal mismatch that reject a neighbour or the "
+                                  "history", flag="--normal-angle", range=Range(float, 0, 180), panel="reuse",
+                                  applies_when=_RESTIR)
+    slots_per_light: float = setting(4.0, "Slots per Light", "Light array size as a multiple of the light count "
+                                     "(M = k N)", flag="--slots-per-light", range=Range(float, 1, finite=True),
+                                     panel="lights", soft_max=16.0)
+    light_tiles: str = setting("auto", "Light Tiles", "RIS and ReSTIR: draw the candidates from per-frame presampled "
+                               "light tiles (many lights)", flag="--light-tiles", choices=LIGHT_TILE_CHOICES,
+                               panel="lights", applies_when=_RIS)
+    light_tile_count: int = setting(128, "Tile Count", "Light tiles presampled per frame", flag="--light-tile-count",
+                                    range=Range(int, 1, 4096), panel="lights", applies_when=_TILES)
+    light_tile_size: int = setting(1024, "Tile Size", "Lights presampled into each tile", flag="--light-tile-size",
+                                   range=Range(int, 1, 65536), panel="lights", applies_when=_TILES, soft_max=4096)
+    light_change_ratio: float = setting(2.0, "Light Change Ratio", "Drop the ReSTIR history when a light's power "
+                                        "changes by more than this factor (0: never)", flag="--light-change-ratio",
+                                        range=Range(float, 1, min_open=True, off=0.0), panel="reuse",
+                                        applies_when=_RESTIR, soft_max=10.0)
+    jitter: bool = setting(True, "Jitter", "Sub-pixel camera jitter (Halton 2, 3)", flag="--no-jitter",
+                           panel="sampling")
+    seed: int = setting(0, "Seed", "Random seed", flag="--seed", range=Range(int, 0, UINT32_MAX), panel="sampling")
+    specialise: bool = setting(True, "Specialised Kernels", "Compile only the features the scene needs (off: every "
+                               "feature, for tests and benchmarks)", flag="--general", panel="device")
+
+    def validate(self) -> Settings:
+        check(self)
+        entries = self.light_tile_count * self.light_tile_size
+        if entries > MAX_LIGHT_TILE_ENTRIES:
+            raise SettingError(f"light_tile_count * light_tile_size = {entries} light tile entries, more than "
+                               f"{MAX_LIGHT_TILE_ENTRIES} "
+                               f"({MAX_LIGHT_TILE_ENTRIES * (L.LIGHT.itemsize + TILE_INFO_BYTES) >> 20} MiB of tiles)",
+                               JOINT_LIMITS[0])
+        return self
+
+    @classmethod
+    def names(cls) -> list[str]:
+        return [f.name for f in fields(cls)]
+
+
+# settings limited together beyond their own ranges (validate() says how): a test sets the others to their minimum
+JOINT_LIMITS = (("light_tile_count", "light_tile_size"),)
+
+
+def kernel_defines() -> dict[str, int]:
+    """The -D limits the kernels take from the table (their arrays are sized by them)."""
+    out = {}
+    for d in declared(Settings):
+        if d.spec.kernel_limit is not None:
+            assert d.spec.range is not None and d.spec.range.max is not None
+            out[d.spec.kernel_limit] = int(d.spec.range.max)
+    return out
