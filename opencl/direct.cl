@@ -20,8 +20,7 @@ __kernel void shade_direct(const __global GSample* gbuf, int pixel_count,
         if (method == METHOD_RIS) {
             Reservoir r;
             res_init(&r);
-            RisSource src = {slot_count, tile_count, tile_size, 0};
-            if (tile_count > 0) src.tile_base = light_tile_base(i, frame, seed, tile_count, tile_size);
+            RisSource src = ris_source(slot_count, tile_count, tile_size, i, frame, seed);
             ris_candidates(&s, lights, slots, light_pdf, tile_rec, tile_info, src, candidates, &rng, &r, &e);
             res_finalize(&r, r.M);
             /* W > 0: a candidate of target > 0 was picked, and e holds its evaluation */
