@@ -17,6 +17,7 @@
 #include "ris.h"
 #include "reproject.h"
 #include "restir_pairwise.h"
+#include "restir_reuse.h"
 
 #include "primary.cl"
 #include "light_tiles.cl"
