@@ -20,19 +20,18 @@ __kernel void shade_direct(const __global GSample* gbuf, int pixel_count,
         if (method == METHOD_RIS) {
             Reservoir r;
             res_init(&r);
-            RisSource src = {slot_count, tile_count, tile_size, 0};
-            if (tile_count > 0) src.tile_base = light_tile_base(i, frame, seed, tile_count, tile_size);
+            RisSource src = ris_source(slot_count, tile_count, tile_size, i, frame, seed);
             ris_candidates(&s, lights, slots, light_pdf, tile_rec, tile_info, src, candidates, &rng, &r, &e);
             res_finalize(&r, r.M);
             /* W > 0: a candidate of target > 0 was picked, and e holds its evaluation */
             if (r.W > 0.0f && visible(nodes, tris, &s, &e))
-                c += s.brdf * e.contrib * r.W;
+                c += unshadowed_contrib(&s, &e) * r.W;
         } else {
             float2 uv;
             float pdf;
             int light = light_draw(method == METHOD_UNIFORM, lights, light_count, slots, slot_count, light_pdf, s.x, &rng, &uv, &pdf);
             if (pdf > 0.0f && light_eval(&lights[light], uv.x, uv.y, s.x, s.n, &e) && visible(nodes, tris, &s, &e))
-                c += s.brdf * e.contrib / pdf;
+                c += unshadowed_contrib(&s, &e) / pdf;
         }
     }
     out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), 1.0f);
@@ -55,7 +54,7 @@ __kernel void shade_reference(const __global GSample* gbuf, int pixel_count,
             float2 uv = light_sample(&lights[l], s.x, r0, r1, &pdf);
             LightEval e;
             if (pdf > 0.0f && light_eval(&lights[l], uv.x, uv.y, s.x, s.n, &e) && visible(nodes, tris, &s, &e))
-                c += s.brdf * e.contrib / pdf;
+                c += unshadowed_contrib(&s, &e) / pdf;
         }
     }
     out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), 1.0f);

@@ -4,13 +4,24 @@
 #ifndef RESTIRCL_LIGHT_ARRAY_H
 #define RESTIRCL_LIGHT_ARRAY_H
 
+/* The lights in n slots and their pick probabilities slots / M: every slot is read first, then every pdf, so that
+ * with a million lights (each read a cache miss) the misses of a batch overlap instead of each waiting behind the
+ * last. light_array_pick is this for one slot; ris.h runs it for a batch of candidates. */
+inline void light_array_lights(const __global int* slots, const __global float* light_pdf, const uint* slot, int n,
+                               int* light, float* pdf)
+{
+    for (int k = 0; k < n; ++k) light[k] = slots[slot[k]];
+    for (int k = 0; k < n; ++k) pdf[k] = light_pdf[light[k]];
+}
+
 /* Pick a light from the array: a uniformly random slot (32-bit integer draw, so that arrays of millions of slots
  * stay uniform); *pdf = slots / M. */
 inline int light_array_pick(const __global int* slots, int slot_count, const __global float* light_pdf, uint* rng,
                             float* pdf)
 {
-    int light = slots[rng_below(rng, (uint)slot_count)];
-    *pdf = light_pdf[light];
+    uint slot = rng_below(rng, (uint)slot_count);
+    int light;
+    light_array_lights(slots, light_pdf, &slot, 1, &light, pdf);
     return light;
 }
 

@@ -1,5 +1,5 @@
 /* Fill the presampled light tiles of this frame (light_tiles.h): entry k holds a light drawn from the light array,
- * its record and its pick probability. info.x: light index; info.y: pick pdf (float bits). */
+ * its record and its pick probability. */
 
 __kernel void light_tiles_fill(const __global Light* lights, const __global int* slots, int slot_count,
                                const __global float* light_pdf, int entries, uint frame, uint seed,
@@ -10,6 +10,5 @@ __kernel void light_tiles_fill(const __global Light* lights, const __global int*
     uint rng = rng_seed((uint)k, frame, seed, 16u);
     float pdf;
     int light = light_array_pick(slots, slot_count, light_pdf, &rng, &pdf);
-    tile_rec[k] = lights[light];
-    tile_info[k] = (int2)(light, as_int(pdf));
+    light_tile_write(lights, light, pdf, k, tile_rec, tile_info);
 }

@@ -20,4 +20,24 @@ inline int light_tile_base(int i, uint frame, uint seed, int tile_count, int til
     return (int)(((ulong)h * (ulong)tile_count) >> 32) * tile_size;
 }
 
+/* Tile entry k: the light's record in tile_rec[k]; tile_info[k] = (light index, pick pdf as float bits). */
+inline void light_tile_write(const __global Light* lights, int light, float pdf, int k, __global Light* tile_rec,
+                             __global int2* tile_info)
+{
+    tile_rec[k] = lights[light];
+    tile_info[k] = (int2)(light, as_int(pdf));
+}
+
+/* Entries base + entry[0 .. n-1]: their lights, pick pdfs and records (as light_array_lights does for slots). */
+inline void light_tile_entries(const __global Light* tile_rec, const __global int2* tile_info, int base,
+                               const uint* entry, int n, int* light, float* pdf, const __global Light** rec)
+{
+    for (int k = 0; k < n; ++k) {
+        int2 info = tile_info[base + (int)entry[k]];
+        light[k] = info.x;
+        pdf[k] = as_float(info.y);
+        rec[k] = &tile_rec[base + (int)entry[k]];
+    }
+}
+
 #endif

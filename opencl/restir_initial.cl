@@ -17,8 +17,7 @@ __kernel void restir_initial(const __global GSample* gbuf, int pixel_count,
     if (s.valid && light_count > 0) {
         uint rng = rng_seed((uint)i, (uint)p.frame, (uint)p.seed, 3u);
         LightEval chosen;  /* the evaluation of the picked candidate, for its shadow ray */
-        RisSource src = {slot_count, tile_count, tile_size, 0};
-        if (tile_count > 0) src.tile_base = light_tile_base(i, (uint)p.frame, (uint)p.seed, tile_count, tile_size);
+        RisSource src = ris_source(slot_count, tile_count, tile_size, i, (uint)p.frame, (uint)p.seed);
         ris_candidates(&s, lights, slots, light_pdf, tile_rec, tile_info, src, p.candidates, &rng, &r, &chosen);
         res_finalize(&r, r.M);
         /* W > 0: a candidate with target > 0 was picked, and chosen holds its evaluation */

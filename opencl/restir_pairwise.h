@@ -16,7 +16,7 @@
  * Supports: with visibility reuse every stored reservoir has W > 0 only for samples visible at its pixel, so p_q
  * includes the visibility at q: the canonical sample is shadow-tested from each neighbour (k shadow rays), a
  * neighbour's own sample is known visible there. The canonical's p_c needs no visibility: a y occluded here has
- * integrand 0, and the chosen sample is tested afterwards (restir_spatial.cl, restir_temporal.cl). */
+ * integrand 0, and the chosen sample is tested afterwards (restir_reuse.h). */
 #ifndef RESTIRCL_RESTIR_PAIRWISE_H
 #define RESTIRCL_RESTIR_PAIRWISE_H
 

@@ -15,6 +15,6 @@ __kernel void restir_shade(const __global GSample* gbuf, int pixel_count,
     LightEval e;
     if (s.valid && r.light >= 0 && r.W > 0.0f && target_of(&s, lights, r.light, r.u, r.v, &e) > 0.0f
         && (visible_known || visible(nodes, tris, &s, &e)))
-        c += s.brdf * e.contrib * r.W;
+        c += unshadowed_contrib(&s, &e) * r.W;
     out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), 1.0f);
 }

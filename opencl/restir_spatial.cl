@@ -1,6 +1,5 @@
 /* ReSTIR pass 5: merge up to `spatial_neighbours` reservoirs of random pixels within `spatial_radius` whose
- * surface is similar (view depth and normal), with the same bias correction as the temporal pass
- * (restir_temporal.cl; BIAS_PAIRWISE is restir_pairwise.h). */
+ * surface is similar (view depth and normal) with the pixel's own (restir_reuse.h). */
 
 #define MAX_NEIGHBOURS 16
 
@@ -60,50 +59,6 @@ __kernel void restir_spatial(const __global GSample* gbuf, int width, int height
     for (int k = 0; k < n_used; ++k) qs[k] = in[used[k]];
 
     Reservoir r;
-    res_init(&r);
-    LightEval e, chosen;  /* chosen: the evaluation at s of the sample picked from a neighbour */
-    int src = -1;  /* which input supplied the chosen sample: -1 the pixel's own reservoir, k neighbour k */
-    if (bias_correction == BIAS_PAIRWISE) {
-        PairwiseMis mis = pairwise_begin(&c, (float)n_used);
-        for (int k = 0; k < n_used; ++k) {
-            Reservoir q = qs[k];
-            Surface sn = surface_load(gbuf, used[k]);
-            if (pairwise_neighbour(&mis, &r, &s, &sn, &c, &q, q.target, nodes, tris, lights, visibility_reuse,
-                                   rng_next(&rng), &chosen))
-                src = k;
-        }
-        if (pairwise_canonical(&mis, &r, &c, rng_next(&rng))) src = -1;
-        res_finalize(&r, 1.0f);
-    } else {
-        res_update(&r, c.light, c.u, c.v, c.target * c.W * c.M, c.target, rng_next(&rng), c.M);
-        for (int k = 0; k < n_used; ++k) {
-            Reservoir q = qs[k];
-            float tq = q.light >= 0 ? target_of(&s, lights, q.light, q.u, q.v, &e) : 0.0f;
-            if (res_merge(&r, &q, tq, rng_next(&rng))) {
-                src = k;
-                chosen = e;
-            }
-        }
-        float norm = r.M;
-        if (bias_correction == BIAS_Z_COUNT && r.light >= 0) {
-            norm = c.M;
-            for (int k = 0; k < n_used; ++k) {
-                /* The neighbour that supplied the sample has it in its support: with visibility reuse its W > 0
-                 * means p-hat > 0 and visible there (every stored reservoir keeps that invariant). */
-                Reservoir q = qs[k];
-                Surface sn = surface_load(gbuf, used[k]);
-                if ((k == src && q.W > 0.0f)
-                    || in_support(&sn, nodes, tris, lights, r.light, r.u, r.v, visibility_reuse))
-                    norm += q.M;
-            }
-        }
-        res_finalize(&r, norm);
-    }
-    /* keep the invariant: a sample not visible here gets W = 0. The own reservoir's sample is known visible; r.W > 0
-     * with src < 0 means the own sample was picked (an input of weight 0 never is); a neighbour's sample was picked
-     * with target > 0 at s, evaluated in chosen. */
-    if (visibility_reuse && bias_correction != BIAS_NONE && r.W > 0.0f && src >= 0
-        && !visible(nodes, tris, &s, &chosen))
-        r.W = 0.0f;
+    reuse_combine(&s, &c, qs, n_used, gbuf, used, nodes, tris, lights, bias_correction, visibility_reuse, &rng, &r);
     out[i] = r;
 }

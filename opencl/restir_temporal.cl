@@ -1,10 +1,8 @@
 /* ReSTIR pass 4: merge the pixel's new reservoir with last frame's reservoir of the same surface (found by
- * reprojection), its M capped. The target is re-evaluated with this frame's lights, so a light switched off
- * stops contributing at once. bias_correction: BIAS_NONE plain M-weighted merge (biased), BIAS_Z_COUNT 1/Z,
- * BIAS_PAIRWISE pairwise MIS with k = 1, i.e. the balance heuristic of the two inputs (restir_pairwise.h). The
- * previous input's target p_prev is evaluated at last frame's surface with this frame's lights and geometry;
- * lights_static: the light records are last frame's, so p_prev of last frame's own sample is the target it stored
- * (computed at that surface with those records) and is not evaluated again. */
+ * reprojection), its M capped, by the reuse combine (restir_reuse.h). Targets at this pixel are evaluated with this
+ * frame's lights, so a light switched off stops contributing at once. Pairwise MIS also needs the previous input's
+ * target at its own sample, at last frame's surface with this frame's lights and geometry; lights_static: the light
+ * records are last frame's, so that is the target the reservoir stored and is not evaluated again. */
 
 __kernel void restir_temporal(const __global GSample* gbuf, const __global GSample* prev_gbuf, int width, int height,
                               const __global BVHNode* nodes, const __global Tri* tris,
@@ -25,37 +23,12 @@ __kernel void restir_temporal(const __global GSample* gbuf, const __global GSamp
     q.M = fmin_f(q.M, p.m_cap);
     if (!finite_f(q.W) || !finite_f(q.M)) { guard_count(guards, GUARD_NONFINITE_RESERVOIR); out[i] = c; return; }
     uint rng = rng_seed((uint)i, (uint)p.frame, (uint)p.seed, 4u);
-    Reservoir r;
-    res_init(&r);
-    LightEval e, chosen;  /* chosen: the evaluation at s of last frame's sample, when it is picked */
-    Surface sp = surface_load(prev_gbuf, j);
-    bool from_prev;
-    if (bias_correction == BIAS_PAIRWISE) {
-        PairwiseMis mis = pairwise_begin(&c, 1.0f);
-        float own = !(q.light >= 0 && q.W > 0.0f) ? 0.0f
-                    : lights_static ? q.target : target_of(&sp, lights, q.light, q.u, q.v, &e);
-        from_prev = pairwise_neighbour(&mis, &r, &s, &sp, &c, &q, own, nodes, tris, lights, visibility_reuse,
-                                       rng_next(&rng), &chosen);
-        if (pairwise_canonical(&mis, &r, &c, rng_next(&rng))) from_prev = false;
-        res_finalize(&r, 1.0f);
-    } else {
-        res_update(&r, c.light, c.u, c.v, c.target * c.W * c.M, c.target, rng_next(&rng), c.M);
-        float tq = q.light >= 0 ? target_of(&s, lights, q.light, q.u, q.v, &e) : 0.0f;
-        from_prev = res_merge(&r, &q, tq, rng_next(&rng));
-        if (from_prev) chosen = e;
-        float norm = r.M;
-        if (bias_correction == BIAS_Z_COUNT && r.light >= 0) {
-            norm = c.M;
-            /* last frame's reservoir supports its own sample (W > 0: p-hat > 0 and, with visibility reuse, visible
-             * there); any other sample is tested at the previous surface */
-            if ((from_prev && q.W > 0.0f) || in_support(&sp, nodes, tris, lights, r.light, r.u, r.v, visibility_reuse))
-                norm += q.M;
-        }
-        res_finalize(&r, norm);
+    if (bias_correction == BIAS_PAIRWISE && !lights_static && q.light >= 0 && q.W > 0.0f) {
+        Surface sp = surface_load(prev_gbuf, j);
+        LightEval e;
+        q.target = target_of(&sp, lights, q.light, q.u, q.v, &e);
     }
-    /* as in restir_spatial.cl: only a sample taken from last frame needs its shadow ray here */
-    if (visibility_reuse && bias_correction != BIAS_NONE && r.W > 0.0f && from_prev
-        && !visible(nodes, tris, &s, &chosen))
-        r.W = 0.0f;
+    Reservoir r;
+    reuse_combine(&s, &c, &q, 1, prev_gbuf, &j, nodes, tris, lights, bias_correction, visibility_reuse, &rng, &r);
     out[i] = r;
 }

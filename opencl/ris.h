@@ -4,7 +4,7 @@
  * weight target / source pdf.
  *
  * Candidates run in batches of RIS_BATCH: first every random number and every read of the light array (slot, pdf,
- * the light record's type), then the evaluations. With a million lights each of those reads is a cache miss; read
+ * the light record's type: light_array_lights, light_tile_entries), then the evaluations. With a million lights each of those reads is a cache miss; read
  * for a whole batch first, the misses overlap instead of each waiting behind the previous candidate's evaluation
  * (1e6 point lights: ReSTIR's initial pass 91-95 -> 65-66 ms). The random numbers are drawn in the same order as
  * one candidate at a time (slot, r0, r1, resampling): the same samples. (OpenCL's prefetch() did nothing on PoCL.)
@@ -23,6 +23,14 @@ typedef struct {
     int tile_base;
 } RisSource;
 
+/* The source of pixel i's candidates in this frame. */
+inline RisSource ris_source(int slot_count, int tile_count, int tile_size, int i, uint frame, uint seed)
+{
+    RisSource src = {slot_count, tile_count, tile_size, 0};
+    if (tile_count > 0) src.tile_base = light_tile_base(i, frame, seed, tile_count, tile_size);
+    return src;
+}
+
 /* Stream `candidates` light-array samples for surface s into r (not finalised). *chosen: the evaluation of the
  * candidate r holds (valid when r->light >= 0 and its target > 0), for the caller's shadow ray. */
 inline void ris_candidates(const Surface* s, const __global Light* lights, const __global int* slots,
@@ -35,28 +43,21 @@ inline void ris_candidates(const Surface* s, const __global Light* lights, const
     uint draw_range = (uint)(tiled ? src.tile_size : src.slot_count);
     for (int k0 = 0; k0 < candidates; k0 += RIS_BATCH) {
         int n = min(RIS_BATCH, candidates - k0);
-        int pick[RIS_BATCH], light[RIS_BATCH], type[RIS_BATCH];
+        uint pick[RIS_BATCH];
+        int light[RIS_BATCH], type[RIS_BATCH];
         const __global Light* rec[RIS_BATCH];
         float r0[RIS_BATCH], r1[RIS_BATCH], rnd[RIS_BATCH], pick_pdf[RIS_BATCH];
         for (int k = 0; k < n; ++k) {
-            pick[k] = (int)rng_below(rng, draw_range);  /* a slot, or an entry of the tile */
+            pick[k] = rng_below(rng, draw_range);  /* a slot, or an entry of the tile */
             r0[k] = rng_next(rng);
             r1[k] = rng_next(rng);
             rnd[k] = rng_next(rng);
         }
         if (tiled) {
-            for (int k = 0; k < n; ++k) {
-                int2 info = tile_info[src.tile_base + pick[k]];
-                light[k] = info.x;
-                pick_pdf[k] = as_float(info.y);
-                rec[k] = &tile_rec[src.tile_base + pick[k]];
-            }
+            light_tile_entries(tile_rec, tile_info, src.tile_base, pick, n, light, pick_pdf, rec);
         } else {
-            for (int k = 0; k < n; ++k) light[k] = slots[pick[k]];
-            for (int k = 0; k < n; ++k) {
-                pick_pdf[k] = light_pdf[light[k]];
-                rec[k] = &lights[light[k]];
-            }
+            light_array_lights(slots, light_pdf, pick, n, light, pick_pdf);
+            for (int k = 0; k < n; ++k) rec[k] = &lights[light[k]];
         }
         for (int k = 0; k < n; ++k) type[k] = light_type(rec[k]);  /* read here: the record's line on its way early */
         for (int k = 0; k < n; ++k) {

@@ -1,0 +1,35 @@
+/* Visibility of a light sample from a surface: the shadow ray, and the support test of the unbiased reuse. */
+#ifndef RESTIRCL_VISIBILITY_H
+#define RESTIRCL_VISIBILITY_H
+
+/* Shadow ray from surface s towards the light sample in e. The origin is moved off the surface by a bound of the
+ * rounding error of the hit point p = v0 + u e1 + v e2 (RESTIRCL_OFFSET_ULPS epsilons of the largest magnitude in
+ * that sum), the end off an emissive triangle by the same bound for the light sample (e->eps); other lights are not
+ * geometry and need no offset (the ray stops 1e-4 short of them). A bound relative to p alone (256 ulps of p) is 2 m
+ * at 1e5 from the origin, and a light closer than that to a surface was found shadowed by the surface itself (the
+ * stress case offset_1e5). */
+inline bool visible(const __global BVHNode* nodes, const __global Tri* tris, const Surface* s, const LightEval* e)
+{
+    Tri tri = tris[s->prim];
+    float err = RESTIRCL_OFFSET_ULPS * FLT_EPSILON * (max_abs3(s->x) + max_abs3(tri.e1.xyz) + max_abs3(tri.e2.xyz));
+    float3 o = s->x + err * (dot3(s->ng, e->wi) >= 0.0f ? s->ng : -s->ng);
+    if (!finite_f(e->dist)) return !trace_any(nodes, tris, o, e->wi, INFINITY);
+    float3 t = e->pos + e->eps * e->nl;
+    float3 d = t - o;
+    float len = len3(d);
+    if (!(len > 0.0f)) return true;
+    return !trace_any(nodes, tris, o, d / len, len * 0.9999f);
+}
+
+/* Is sample y = (light, u, v) in the support of the reservoir of surface s: p-hat_s(y) > 0 and, when
+ * reservoirs keep only visible samples (visibility reuse), V_s(y) = 1? Used by the 1/Z support tests of the
+ * unbiased reuse (a sample taken from another pixel is shadow-tested with the evaluation made when it was picked). */
+inline bool in_support(const Surface* s, const __global BVHNode* nodes, const __global Tri* tris,
+                       const __global Light* lights, int light, float u, float v, int visibility)
+{
+    LightEval e;
+    if (!(target_of(s, lights, light, u, v, &e) > 0.0f)) return false;
+    return !visibility || visible(nodes, tris, s, &e);
+}
+
+#endif
