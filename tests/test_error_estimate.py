@@ -19,8 +19,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 from restircl import Renderer, Settings, scenes
-from restircl.pipeline import HALF_BLOCK, _half_of
 from restircl.report import METHODS, get_reference, rel_mse
+from restircl.still import HALF_BLOCK
+from restircl.still import half_of as _half_of
 
 CHECKS = (64, 256)
 SEEDS = 3

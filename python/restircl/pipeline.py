@@ -34,10 +34,9 @@ from .kernels import LOCAL_ITEMS, Kernels, local_size
 from .program import build_program
 from .scene import Scene
 from .stages import FrameState, Initial, LightTiles, Primary, Shade, Spatial, StageTimer, Taa, Temporal
-from .still import HALF_BLOCK, R2_FLOOR, StillAccumulation, render_still
-from .still import half_of as _half_of
+from .still import StillAccumulation, render_still
 
-__all__ = ["HALF_BLOCK", "LOCAL_ITEMS", "R2_FLOOR", "Frame", "Renderer", "Settings", "_half_of", "local_size"]
+__all__ = ["LOCAL_ITEMS", "Frame", "Renderer", "Settings", "local_size"]
 
 METHODS = ("uniform", "light_array", "ris", "restir", "reference")
 LIGHT_TILES = ("auto", "on", "off")
@@ -360,6 +359,10 @@ class Renderer:
     _cur = property(lambda self: self.history.cur)
     tile_rec = property(lambda self: self.light_tiles.tile_rec)
     tile_info = property(lambda self: self.light_tiles.tile_info)
+
+    @property
+    def k(self) -> dict[str, cl.Kernel]:
+        return self.kernels.k
 
     @property
     def max_local(self) -> dict[str, int]:
