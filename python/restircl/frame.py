@@ -38,6 +38,25 @@ def read_image(queue: cl.CommandQueue, buf: cl.Buffer, shape: tuple[int, int]) -
     return out
 
 
+def read_colour(queue: cl.CommandQueue, color_buf: cl.Buffer, noisy_buf: cl.Buffer, shape: tuple[int, int],
+                scale: float = 1.0) -> tuple[np.ndarray, np.ndarray, int]:
+    """(H, W, 4) colour times `scale` (alpha 1), the (H, W, 3) noisy sample, and the count of pixels whose colour
+    was NaN/Inf and is 0 now (the kernels guard already; this keeps a NaN from ever leaving the renderer)."""
+    color = read_image(queue, color_buf, shape)
+    noisy = read_image(queue, noisy_buf, shape)
+    rgb = color[..., :3]
+    if scale != 1.0:
+        rgb *= np.float32(scale)
+    count = 0
+    if not np.isfinite(rgb).all():
+        bad = ~np.isfinite(rgb)
+        rgb[bad] = 0.0
+        count = int(bad.any(axis=-1).sum())
+    color[..., 3] = 1.0
+    # noisy: a (H, W, 3) view of the RGBA read-back (a copy cost ~1.5 ms per 640x360 frame)
+    return color, noisy[..., :3], count
+
+
 def read_gbuffer(queue: cl.CommandQueue, gbuf: cl.Buffer, shape: tuple[int, int]) -> np.ndarray:
     """(H, W) GSample records of a G-buffer."""
     g = np.empty(shape[0] * shape[1], L.GSAMPLE)

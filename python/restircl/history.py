@@ -62,6 +62,12 @@ class History:
     def reservoirs(self, slot: int) -> cl.Buffer:
         return self.chain.reservoirs[slot]
 
+    def keep_reservoirs(self, queue: cl.CommandQueue, res: cl.Buffer) -> None:
+        """Make `res`, this frame's final reservoirs, the history the next frame reuses (a copy unless the last
+        pass wrote it there already)."""
+        if res is not self.reservoirs(self.cur):
+            cl.enqueue_copy(queue, self.reservoirs(self.cur), res)
+
     def swap(self) -> None:
         """End of a frame: it is now history, valid for the next one, whose slot is the other."""
         self.chain.valid = True

@@ -1,4 +1,4 @@
-"""The frame pipeline: one frame reads top to bottom in Renderer.render_frame (DESIGN section 2).
+"""The frame pipeline: one frame reads top to bottom in Renderer._render (DESIGN section 2), one call per stage.
 
     1 primary    camera rays -> G-buffer (position, normals, albedo, emission, motion)
     2 initial    RIS over `candidates` light-array samples -> reservoir        (restir)
@@ -7,8 +7,10 @@
     5 spatial    merge neighbours' reservoirs, `spatial_passes` times           (restir, spatial)
     6 shade      one shadow ray to the chosen sample -> noisy direct light s_n  (every method)
     7 taa        f_n = a s_n + (1 - a) clip(history)                            (taa, animation frames)
-    8 output     numpy arrays: colour and AOVs
+    8 output     numpy arrays: colour and AOVs (frame.py)
 
+The parts: the scene's device buffers (device_scene.py), the stages (stages.py), the history they ping-pong
+(history.py), still accumulation and its error estimate (still.py), kernel launches by argument name (kernels.py).
 Steps a scene or a setting does not need are not run, and their code is not compiled (features.py).
 """
 
@@ -28,9 +30,11 @@ from .camera import jitter
 from .device import Device, get_device
 from .device_scene import DeviceScene
 from .features import derive_flags, describe, general_flags
-from .frame import Frame, read_aovs, read_gbuffer, read_guards, read_image
+from .frame import Frame, read_aovs, read_colour, read_gbuffer, read_guards, read_image
 from .history import History
 from .kernels import LOCAL_ITEMS, Kernels, local_size
+from .light_array import LightArray
+from .lights import DeviceLights
 from .program import build_program
 from .scene import Scene
 from .stages import FrameState, Initial, LightTiles, Primary, Shade, Spatial, StageTimer, Taa, Temporal
@@ -212,8 +216,7 @@ class Renderer:
             if s.spatial and s.spatial_neighbours > 0:  # 5 merge the neighbours'
                 res = self.spatial.run(state, res)
                 timer.mark("spatial")
-            if res is not h.reservoirs(h.cur):
-                cl.enqueue_copy(self.device.queue, h.reservoirs(h.cur), res)
+            h.keep_reservoirs(self.device.queue, res)
             self.shade.restir(state)  # 6 one shadow ray to the final sample
         elif state.method == "reference":
             self.shade.reference(state)
@@ -289,19 +292,10 @@ class Renderer:
     # ---- output -----------------------------------------------------------------------------------------
 
     def _read(self, color_buf: cl.Buffer, gbuf: cl.Buffer, frame: int, scale: float = 1.0, aovs: bool = True) -> Frame:
-        q, shape = self.device.queue, (self.height, self.width)
-        color = read_image(q, color_buf, shape)
-        noisy = read_image(q, self.buffers.sample, shape)
-        rgb = color[..., :3]
-        if scale != 1.0:
-            rgb *= np.float32(scale)
-        if not np.isfinite(rgb).all():  # the kernels guard already; this keeps a NaN from ever leaving the renderer
-            bad = ~np.isfinite(rgb)
-            rgb[bad] = 0.0
-            self.guard_totals["nonfinite_sample"] += int(bad.any(axis=-1).sum())
-        color[..., 3] = 1.0
-        # noisy: a (H, W, 3) view of the RGBA read-back (a copy cost ~1.5 ms per 640x360 frame)
-        out = Frame(color=color, noisy=noisy[..., :3], depth=None, normal=None, vector=None, albedo=None,
+        q = self.device.queue
+        color, noisy, bad = read_colour(q, color_buf, self.buffers.sample, (self.height, self.width), scale)
+        self.guard_totals["nonfinite_sample"] += bad
+        out = Frame(color=color, noisy=noisy, depth=None, normal=None, vector=None, albedo=None,
                     frame=frame, guards=read_guards(q, self.buffers.guards, self.guard_totals),
                     features=list(self.features))
         if aovs:
@@ -348,17 +342,51 @@ class Renderer:
 
     # ---- views of the parts, for tools and tests -------------------------------------------------------
 
-    lights = property(lambda self: self.device_scene.lights)
-    light_array = property(lambda self: self.device_scene.light_array)
-    bvh_seconds = property(lambda self: self.device_scene.bvh_seconds)
-    triangle_count = property(lambda self: self.device_scene.triangle_count)
-    sample_buf = property(lambda self: self.buffers.sample)
-    gbuf = property(lambda self: self.history.chain.gbuf)
-    res_history = property(lambda self: self.history.chain.reservoirs)
-    taa_history = property(lambda self: self.history.taa)
-    _cur = property(lambda self: self.history.cur)
-    tile_rec = property(lambda self: self.light_tiles.tile_rec)
-    tile_info = property(lambda self: self.light_tiles.tile_info)
+    @property
+    def lights(self) -> DeviceLights:
+        return self.device_scene.lights
+
+    @property
+    def light_array(self) -> LightArray:
+        return self.device_scene.light_array
+
+    @property
+    def bvh_seconds(self) -> float:
+        return self.device_scene.bvh_seconds
+
+    @property
+    def triangle_count(self) -> int:
+        return self.device_scene.triangle_count
+
+    @property
+    def sample_buf(self) -> cl.Buffer:
+        """This frame's noisy estimate s_n."""
+        return self.buffers.sample
+
+    @property
+    def gbuf(self) -> list[cl.Buffer]:
+        """The active chain's G-buffers: slot 1 - _cur holds the last rendered frame's."""
+        return self.history.chain.gbuf
+
+    @property
+    def res_history(self) -> list[cl.Buffer]:
+        return self.history.chain.reservoirs
+
+    @property
+    def taa_history(self) -> list[cl.Buffer]:
+        return self.history.taa
+
+    @property
+    def _cur(self) -> int:
+        return self.history.cur
+
+    @property
+    def tile_rec(self) -> cl.Buffer | None:
+        return self.light_tiles.tile_rec
+
+    @property
+    def tile_info(self) -> cl.Buffer | None:
+        return self.light_tiles.tile_info
 
     @property
     def k(self) -> dict[str, cl.Kernel]:

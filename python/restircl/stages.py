@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pyopencl as cl
@@ -21,6 +22,9 @@ from .device_scene import DeviceScene
 from .history import History
 from .kernels import Kernels
 from .scene import Camera
+
+if TYPE_CHECKING:
+    from .pipeline import Settings
 
 
 @dataclass
@@ -37,6 +41,16 @@ class FrameState:
     frame_params: np.void  # FrameParams
     sampler: np.void  # SamplerParams
     jitter: tuple[float, float] = (0.0, 0.0)
+
+
+def pixel_count(state: FrameState) -> tuple[int]:
+    """The 1D launch size of a per-pixel kernel."""
+    return (int(state.frame_params["pixels"]),)
+
+
+def image_size(state: FrameState) -> tuple[int, int]:
+    """The 2D launch size of a per-pixel kernel."""
+    return (int(state.frame_params["width"]), int(state.frame_params["height"]))
 
 
 @dataclass
@@ -58,7 +72,7 @@ class Stage:
     """The device-side state every stage reaches: kernels, the scene's buffers, the frame's and the history's."""
 
     def __init__(self, kernels: Kernels, scene: DeviceScene, buffers: FrameBuffers, history: History,
-                 settings) -> None:
+                 settings: Settings) -> None:
         self.kernels = kernels
         self.scene = scene
         self.buffers = buffers
@@ -83,8 +97,7 @@ class Primary(Stage):
         cl.enqueue_copy(q, b.cameras[0], camera_record(camera, state.frame, state.jitter))
         cl.enqueue_copy(q, b.cameras[1], camera_record(camera, state.prev_frame))
         cl.enqueue_copy(q, b.cameras[2], camera_record(camera, state.next_frame))
-        fp = state.frame_params
-        self.kernels.launch("primary", (int(fp["width"]), int(fp["height"])), cam=b.cameras[0],
+        self.kernels.launch("primary", image_size(state), cam=b.cameras[0],
                             prev_cam=b.cameras[1], next_cam=b.cameras[2], **self.scene.geometry,
                             materials=self.scene.materials_buf, object_motion=self.scene.motion_buf,
                             gbuf=h.gbuf(h.cur), vector=b.vector)
@@ -114,14 +127,6 @@ class LightTiles(Stage):
         if not state.tiles:
             return {"tile_rec": self.buffers.none, "tile_info": self.buffers.none}
         return {"tile_rec": self.tile_rec, "tile_info": self.tile_info}
-
-
-def pixel_count(state: FrameState) -> tuple[int]:
-    return (int(state.frame_params["pixels"]),)
-
-
-def image_size(state: FrameState) -> tuple[int, int]:
-    return (int(state.frame_params["width"]), int(state.frame_params["height"]))
 
 
 class Initial(Stage):
@@ -169,6 +174,7 @@ class Spatial(Stage):
     def run(self, state: FrameState, res: cl.Buffer) -> cl.Buffer:
         s, h, b = self.settings, self.history, self.buffers
         bufs = [h.reservoirs(h.cur), b.res_temp if res is not b.res_temp else b.res_initial]
+        # the kernel's parameters `pass` and `in` are Python keywords: given through ** below
         for p in range(s.spatial_passes):
             dst = bufs[p % 2]
             params = L.pack(L.SPATIAL_PARAMS, spatial_neighbours=s.spatial_neighbours,

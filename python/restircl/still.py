@@ -20,6 +20,7 @@ import pyopencl as cl
 
 from .buffers import alloc
 from .camera import halton
+from .frame import read_image
 from .kernels import Kernels
 
 if TYPE_CHECKING:
@@ -62,14 +63,11 @@ class StillAccumulation:
         self.counts = (done + 1, n_half + half)
 
     def _read(self, buf: cl.Buffer) -> np.ndarray:
-        out = np.empty((self.pixels, 4), np.float32)
-        cl.enqueue_copy(self.kernels.device.queue, out, buf)
-        return out
+        return read_image(self.kernels.device.queue, buf, self.shape).reshape(self.pixels, 4)
 
     def mean_image(self) -> np.ndarray:
         """(H, W, 3) running mean of the still render in progress."""
-        total = self._read(self.sum).reshape(*self.shape, 4)
-        return total[..., :3] / max(self.counts[0], 1)
+        return self._read(self.sum).reshape(*self.shape, 4)[..., :3] / max(self.counts[0], 1)
 
     def error_estimate(self, done: int, n_half: int) -> float | None:
         """relMSE of the running mean estimated from two half buffers, no reference needed: the halves are
@@ -155,9 +153,7 @@ def render_still(
         history.use_chain(0, fresh=False)
     done, n_half = acc.counts
     out = r._read(acc.sum, gbuf, frame, scale=1.0 / done)
-    noisy = np.empty((*acc.shape, 4), np.float32)
-    cl.enqueue_copy(q, noisy, r.buffers.sample)
-    out.noisy = noisy[..., :3].copy()
+    out.noisy = read_image(q, r.buffers.sample, acc.shape)[..., :3].copy()
     out.samples = done
     out.stage_ms = {k: v / done for k, v in stage.items()}
     out.ms = (time.perf_counter() - t0) * 1e3 / done
