@@ -2,14 +2,17 @@
  * `ris` (candidates from the light array or the presampled light tiles), and the exhaustive `reference` (every
  * light, one sample each). One shadow ray per light sample. */
 
-__kernel void shade_direct(const __global GSample* gbuf, int pixel_count,
-                           const __global BVHNode* nodes, const __global Tri* tris,
-                           const __global Light* lights, int light_count,
-                           const __global int* slots, int slot_count, const __global float* light_pdf,
-                           const __global Light* tile_rec, const __global int2* tile_info, int tile_count,
-                           int tile_size, int method, int candidates, uint frame, uint seed,
-                           volatile __global int* guards, __global float4* out)
+__kernel void shade_direct(const __global GSample* gbuf, const __global BVHNode* nodes, const __global Tri* tris,
+                           const __global Light* lights, const __global int* slots, const __global float* light_pdf,
+                           const __global Light* tile_rec, const __global int2* tile_info,
+                           volatile __global int* guards, __global float4* out, FrameParams frame_params,
+                           ShadeParams params)
 {
+    const int pixel_count = frame_params.pixels;
+    const uint frame = frame_params.sample, seed = frame_params.seed;
+    const int light_count = params.sampler.light_count, slot_count = params.sampler.slot_count;
+    const int tile_count = params.sampler.tile_count, tile_size = params.sampler.tile_size;
+    const int method = params.method, candidates = params.candidates;
     int i = get_global_id(0);
     if (i >= pixel_count) return;
     Surface s = surface_load(gbuf, i);
@@ -37,11 +40,13 @@ __kernel void shade_direct(const __global GSample* gbuf, int pixel_count,
     out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), 1.0f);
 }
 
-__kernel void shade_reference(const __global GSample* gbuf, int pixel_count,
-                              const __global BVHNode* nodes, const __global Tri* tris,
-                              const __global Light* lights, int light_count, uint frame, uint seed,
-                              volatile __global int* guards, __global float4* out)
+__kernel void shade_reference(const __global GSample* gbuf, const __global BVHNode* nodes, const __global Tri* tris,
+                              const __global Light* lights, volatile __global int* guards, __global float4* out,
+                              FrameParams frame_params, ShadeParams params)
 {
+    const int pixel_count = frame_params.pixels;
+    const uint frame = frame_params.sample, seed = frame_params.seed;
+    const int light_count = params.sampler.light_count;
     int i = get_global_id(0);
     if (i >= pixel_count) return;
     Surface s = surface_load(gbuf, i);
@@ -58,15 +63,4 @@ __kernel void shade_reference(const __global GSample* gbuf, int pixel_count,
         }
     }
     out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), 1.0f);
-}
-
-/* Running sum of samples for a still camera; odd and even frames also go to a half buffer for error estimates. */
-__kernel void accumulate(const __global float4* sample, int pixel_count, int odd,
-                         __global float4* sum, __global float4* sum_half)
-{
-    int i = get_global_id(0);
-    if (i >= pixel_count) return;
-    float4 v = sample[i];
-    sum[i] += v;
-    if (odd) sum_half[i] += v;
 }

@@ -2,13 +2,16 @@
  * presampled light tile, light_tiles.h) into a reservoir (ris.h); with visibility reuse, a chosen sample that is
  * occluded gets W = 0 (its M stays). */
 
-__kernel void restir_initial(const __global GSample* gbuf, int pixel_count,
-                             const __global BVHNode* nodes, const __global Tri* tris,
-                             const __global Light* lights, int light_count,
-                             const __global int* slots, int slot_count, const __global float* light_pdf,
-                             const __global Light* tile_rec, const __global int2* tile_info, int tile_count,
-                             int tile_size, RestirParams p, int visibility_reuse, __global Reservoir* out)
+__kernel void restir_initial(const __global GSample* gbuf, const __global BVHNode* nodes, const __global Tri* tris,
+                             const __global Light* lights, const __global int* slots, const __global float* light_pdf,
+                             const __global Light* tile_rec, const __global int2* tile_info,
+                             __global Reservoir* out, FrameParams frame_params, InitialParams params)
 {
+    const InitialParams p = params;
+    const int pixel_count = frame_params.pixels;
+    const int light_count = p.sampler.light_count, slot_count = p.sampler.slot_count;
+    const int tile_count = p.sampler.tile_count, tile_size = p.sampler.tile_size;
+    const int visibility_reuse = p.visibility_reuse;
     int i = get_global_id(0);
     if (i >= pixel_count) return;
     Surface s = surface_load(gbuf, i);

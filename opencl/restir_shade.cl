@@ -2,11 +2,13 @@
  * visible_known: the reuse passes already kept W = 0 for samples occluded at this pixel (unbiased mode with
  * visibility reuse), so the shadow ray is left out. */
 
-__kernel void restir_shade(const __global GSample* gbuf, int pixel_count,
-                           const __global BVHNode* nodes, const __global Tri* tris,
-                           const __global Light* lights, const __global Reservoir* res, int visible_known,
-                           volatile __global int* guards, __global float4* out)
+__kernel void restir_shade(const __global GSample* gbuf, const __global BVHNode* nodes, const __global Tri* tris,
+                           const __global Light* lights, const __global Reservoir* res,
+                           volatile __global int* guards, __global float4* out, FrameParams frame_params,
+                           ShadeParams params)
 {
+    const int pixel_count = frame_params.pixels;
+    const int visible_known = params.visible_known;
     int i = get_global_id(0);
     if (i >= pixel_count) return;
     Surface s = surface_load(gbuf, i);

@@ -1,7 +1,10 @@
 /* ReSTIR pass 5: merge up to `spatial_neighbours` reservoirs of random pixels within `spatial_radius` whose
  * surface is similar (view depth and normal) with the pixel's own (restir_reuse.h). */
 
+/* the table's limit (settings.py) arrives as -DMAX_NEIGHBOURS; this fallback serves builds outside program.py */
+#ifndef MAX_NEIGHBOURS
 #define MAX_NEIGHBOURS 16
+#endif
 
 /* round(), inline: |v| is at most the radius (<< 2^22) */
 inline int round_i(float v) { return (int)(v + (v >= 0.0f ? 0.5f : -0.5f)); }
@@ -18,12 +21,14 @@ inline float2 disk_offset(float r, uint* rng)
     return (float2)(0.0f, 0.0f);
 }
 
-__kernel void restir_spatial(const __global GSample* gbuf, int width, int height,
-                             const __global BVHNode* nodes, const __global Tri* tris,
-                             const __global Light* lights, RestirParams p, int bias_correction,
-                             int visibility_reuse, int pass, const __global Reservoir* in,
-                             __global Reservoir* out)
+__kernel void restir_spatial(const __global GSample* gbuf, const __global BVHNode* nodes, const __global Tri* tris,
+                             const __global Light* lights, const __global Reservoir* in, __global Reservoir* out,
+                             FrameParams frame_params, SpatialParams params)
 {
+    const SpatialParams p = params;
+    const int width = frame_params.width, height = frame_params.height;
+    const int bias_correction = p.bias_correction, visibility_reuse = p.visibility_reuse;
+    const int pass = p.pass;
     int x = get_global_id(0), y = get_global_id(1);
     if (x >= width || y >= height) return;
     int i = y * width + x;

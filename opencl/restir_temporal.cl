@@ -4,13 +4,16 @@
  * target at its own sample, at last frame's surface with this frame's lights and geometry; lights_static: the light
  * records are last frame's, so that is the target the reservoir stored and is not evaluated again. */
 
-__kernel void restir_temporal(const __global GSample* gbuf, const __global GSample* prev_gbuf, int width, int height,
-                              const __global BVHNode* nodes, const __global Tri* tris,
-                              const __global Light* lights, RestirParams p, int bias_correction,
-                              int visibility_reuse, int lights_static, const __global Reservoir* current,
-                              const __global Reservoir* previous, __global Reservoir* out,
-                              volatile __global int* guards)
+__kernel void restir_temporal(const __global GSample* gbuf, const __global GSample* prev_gbuf,
+                              const __global BVHNode* nodes, const __global Tri* tris, const __global Light* lights,
+                              const __global Reservoir* current, const __global Reservoir* previous,
+                              __global Reservoir* out, volatile __global int* guards, FrameParams frame_params,
+                              TemporalParams params)
 {
+    const TemporalParams p = params;
+    const int width = frame_params.width, height = frame_params.height;
+    const int bias_correction = p.bias_correction, visibility_reuse = p.visibility_reuse;
+    const int lights_static = p.lights_static;
     int x = get_global_id(0), y = get_global_id(1);
     if (x >= width || y >= height) return;
     int i = y * width + x;

@@ -27,3 +27,4 @@
 #include "restir_spatial.cl"
 #include "restir_shade.cl"
 #include "taa.cl"
+#include "accumulate.cl"

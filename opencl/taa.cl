@@ -25,9 +25,11 @@ inline float3 clip_to_box(float3 h, float3 centre, float3 extent)
 }
 
 __kernel void taa(const __global float4* sample, const __global GSample* gbuf, const __global GSample* prev_gbuf,
-                  const __global float4* history_in, __global float4* history_out, int width, int height,
-                  TaaParams p, int reset, volatile __global int* guards)
+                  const __global float4* history_in, __global float4* history_out, volatile __global int* guards,
+                  FrameParams frame_params, TaaParams params)
 {
+    const TaaParams p = params;
+    const int width = frame_params.width, height = frame_params.height;
     int x = get_global_id(0), y = get_global_id(1);
     if (x >= width || y >= height) return;
     int i = y * width + x;
@@ -36,7 +38,7 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
     float3 h = (float3)(0.0f);
     float n_prev = 0.0f;
     float2 prev;
-    if (!reset && reproject_position(gbuf, x, y, width, &prev)) {
+    if (!p.reset && reproject_position(gbuf, x, y, width, &prev)) {
         GSample cur = gbuf[i];
         float2 f = prev - 0.5f;
         int x0 = (int)floor(f.x), y0 = (int)floor(f.y);

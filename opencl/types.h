@@ -86,19 +86,77 @@ typedef struct {
     int pad;
 } Reservoir;          /* 32 bytes */
 
-/* Parameters of the ReSTIR passes, one struct shared with the host. */
+/* ---- parameters of the passes ---------------------------------------------------------------
+ * One struct per stage, passed by value and read by field name; the host packs them (python/restircl/stages.py).
+ * The reuse passes read their random stream key (frame, seed) from their own struct: it equals FrameParams'. */
+
+/* The image a frame renders, and the key of its random numbers. */
 typedef struct {
-    int candidates;        /* RIS candidates per pixel for the initial reservoir */
+    int width;
+    int height;
+    int pixels;            /* width * height */
+    uint sample;           /* frames rendered so far by this renderer */
+    uint seed;             /* Settings.seed */
+    int pad0;
+    int pad1;
+    int pad2;
+} FrameParams;             /* 32 bytes */
+
+/* What the light samplers draw candidates from (light_array.h, light_tiles.h). */
+typedef struct {
+    int light_count;       /* lights the samplers draw from; 0 when no light emits */
+    int slot_count;        /* light array slots */
+    int tile_count;        /* presampled light tiles; 0: candidates come straight from the light array */
+    int tile_size;         /* entries per tile */
+} SamplerParams;           /* 16 bytes */
+
+/* ReSTIR pass 2 (restir_initial.cl). */
+typedef struct {
+    SamplerParams sampler;
+    int candidates;        /* RIS candidates per pixel */
+    int visibility_reuse;  /* 1: shadow-test the chosen sample */
+    int frame;             /* random stream key, as FrameParams.sample */
+    int seed;
+} InitialParams;           /* 32 bytes */
+
+/* ReSTIR pass 4 (restir_temporal.cl). */
+typedef struct {
+    float m_cap;           /* history cap, absolute M */
+    float depth_tolerance; /* relative view-depth mismatch that rejects the history */
+    float normal_cos;      /* cosine below which the history's normal is rejected */
+    int bias_correction;   /* BIAS_* */
+    int visibility_reuse;
+    int lights_static;     /* 1: the light records are last frame's */
+    int frame;             /* random stream key, as FrameParams.sample */
+    int seed;
+} TemporalParams;          /* 32 bytes */
+
+/* ReSTIR pass 5 (restir_spatial.cl), one launch per spatial pass. */
+typedef struct {
     int spatial_neighbours;
     float spatial_radius;  /* pixels */
-    float m_cap;           /* temporal history cap, absolute M */
     float depth_tolerance; /* relative view-depth mismatch that rejects a neighbour */
     float normal_cos;      /* cosine below which a neighbour's normal is rejected */
-    int frame;             /* frame counter, for random seeds */
+    int bias_correction;   /* BIAS_* */
+    int visibility_reuse;
+    int pass;              /* index of this spatial pass: its own random numbers */
+    int frame;             /* random stream key, as FrameParams.sample */
     int seed;
-} RestirParams;            /* 32 bytes */
+    int pad0;
+    int pad1;
+    int pad2;
+} SpatialParams;           /* 48 bytes */
 
-/* Parameters of the temporal accumulation pass. */
+/* Pass 6: restir_shade, and the samplers without reuse (direct.cl). */
+typedef struct {
+    SamplerParams sampler;
+    int method;            /* METHOD_* (shade_direct) */
+    int candidates;        /* RIS candidates per pixel (shade_direct, METHOD_RIS) */
+    int visible_known;     /* restir_shade: the reuse passes already zeroed occluded samples */
+    int pad0;
+} ShadeParams;             /* 32 bytes */
+
+/* Pass 7: temporal accumulation (taa.cl). */
 typedef struct {
     float alpha_min;       /* lower bound of the blend factor a = max(1/n, alpha_min) */
     float gamma;           /* variance clipping width, in standard deviations */
@@ -107,8 +165,8 @@ typedef struct {
     int moving;            /* 1: camera, objects or lights move: validate history by surface and clip it to the
                               neighbourhood (YCoCg variance box); 0: a still scene accumulates everything */
     int max_history;       /* cap of the per-pixel history length n */
+    int reset;             /* 1: no history (first frame, camera cut): start from this frame's sample */
     int pad0;
-    int pad1;
 } TaaParams;               /* 32 bytes */
 
 /* Counters of numerical guards, accumulated by the kernels with atomic_inc. */

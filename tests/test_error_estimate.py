@@ -22,7 +22,8 @@ from restircl import Renderer, Settings, scenes
 from restircl.eval.metrics import rel_mse
 from restircl.eval.report_methods import METHODS
 from restircl.eval.report_reference import get_reference
-from restircl.pipeline import HALF_BLOCK, _half_of
+from restircl.still import HALF_BLOCK
+from restircl.still import half_of as _half_of
 
 CHECKS = (64, 256)
 SEEDS = 3

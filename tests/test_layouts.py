@@ -2,8 +2,20 @@
 
 import numpy as np
 import pyopencl as cl
+import pytest
 from restircl import layouts
 from restircl.program import build_program
+
+
+def _fields(dtype: np.dtype, prefix: str = "", base: int = 0) -> list[tuple[str, int]]:
+    """(C member path, offset) of every field, nested structs' fields included ("sampler.light_count")."""
+    out = []
+    for name in dtype.names:
+        sub, offset = dtype.fields[name][:2]
+        out.append((prefix + name, base + offset))
+        if sub.names is not None:
+            out += _fields(sub, f"{prefix}{name}.", base + offset)
+    return out
 
 
 def _layout_kernel() -> tuple[str, list[tuple[str, str, int]]]:
@@ -15,9 +27,9 @@ def _layout_kernel() -> tuple[str, list[tuple[str, str, int]]]:
         lines.append(f"    out[{k}] = (int)sizeof({struct});")
         expected.append((struct, "sizeof", dtype.itemsize))
         k += 1
-        for name in dtype.names:
-            lines.append(f"    out[{k}] = (int)((__global char*)&s->{name} - base);")
-            expected.append((struct, name, dtype.fields[name][1]))
+        for path, offset in _fields(dtype):
+            lines.append(f"    out[{k}] = (int)((__global char*)&s->{path} - base);")
+            expected.append((struct, path, offset))
             k += 1
         lines.append("  }")
     lines.append("}")
@@ -47,3 +59,17 @@ def test_no_float3_in_shared_structs():
 def test_struct_sizes_are_multiples_of_16():
     for name, dtype in layouts.STRUCTS.items():
         assert dtype.itemsize % 16 == 0, name
+
+
+def test_nested_parameter_structs_are_checked():
+    """The per-stage structs nest SamplerParams: the layout kernel reaches the nested fields too."""
+    _, expected = _layout_kernel()
+    assert ("InitialParams", "sampler.tile_size", 12) in expected
+    assert ("ShadeParams", "sampler.light_count", 0) in expected
+
+
+def test_pack_names_fields():
+    p = layouts.pack(layouts.INITIAL_PARAMS, candidates=8, sampler={"light_count": 3})
+    assert p["candidates"] == 8 and p["sampler"]["light_count"] == 3 and p["seed"] == 0
+    with pytest.raises(KeyError, match="candidate"):
+        layouts.pack(layouts.INITIAL_PARAMS, candidate=8)

@@ -202,13 +202,14 @@ def test_static_lights_reuse_the_stored_target(device, monkeypatch):
     for force_changed in (False, True):
         r = Renderer(scene, Settings(method="restir", candidates=4), device)
         if force_changed:
-            upload = r._upload_scene
+            ds = r.device_scene
+            upload = ds.upload
 
-            def upload_and_mark(frame, r=r, upload=upload):
-                upload(frame)
-                r._lights_changed = True
+            def upload_and_mark(frame, last_frame, ds=ds, upload=upload):
+                upload(frame, last_frame)
+                ds.lights_changed = True
 
-            monkeypatch.setattr(r, "_upload_scene", upload_and_mark)
+            monkeypatch.setattr(ds, "upload", upload_and_mark)
         outs.append(np.stack([r.render_frame(0, still=False).noisy for _ in range(4)]))
     assert outs[0].max() > 0
     np.testing.assert_array_equal(outs[0], outs[1])

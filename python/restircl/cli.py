@@ -336,8 +336,8 @@ def build_parser() -> argparse.ArgumentParser:
     s.set_defaults(func=cmd_save_scene)
 
     st = sub.add_parser("stress", help="stability on extreme scenes: NaN/Inf, max value, relMSE per method",
-                        description="Render the built-in extreme scenes (restircl/eval/stress.py) with every method and "
-                                    "check them against their references; exit status 1 if any fails.")
+                        description="Render the built-in extreme scenes (restircl/eval/stress.py) with every "
+                                    "method and check them against their references; exit status 1 if any fails.")
     st.add_argument("--full", action="store_true", help="full sizes (1e6 lights, 5000 frames, ...): minutes")
     st.add_argument("--methods", default=None, help="comma-separated subset (default: all)")
     st.add_argument("--cases", default=None, help="comma-separated subset (default: all)")

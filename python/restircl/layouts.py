@@ -45,30 +45,28 @@ RESERVOIR = np.dtype(
         ("pad", np.int32),
     ]
 )
-RESTIR_PARAMS = np.dtype(
-    [
-        ("candidates", np.int32),
-        ("spatial_neighbours", np.int32),
-        ("spatial_radius", np.float32),
-        ("m_cap", np.float32),
-        ("depth_tolerance", np.float32),
-        ("normal_cos", np.float32),
-        ("frame", np.int32),
-        ("seed", np.int32),
-    ]
-)
-TAA_PARAMS = np.dtype(
-    [
-        ("alpha_min", np.float32),
-        ("gamma", np.float32),
-        ("depth_tolerance", np.float32),
-        ("normal_cos", np.float32),
-        ("moving", np.int32),
-        ("max_history", np.int32),
-        ("pad0", np.int32),
-        ("pad1", np.int32),
-    ]
-)
+def _ints(*names: str) -> list[tuple[str, type]]:
+    return [(n, np.int32) for n in names]
+
+
+def _floats(*names: str) -> list[tuple[str, type]]:
+    return [(n, np.float32) for n in names]
+
+
+# The parameter structs of the passes (types.h "parameters of the passes"): one per stage, read by field name.
+FRAME_PARAMS = np.dtype([*_ints("width", "height", "pixels"), ("sample", np.uint32), ("seed", np.uint32),
+                         *_ints("pad0", "pad1", "pad2")])
+SAMPLER_PARAMS = np.dtype(_ints("light_count", "slot_count", "tile_count", "tile_size"))
+INITIAL_PARAMS = np.dtype([("sampler", SAMPLER_PARAMS), *_ints("candidates", "visibility_reuse", "frame", "seed")])
+TEMPORAL_PARAMS = np.dtype([*_floats("m_cap", "depth_tolerance", "normal_cos"),
+                            *_ints("bias_correction", "visibility_reuse", "lights_static", "frame", "seed")])
+SPATIAL_PARAMS = np.dtype([("spatial_neighbours", np.int32),
+                           *_floats("spatial_radius", "depth_tolerance", "normal_cos"),
+                           *_ints("bias_correction", "visibility_reuse", "pass", "frame", "seed", "pad0", "pad1",
+                                  "pad2")])
+SHADE_PARAMS = np.dtype([("sampler", SAMPLER_PARAMS), *_ints("method", "candidates", "visible_known", "pad0")])
+TAA_PARAMS = np.dtype([*_floats("alpha_min", "gamma", "depth_tolerance", "normal_cos"),
+                       *_ints("moving", "max_history", "reset", "pad0")])
 
 #: struct name in types.h -> numpy dtype
 STRUCTS: dict[str, np.dtype] = {
@@ -79,7 +77,12 @@ STRUCTS: dict[str, np.dtype] = {
     "Camera": CAMERA,
     "GSample": GSAMPLE,
     "Reservoir": RESERVOIR,
-    "RestirParams": RESTIR_PARAMS,
+    "FrameParams": FRAME_PARAMS,
+    "SamplerParams": SAMPLER_PARAMS,
+    "InitialParams": INITIAL_PARAMS,
+    "TemporalParams": TEMPORAL_PARAMS,
+    "SpatialParams": SPATIAL_PARAMS,
+    "ShadeParams": SHADE_PARAMS,
     "TaaParams": TAA_PARAMS,
 }
 
@@ -87,6 +90,27 @@ STRUCTS: dict[str, np.dtype] = {
 GUARD_NONFINITE_SAMPLE, GUARD_NONFINITE_HISTORY, GUARD_NONFINITE_RESERVOIR = range(3)
 GUARD_COUNT = 4
 GUARD_NAMES = ("nonfinite_sample", "nonfinite_history", "nonfinite_reservoir", "unused")
+
+
+def pack(dtype: np.dtype, **fields: float) -> np.void:
+    """One struct of `dtype` (a kernel argument passed by value): the named fields set, the rest (padding) 0. A
+    nested struct is given as a dict of its fields or as a packed struct. A field the struct lacks is an error
+    naming it."""
+    record = np.zeros(1, dtype)
+    _fill(record[0], dtype, fields)
+    return record[0]
+
+
+def _fill(record: np.void, dtype: np.dtype, fields: dict) -> None:
+    assert dtype.names is not None
+    for name, value in fields.items():
+        if name not in dtype.names:
+            raise KeyError(f"{name!r} is not a field of {dtype} (fields: {', '.join(dtype.names)})")
+        sub = dtype.fields[name][0]
+        if sub.names is not None and isinstance(value, dict):
+            _fill(record[name], sub, value)
+        else:
+            record[name] = value
 
 
 def int_bits(values: np.ndarray) -> np.ndarray:

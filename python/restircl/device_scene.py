@@ -1,0 +1,131 @@
+"""The scene as the device holds it: geometry (BVH and triangles), materials, lights, the light array and the
+per-object motion rows, uploaded when the frame's scene differs from what the device holds, with the bookkeeping
+of how the lights changed (what the ReSTIR history may keep)."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pyopencl as cl
+
+from . import layouts as L
+from .buffers import upload
+from .bvh import build_bvh, make_tris
+from .light_array import LightArray, build_light_array
+from .lights import DeviceLights, scene_lights
+from .scene import Scene
+
+
+def lights_switched(old: np.ndarray, new: np.ndarray, ratio: float) -> bool:
+    """Did any light switch on or off, or change its power by more than `ratio`?"""
+    if ratio == 0 or len(old) != len(new):
+        return False
+    on_old, on_new = old > 0, new > 0
+    if np.any(on_old != on_new):
+        return True
+    both = on_old & on_new
+    r = new[both] / old[both]
+    return bool(np.any((r > ratio) | (r < 1.0 / ratio)))
+
+
+class DeviceScene:
+    """Device buffers of a Scene at one frame of its animation (upload(frame) moves them to another frame)."""
+
+    def __init__(self, context: cl.Context, scene: Scene, slots_per_light: float, light_change_ratio: float) -> None:
+        self.context = context
+        self.scene = scene
+        self.slots_per_light = slots_per_light
+        self.light_change_ratio = light_change_ratio
+        # what moves, decided once: each scans every light, ~50 ms per frame at 1e5 explicit lights when asked
+        # every frame
+        self.moving_objects = scene.has_moving_objects
+        self.moving_lights = scene.has_moving_lights
+        self.frame_count = scene.frames
+        self._geometry_key: int | None = None
+        self._lights_key: int | None = None
+        self.lights: DeviceLights
+        self.light_array: LightArray
+        self.motion_buf: cl.Buffer | None = None
+        self.lights_changed = True  # this frame's light records differ from (or may differ from) the last frame's
+        self.light_indices_changed = False  # the light count changed: old reservoirs point at other lights
+        self.lights_switched = False  # a light switched on or off, or its power jumped (light_change_ratio)
+
+    def upload(self, frame: int, last_frame: int | None) -> None:
+        """Upload geometry and lights for `frame` when they differ from what the device holds; `last_frame` is the
+        frame rendered before (the motion rows reproject to it)."""
+        scene = self.scene
+        self.light_indices_changed = self.lights_switched = False
+        geo_key = frame if self.moving_objects else 0
+        world = None
+        if self._geometry_key != geo_key:
+            world = scene.world_triangles(frame)
+            self._upload_geometry(world)
+            self._geometry_key = geo_key
+        lights_key = frame if (self.moving_lights or self.moving_objects) else 0
+        self.lights_changed = self._lights_key != lights_key
+        if self.lights_changed:
+            if world is None:
+                world = scene.world_triangles(frame)
+            self._upload_lights(scene_lights(scene, frame, world))
+            self._lights_key = lights_key
+        if self.moving_objects or self.motion_buf is None:
+            self.motion_buf = upload(self.context, self._motion_rows(frame, last_frame))
+
+    def _upload_geometry(self, world) -> None:
+        t0 = time.perf_counter()
+        bvh = build_bvh(world.v0, world.v1, world.v2)
+        tris = make_tris(world.v0, world.v1, world.v2, world.material, world.prim, bvh.order)
+        tris["e2"][:, 3] = L.int_bits(world.object[bvh.order])
+        self.bvh_seconds = time.perf_counter() - t0
+        self.nodes_buf = upload(self.context, bvh.nodes)
+        self.tris_buf = upload(self.context, tris)
+        self.triangle_count = len(world)
+        mats = np.zeros(max(len(self.scene.materials), 1), L.MATERIAL)
+        for i, m in enumerate(self.scene.materials):
+            mats["albedo"][i, :3] = m.albedo
+            mats["emission"][i, :3] = m.radiance
+            mats["emission"][i, 3] = float(m.is_emissive)
+        self.materials_buf = upload(self.context, mats)
+
+    def _upload_lights(self, lights: DeviceLights) -> None:
+        old = getattr(self, "lights", None)
+        if old is not None and len(old) != len(lights):
+            self.light_indices_changed = True
+        elif old is not None:
+            self.lights_switched = lights_switched(old.power, lights.power, self.light_change_ratio)
+        self.lights = lights
+        self.light_array = build_light_array(lights.power, self.slots_per_light)
+        self.lights_buf = upload(self.context, lights.records)
+        self.slots_buf = upload(self.context, self.light_array.slots)
+        self.light_pdf_buf = upload(self.context, self.light_array.pdf)
+
+    def _motion_rows(self, frame: int, last_frame: int | None) -> np.ndarray:
+        """Per object: rows of M_prev M_cur^-1 (reprojection), then of M_next M_cur^-1 (the Vector pass);
+        identities (uploaded once) when nothing moves."""
+        scene = self.scene
+        motion = np.zeros((max(len(scene.meshes), 1), 2, 3, 4), np.float32)
+        motion[:, :, :, :3] = np.eye(3)
+        if self.moving_objects:
+            prev_f = last_frame if last_frame is not None else frame
+            next_f = min(frame + 1, self.frame_count - 1)
+            for k, mesh in enumerate(scene.meshes):
+                inv = np.linalg.inv(Scene.at(mesh.transforms, frame))
+                motion[k, 0] = (Scene.at(mesh.transforms, prev_f) @ inv)[:3, :]
+                motion[k, 1] = (Scene.at(mesh.transforms, next_f) @ inv)[:3, :]
+        return motion
+
+    @property
+    def sampled_light_count(self) -> int:
+        """The number of lights the samplers draw from: 0 when no light emits (an empty light array)."""
+        return len(self.lights) if self.light_array.slot_count and len(self.light_array.slots) else 0
+
+    @property
+    def geometry(self) -> dict[str, cl.Buffer]:
+        """The kernels' geometry arguments (BVH nodes and triangles), by parameter name."""
+        return {"nodes": self.nodes_buf, "tris": self.tris_buf}
+
+    @property
+    def light_sampling(self) -> dict[str, cl.Buffer]:
+        """The light records and the light array, by the samplers' parameter names."""
+        return {"lights": self.lights_buf, "slots": self.slots_buf, "light_pdf": self.light_pdf_buf}

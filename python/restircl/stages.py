@@ -1,0 +1,233 @@
+"""The stages of a frame (DESIGN section 2), one class each: what it launches, with which buffers and parameters.
+
+A stage reads the frame's state (FrameState: which frames, what history may be reused, how lights are sampled),
+packs its own parameter struct (types.h, layouts.py) and launches its kernel with every argument named
+(kernels.py). Which stages run, and in what order, is Renderer.render_frame's business (pipeline.py).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+import pyopencl as cl
+
+from . import layouts as L
+from .buffers import FrameBuffers, alloc
+from .camera import camera_record
+from .device_scene import DeviceScene
+from .history import History
+from .kernels import Kernels
+from .scene import Camera
+
+if TYPE_CHECKING:
+    from .settings import Settings
+
+
+@dataclass
+class FrameState:
+    """What one frame's stages share: decided once at its start (Renderer._begin_frame)."""
+
+    frame: int
+    prev_frame: int  # the frame whose history this one reuses (itself when there is none)
+    next_frame: int  # the Vector pass's next frame
+    history: bool  # last frame's G-buffer and TAA colour belong to this frame's predecessor
+    restir_history: bool  # ... and its reservoirs sample this frame's lights
+    method: str  # the sampler that runs: Settings.method, or light_array for RIS over one light
+    tiles: bool  # RIS candidates from this frame's light tiles
+    frame_params: np.void  # FrameParams
+    sampler: np.void  # SamplerParams
+    jitter: tuple[float, float] = (0.0, 0.0)
+
+
+def pixel_count(state: FrameState) -> tuple[int]:
+    """The 1D launch size of a per-pixel kernel."""
+    return (int(state.frame_params["pixels"]),)
+
+
+def image_size(state: FrameState) -> tuple[int, int]:
+    """The 2D launch size of a per-pixel kernel."""
+    return (int(state.frame_params["width"]), int(state.frame_params["height"]))
+
+
+@dataclass
+class StageTimer:
+    """Milliseconds per stage; each mark waits for the queue, so a stage's time is its own."""
+
+    queue: cl.CommandQueue
+    ms: dict[str, float] = field(default_factory=dict)
+    t: float = field(default_factory=time.perf_counter)
+
+    def mark(self, name: str) -> None:
+        self.queue.finish()
+        t1 = time.perf_counter()
+        self.ms[name] = self.ms.get(name, 0.0) + (t1 - self.t) * 1e3
+        self.t = t1
+
+
+class Stage:
+    """The device-side state every stage reaches: kernels, the scene's buffers, the frame's and the history's."""
+
+    def __init__(self, kernels: Kernels, scene: DeviceScene, buffers: FrameBuffers, history: History,
+                 settings: Settings) -> None:
+        self.kernels = kernels
+        self.scene = scene
+        self.buffers = buffers
+        self.history = history
+        self.settings = settings
+
+    def _similarity(self) -> dict[str, float]:
+        """How far a history or neighbour surface may differ from the pixel's (temporal, spatial, taa)."""
+        s = self.settings
+        return {"depth_tolerance": s.depth_tolerance, "normal_cos": math.cos(math.radians(s.normal_angle))}
+
+    def _key(self, state: FrameState) -> dict[str, int]:
+        """The random stream key of a reuse pass (its struct's frame and seed), as FrameParams'."""
+        return {"frame": int(state.frame_params["sample"]), "seed": int(state.frame_params["seed"])}
+
+
+class Primary(Stage):
+    """1: camera rays -> this frame's G-buffer and the Vector pass."""
+
+    def run(self, state: FrameState, camera: Camera) -> None:
+        q, b, h = self.kernels.device.queue, self.buffers, self.history
+        cl.enqueue_copy(q, b.cameras[0], camera_record(camera, state.frame, state.jitter))
+        cl.enqueue_copy(q, b.cameras[1], camera_record(camera, state.prev_frame))
+        cl.enqueue_copy(q, b.cameras[2], camera_record(camera, state.next_frame))
+        self.kernels.launch("primary", image_size(state), cam=b.cameras[0],
+                            prev_cam=b.cameras[1], next_cam=b.cameras[2], **self.scene.geometry,
+                            materials=self.scene.materials_buf, object_motion=self.scene.motion_buf,
+                            gbuf=h.gbuf(h.cur), vector=b.vector)
+
+
+class LightTiles(Stage):
+    """Presampled light tiles (many lights): this frame's RIS candidates are drawn from them."""
+
+    def __init__(self, *args, info_bytes: int) -> None:
+        super().__init__(*args)
+        self.info_bytes = info_bytes
+        self.tile_rec: cl.Buffer | None = None  # allocated when first used
+        self.tile_info: cl.Buffer | None = None
+
+    def run(self, state: FrameState) -> None:
+        s = self.settings
+        entries = s.light_tile_count * s.light_tile_size
+        if self.tile_rec is None or self.tile_rec.size < entries * L.LIGHT.itemsize:
+            context = self.kernels.device.context
+            self.tile_rec = alloc(context, entries * L.LIGHT.itemsize)
+            self.tile_info = alloc(context, entries * self.info_bytes)
+        self.kernels.launch("light_tiles_fill", (entries,), **self.scene.light_sampling, tile_rec=self.tile_rec,
+                            tile_info=self.tile_info, frame_params=state.frame_params, sampler=state.sampler)
+
+    def arguments(self, state: FrameState) -> dict[str, cl.Buffer]:
+        """The tile arguments of the RIS kernels (a placeholder buffer when this frame uses no tiles)."""
+        if not state.tiles:
+            return {"tile_rec": self.buffers.none, "tile_info": self.buffers.none}
+        return {"tile_rec": self.tile_rec, "tile_info": self.tile_info}
+
+
+class Initial(Stage):
+    """2-3: RIS over the light candidates into a reservoir; with visibility reuse, the chosen sample's shadow ray."""
+
+    def run(self, state: FrameState, tiles: dict[str, cl.Buffer]) -> cl.Buffer:
+        s, h = self.settings, self.history
+        params = L.pack(L.INITIAL_PARAMS, sampler=state.sampler, candidates=s.candidates,
+                        visibility_reuse=int(s.visibility_reuse), **self._key(state))
+        out = self.buffers.res_initial
+        self.kernels.launch("restir_initial", pixel_count(state), gbuf=h.gbuf(h.cur), **self.scene.geometry,
+                            **self.scene.light_sampling, **tiles, out=out, frame_params=state.frame_params,
+                            params=params)
+        return out
+
+
+class Temporal(Stage):
+    """4: merge with last frame's reservoir of the same surface, found by reprojection."""
+
+    def __init__(self, *args, bias_code: int) -> None:
+        super().__init__(*args)
+        self.bias_code = bias_code
+
+    def run(self, state: FrameState, current: cl.Buffer) -> cl.Buffer:
+        s, h = self.settings, self.history
+        params = L.pack(L.TEMPORAL_PARAMS, m_cap=s.m_cap * s.candidates, **self._similarity(),
+                        bias_correction=self.bias_code, visibility_reuse=int(s.visibility_reuse),
+                        lights_static=int(not self.scene.lights_changed), **self._key(state))
+        out = self.buffers.res_temp
+        self.kernels.launch("restir_temporal", image_size(state), gbuf=h.gbuf(h.cur), prev_gbuf=h.gbuf(h.prev),
+                            **self.scene.geometry, lights=self.scene.lights_buf, current=current,
+                            previous=h.reservoirs(h.prev), out=out, guards=self.buffers.guards,
+                            frame_params=state.frame_params, params=params)
+        return out
+
+
+class Spatial(Stage):
+    """5: merge neighbours' reservoirs, `spatial_passes` times, ping-pong between this frame's history slot and
+    whichever scratch buffer does not hold the input."""
+
+    def __init__(self, *args, bias_code: int) -> None:
+        super().__init__(*args)
+        self.bias_code = bias_code
+
+    def run(self, state: FrameState, res: cl.Buffer) -> cl.Buffer:
+        s, h, b = self.settings, self.history, self.buffers
+        bufs = [h.reservoirs(h.cur), b.res_temp if res is not b.res_temp else b.res_initial]
+        # the kernel's parameters `pass` and `in` are Python keywords: given through ** below
+        for p in range(s.spatial_passes):
+            dst = bufs[p % 2]
+            params = L.pack(L.SPATIAL_PARAMS, spatial_neighbours=s.spatial_neighbours,
+                            spatial_radius=s.spatial_radius, **self._similarity(), bias_correction=self.bias_code,
+                            visibility_reuse=int(s.visibility_reuse), **{"pass": p}, **self._key(state))
+            self.kernels.launch("restir_spatial", image_size(state), gbuf=h.gbuf(h.cur), **self.scene.geometry,
+                                lights=self.scene.lights_buf, **{"in": res}, out=dst,
+                                frame_params=state.frame_params, params=params)
+            res = dst
+        return res
+
+
+class Shade(Stage):
+    """6: one shadow ray to the pixel's sample -> the noisy direct light s_n (ReSTIR's reservoir, a sampler
+    without reuse, or the exhaustive reference)."""
+
+    def __init__(self, *args, method_codes: dict[str, int]) -> None:
+        super().__init__(*args)
+        self.method_codes = method_codes
+
+    def _common(self, state: FrameState) -> dict:
+        h = self.history
+        return {"gbuf": h.gbuf(h.cur), **self.scene.geometry, "lights": self.scene.lights_buf,
+                "guards": self.buffers.guards, "out": self.buffers.sample, "frame_params": state.frame_params}
+
+    def restir(self, state: FrameState) -> None:
+        """Shade the reservoir this frame leaves as history."""
+        s, h = self.settings, self.history
+        known = s.visibility_reuse and s.bias_correction != "none"
+        params = L.pack(L.SHADE_PARAMS, sampler=state.sampler, visible_known=int(known))
+        self.kernels.launch("restir_shade", pixel_count(state), **self._common(state), res=h.reservoirs(h.cur),
+                            params=params)
+
+    def direct(self, state: FrameState, tiles: dict[str, cl.Buffer]) -> None:
+        params = L.pack(L.SHADE_PARAMS, sampler=state.sampler, method=self.method_codes[state.method],
+                        candidates=self.settings.candidates)
+        self.kernels.launch("shade_direct", pixel_count(state), **self._common(state), slots=self.scene.slots_buf,
+                            light_pdf=self.scene.light_pdf_buf, **tiles, params=params)
+
+    def reference(self, state: FrameState) -> None:
+        params = L.pack(L.SHADE_PARAMS, sampler=state.sampler)
+        self.kernels.launch("shade_reference", pixel_count(state), **self._common(state), params=params)
+
+
+class Taa(Stage):
+    """7: f_n = a s_n + (1 - a) clip(history): blends into this frame's TAA slot, which it returns."""
+
+    def run(self, state: FrameState, moving: bool) -> cl.Buffer:
+        s, h = self.settings, self.history
+        params = L.pack(L.TAA_PARAMS, alpha_min=s.alpha_min, gamma=s.gamma, **self._similarity(),
+                        moving=int(moving), max_history=s.max_history, reset=int(not state.history))
+        self.kernels.launch("taa", image_size(state), sample=self.buffers.sample, gbuf=h.gbuf(h.cur),
+                            prev_gbuf=h.gbuf(h.prev), history_in=h.taa[h.prev], history_out=h.taa[h.cur],
+                            guards=self.buffers.guards, frame_params=state.frame_params, params=params)
+        return h.taa[h.cur]
+
