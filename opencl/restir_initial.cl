@@ -18,9 +18,9 @@ __kernel void restir_initial(const __global GSample* gbuf, const __global BVHNod
     Reservoir r;
     res_init(&r);
     if (s.valid && light_count > 0) {
-        uint rng = rng_seed((uint)i, (uint)p.frame, (uint)p.seed, 3u);
+        uint rng = rng_seed((uint)i, frame_params.sample, frame_params.seed, 3u);
         LightEval chosen;  /* the evaluation of the picked candidate, for its shadow ray */
-        RisSource src = ris_source(slot_count, tile_count, tile_size, i, (uint)p.frame, (uint)p.seed);
+        RisSource src = ris_source(slot_count, tile_count, tile_size, i, frame_params.sample, frame_params.seed);
         ris_candidates(&s, lights, slots, light_pdf, tile_rec, tile_info, src, p.candidates, &rng, &r, &chosen);
         res_finalize(&r, r.M);
         /* W > 0: a candidate with target > 0 was picked, and chosen holds its evaluation */

@@ -22,20 +22,20 @@ inline float2 disk_offset(float r, uint* rng)
 }
 
 __kernel void restir_spatial(const __global GSample* gbuf, const __global BVHNode* nodes, const __global Tri* tris,
-                             const __global Light* lights, const __global Reservoir* in, __global Reservoir* out,
+                             const __global Light* lights, const __global Reservoir* input, __global Reservoir* out,
                              FrameParams frame_params, SpatialParams params)
 {
     const SpatialParams p = params;
     const int width = frame_params.width, height = frame_params.height;
     const int bias_correction = p.bias_correction, visibility_reuse = p.visibility_reuse;
-    const int pass = p.pass;
+    const int pass = p.pass_index;
     int x = get_global_id(0), y = get_global_id(1);
     if (x >= width || y >= height) return;
     int i = y * width + x;
-    Reservoir c = in[i];
+    Reservoir c = input[i];
     Surface s = surface_load(gbuf, i);
     if (!s.valid) { out[i] = c; return; }
-    uint rng = rng_seed((uint)i, (uint)p.frame, (uint)p.seed, 5u + (uint)pass);
+    uint rng = rng_seed((uint)i, frame_params.sample, frame_params.seed, 5u + (uint)pass);
     /* the neighbours: random pixels in the disk that show a similar surface */
     int used[MAX_NEIGHBOURS];
     int k_max = min(p.spatial_neighbours, MAX_NEIGHBOURS);
@@ -55,13 +55,13 @@ __kernel void restir_spatial(const __global GSample* gbuf, const __global BVHNod
     }
     int n_used = 0;
     for (int k = 0; k < k_max; ++k) {
-        bool similar = used[k] != i && as_int(nn[k].w) >= 0 && abs_f(nd[k] - s.depth) <= p.depth_tolerance * s.depth
-                       && dot3(nn[k].xyz, s.n) >= p.normal_cos;
+        bool similar = used[k] != i && as_int(nn[k].w) >= 0 && abs_f(nd[k] - s.depth) <= p.similar.depth_tolerance * s.depth
+                       && dot3(nn[k].xyz, s.n) >= p.similar.normal_cos;
         if (similar) used[n_used++] = used[k];
     }
     if (n_used == 0) { out[i] = c; return; }
     Reservoir qs[MAX_NEIGHBOURS];  /* their reservoirs, read before any is used (the same overlap) */
-    for (int k = 0; k < n_used; ++k) qs[k] = in[used[k]];
+    for (int k = 0; k < n_used; ++k) qs[k] = input[used[k]];
 
     Reservoir r;
     reuse_combine(&s, &c, qs, n_used, gbuf, used, nodes, tris, lights, bias_correction, visibility_reuse, &rng, &r);

@@ -20,12 +20,12 @@ __kernel void restir_temporal(const __global GSample* gbuf, const __global GSamp
     Reservoir c = current[i];
     Surface s = surface_load(gbuf, i);
     if (!s.valid) { out[i] = c; return; }
-    int j = reproject_pixel(gbuf, prev_gbuf, x, y, width, height, p.depth_tolerance, p.normal_cos);
+    int j = reproject_pixel(gbuf, prev_gbuf, x, y, width, height, p.similar.depth_tolerance, p.similar.normal_cos);
     if (j < 0) { out[i] = c; return; }
     Reservoir q = previous[j];
     q.M = fmin_f(q.M, p.m_cap);
     if (!finite_f(q.W) || !finite_f(q.M)) { guard_count(guards, GUARD_NONFINITE_RESERVOIR); out[i] = c; return; }
-    uint rng = rng_seed((uint)i, (uint)p.frame, (uint)p.seed, 4u);
+    uint rng = rng_seed((uint)i, frame_params.sample, frame_params.seed, 4u);
     if (bias_correction == BIAS_PAIRWISE && !lights_static && q.light >= 0 && q.W > 0.0f) {
         Surface sp = surface_load(prev_gbuf, j);
         LightEval e;

@@ -52,7 +52,7 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
             if (wt <= 0.0f || tx < 0 || ty < 0 || tx >= width || ty >= height) continue;
             int j = ty * width + tx;
             GSample pg = prev_gbuf[j];
-            if (p.moving && !reproject_same_surface(&cur, &pg, p.depth_tolerance, p.normal_cos)) continue;
+            if (p.moving && !reproject_same_surface(&cur, &pg, p.similar.depth_tolerance, p.similar.normal_cos)) continue;
             float4 hv = history_in[j];
             wsum += wt;
             hsum += wt * hv.xyz;

@@ -88,7 +88,7 @@ typedef struct {
 
 /* ---- parameters of the passes ---------------------------------------------------------------
  * One struct per stage, passed by value and read by field name; the host packs them (python/restircl/stages.py).
- * The reuse passes read their random stream key (frame, seed) from their own struct: it equals FrameParams'. */
+ * Every pass reads its random stream key (sample, seed) from FrameParams. */
 
 /* The image a frame renders, and the key of its random numbers. */
 typedef struct {
@@ -110,38 +110,40 @@ typedef struct {
     int tile_size;         /* entries per tile */
 } SamplerParams;           /* 16 bytes */
 
+/* When a history or neighbour surface counts as the pixel's own (temporal and spatial reuse, TAA). */
+typedef struct {
+    float depth_tolerance; /* relative view-depth mismatch that rejects it */
+    float normal_cos;      /* cosine below which its normal is rejected */
+    int pad0;
+    int pad1;
+} SimilarityParams;        /* 16 bytes */
+
 /* ReSTIR pass 2 (restir_initial.cl). */
 typedef struct {
     SamplerParams sampler;
     int candidates;        /* RIS candidates per pixel */
     int visibility_reuse;  /* 1: shadow-test the chosen sample */
-    int frame;             /* random stream key, as FrameParams.sample */
-    int seed;
+    int pad0;
+    int pad1;
 } InitialParams;           /* 32 bytes */
 
 /* ReSTIR pass 4 (restir_temporal.cl). */
 typedef struct {
+    SimilarityParams similar;
     float m_cap;           /* history cap, absolute M */
-    float depth_tolerance; /* relative view-depth mismatch that rejects the history */
-    float normal_cos;      /* cosine below which the history's normal is rejected */
     int bias_correction;   /* BIAS_* */
     int visibility_reuse;
     int lights_static;     /* 1: the light records are last frame's */
-    int frame;             /* random stream key, as FrameParams.sample */
-    int seed;
 } TemporalParams;          /* 32 bytes */
 
 /* ReSTIR pass 5 (restir_spatial.cl), one launch per spatial pass. */
 typedef struct {
+    SimilarityParams similar;
     int spatial_neighbours;
     float spatial_radius;  /* pixels */
-    float depth_tolerance; /* relative view-depth mismatch that rejects a neighbour */
-    float normal_cos;      /* cosine below which a neighbour's normal is rejected */
     int bias_correction;   /* BIAS_* */
     int visibility_reuse;
-    int pass;              /* index of this spatial pass: its own random numbers */
-    int frame;             /* random stream key, as FrameParams.sample */
-    int seed;
+    int pass_index;        /* index of this spatial pass: its own random numbers */
     int pad0;
     int pad1;
     int pad2;
@@ -158,16 +160,17 @@ typedef struct {
 
 /* Pass 7: temporal accumulation (taa.cl). */
 typedef struct {
+    SimilarityParams similar; /* a disocclusion: the history's surface is not the pixel's */
     float alpha_min;       /* lower bound of the blend factor a = max(1/n, alpha_min) */
     float gamma;           /* variance clipping width, in standard deviations */
-    float depth_tolerance; /* relative depth mismatch that marks a disocclusion */
-    float normal_cos;      /* cosine below which the normal mismatch marks a disocclusion */
     int moving;            /* 1: camera, objects or lights move: validate history by surface and clip it to the
                               neighbourhood (YCoCg variance box); 0: a still scene accumulates everything */
     int max_history;       /* cap of the per-pixel history length n */
     int reset;             /* 1: no history (first frame, camera cut): start from this frame's sample */
     int pad0;
-} TaaParams;               /* 32 bytes */
+    int pad1;
+    int pad2;
+} TaaParams;               /* 48 bytes */
 
 /* Counters of numerical guards, accumulated by the kernels with atomic_inc. */
 #define GUARD_NONFINITE_SAMPLE   0  /* a shading result was NaN/Inf and replaced by 0 */

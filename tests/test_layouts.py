@@ -70,6 +70,6 @@ def test_nested_parameter_structs_are_checked():
 
 def test_pack_names_fields():
     p = layouts.pack(layouts.INITIAL_PARAMS, candidates=8, sampler={"light_count": 3})
-    assert p["candidates"] == 8 and p["sampler"]["light_count"] == 3 and p["seed"] == 0
+    assert p["candidates"] == 8 and p["sampler"]["light_count"] == 3 and p["visibility_reuse"] == 0
     with pytest.raises(KeyError, match="candidate"):
         layouts.pack(layouts.INITIAL_PARAMS, candidate=8)

@@ -57,16 +57,17 @@ def _floats(*names: str) -> list[tuple[str, type]]:
 FRAME_PARAMS = np.dtype([*_ints("width", "height", "pixels"), ("sample", np.uint32), ("seed", np.uint32),
                          *_ints("pad0", "pad1", "pad2")])
 SAMPLER_PARAMS = np.dtype(_ints("light_count", "slot_count", "tile_count", "tile_size"))
-INITIAL_PARAMS = np.dtype([("sampler", SAMPLER_PARAMS), *_ints("candidates", "visibility_reuse", "frame", "seed")])
-TEMPORAL_PARAMS = np.dtype([*_floats("m_cap", "depth_tolerance", "normal_cos"),
-                            *_ints("bias_correction", "visibility_reuse", "lights_static", "frame", "seed")])
-SPATIAL_PARAMS = np.dtype([("spatial_neighbours", np.int32),
-                           *_floats("spatial_radius", "depth_tolerance", "normal_cos"),
-                           *_ints("bias_correction", "visibility_reuse", "pass", "frame", "seed", "pad0", "pad1",
+SIMILARITY_PARAMS = np.dtype([*_floats("depth_tolerance", "normal_cos"), *_ints("pad0", "pad1")])
+INITIAL_PARAMS = np.dtype([("sampler", SAMPLER_PARAMS), *_ints("candidates", "visibility_reuse", "pad0", "pad1")])
+TEMPORAL_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), ("m_cap", np.float32),
+                            *_ints("bias_correction", "visibility_reuse", "lights_static")])
+SPATIAL_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), ("spatial_neighbours", np.int32),
+                           ("spatial_radius", np.float32),
+                           *_ints("bias_correction", "visibility_reuse", "pass_index", "pad0", "pad1",
                                   "pad2")])
 SHADE_PARAMS = np.dtype([("sampler", SAMPLER_PARAMS), *_ints("method", "candidates", "visible_known", "pad0")])
-TAA_PARAMS = np.dtype([*_floats("alpha_min", "gamma", "depth_tolerance", "normal_cos"),
-                       *_ints("moving", "max_history", "reset", "pad0")])
+TAA_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), *_floats("alpha_min", "gamma"),
+                       *_ints("moving", "max_history", "reset", "pad0", "pad1", "pad2")])
 
 #: struct name in types.h -> numpy dtype
 STRUCTS: dict[str, np.dtype] = {
@@ -79,6 +80,7 @@ STRUCTS: dict[str, np.dtype] = {
     "Reservoir": RESERVOIR,
     "FrameParams": FRAME_PARAMS,
     "SamplerParams": SAMPLER_PARAMS,
+    "SimilarityParams": SIMILARITY_PARAMS,
     "InitialParams": INITIAL_PARAMS,
     "TemporalParams": TEMPORAL_PARAMS,
     "SpatialParams": SPATIAL_PARAMS,

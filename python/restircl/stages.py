@@ -79,14 +79,11 @@ class Stage:
         self.history = history
         self.settings = settings
 
-    def _similarity(self) -> dict[str, float]:
+    def _similarity(self) -> np.void:
         """How far a history or neighbour surface may differ from the pixel's (temporal, spatial, taa)."""
         s = self.settings
-        return {"depth_tolerance": s.depth_tolerance, "normal_cos": math.cos(math.radians(s.normal_angle))}
-
-    def _key(self, state: FrameState) -> dict[str, int]:
-        """The random stream key of a reuse pass (its struct's frame and seed), as FrameParams'."""
-        return {"frame": int(state.frame_params["sample"]), "seed": int(state.frame_params["seed"])}
+        return L.pack(L.SIMILARITY_PARAMS, depth_tolerance=s.depth_tolerance,
+                      normal_cos=math.cos(math.radians(s.normal_angle)))
 
 
 class Primary(Stage):
@@ -135,7 +132,7 @@ class Initial(Stage):
     def run(self, state: FrameState, tiles: dict[str, cl.Buffer]) -> cl.Buffer:
         s, h = self.settings, self.history
         params = L.pack(L.INITIAL_PARAMS, sampler=state.sampler, candidates=s.candidates,
-                        visibility_reuse=int(s.visibility_reuse), **self._key(state))
+                        visibility_reuse=int(s.visibility_reuse))
         out = self.buffers.res_initial
         self.kernels.launch("restir_initial", pixel_count(state), gbuf=h.gbuf(h.cur), **self.scene.geometry,
                             **self.scene.light_sampling, **tiles, out=out, frame_params=state.frame_params,
@@ -152,9 +149,9 @@ class Temporal(Stage):
 
     def run(self, state: FrameState, current: cl.Buffer) -> cl.Buffer:
         s, h = self.settings, self.history
-        params = L.pack(L.TEMPORAL_PARAMS, m_cap=s.m_cap * s.candidates, **self._similarity(),
+        params = L.pack(L.TEMPORAL_PARAMS, m_cap=s.m_cap * s.candidates, similar=self._similarity(),
                         bias_correction=self.bias_code, visibility_reuse=int(s.visibility_reuse),
-                        lights_static=int(not self.scene.lights_changed), **self._key(state))
+                        lights_static=int(not self.scene.lights_changed))
         out = self.buffers.res_temp
         self.kernels.launch("restir_temporal", image_size(state), gbuf=h.gbuf(h.cur), prev_gbuf=h.gbuf(h.prev),
                             **self.scene.geometry, lights=self.scene.lights_buf, current=current,
@@ -174,14 +171,13 @@ class Spatial(Stage):
     def run(self, state: FrameState, res: cl.Buffer) -> cl.Buffer:
         s, h, b = self.settings, self.history, self.buffers
         bufs = [h.reservoirs(h.cur), b.res_temp if res is not b.res_temp else b.res_initial]
-        # the kernel's parameters `pass` and `in` are Python keywords: given through ** below
         for p in range(s.spatial_passes):
             dst = bufs[p % 2]
             params = L.pack(L.SPATIAL_PARAMS, spatial_neighbours=s.spatial_neighbours,
-                            spatial_radius=s.spatial_radius, **self._similarity(), bias_correction=self.bias_code,
-                            visibility_reuse=int(s.visibility_reuse), **{"pass": p}, **self._key(state))
+                            spatial_radius=s.spatial_radius, similar=self._similarity(), bias_correction=self.bias_code,
+                            visibility_reuse=int(s.visibility_reuse), pass_index=p)
             self.kernels.launch("restir_spatial", image_size(state), gbuf=h.gbuf(h.cur), **self.scene.geometry,
-                                lights=self.scene.lights_buf, **{"in": res}, out=dst,
+                                lights=self.scene.lights_buf, input=res, out=dst,
                                 frame_params=state.frame_params, params=params)
             res = dst
         return res
@@ -224,7 +220,7 @@ class Taa(Stage):
 
     def run(self, state: FrameState, moving: bool) -> cl.Buffer:
         s, h = self.settings, self.history
-        params = L.pack(L.TAA_PARAMS, alpha_min=s.alpha_min, gamma=s.gamma, **self._similarity(),
+        params = L.pack(L.TAA_PARAMS, alpha_min=s.alpha_min, gamma=s.gamma, similar=self._similarity(),
                         moving=int(moving), max_history=s.max_history, reset=int(not state.history))
         self.kernels.launch("taa", image_size(state), sample=self.buffers.sample, gbuf=h.gbuf(h.cur),
                             prev_gbuf=h.gbuf(h.prev), history_in=h.taa[h.prev], history_out=h.taa[h.cur],
