@@ -56,7 +56,7 @@ def _polygon_psa(x: np.ndarray, n: np.ndarray, verts: np.ndarray, one_sided: np.
 
 
 def _spot_mask(rec: np.ndarray, x: np.ndarray) -> np.ndarray:
-    """opencl/lights.h spot_mask for spot records (S, 16) at points x (P, 3): (P, S)."""
+    """opencl/lights/spot.h spot_mask for spot records (S, 16) at points x (P, 3): (P, S)."""
     out = x[:, None, :] - rec[None, :, 0:3]
     out = out / np.linalg.norm(out, axis=-1, keepdims=True)
     c = np.einsum("psk,sk->ps", out, rec[:, 4:7])
@@ -130,7 +130,7 @@ def analytic_direct(pos: np.ndarray, normal: np.ndarray, records: np.ndarray, bl
         if not len(sel):
             continue
         p, a, b = r[sel, 0:3], r[sel, 4:7], r[sel, 8:11]
-        if nv == 4:  # light_point: p + u a + v b, emitting along cross(a, b)
+        if nv == 4:  # a quad: p + u a + v b, emitting along cross(a, b)
             verts = np.stack([p, p + a, p + a + b, p + b], axis=1)
         else:
             verts = np.stack([p, p + a, p + b], axis=1)
