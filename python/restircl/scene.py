@@ -8,7 +8,6 @@ W/m^2 for the sun, emission colour * strength (radiance) for emissive materials.
 
 from __future__ import annotations
 
-import json
 import math
 import warnings
 from dataclasses import dataclass, field
@@ -16,8 +15,6 @@ from pathlib import Path
 
 import numpy as np
 
-SCENE_FILE_MAGIC = "restircl-scene"
-SCENE_FILE_VERSION = 1
 MAX_RESOLUTION = 16384
 LIGHT_TYPES = ("point", "spot", "sun", "area")
 AREA_SHAPES = ("SQUARE", "RECTANGLE", "DISK", "ELLIPSE")
@@ -343,92 +340,20 @@ class Scene:
     def triangle_count(self) -> int:
         return int(sum(len(m.triangles) for m in self.meshes))
 
-    # ---- files ---------------------------------------------------------------------------------------
+    # ---- files (the format: scene_file.py) ---------------------------------------------------------
 
     def save(self, path: str | Path) -> None:
         """Write the scene as one versioned .npz file (no pickles)."""
-        arrays: dict[str, np.ndarray] = {}
-        meta: dict = {
-            "magic": SCENE_FILE_MAGIC,
-            "version": SCENE_FILE_VERSION,
-            "name": self.name,
-            "frame_count": self.frame_count,
-            "materials": [
-                {"name": m.name, "albedo": list(map(float, m.albedo)), "emission": list(map(float, m.emission)),
-                 "emission_strength": float(m.emission_strength)}
-                for m in self.materials
-            ],
-            "meshes": [],
-            "lights": [],
-            "camera": None,
-        }
-        for i, mesh in enumerate(self.meshes):
-            meta["meshes"].append({"name": mesh.name})
-            arrays[f"mesh{i}_vertices"] = mesh.vertices
-            arrays[f"mesh{i}_triangles"] = mesh.triangles
-            arrays[f"mesh{i}_material_ids"] = mesh.material_ids
-            arrays[f"mesh{i}_transforms"] = mesh.transforms
-        for i, lt in enumerate(self.lights):
-            d = {k: getattr(lt, k) for k in ("name", "type", "power", "radius", "soft_falloff", "spot_size",
-                                              "spot_blend", "angle", "shape", "size", "size_y")}
-            d["color"] = list(map(float, lt.color))
-            meta["lights"].append(d)
-            arrays[f"light{i}_transforms"] = lt.transforms
-            if lt.power_per_frame is not None:
-                arrays[f"light{i}_power_per_frame"] = lt.power_per_frame
-        if self.camera is not None:
-            c = self.camera
-            meta["camera"] = {k: getattr(c, k) for k in ("width", "height", "lens", "sensor_width", "sensor_height",
-                                                         "sensor_fit", "shift_x", "shift_y")}
-            meta["camera"]["cuts"] = list(c.cuts)
-            meta["camera"]["width"] = int(c.width)
-            meta["camera"]["height"] = int(c.height)
-            arrays["camera_transforms"] = c.transforms
-        arrays["meta"] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
-        with open(path, "wb") as f:
-            np.savez_compressed(f, **arrays)
+        from .scene_file import save_scene  # here, not at the top: scene_file builds on this module
+
+        save_scene(self, path)
 
     @classmethod
     def load(cls, path: str | Path) -> Scene:
         """Read a scene written by save(); a corrupt or foreign file raises SceneFileError."""
-        path = Path(path)
-        try:
-            with np.load(path, allow_pickle=False) as z:
-                data = {k: z[k] for k in z.files}
-        except FileNotFoundError:
-            raise
-        except Exception as exc:  # zip errors, bad headers, pickles
-            raise SceneFileError(f"{path}: not a restircl scene file ({type(exc).__name__}: {exc})") from exc
-        try:
-            meta = json.loads(bytes(data["meta"]).decode())
-        except Exception as exc:
-            raise SceneFileError(f"{path}: not a restircl scene file (no readable header)") from exc
-        if not isinstance(meta, dict) or meta.get("magic") != SCENE_FILE_MAGIC:
-            raise SceneFileError(f"{path}: not a restircl scene file (wrong magic)")
-        if meta.get("version") != SCENE_FILE_VERSION:
-            raise SceneFileError(f"{path}: scene file version {meta.get('version')!r}, this restircl reads "
-                                 f"version {SCENE_FILE_VERSION}")
-        try:
-            scene = cls(name=meta.get("name", "scene"), frame_count=meta.get("frame_count"))
-            scene.materials = [Material(m["name"], tuple(m["albedo"]), tuple(m["emission"]), m["emission_strength"])
-                               for m in meta["materials"]]
-            for i, m in enumerate(meta["meshes"]):
-                scene.meshes.append(Mesh(m["name"], data[f"mesh{i}_vertices"], data[f"mesh{i}_triangles"],
-                                         data[f"mesh{i}_material_ids"], data[f"mesh{i}_transforms"]))
-            for i, d in enumerate(meta["lights"]):
-                d = dict(d)
-                d["color"] = tuple(d["color"])
-                scene.lights.append(Light(transforms=data[f"light{i}_transforms"],
-                                          power_per_frame=data.get(f"light{i}_power_per_frame"), **d))
-            if meta["camera"] is not None:
-                c = dict(meta["camera"])
-                c["cuts"] = tuple(c.get("cuts", ()))
-                scene.camera = Camera(transforms=data["camera_transforms"], **c)
-        except SceneError:
-            raise
-        except Exception as exc:
-            raise SceneFileError(f"{path}: corrupt restircl scene file ({type(exc).__name__}: {exc})") from exc
-        return scene
+        from .scene_file import load_scene  # see save
+
+        return load_scene(path, cls)
 
 
 @dataclass

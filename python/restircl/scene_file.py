@@ -1,0 +1,103 @@
+"""The scene file format: one compressed .npz holding a JSON header (the "meta" array) and the numeric arrays.
+
+The header carries a magic string and a version number so that a foreign or newer file is refused with a
+SceneFileError naming the problem instead of failing somewhere inside the loader; the file holds no pickles.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from .scene import Camera, Light, Material, Mesh, Scene, SceneError, SceneFileError
+
+SCENE_FILE_MAGIC = "restircl-scene"
+SCENE_FILE_VERSION = 1
+
+
+def save_scene(scene: Scene, path: str | Path) -> None:
+    """Write `scene` as one versioned .npz file (no pickles)."""
+    arrays: dict[str, np.ndarray] = {}
+    meta: dict = {
+        "magic": SCENE_FILE_MAGIC,
+        "version": SCENE_FILE_VERSION,
+        "name": scene.name,
+        "frame_count": scene.frame_count,
+        "materials": [
+            {"name": m.name, "albedo": list(map(float, m.albedo)), "emission": list(map(float, m.emission)),
+             "emission_strength": float(m.emission_strength)}
+            for m in scene.materials
+        ],
+        "meshes": [],
+        "lights": [],
+        "camera": None,
+    }
+    for i, mesh in enumerate(scene.meshes):
+        meta["meshes"].append({"name": mesh.name})
+        arrays[f"mesh{i}_vertices"] = mesh.vertices
+        arrays[f"mesh{i}_triangles"] = mesh.triangles
+        arrays[f"mesh{i}_material_ids"] = mesh.material_ids
+        arrays[f"mesh{i}_transforms"] = mesh.transforms
+    for i, lt in enumerate(scene.lights):
+        d = {k: getattr(lt, k) for k in ("name", "type", "power", "radius", "soft_falloff", "spot_size",
+                                          "spot_blend", "angle", "shape", "size", "size_y")}
+        d["color"] = list(map(float, lt.color))
+        meta["lights"].append(d)
+        arrays[f"light{i}_transforms"] = lt.transforms
+        if lt.power_per_frame is not None:
+            arrays[f"light{i}_power_per_frame"] = lt.power_per_frame
+    if scene.camera is not None:
+        c = scene.camera
+        meta["camera"] = {k: getattr(c, k) for k in ("width", "height", "lens", "sensor_width", "sensor_height",
+                                                     "sensor_fit", "shift_x", "shift_y")}
+        meta["camera"]["cuts"] = list(c.cuts)
+        meta["camera"]["width"] = int(c.width)
+        meta["camera"]["height"] = int(c.height)
+        arrays["camera_transforms"] = c.transforms
+    arrays["meta"] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
+    with open(path, "wb") as f:
+        np.savez_compressed(f, **arrays)
+
+
+def load_scene(path: str | Path, cls: type[Scene] = Scene) -> Scene:
+    """Read a scene written by save_scene as a `cls`; a corrupt or foreign file raises SceneFileError."""
+    path = Path(path)
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            data = {k: z[k] for k in z.files}
+    except FileNotFoundError:
+        raise
+    except Exception as exc:  # zip errors, bad headers, pickles
+        raise SceneFileError(f"{path}: not a restircl scene file ({type(exc).__name__}: {exc})") from exc
+    try:
+        meta = json.loads(bytes(data["meta"]).decode())
+    except Exception as exc:
+        raise SceneFileError(f"{path}: not a restircl scene file (no readable header)") from exc
+    if not isinstance(meta, dict) or meta.get("magic") != SCENE_FILE_MAGIC:
+        raise SceneFileError(f"{path}: not a restircl scene file (wrong magic)")
+    if meta.get("version") != SCENE_FILE_VERSION:
+        raise SceneFileError(f"{path}: scene file version {meta.get('version')!r}, this restircl reads "
+                             f"version {SCENE_FILE_VERSION}")
+    try:
+        scene = cls(name=meta.get("name", "scene"), frame_count=meta.get("frame_count"))
+        scene.materials = [Material(m["name"], tuple(m["albedo"]), tuple(m["emission"]), m["emission_strength"])
+                           for m in meta["materials"]]
+        for i, m in enumerate(meta["meshes"]):
+            scene.meshes.append(Mesh(m["name"], data[f"mesh{i}_vertices"], data[f"mesh{i}_triangles"],
+                                     data[f"mesh{i}_material_ids"], data[f"mesh{i}_transforms"]))
+        for i, d in enumerate(meta["lights"]):
+            d = dict(d)
+            d["color"] = tuple(d["color"])
+            scene.lights.append(Light(transforms=data[f"light{i}_transforms"],
+                                      power_per_frame=data.get(f"light{i}_power_per_frame"), **d))
+        if meta["camera"] is not None:
+            c = dict(meta["camera"])
+            c["cuts"] = tuple(c.get("cuts", ()))
+            scene.camera = Camera(transforms=data["camera_transforms"], **c)
+    except SceneError:
+        raise
+    except Exception as exc:
+        raise SceneFileError(f"{path}: corrupt restircl scene file ({type(exc).__name__}: {exc})") from exc
+    return scene
