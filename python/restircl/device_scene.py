@@ -14,6 +14,7 @@ from .buffers import upload
 from .bvh import build_bvh, make_tris
 from .light_array import LightArray, build_light_array
 from .lights import DeviceLights, scene_lights
+from .material_pack import pack_materials
 from .scene import Scene
 
 
@@ -81,12 +82,10 @@ class DeviceScene:
         self.nodes_buf = upload(self.context, bvh.nodes)
         self.tris_buf = upload(self.context, tris)
         self.triangle_count = len(world)
-        mats = np.zeros(max(len(self.scene.materials), 1), L.MATERIAL)
-        for i, m in enumerate(self.scene.materials):
-            mats["albedo"][i, :3] = m.albedo
-            mats["emission"][i, :3] = m.radiance
-            mats["emission"][i, 3] = float(m.is_emissive)
-        self.materials_buf = upload(self.context, mats)
+        packed = pack_materials(self.scene.materials)
+        self.material_flags = {"HAS_GLOSSY": packed.glossy, "HAS_TEXTURES": packed.textured}
+        self.materials_buf = upload(self.context, packed.materials)
+        self.closures_buf = upload(self.context, packed.closures)
 
     def _upload_lights(self, lights: DeviceLights) -> None:
         old = getattr(self, "lights", None)

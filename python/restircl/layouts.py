@@ -14,7 +14,9 @@ BVH_NODE = np.dtype(
     [("minx", F4), ("maxx", F4), ("miny", F4), ("maxy", F4), ("minz", F4), ("maxz", F4),
      ("child", (np.int32, 4)), ("count", (np.int32, 4))]
 )
-MATERIAL = np.dtype([("albedo", F4), ("emission", F4)])
+I4 = (np.int32, 4)
+MATERIAL = np.dtype([("albedo", F4), ("emission", F4), ("info", I4)])
+CLOSURE = np.dtype([("base", F4), ("spec", F4), ("tint", F4), ("kind", I4), ("tex", I4), ("tex2", I4)])
 LIGHT = np.dtype([("p", F4), ("a", F4), ("b", F4), ("L", F4)])
 CAMERA = np.dtype(
     [
@@ -74,6 +76,7 @@ STRUCTS: dict[str, np.dtype] = {
     "Tri": TRI,
     "BVHNode": BVH_NODE,
     "Material": MATERIAL,
+    "Closure": CLOSURE,
     "Light": LIGHT,
     "Camera": CAMERA,
     "GSample": GSAMPLE,

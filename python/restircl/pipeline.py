@@ -94,7 +94,8 @@ class Renderer:
         # a camera animation whose transforms are all equal does not move: no motion vectors to compile
         moving_camera = s.camera is not None and bool(np.any(s.camera.transforms != s.camera.transforms[:1]))
         if self.settings.specialise:
-            flags = derive_flags(ds.lights.type_set, moving_camera or ds.moving_objects, ds.moving_objects)
+            flags = derive_flags(ds.lights.type_set, moving_camera or ds.moving_objects, ds.moving_objects,
+                                 ds.material_flags)
         else:
             flags = general_flags()
         self.flags = flags

@@ -15,6 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .material import Material
+
 MAX_RESOLUTION = 16384
 LIGHT_TYPES = ("point", "spot", "sun", "area")
 AREA_SHAPES = ("SQUARE", "RECTANGLE", "DISK", "ELLIPSE")
@@ -69,28 +71,14 @@ def look_at(eye: np.ndarray | tuple, target: np.ndarray | tuple, up: tuple = (0.
 
 
 @dataclass
-class Material:
-    name: str = "default"
-    albedo: tuple[float, float, float] = (0.8, 0.8, 0.8)
-    emission: tuple[float, float, float] = (0.0, 0.0, 0.0)  # colour
-    emission_strength: float = 0.0
-
-    @property
-    def radiance(self) -> np.ndarray:
-        return np.asarray(self.emission, dtype=np.float64) * float(self.emission_strength)
-
-    @property
-    def is_emissive(self) -> bool:
-        return bool(np.any(self.radiance > 0))
-
-
-@dataclass
 class Mesh:
     name: str
     vertices: np.ndarray  # (V, 3) object space
     triangles: np.ndarray  # (T, 3) vertex indices
     material_ids: np.ndarray | int = 0  # (T,) or one id for all triangles
     transforms: np.ndarray | None = None  # (4, 4) or (F, 4, 4) object-to-world
+    uvs: np.ndarray | None = None  # (T, 3, 2) per-corner UV map (texture coordinates "uv", normal maps)
+    normals: np.ndarray | None = None  # (T, 3, 3) per-corner object-space shading normals (smooth shading)
 
     def __post_init__(self) -> None:
         self.vertices = np.asarray(self.vertices, dtype=np.float64).reshape(-1, 3)
