@@ -1,6 +1,10 @@
 """Blender geometry -> restircl.Mesh: meshes with modifiers applied (and curves, text, metaballs through
 `to_mesh`), collection and geometry-nodes instances (geometry read once per mesh datablock, one transform per
-instance), and the probes that tell whether an object deforms during an animation."""
+instance), and the probes that tell whether an object deforms during an animation.
+
+Shading normals are the evaluated mesh's corner normals (Blender 4.1+: smooth and flat faces, sharp edges, the
+Smooth by Angle modifier, custom normals), exported per triangle corner unless every face is flat. The UV map
+(the active render one, as Cycles uses) is exported, per corner, for meshes whose materials read it."""
 
 from __future__ import annotations
 
@@ -11,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .convert import matrix
+from .material import MaterialTable
 from .motion import Frames, fill_gaps, instance_key, transforms
 
 GEOMETRY_TYPES = {"MESH", "CURVE", "CURVES", "SURFACE", "META", "FONT", "POINTCLOUD"}
@@ -22,6 +27,9 @@ class _Geometry:
     triangles: np.ndarray
     slot_ids: np.ndarray  # material slot per triangle
     materials: list  # Blender materials by slot
+    uvs: np.ndarray | None = None  # (T, 3, 2) the active render UV map per corner
+    uv_name: str = ""
+    normals: np.ndarray | None = None  # (T, 3, 3) corner normals; None when every face is flat
 
 
 @dataclass
@@ -31,14 +39,17 @@ class _Record:
     triangles: np.ndarray
     material_ids: np.ndarray
     track: list  # object-to-world matrix per sampled frame
+    uvs: np.ndarray | None = None
+    normals: np.ndarray | None = None
 
 
 class MeshReader:
     """The meshes of the current frame (`read`), then their matrices at the other frames (`sample`)."""
 
-    def __init__(self, frames: Frames, material_id: Callable[[object], int]):
+    def __init__(self, frames: Frames, materials: MaterialTable, warn: Callable[[str], None] = lambda _m: None):
         self.frames = frames
-        self._material_id = material_id
+        self._materials = materials
+        self._warn = warn
         self._geometry: dict[int, _Geometry | None] = {}
         self._records: list[_Record] = []
         self._by_key: dict[tuple, int] = {}
@@ -56,14 +67,21 @@ class MeshReader:
         if geo is None or len(geo.triangles) == 0:
             return
         n_slots = len(geo.materials)
-        ids = np.array([self._material_id(geo.materials[s] if n_slots and s < n_slots else None)
+        orig = ob.original if ob.original is not None else ob
+        has_uv = geo.uvs is not None
+        ids = np.array([self._materials.id_of(geo.materials[s] if n_slots and s < n_slots else None, orig, has_uv)
                         for s in range(max(n_slots, 1))], dtype=np.int64)
         tri_ids = ids[np.clip(geo.slot_ids, 0, len(ids) - 1)]
+        uvs = geo.uvs if any(self._materials.uses_uv[i] for i in set(tri_ids.tolist())) else None
+        for i in set(tri_ids.tolist()) if uvs is not None else ():
+            for name in sorted(self._materials.uv_maps[i] - {geo.uv_name}):
+                self._warn(f"object {ob.name!r}: material {self._materials.materials[i].name!r} names UV map "
+                           f"{name!r}; the active render map {geo.uv_name!r} is used")
         if not inst.is_instance and _may_deform(ob):
             self._probes[ob.name] = (len(geo.vertices), _digest(geo.vertices))
         self._by_key[instance_key(inst)] = len(self._records)
         self._records.append(_Record(ob.name, geo.vertices, geo.triangles, tri_ids,
-                                     self.frames.track(matrix(inst.matrix_world))))
+                                     self.frames.track(matrix(inst.matrix_world)), uvs, geo.normals))
         self.instances += int(inst.is_instance)
 
     def sample(self, inst, k: int) -> None:
@@ -88,7 +106,7 @@ class MeshReader:
         for r in self._records:
             fill_gaps(r.track)
         return [restircl.Mesh(name=r.name, vertices=r.vertices, triangles=r.triangles, material_ids=r.material_ids,
-                              transforms=transforms(r.track)) for r in self._records]
+                              transforms=transforms(r.track), uvs=r.uvs, normals=r.normals) for r in self._records]
 
 
 def _read_geometry(ob) -> _Geometry | None:
@@ -111,10 +129,41 @@ def _read_geometry(ob) -> _Geometry | None:
             mats = [s.material for s in ob.material_slots]
         else:
             mats = list(me.materials)
+        loops = np.empty(nt * 3, dtype=np.int64)
+        me.loop_triangles.foreach_get("loops", loops)
+        uvs, uv_name = _corner_uvs(me, loops)
+        normals = _corner_normals(me, loops)
     finally:
         ob.to_mesh_clear()
     return _Geometry(verts.reshape(-1, 3).astype(np.float64), tris.reshape(-1, 3).astype(np.int64),
-                     slots.astype(np.int64), mats)
+                     slots.astype(np.int64), mats, uvs, uv_name, normals)
+
+
+def _corner_uvs(me, loops: np.ndarray) -> tuple[np.ndarray | None, str]:
+    layers = list(me.uv_layers)
+    layer = next((u for u in layers if u.active_render), None) or me.uv_layers.active
+    if layer is None or len(me.loops) == 0:
+        return None, ""
+    uv = np.empty(len(me.loops) * 2, dtype=np.float32)
+    if hasattr(layer, "uv"):
+        layer.uv.foreach_get("vector", uv)
+    else:  # before 3.5
+        layer.data.foreach_get("uv", uv)
+    return uv.reshape(-1, 2)[loops].reshape(-1, 3, 2).astype(np.float64), layer.name
+
+
+def _corner_normals(me, loops: np.ndarray) -> np.ndarray | None:
+    """Blender 4.1+ corner normals (which honour smooth/flat faces, sharp edges and custom normals); None when
+    every face is flat, where the geometric normal is the shading normal."""
+    if getattr(me, "normals_domain", "CORNER") == "FACE" or len(me.loops) == 0:
+        return None
+    n = np.empty(len(me.loops) * 3, dtype=np.float32)
+    if hasattr(me, "corner_normals"):
+        me.corner_normals.foreach_get("vector", n)
+    else:  # before 4.1
+        me.calc_normals_split()
+        me.loops.foreach_get("normal", n)
+    return n.reshape(-1, 3)[loops].reshape(-1, 3, 3).astype(np.float64)
 
 
 def _digest(arr: np.ndarray) -> bytes:

@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 from .camera import CameraReader
 from .fingerprint import fingerprint
 from .light import LightReader
-from .material import MaterialTable
+from .material import MaterialTable, bake_resolution
 from .mesh import GEOMETRY_TYPES, MeshReader
 from .motion import Frames
 from .report import Warnings
@@ -49,8 +49,8 @@ def export_scene(depsgraph, frames: Sequence[int] | None = None,
     scene = depsgraph.scene
     sampled = Frames.choose(frames, int(scene.frame_current), frame_set is not None)
     warnings = Warnings()
-    materials = MaterialTable(warnings.add)
-    meshes = MeshReader(sampled, materials.id_of)
+    materials = MaterialTable(warnings.add, bake_resolution(scene))
+    meshes = MeshReader(sampled, materials, warnings.add)
     lights = LightReader(sampled, warnings.add)
     cameras = CameraReader(sampled, camera)
 

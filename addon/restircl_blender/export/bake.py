@@ -1,0 +1,99 @@
+"""Baking a node graph the renderer does not evaluate (a Noise Texture, a Color Ramp, ...) to an image, through
+Cycles' own bake: the socket that feeds the input is wired for a moment into an Emission shader on the Material
+Output, and an Emit bake on the object's UV map writes what it outputs into a float image (what glTF exporters
+do). Everything is put back afterwards, also when the bake fails; a failure is a note, and the input's own value
+is used."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .nodes import Source, find_input, output_node
+from .notes import Notes
+
+BAKE_SAMPLES = 4  # a few samples per texel: antialiasing of the graph at texel scale
+
+
+class Baker:
+    """bake(source, want) for the material `mat` on object `ob` (both original, not evaluated, datablocks)."""
+
+    def __init__(self, mat, ob, size: int, notes: Notes):
+        self.mat = mat.original if getattr(mat, "original", None) is not None else mat
+        self.ob = ob
+        self.size = size
+        self.notes = notes
+        self.count = 0
+
+    def __call__(self, src: Source, want: str):
+        from restircl.textures import ImageTexture
+
+        try:
+            pixels = bake_socket(self.mat, self.ob, src.socket, self.size)
+        except (RuntimeError, ValueError, TypeError, KeyError) as e:
+            self.notes.note(f"baking {src.label()} {src.node.name!r} failed ({str(e).strip()}); "
+                            "the input's value is used")
+            return None
+        self.count += 1
+        image = pixels[..., 0] if want == "value" else pixels[..., :3]
+        return ImageTexture(image=np.ascontiguousarray(image), colorspace="Non-Color", coords="uv",
+                            name=f"{self.mat.name}/{src.node.name} (baked)")
+
+
+def _scene_of(ob):
+    import bpy
+
+    sc = bpy.context.scene
+    if sc is not None and sc.objects.get(ob.name) is not None:
+        return sc
+    return ob.users_scene[0] if ob.users_scene else sc
+
+
+def bake_socket(mat, ob, socket, size: int) -> np.ndarray:
+    """(size, size, 4) float32, rows top first: what `socket` (an output in mat's top-level tree) emits, baked on
+    ob's active render UV map."""
+    import bpy
+
+    tree = mat.node_tree
+    out = output_node(tree)
+    surface = find_input(out, ("Surface",)) if out is not None else None
+    if surface is None:
+        raise RuntimeError("no Material Output")
+    old = surface.links[0].from_socket if surface.is_linked else None
+    scene = _scene_of(ob)
+    saved = (scene.render.engine, scene.cycles.samples)
+    image = bpy.data.images.new("restircl-bake", size, size, alpha=False, float_buffer=True)
+    dummy = bpy.data.images.new("restircl-bake-other", 4, 4, alpha=False, float_buffer=True)
+    added = []  # (tree, node, previous active node)
+    emit = tree.nodes.new("ShaderNodeEmission")
+    try:
+        emit.inputs["Strength"].default_value = 1.0
+        tree.links.new(socket, emit.inputs["Color"])
+        tree.links.new(emit.outputs[0], surface)
+        # the bake writes into the active image node of every material of the object: ours, and a dummy image
+        # for the others
+        for slot in ob.material_slots:
+            m = slot.material
+            if m is None or m.node_tree is None or any(t == m.node_tree for t, _n, _p in added):
+                continue
+            node = m.node_tree.nodes.new("ShaderNodeTexImage")
+            node.image = image if m == mat else dummy
+            added.append((m.node_tree, node, m.node_tree.nodes.active))
+            m.node_tree.nodes.active = node
+        scene.render.engine = "CYCLES"
+        scene.cycles.samples = BAKE_SAMPLES
+        with bpy.context.temp_override(scene=scene, active_object=ob, object=ob, selected_objects=[ob],
+                                       selected_editable_objects=[ob]):
+            bpy.ops.object.bake(type="EMIT", use_clear=True, target="IMAGE_TEXTURES", use_selected_to_active=False)
+        buf = np.empty(size * size * 4, dtype=np.float32)
+        image.pixels.foreach_get(buf)
+        return np.ascontiguousarray(buf.reshape(size, size, 4)[::-1])
+    finally:
+        tree.nodes.remove(emit)
+        if old is not None:
+            tree.links.new(old, surface)
+        for t, node, prev in added:
+            t.nodes.remove(node)
+            t.nodes.active = prev
+        scene.render.engine, scene.cycles.samples = saved
+        bpy.data.images.remove(image)
+        bpy.data.images.remove(dummy)
