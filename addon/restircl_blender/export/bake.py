@@ -28,7 +28,7 @@ class Baker:
         from restircl.textures import ImageTexture
 
         try:
-            pixels = bake_socket(self.mat, self.ob, src.socket, self.size)
+            pixels = bake_socket(self.mat, self.ob, _original_socket(self.mat, src), self.size)
         except (RuntimeError, ValueError, TypeError, KeyError) as e:
             self.notes.note(f"baking {src.label()} {src.node.name!r} failed ({str(e).strip()}); "
                             "the input's value is used")
@@ -37,6 +37,15 @@ class Baker:
         image = pixels[..., 0] if want == "value" else pixels[..., :3]
         return ImageTexture(image=np.ascontiguousarray(image), colorspace="Non-Color", coords="uv",
                             name=f"{self.mat.name}/{src.node.name} (baked)")
+
+
+def _original_socket(mat, src: Source):
+    """The output socket of `src` in the original material's tree (the reader walks the evaluated copy)."""
+    node = mat.node_tree.nodes.get(src.node.name)
+    sock = None if node is None else next((s for s in node.outputs if s.identifier == src.socket.identifier), None)
+    if sock is None:
+        raise KeyError(f"node {src.node.name!r} is not in the original material")
+    return sock
 
 
 def _scene_of(ob):
