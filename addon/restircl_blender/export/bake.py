@@ -48,15 +48,6 @@ def _original_socket(mat, src: Source):
     return sock
 
 
-def _scene_of(ob):
-    import bpy
-
-    sc = bpy.context.scene
-    if sc is not None and sc.objects.get(ob.name) is not None:
-        return sc
-    return ob.users_scene[0] if ob.users_scene else sc
-
-
 def bake_socket(mat, ob, socket, size: int) -> np.ndarray:
     """(size, size, 4) float32, rows top first: what `socket` (an output in mat's top-level tree) emits, baked on
     ob's active render UV map."""
@@ -68,8 +59,8 @@ def bake_socket(mat, ob, socket, size: int) -> np.ndarray:
     if surface is None:
         raise RuntimeError("no Material Output")
     old = surface.links[0].from_socket if surface.is_linked else None
-    scene = _scene_of(ob)
-    saved = (scene.render.engine, scene.cycles.samples)
+    # a scene of its own: the bake's render never meets the render in progress (Blender keeps one per scene)
+    scene = bpy.data.scenes.new("restircl-bake")
     image = bpy.data.images.new("restircl-bake", size, size, alpha=False, float_buffer=True)
     dummy = bpy.data.images.new("restircl-bake-other", 4, 4, alpha=False, float_buffer=True)
     added = []  # (tree, node, previous active node)
@@ -88,10 +79,11 @@ def bake_socket(mat, ob, socket, size: int) -> np.ndarray:
             node.image = image if m == mat else dummy
             added.append((m.node_tree, node, m.node_tree.nodes.active))
             m.node_tree.nodes.active = node
+        scene.collection.objects.link(ob)
         scene.render.engine = "CYCLES"
         scene.cycles.samples = BAKE_SAMPLES
-        with bpy.context.temp_override(scene=scene, active_object=ob, object=ob, selected_objects=[ob],
-                                       selected_editable_objects=[ob]):
+        with bpy.context.temp_override(scene=scene, view_layer=scene.view_layers[0], active_object=ob, object=ob,
+                                       selected_objects=[ob], selected_editable_objects=[ob]):
             bpy.ops.object.bake(type="EMIT", use_clear=True, target="IMAGE_TEXTURES", use_selected_to_active=False)
         buf = np.empty(size * size * 4, dtype=np.float32)
         image.pixels.foreach_get(buf)
@@ -103,6 +95,6 @@ def bake_socket(mat, ob, socket, size: int) -> np.ndarray:
         for t, node, prev in added:
             t.nodes.remove(node)
             t.nodes.active = prev
-        scene.render.engine, scene.cycles.samples = saved
+        bpy.data.scenes.remove(scene)
         bpy.data.images.remove(image)
         bpy.data.images.remove(dummy)
