@@ -441,11 +441,13 @@ def test_fingerprint_tracks_soft_falloff():
 def _every_field_scene():
     """A Scene with one of each part and no field left at None, so that every field can be changed."""
     mesh = restircl.Mesh(name="m", vertices=np.eye(3), triangles=np.array([[0, 1, 2]]),
-                         material_ids=np.array([0]), transforms=np.eye(4))
+                         material_ids=np.array([0]), transforms=np.eye(4), uvs=np.zeros((1, 3, 2)),
+                         normals=np.ones((1, 3, 3)))
+    material = restircl.Material(name="a", normal=restircl.textures.NormalMap(), mix=0.5)
     light = restircl.Light(name="l", type="point", transforms=np.eye(4), radius=0.2,
                            power_per_frame=np.array([1.0, 0.5]))
     cam = restircl.Camera(transforms=np.eye(4), cuts=(1,))
-    return restircl.Scene(meshes=[mesh], materials=[restircl.Material(name="a")], lights=[light], camera=cam,
+    return restircl.Scene(meshes=[mesh], materials=[material], lights=[light], camera=cam,
                           frame_count=2)
 
 

@@ -114,13 +114,13 @@ class Settings:
     jitter: bool = setting(True, "Jitter", "Sub-pixel camera jitter (Halton 2, 3)", flag="--no-jitter",
                            panel="sampling")
     seed: int = setting(0, "Seed", "Random seed", flag="--seed", range=Range(int, 0, UINT32_MAX), panel="sampling")
+    specialise: bool = setting(True, "Specialised Kernels", "Compile only the features the scene needs (off: every "
+                               "feature, for tests and benchmarks)", flag="--general", panel="device")
     bake_resolution: int = setting(512, "Bake Resolution", "Size in pixels of the square image to which a node graph "
                                    "the renderer does not evaluate is baked at export (Blender: Cycles' Emit bake on "
                                    "the object's UV map; 0: no baking, the input's value is used)",
                                    flag="--bake-resolution", range=Range(int, 0, 8192), panel="device",
                                    soft_max=2048, subtype="PIXEL")
-    specialise: bool = setting(True, "Specialised Kernels", "Compile only the features the scene needs (off: every "
-                               "feature, for tests and benchmarks)", flag="--general", panel="device")
 
     def validate(self) -> Settings:
         check(self)

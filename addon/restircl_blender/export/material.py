@@ -96,7 +96,7 @@ def _key(mat) -> str | None:
     return mat.original.name if mat.original is not None else mat.name
 
 
-def bake_resolution(scene) -> int:
+def scene_bake_resolution(scene) -> int:
     """The scene's `bake_resolution` setting (the settings table's default where the add-on is not registered)."""
     from restircl.settings import Settings
 

@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 from .camera import CameraReader
 from .fingerprint import fingerprint
 from .light import LightReader
-from .material import MaterialTable, bake_resolution
+from .material import MaterialTable, scene_bake_resolution
 from .mesh import GEOMETRY_TYPES, MeshReader
 from .motion import Frames
 from .report import Warnings
@@ -37,19 +37,22 @@ class Export:
 
 
 def export_scene(depsgraph, frames: Sequence[int] | None = None,
-                 frame_set: Callable[[int], None] | None = None, camera=None) -> Export:
+                 frame_set: Callable[[int], None] | None = None, camera=None,
+                 bake_resolution: int | None = None) -> Export:
     """Export the evaluated scene.
 
     `frames` are the Blender frame numbers to sample motion at (default: only the current frame); it must
     contain the current frame, where the geometry is read. `frame_set(frame)` moves the depsgraph to a frame
     (RenderEngine.frame_set or Scene.frame_set); the depsgraph is moved back to the current frame at the end.
-    `camera` overrides the scene camera (an evaluated camera object)."""
+    `camera` overrides the scene camera (an evaluated camera object). `bake_resolution` overrides the scene's
+    setting (0: no baking)."""
     import restircl
 
     scene = depsgraph.scene
     sampled = Frames.choose(frames, int(scene.frame_current), frame_set is not None)
     warnings = Warnings()
-    materials = MaterialTable(warnings.add, bake_resolution(scene))
+    bake = scene_bake_resolution(scene) if bake_resolution is None else bake_resolution
+    materials = MaterialTable(warnings.add, bake)
     meshes = MeshReader(sampled, materials, warnings.add)
     lights = LightReader(sampled, warnings.add)
     cameras = CameraReader(sampled, camera)
