@@ -12,16 +12,7 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from .test_blender_support import (  # noqa: E402
-    LIGHT_KINDS,
-    comparison_scene,
-    ensure_registered,
-    needs_renderer,
-    read_exr_passes,
-    relmse,
-    render_to,
-    scenes,
-)
+from .test_blender_support import LIGHT_KINDS, comparison_scene, cycles_and_ours, needs_renderer  # noqa: E402
 
 pytestmark = [pytest.mark.blender, needs_renderer]
 
@@ -29,21 +20,7 @@ BOUND = 0.01
 
 
 def compare(tmp_path, kind: str, width: int, height: int, cycles_samples: int, our_samples: int):
-    ensure_registered()
-    sc = comparison_scene(kind, width, height)
-    scenes.cycles_direct_only(sc, samples=cycles_samples, seed=1, threads=2)
-    render_to(sc, tmp_path / "cycles.exr")
-    sc.render.engine = "RESTIRCL"
-    sc.restircl.method = "reference"
-    sc.restircl.samples = our_samples
-    render_to(sc, tmp_path / "ours.exr")
-    cyc = read_exr_passes(tmp_path / "cycles.exr")["Combined"]
-    ours = read_exr_passes(tmp_path / "ours.exr")["Combined"]
-    err = relmse(ours, cyc)
-    ratio = float(ours[..., :3].sum() / cyc[..., :3].sum())
-    print(f"{kind}: relMSE {100 * err:.3f} %  sum ours/cycles {ratio:.4f}")
-    assert cyc[..., :3].mean() > 0.01, "the comparison scene is dark: nothing is tested"
-    return err, ratio
+    return cycles_and_ours(tmp_path, comparison_scene(kind, width, height), cycles_samples, our_samples, kind)
 
 
 @pytest.mark.parametrize("kind", [*LIGHT_KINDS, "mixed"])

@@ -35,6 +35,16 @@ def socket(sockets, identifier: str):
     return next(s for s in sockets if s.identifier == identifier)
 
 
+def add_node(tree, kind: str, inputs: dict | None = None, **props):
+    """A node of `kind` with the given input values (by name) and properties."""
+    node = tree.nodes.new(kind)
+    for name, value in (inputs or {}).items():
+        node.inputs[name].default_value = value
+    for name, value in props.items():
+        setattr(node, name, value)
+    return node
+
+
 def on_quad(mat, z: float = 1.0):
     scenes.quad(mat.name, 1.0, material=mat, location=(0, 0, z))
 
@@ -105,15 +115,11 @@ def test_unsupported_lobes_are_named_in_one_warning():
 def test_diffuse_glossy_and_metallic_nodes():
     fresh_scene()
     dmat, tree, out = node_material("Dif")
-    d = tree.nodes.new("ShaderNodeBsdfDiffuse")
-    d.inputs["Color"].default_value = (0.1, 0.2, 0.3, 1)
-    d.inputs["Roughness"].default_value = 0.0
+    d = add_node(tree, "ShaderNodeBsdfDiffuse", {"Color": (0.1, 0.2, 0.3, 1), "Roughness": 0.0})
     tree.links.new(d.outputs[0], out.inputs["Surface"])
     gmat, tree, out = node_material("Glo")
-    g = tree.nodes.new("ShaderNodeBsdfGlossy")
-    g.inputs["Color"].default_value = (0.5, 0.6, 0.7, 1)
-    g.inputs["Roughness"].default_value = 0.05
-    g.distribution = "BECKMANN"
+    g = add_node(tree, "ShaderNodeBsdfGlossy", {"Color": (0.5, 0.6, 0.7, 1), "Roughness": 0.05},
+                 distribution="BECKMANN")
     tree.links.new(g.outputs[0], out.inputs["Surface"])
     mats, warnings = exported(dmat, gmat)
     assert mats["Dif"].kind == "diffuse" and mats["Dif"].albedo == pytest.approx((0.1, 0.2, 0.3))
@@ -123,9 +129,7 @@ def test_diffuse_glossy_and_metallic_nodes():
     assert not warnings_of(warnings, "Dif")
     if hasattr(bpy.types, "ShaderNodeBsdfMetallic"):
         mmat, tree, out = node_material("Met")
-        n = tree.nodes.new("ShaderNodeBsdfMetallic")
-        n.inputs["Base Color"].default_value = (0.9, 0.8, 0.7, 1)
-        n.inputs["Edge Tint"].default_value = (0.5, 0.5, 1.0, 1)
+        n = add_node(tree, "ShaderNodeBsdfMetallic", {"Base Color": (0.9, 0.8, 0.7, 1), "Edge Tint": (0.5, 0.5, 1, 1)})
         tree.links.new(n.outputs[0], out.inputs["Surface"])
         m = exported(mmat)[0]["Met"]
         assert m.kind == "principled" and m.metallic == 1.0 and m.specular_tint == pytest.approx((0.5, 0.5, 1.0))
@@ -190,14 +194,10 @@ def test_emission_mixed_with_a_bsdf():
     fresh_scene()
     mat, tree, out = node_material("Glow")
     p = tree.nodes.new("ShaderNodeBsdfPrincipled")
-    e = tree.nodes.new("ShaderNodeEmission")
-    e.inputs["Color"].default_value = (1.0, 0.5, 0.0, 1.0)
-    e.inputs["Strength"].default_value = 10.0
-    m = tree.nodes.new("ShaderNodeMixShader")
-    m.inputs["Fac"].default_value = 0.2
-    tree.links.new(p.outputs[0], m.inputs[1])
-    tree.links.new(e.outputs[0], m.inputs[2])
-    tree.links.new(m.outputs[0], out.inputs["Surface"])
+    e = add_node(tree, "ShaderNodeEmission", {"Color": (1.0, 0.5, 0.0, 1.0), "Strength": 10.0})
+    m = add_node(tree, "ShaderNodeMixShader", {"Fac": 0.2})
+    for a, b in ((p.outputs[0], m.inputs[1]), (e.outputs[0], m.inputs[2]), (m.outputs[0], out.inputs["Surface"])):
+        tree.links.new(a, b)
     g = exported(mat)[0]["Glow"]
     assert g.radiance == pytest.approx((2.0, 1.0, 0.0))
     # the Principled keeps weight 0.8: mixed with a black closure

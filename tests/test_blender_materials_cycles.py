@@ -16,14 +16,7 @@ bpy = pytest.importorskip("bpy")
 from restircl.program import opencl_dir  # noqa: E402
 
 from .blender_material_scenes import FEATURES, feature_scene, user_scene  # noqa: E402
-from .test_blender_support import (  # noqa: E402
-    ensure_registered,
-    needs_renderer,
-    read_exr_passes,
-    relmse,
-    render_to,
-    scenes,
-)
+from .test_blender_support import cycles_and_ours, ensure_registered, needs_renderer  # noqa: E402
 
 pytestmark = [pytest.mark.blender, needs_renderer]
 
@@ -38,27 +31,9 @@ def skip_unless(needs: set[str]) -> None:
         pytest.skip(f"the renderer lacks {', '.join(missing)} on the device")
 
 
-def compare(tmp_path, sc, cycles_samples: int, our_samples: int, label: str) -> tuple[float, float]:
-    ensure_registered()
-    scenes.cycles_direct_only(sc, samples=cycles_samples, seed=1, threads=2)
-    render_to(sc, tmp_path / "cycles.exr")
-    sc.render.engine = "RESTIRCL"
-    sc.restircl.method = "reference"
-    sc.restircl.samples = our_samples
-    sc.restircl.bake_resolution = 256
-    render_to(sc, tmp_path / "ours.exr")
-    cyc = read_exr_passes(tmp_path / "cycles.exr")["Combined"]
-    ours = read_exr_passes(tmp_path / "ours.exr")["Combined"]
-    err = relmse(ours, cyc)
-    ratio = float(ours[..., :3].sum() / cyc[..., :3].sum())
-    print(f"{label}: relMSE {100 * err:.3f} %  sum ours/cycles {ratio:.4f}")
-    assert cyc[..., :3].mean() > 0.01, "the comparison scene is dark: nothing is tested"
-    return err, ratio
-
-
 def test_user_scene_agrees_with_cycles(tmp_path, record_property):
     skip_unless({"glossy", "textures"})
-    err, ratio = compare(tmp_path, user_scene(64, 48), 256, 64, "user scene")
+    err, ratio = cycles_and_ours(tmp_path, user_scene(64, 48), 256, 64, "user scene", bake_resolution=256)
     record_property("relmse", err)
     assert err < BOUND, f"user scene: relMSE {100 * err:.3f} % against Cycles"
     assert ratio == pytest.approx(1.0, abs=0.02)
@@ -69,7 +44,7 @@ def test_user_scene_agrees_with_cycles(tmp_path, record_property):
 def test_feature_agrees_with_cycles(tmp_path, feature, record_property):
     sc, needs = feature_scene(feature, 96, 72)
     skip_unless(needs)
-    err, ratio = compare(tmp_path, sc, 1024, 256, feature)
+    err, ratio = cycles_and_ours(tmp_path, sc, 1024, 256, feature, bake_resolution=256)
     record_property("relmse", err)
     assert err < BOUND, f"{feature}: relMSE {100 * err:.3f} % against Cycles"
     assert ratio == pytest.approx(1.0, abs=0.02)

@@ -85,6 +85,28 @@ def render_to(scene, path: Path, animation: bool = False) -> None:
         bpy.ops.render.render(write_still=True)
 
 
+def cycles_and_ours(tmp_path: Path, sc, cycles_samples: int, our_samples: int, label: str,
+                    **settings) -> tuple[float, float]:
+    """Render `sc` with Cycles (direct light only) and with restircl's reference method (`settings`: more
+    scene.restircl properties); (relMSE, sum ours / sum Cycles)."""
+    ensure_registered()
+    scenes.cycles_direct_only(sc, samples=cycles_samples, seed=1, threads=2)
+    render_to(sc, tmp_path / "cycles.exr")
+    sc.render.engine = "RESTIRCL"
+    sc.restircl.method = "reference"
+    sc.restircl.samples = our_samples
+    for name, value in settings.items():
+        setattr(sc.restircl, name, value)
+    render_to(sc, tmp_path / "ours.exr")
+    cyc = read_exr_passes(tmp_path / "cycles.exr")["Combined"]
+    ours = read_exr_passes(tmp_path / "ours.exr")["Combined"]
+    err = relmse(ours, cyc)
+    ratio = float(ours[..., :3].sum() / cyc[..., :3].sum())
+    print(f"{label}: relMSE {100 * err:.3f} %  sum ours/cycles {ratio:.4f}")
+    assert cyc[..., :3].mean() > 0.01, "the comparison scene is dark: nothing is tested"
+    return err, ratio
+
+
 LIGHT_KINDS = ("point", "sphere", "sphere_soft", "spot", "sun", "area_square", "area_rectangle", "area_disk",
                "area_ellipse", "emission")
 

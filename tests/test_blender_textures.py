@@ -14,6 +14,7 @@ restircl = pytest.importorskip("restircl")
 from restircl.textures import CheckerTexture, ImageTexture, MixColor, NormalMap  # noqa: E402
 
 from .test_blender_materials import (  # noqa: E402
+    add_node,
     export,
     fresh_scene,
     principled,
@@ -164,11 +165,8 @@ def test_mapping_and_texture_coordinates():
 def test_checker_and_mix_color_nodes():
     fresh_scene()
     mat, tree, p = principled("Chk")
-    chk = tree.nodes.new("ShaderNodeTexChecker")
-    chk.inputs["Color1"].default_value = (1, 0, 0, 1)
-    chk.inputs["Scale"].default_value = 7.0
-    mix = tree.nodes.new("ShaderNodeMix")
-    mix.data_type, mix.blend_type = "RGBA", "MULTIPLY"
+    chk = add_node(tree, "ShaderNodeTexChecker", {"Color1": (1, 0, 0, 1), "Scale": 7.0})
+    mix = add_node(tree, "ShaderNodeMix", data_type="RGBA", blend_type="MULTIPLY")
     socket(mix.inputs, "Factor_Float").default_value = 0.25
     socket(mix.inputs, "B_Color").default_value = (0.5, 0.5, 0.5, 1)
     tree.links.new(chk.outputs["Color"], socket(mix.inputs, "A_Color"))
