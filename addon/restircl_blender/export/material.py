@@ -66,8 +66,8 @@ class MaterialTable:
 
         if mat is None:
             return restircl.Material(name="(none)", kind="diffuse", albedo=DEFAULT_ALBEDO), None, False
-        tree = mat.node_tree  # (Material.use_nodes is deprecated in Blender 5: node trees always exist)
-        if tree is None:
+        tree = mat.node_tree if _uses_nodes(mat) else None
+        if tree is None:  # Cycles renders a material without nodes as a diffuse of its viewport colour
             return restircl.Material(name=name, kind="diffuse", albedo=rgb(mat.diffuse_color)), None, False
         out = output_node(tree)
         if out is None:
@@ -88,6 +88,15 @@ class MaterialTable:
         m = assemble(name, terms, notes)
         notes.flush()
         return m, inputs, baker is not None and baker.count > 0
+
+
+def _uses_nodes(mat) -> bool:
+    """Material.use_nodes, which Blender 5 deprecates (its materials always use their node tree)."""
+    import bpy
+
+    if bpy.app.version >= (5, 0, 0):
+        return True
+    return bool(getattr(mat, "use_nodes", True))
 
 
 def _key(mat) -> str | None:
