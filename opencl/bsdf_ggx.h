@@ -11,11 +11,20 @@
 /* cosines below this are the horizon: no reflection (guards the 1 / cos factors) */
 #define GGX_COS_MIN 1e-6f
 
-inline float ggx_d(float alpha2, float cos_nh)
+/* D at a half vector of squared cosine c2 and squared sine s2 about the normal (both given: near a sharp peak,
+ * 1 - c2 in float loses the digits that D depends on, while s2 = |n x h|^2 keeps them) */
+inline float ggx_d(float alpha2, float c2, float s2)
 {
-    float c2 = fmin_f(cos_nh * cos_nh, 1.0f);
-    float k = (1.0f - c2) + alpha2 * c2;
+    float k = s2 + alpha2 * c2;
     return alpha2 / (RESTIRCL_PI * k * k);
+}
+
+/* D at the half vector of wo and wi (hv = wo + wi, |hv|^2 = hl > 0) */
+inline float ggx_d_half(float alpha2, float3 n, float3 hv, float hl)
+{
+    float c = dot3(n, hv);
+    float3 x = cross3(n, hv);
+    return ggx_d(alpha2, c * c / hl, dot3(x, x) / hl);
 }
 
 inline float ggx_lambda(float alpha2, float cos_n)
@@ -29,29 +38,27 @@ inline float ggx_lambda(float alpha2, float cos_n)
 inline float3 ggx_lobe_eval(const SpecLobe* l, float3 n, float3 wo, float3 wi)
 {
     float co = dot3(n, wo), ci = dot3(n, wi);
-    float3 h = wo + wi;
-    float hl = dot3(h, h);
+    float3 hv = wo + wi;
+    float hl = dot3(hv, hv);
     if (co < GGX_COS_MIN || ci < GGX_COS_MIN || !(hl > 1e-12f)) return (float3)(0.0f);
-    h *= 1.0f / sqrt(hl);
     float alpha = l->metal_f0.w, alpha2 = alpha * alpha;
-    float c_hi = clamp_f(dot3(h, wo), 0.0f, 1.0f);
+    float c_hi = clamp_f(dot3(hv, wo) / sqrt(hl), 0.0f, 1.0f);
     float3 F = l->metal_w.xyz * fresnel_f82(c_hi, l->metal_f0.xyz, l->metal_b.xyz);
     if (l->metal_b.w > 1.0f)
         F += l->diel_w.xyz * fresnel_principled(c_hi, l->metal_b.w, l->metal_w.w, l->diel_f0.xyz);
     float g2 = 1.0f / (1.0f + ggx_lambda(alpha2, co) + ggx_lambda(alpha2, ci));
-    return F * (ggx_d(alpha2, dot3(n, h)) * g2 / (4.0f * co * ci));
+    return F * (ggx_d_half(alpha2, n, hv, hl) * g2 / (4.0f * co * ci));
 }
 
 /* The solid-angle density of ggx_lobe_sample's wi: D G1(wo) / (4 cos_o) at the half vector (0 below the surface) */
 inline float ggx_lobe_pdf(const SpecLobe* l, float3 n, float3 wo, float3 wi)
 {
     float co = dot3(n, wo), ci = dot3(n, wi);
-    float3 h = wo + wi;
-    float hl = dot3(h, h);
+    float3 hv = wo + wi;
+    float hl = dot3(hv, hv);
     if (co < GGX_COS_MIN || ci < GGX_COS_MIN || !(hl > 1e-12f)) return 0.0f;
-    h *= 1.0f / sqrt(hl);
     float alpha = l->metal_f0.w, alpha2 = alpha * alpha;
-    return ggx_d(alpha2, dot3(n, h)) / (4.0f * co * (1.0f + ggx_lambda(alpha2, co)));
+    return ggx_d_half(alpha2, n, hv, hl) / (4.0f * co * (1.0f + ggx_lambda(alpha2, co)));
 }
 
 /* A visible normal for the view wl (local frame, z the normal; wl.z > 0) from (u0, u1) in [0, 1)^2: the view is
