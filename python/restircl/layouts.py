@@ -17,6 +17,10 @@ BVH_NODE = np.dtype(
 I4 = (np.int32, 4)
 MATERIAL = np.dtype([("albedo", F4), ("emission", F4), ("info", I4)])
 CLOSURE = np.dtype([("base", F4), ("spec", F4), ("tint", F4), ("kind", I4), ("tex", I4), ("tex2", I4)])
+TRI_ATTR = np.dtype([(n, F4) for n in ("n0", "n1", "n2", "u", "v", "o0", "oe1", "oe2", "tangent")])
+OBJECT_INFO = np.dtype([("gen_mid", F4), ("gen_scale", F4)])
+TEX_NODE = np.dtype([*[(n, F4) for n in ("a", "b", "p", "m0", "m1", "m2")], ("op", I4), ("in", I4), ("blk", I4)])
+TEX_IMAGE = np.dtype([(n, np.int32) for n in ("offset", "width", "height", "levels")])
 LIGHT = np.dtype([("p", F4), ("a", F4), ("b", F4), ("L", F4)])
 CAMERA = np.dtype(
     [
@@ -77,6 +81,10 @@ STRUCTS: dict[str, np.dtype] = {
     "BVHNode": BVH_NODE,
     "Material": MATERIAL,
     "Closure": CLOSURE,
+    "TriAttr": TRI_ATTR,
+    "ObjectInfo": OBJECT_INFO,
+    "TexNode": TEX_NODE,
+    "TexImage": TEX_IMAGE,
     "Light": LIGHT,
     "Camera": CAMERA,
     "GSample": GSAMPLE,

@@ -96,7 +96,7 @@ class Primary(Stage):
         cl.enqueue_copy(q, b.cameras[2], camera_record(camera, state.next_frame))
         self.kernels.launch("primary", image_size(state), cam=b.cameras[0],
                             prev_cam=b.cameras[1], next_cam=b.cameras[2], **self.scene.geometry,
-                            materials=self.scene.materials_buf, object_motion=self.scene.motion_buf,
+                            **self.scene.surface, object_motion=self.scene.motion_buf,
                             gbuf=h.gbuf(h.cur), vector=b.vector)
 
 
