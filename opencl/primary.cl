@@ -56,9 +56,11 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
     int mat = as_int(t.v0.w);
     int obj = as_int(t.e2.w);
     Material m = materials[mat];
-    /* smooth shading and texture coordinates; the cone: one pixel's angle, 2 tan(fov_y / 2) / height */
+    /* smooth shading and texture coordinates; the ray cone spreads by one pixel, 2 tan(fov_y / 2) / height on the
+     * axis and cos^2 of the angle to it off the axis (so a plane facing the camera gets its true pixel footprint) */
+    float cf = dot3(d, cam->forward.xyz);
     TexPoint tp = texture_point(tri_attr, objects, hit.prim, obj, hit.u, hit.v, d, ng, backfacing,
-                                hit.t * 2.0f * cam->lens.y / (float)h);
+                                hit.t * cf * cf * 2.0f * cam->lens.y / (float)h);
     float3 albedo = m.albedo.xyz, emission = m.emission.xyz;
 #ifdef HAS_TEXTURES
     texture_material(materials + mat, closures, tex_nodes, tex_images, texels, &tp, &albedo, &emission);
