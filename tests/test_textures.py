@@ -195,3 +195,138 @@ def test_head_on_texel_per_pixel_picks_level_0_and_two_texels_level_1(device):
     for size, level in ((64, 0), (32, 1)):
         f = render(facing_square(Material("m", albedo=ImageTexture(img, colorspace="Non-Color")), size))
         np.testing.assert_allclose(f.albedo, levels[level][::-1, :, :3], atol=2e-3, err_msg=f"{size} px")
+
+
+def _world_xy(size: int) -> tuple[np.ndarray, np.ndarray]:
+    u, v = pixel_uv(size)
+    return 2.0 * u - 1.0, 2.0 * v - 1.0  # the square of half size 1
+
+
+@pytest.mark.parametrize("coords", ["object", "generated"])
+def test_checker_on_object_and_generated_coordinates(device, coords):
+    size = 48
+    mapping = np.diag([2.0, 3.0, 1.0, 1.0])
+    mapping[:3, 3] = (0.25, -0.5, 0.0)
+    tex = CheckerTexture((0.9, 0.1, 0.1), (0.1, 0.1, 0.9), scale=1.5, coords=coords, mapping=mapping)
+    f = render(facing_square(Material("m", albedo=tex), size))
+    x, y = _world_xy(size)
+    # Blender's Generated of this square: x, y over the box mapped to [0, 1]; a flat z is 0.5
+    p = np.stack([x, y, np.zeros_like(x)], -1) if coords == "object" else np.stack([(x + 1) / 2, (y + 1) / 2,
+                                                                                   np.full_like(x, 0.5)], -1)
+    p = p.reshape(-1, 3) @ mapping[:3, :3].T + mapping[:3, 3]
+    want = np.where(blender_checker(p * 1.5)[:, None] == 1.0, (0.9, 0.1, 0.1), (0.1, 0.1, 0.9))
+    # a pixel whose centre lies within float32 rounding of a cell edge may go either way
+    bad = np.abs(f.albedo.reshape(-1, 3) - want).max(axis=1) > 1e-5
+    assert bad.sum() <= 2 and bad.sum() < len(bad) // 100
+
+
+def test_mix_of_image_and_checker_on_the_square(device):
+    size = 16
+    img = np.full((2, 2, 3), 0.6, np.float32)
+    checker = CheckerTexture((1.0, 1.0, 1.0), (0.0, 0.0, 0.0), scale=2.0, coords="uv")
+    tex = MixColor(ImageTexture(img, colorspace="Non-Color"), (0.2, 0.4, 0.8), factor=checker, blend="MULTIPLY")
+    f = render(facing_square(Material("m", albedo=tex), size))
+    u, v = pixel_uv(size)
+    t = blender_checker(np.stack([u, v, np.zeros_like(u)], -1).reshape(-1, 3) * 2.0).reshape(size, size)
+    want = 0.6 * (1 - t[..., None]) + t[..., None] * 0.6 * np.array([0.2, 0.4, 0.8])
+    np.testing.assert_allclose(f.albedo, want, atol=1e-5)
+
+
+def _normal_colour(n) -> tuple:
+    return tuple(0.5 * np.asarray(n, float) + 0.5)
+
+
+@pytest.mark.parametrize("mirrored", [False, True])
+@pytest.mark.parametrize("strength", [1.0, 0.5, 1.5])
+def test_constant_normal_map_tilts_the_shading_normal(device, mirrored, strength):
+    a = math.radians(25.0)
+    nt = np.array([math.sin(a), 0.0, math.cos(a)])  # tangent space: tilted towards +tangent
+    scene = facing_square(Material("m", normal=NormalMap(_normal_colour(nt), strength=strength)), 8)
+    if mirrored:  # u runs along -x: the tangent is -x and the bitangent sign flips so that B stays +y
+        scene.meshes[0].uvs[..., 0] = 1.0 - scene.meshes[0].uvs[..., 0]
+    f = render(scene)
+    c = 2 * (np.array(_normal_colour(nt), np.float32) - 0.5)
+    c = np.array([c[0] * strength, c[1] * strength, 1.0 + min(max(strength, 0), 1) * (c[2] - 1.0)])
+    tangent = np.array([-1.0 if mirrored else 1.0, 0.0, 0.0])
+    want = c[0] * tangent + c[1] * np.array([0.0, 1.0, 0.0]) + c[2] * np.array([0.0, 0.0, 1.0])
+    want /= np.linalg.norm(want)
+    np.testing.assert_allclose(f.normal.reshape(-1, 3), np.broadcast_to(want, (64, 3)), atol=1e-5)
+
+
+def test_smooth_normals_are_interpolated_faced_and_guarded(device):
+    b = math.radians(20.0)
+    tilted = np.array([math.sin(b), 0.0, math.cos(b)])
+    scene = facing_square(Material("m"), 8)
+    scene.meshes[0].normals = np.broadcast_to(tilted, (2, 3, 3)).copy()
+    np.testing.assert_allclose(render(scene).normal.reshape(-1, 3), np.broadcast_to(tilted, (64, 3)), atol=1e-6)
+    # rotated by 90 degrees about y, the square's object-space normal turns with it (inverse transpose)
+    rot = np.array([[0, 0, 1, 0], [0, 1, 0, 0], [-1, 0, 0, 0], [0, 0, 0, 1]], float)
+    scene.meshes[0].transforms = rot
+    scene.camera.transforms = rot @ scene.camera.transforms
+    np.testing.assert_allclose(render(scene).normal.reshape(-1, 3),
+                               np.broadcast_to(rot[:3, :3] @ tilted, (64, 3)), atol=1e-6)
+    # seen from behind, the shading normal flips with the geometric one
+    scene = facing_square(Material("m"), 8)
+    scene.meshes[0].normals = np.broadcast_to(tilted, (2, 3, 3)).copy()
+    scene.meshes[0].triangles = scene.meshes[0].triangles[:, ::-1].copy()  # the back faces the camera now
+    scene.meshes[0].normals = -scene.meshes[0].normals
+    np.testing.assert_allclose(render(scene).normal.reshape(-1, 3), np.broadcast_to(tilted, (64, 3)), atol=1e-6)
+    # a normal tilted beyond 45 degrees from the view would mirror the view into the surface: bent back until the
+    # mirror direction leaves it
+    steep = np.array([math.sin(math.radians(80)), 0.0, math.cos(math.radians(80))])
+    scene.meshes[0].triangles = scene.meshes[0].triangles[:, ::-1].copy()
+    scene.meshes[0].normals = np.broadcast_to(steep, (2, 3, 3)).copy()
+    f = render(scene)
+    n = f.normal.reshape(-1, 3).astype(np.float64)
+    x, y = _world_xy(8)
+    wi = np.stack([-x.ravel(), -y.ravel(), np.full(64, 4.0)], -1)
+    wi /= np.linalg.norm(wi, axis=1, keepdims=True)
+    cos_n = np.einsum("ij,ij->i", n, wi)
+    refl_z = 2 * cos_n * n[:, 2] - wi[:, 2]  # the mirror direction's height above the square
+    assert np.all(refl_z >= np.minimum(0.01, 0.5 * wi[:, 2]) - 1e-4)
+    assert np.all(n[:, 0] < steep[0]) and np.all(n[:, 2] > steep[2])
+    np.testing.assert_allclose(np.linalg.norm(n, axis=1), 1.0, atol=1e-5)
+
+
+def test_textured_emission_is_seen_by_the_camera(device):
+    img = np.random.default_rng(9).random((4, 4, 3)).astype(np.float32)
+    tex = ImageTexture(img, colorspace="Non-Color", interpolation="Closest")
+    scene = facing_square(Material("glow", albedo=(0.0, 0.0, 0.0), emission=tex, emission_strength=3.0), 16)
+    scene.lights = []
+    f = render(scene)
+    u, v = pixel_uv(16)
+    want = 3.0 * img[::-1][(v * 4).astype(int), (u * 4).astype(int)]
+    np.testing.assert_allclose(f.noisy, want, rtol=1e-5)
+
+
+@pytest.mark.parametrize("interp", INTERPOLATIONS)
+def test_mips_remove_aliasing_on_a_grazing_plane(device, monkeypatch, interp):
+    """A 1-texel checkerboard on a long floor seen at a grazing angle: without mips the far pixels alias (values
+    jump between 0 and 1); with the ray-cone mip level they converge to the image mean 0.5."""
+    from restircl import Camera, look_at
+    from restircl import texture_pack as tp
+
+    from .texture_scenes import square_mesh
+
+    board = (np.indices((256, 256)).sum(axis=0) % 2).astype(np.float32)
+    tex = ImageTexture(board, colorspace="Non-Color", interpolation=interp, mapping=np.diag([8.0, 8.0, 1.0, 1.0]))
+
+    def scene():
+        mesh = square_mesh(20.0)
+        cam = Camera(look_at((0, -20, 2.0), (0, 0, 0), (0, 0, 1)), 64, 48)
+        cam.set_fov(math.radians(50))
+        s = facing_square(Material("floor", albedo=tex), 8)
+        s.meshes, s.camera = [mesh], cam
+        return s
+
+    f = render(scene())
+    far = np.isfinite(f.depth) & (f.depth > 15.0)  # tens of texels per pixel
+    with_mips = f.albedo[far][:, 0]
+    monkeypatch.setattr(tp, "mip_chain", lambda level0: [level0])
+    without = render(scene()).albedo[far][:, 0]
+    assert far.sum() > 200
+    var_with, var_without = with_mips.var(), without.var()
+    # aliased: Closest reads 0 or 1 (variance 0.25), Linear a bilinear blend of a random texel quad (0.04)
+    assert var_without > (0.1 if interp == "Closest" else 0.02)
+    assert var_with < 0.1 * var_without
+    assert abs(with_mips.mean() - 0.5) < 0.05
