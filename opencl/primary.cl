@@ -13,7 +13,11 @@ inline float3 motion_apply(const __global float4* m, float3 p)
 __kernel void primary(const __global Camera* cam, const __global Camera* prev_cam, const __global Camera* next_cam,
                       const __global BVHNode* nodes, const __global Tri* tris,
                       const __global Material* materials, const __global float4* object_motion,
-                      __global GSample* gbuf, __global float4* vector)
+                      const __global TriAttr* tri_attr, const __global ObjectInfo* objects,
+                      const __global Closure* closures, const __global TexNode* tex_nodes,
+                      const __global TexImage* tex_images, const __global float4* texels,
+                      const __global float* ggx_tables,
+                      __global GSample* gbuf, __global GlossySample* glossy, __global float4* vector)
 {
     int x = get_global_id(0), y = get_global_id(1);
     int w = cam->width, h = cam->height;
@@ -43,20 +47,57 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
 #endif
         gbuf[i] = g;
         vector[i] = vec;
+#ifdef HAS_GLOSSY
+        glossy[i].wo = (float4)(-d, as_float(0));
+#endif
         return;
     }
     Tri t = tris[hit.prim];
     float3 p = t.v0.xyz + hit.u * t.e1.xyz + hit.v * t.e2.xyz;
     float3 ng = norm3(cross3(t.e1.xyz, t.e2.xyz));
-    if (dot3(ng, d) > 0.0f) ng = -ng;
+    int backfacing = dot3(ng, d) > 0.0f;
+    if (backfacing) ng = -ng;
     int mat = as_int(t.v0.w);
     int obj = as_int(t.e2.w);
     Material m = materials[mat];
+    /* smooth shading and texture coordinates; the ray cone spreads by one pixel, 2 tan(fov_y / 2) / height on the
+     * axis and cos^2 of the angle to it off the axis (so a plane facing the camera gets its true pixel footprint) */
+    float cf = dot3(d, cam->forward.xyz);
+    TexPoint tp = texture_point(tri_attr, objects, hit.prim, obj, hit.u, hit.v, d, ng, backfacing,
+                                hit.t * cf * cf * 2.0f * cam->lens.y / (float)h);
+    float3 albedo = m.albedo.xyz, emission = m.emission.xyz;
+#ifdef HAS_TEXTURES
+    texture_material(materials + mat, closures, tex_nodes, tex_images, texels, &tp, &albedo, &emission);
+#endif
     g.pos = (float4)(p, camera_depth(cam, p));
-    g.normal = (float4)(ng, as_float(hit.prim));
+    g.normal = (float4)(tp.ns, as_float(hit.prim));
     g.gnormal = (float4)(ng, as_float(mat));
-    g.albedo = (float4)(m.albedo.xyz, as_float(obj));
-    g.emission = (float4)(m.emission.xyz, 0.0f);
+    g.albedo = (float4)(albedo, as_float(obj));
+#ifdef HAS_GLOSSY
+    /* the material's closures resolved for this view at the shading normal: the diffuse albedo under the specular
+     * layer, and the lobes */
+    int count = min(m.info.y, MAX_LAYERS);
+    if (count > 0) {
+        ClosureInputs cin[MAX_LAYERS];
+        for (int k = 0; k < count; ++k) {
+#ifdef HAS_TEXTURES
+            cin[k] = closure_inputs(&closures[m.info.x + k], tex_nodes, tex_images, texels, &tp);
+#else
+            cin[k] = closure_constants(&closures[m.info.x + k]);
+#endif
+        }
+        GlossySample gx;
+        g.albedo.xyz = surface_resolve(cin, count, tp.ns, -d, ggx_tables, &gx);
+        glossy[i] = gx;
+    } else {
+        glossy[i].wo = (float4)(-d, as_float(0));
+    }
+#else
+    (void)closures;
+    (void)ggx_tables;
+    (void)glossy;
+#endif
+    g.emission = (float4)(emission, 0.0f);
     g.motion = (float4)(0.0f, 0.0f, 1.0f, g.pos.w);  /* nothing moves: the previous position is this one */
     float4 vec = (float4)(0.0f);
 #ifdef HAS_MOTION

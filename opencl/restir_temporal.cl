@@ -5,6 +5,7 @@
  * records are last frame's, so that is the target the reservoir stored and is not evaluated again. */
 
 __kernel void restir_temporal(const __global GSample* gbuf, const __global GSample* prev_gbuf,
+                              const __global GlossySample* glossy, const __global GlossySample* prev_glossy,
                               const __global BVHNode* nodes, const __global Tri* tris, const __global Light* lights,
                               const __global Reservoir* current, const __global Reservoir* previous,
                               __global Reservoir* out, volatile __global int* guards, FrameParams frame_params,
@@ -18,7 +19,7 @@ __kernel void restir_temporal(const __global GSample* gbuf, const __global GSamp
     if (x >= width || y >= height) return;
     int i = y * width + x;
     Reservoir c = current[i];
-    Surface s = surface_load(gbuf, i);
+    Surface s = surface_load(gbuf, glossy, i);
     if (!s.valid) { out[i] = c; return; }
     int j = reproject_pixel(gbuf, prev_gbuf, x, y, width, height, p.similar.depth_tolerance, p.similar.normal_cos);
     if (j < 0) { out[i] = c; return; }
@@ -27,11 +28,11 @@ __kernel void restir_temporal(const __global GSample* gbuf, const __global GSamp
     if (!finite_f(q.W) || !finite_f(q.M)) { guard_count(guards, GUARD_NONFINITE_RESERVOIR); out[i] = c; return; }
     uint rng = rng_seed((uint)i, frame_params.sample, frame_params.seed, 4u);
     if (bias_correction == BIAS_PAIRWISE && !lights_static && q.light >= 0 && q.W > 0.0f) {
-        Surface sp = surface_load(prev_gbuf, j);
+        Surface sp = surface_load(prev_gbuf, prev_glossy, j);
         LightEval e;
         q.target = target_of(&sp, lights, q.light, q.u, q.v, &e);
     }
     Reservoir r;
-    reuse_combine(&s, &c, &q, 1, prev_gbuf, &j, nodes, tris, lights, bias_correction, visibility_reuse, &rng, &r);
+    reuse_combine(&s, &c, &q, 1, prev_gbuf, prev_glossy, &j, nodes, tris, lights, bias_correction, visibility_reuse, &rng, &r);
     out[i] = r;
 }

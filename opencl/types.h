@@ -39,6 +39,7 @@ typedef struct {
                           constant); w: MATERIAL_* flags (informative: each closure carries its own weight) */
 } Material;            /* 48 bytes */
 
+#define MAX_LAYERS 2   /* closures per material (python/restircl/material.py MAX_LAYERS) */
 #define MATERIAL_MIX 1 /* the two closures are mixed by closure 1's weight w (1 - w, w); else added */
 
 #define CLOSURE_PRINCIPLED 0
@@ -58,6 +59,83 @@ typedef struct {
     int4 tex;          /* texture node of x: base colour, y: metallic, z: roughness, w: specular level */
     int4 tex2;         /* x: specular tint, y: normal map, z: weight, w: unused */
 } Closure;             /* 96 bytes */
+
+/* ---- surface attributes and textures (opencl/texture_*.h, python/restircl/texture_pack.py) ---------- */
+
+/* Per triangle, in BVH leaf order (python/restircl/tri_attributes.py): what the primary hit interpolates for
+ * smooth shading and texture coordinates. Uploaded only when some mesh has normals or some material a texture. */
+typedef struct {
+    float4 n0;         /* xyz: world-space shading normal at corner 0 (Mesh.normals; the geometric one if none) */
+    float4 n1;
+    float4 n2;
+    float4 u;          /* xyz: UV u at corners 0, 1, 2; w: 0.5 log2(UV area / world area), for the mip level */
+    float4 v;          /* xyz: UV v at corners 0, 1, 2; w: bitangent sign of the UV tangent frame */
+    float4 o0;         /* xyz: object-space position of corner 0; w: 0.5 log2(object area / world area) */
+    float4 oe1;        /* xyz: object-space edge corner 1 - corner 0; w: 0.5 log2(generated area / world area) */
+    float4 oe2;        /* xyz: object-space edge corner 2 - corner 0; w: unused */
+    float4 tangent;    /* xyz: world-space UV tangent (dP/du); w: unused */
+} TriAttr;             /* 144 bytes */
+
+/* Per object (mesh): how its texture space and attributes are set up. */
+typedef struct {
+    float4 gen_mid;    /* xyz: centre of the object-space bounding box (Blender's texture space); w: OBJECT_* flags
+                          (int bits) */
+    float4 gen_scale;  /* xyz: 1 / (2 half size): generated = (p - mid) * scale + 0.5; w: unused */
+} ObjectInfo;          /* 32 bytes */
+
+#define OBJECT_ATTRIBUTES 1  /* its triangles have TriAttr records (the buffer exists) */
+#define OBJECT_NORMALS    2  /* its TriAttr normals are Mesh.normals: shade smooth */
+#define OBJECT_UVS        4  /* it has a UV map */
+
+/* One node of a texture program. An input refers to an earlier node (in) or holds a constant (a, b, p.x). A
+ * material input's program is the contiguous run of nodes blk.x .. its own index, evaluated in order. */
+typedef struct {
+    float4 a;          /* rgb: constant of input a (Checker color1, Mix a, Normal Map color) */
+    float4 b;          /* rgb: constant of input b (Checker color2, Mix b) */
+    float4 p;          /* x: factor constant (Mix) / scale (Checker) / strength (Normal Map); y: log2 of the mapping's
+                          scale (mip level); zw: unused */
+    float4 m0;         /* rows of the coordinate mapping (Mapping node, Point): c' = (m0.c, m1.c, m2.c) + w */
+    float4 m1;
+    float4 m2;
+    int4 op;           /* x: TEXNODE_*; y: Mix blend (TEXMIX_*) / image interpolation (TEXINTERP_*); z: image
+                          extension (TEXEXT_*); w: coordinates (TEXCOORD_*) */
+    int4 in;           /* x, y, z: node feeding a, b, the factor (-1: the constant); w: image index */
+    int4 blk;          /* x: first node of the program ending here; y: 1 = clamp the Mix factor; zw: unused */
+} TexNode;             /* 144 bytes */
+
+/* One image and its mip chain in the texel buffer: level 0 (width x height texels, bottom row first as Blender
+ * stores them) at offset, each further level (halved, rounded up) right after the previous one. */
+typedef struct {
+    int offset;
+    int width;
+    int height;
+    int levels;
+} TexImage;            /* 16 bytes */
+
+#define TEXNODE_IMAGE      0
+#define TEXNODE_CHECKER    1
+#define TEXNODE_MIX        2
+#define TEXNODE_NORMAL_MAP 3
+#define TEXINTERP_LINEAR   0
+#define TEXINTERP_CLOSEST  1
+#define TEXEXT_REPEAT      0
+#define TEXEXT_EXTEND      1
+#define TEXEXT_CLIP        2
+#define TEXCOORD_UV        0
+#define TEXCOORD_GENERATED 1
+#define TEXCOORD_OBJECT    2
+#define TEXMIX_MIX         0
+#define TEXMIX_MULTIPLY    1
+#define TEXMIX_ADD         2
+#define TEXMIX_SUBTRACT    3
+#define TEXMIX_SCREEN      4
+#define TEXMIX_DIFFERENCE  5
+#define TEXMIX_DARKEN      6
+#define TEXMIX_LIGHTEN     7
+#define TEXMIX_OVERLAY     8
+#ifndef MAX_TEX_PROGRAM
+#define MAX_TEX_PROGRAM    16  /* nodes in one input's program: the registers it is evaluated into */
+#endif
 
 /* One packed 64-byte record per light: a candidate costs one cache line, even with 1e6 lights. Every type keeps
  * its code in p.w, its radiance (intensity for points) in L.xyz and its flags in L.w (lights/record.h); what the
@@ -97,6 +175,27 @@ typedef struct {
     float4 emission;   /* rgb: radiance emitted towards the camera (lights seen directly) */
     float4 motion;     /* xy: motion in pixels, previous minus current position (jitter removed); zw: 0 */
 } GSample;             /* 96 bytes */
+
+/* One resolved specular lobe of a pixel (HAS_GLOSSY): a GGX distribution (alpha) shared by a Principled closure's
+ * metallic part (F82-tint Fresnel; a Glossy BSDF is one with f0 = 1, b = 0) and its dielectric specular (the real
+ * Fresnel of eta remapped from its F0 onto [f0, 1]). The weights include the closure's weight and, for multiscatter
+ * GGX, the energy compensation for this pixel's view direction (opencl/bsdf_principled.h). */
+typedef struct {
+    float4 metal_f0;   /* rgb: F82-tint f0; w: alpha (roughness^2, clamped) */
+    float4 metal_b;    /* rgb: F82-tint b; w: eta of the dielectric specular (1: none) */
+    float4 metal_w;    /* rgb: weight of the metallic / Glossy part; w: F0 of eta */
+    float4 diel_f0;    /* rgb: dielectric f0 (F0 scaled by the Specular IOR Level, times Specular Tint); w: the
+                          lobe's sampling weight (its estimated albedo) */
+    float4 diel_w;     /* rgb: weight of the dielectric specular; w: unused */
+} SpecLobe;            /* 80 bytes */
+
+/* The G-buffer extension of glossy scenes (HAS_GLOSSY): what the BSDF needs beyond GSample, whose albedo holds the
+ * diffuse part (already layered under the specular). */
+typedef struct {
+    float4 wo;         /* xyz: unit direction towards the viewer; w: lobe count (int bits) */
+    SpecLobe lobe0;
+    SpecLobe lobe1;
+} GlossySample;        /* 176 bytes */
 
 /* A weighted reservoir holding one light sample y = (light, u, v). */
 typedef struct {

@@ -16,9 +16,11 @@ from .pipeline import Frame, Renderer, Settings
 from .program import KernelBuildError
 from .scene import Camera, Light, Material, Mesh, Scene, SceneError, SceneFileError, look_at, translation
 from .setting_spec import SettingError
+from .textures import CheckerTexture, ImageTexture, MixColor, NormalMap
 
 __all__ = [
-    "Camera", "Device", "DeviceError", "Frame", "KernelBuildError", "Light", "Material", "Mesh", "Renderer",
+    "Camera", "CheckerTexture", "Device", "DeviceError", "Frame", "ImageTexture", "KernelBuildError", "Light",
+    "Material", "Mesh", "MixColor", "NormalMap", "Renderer",
     "Scene", "SceneError", "SceneFileError", "SettingError", "Settings", "choose_device", "get_device", "list_devices",
     "look_at", "read_exr", "scenes", "translation", "write_exr", "write_png",
 ]

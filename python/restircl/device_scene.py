@@ -12,10 +12,13 @@ import pyopencl as cl
 from . import layouts as L
 from .buffers import upload
 from .bvh import build_bvh, make_tris
+from .ggx_tables import ggx_tables
 from .light_array import LightArray, build_light_array
 from .lights import DeviceLights, scene_lights
 from .material_pack import pack_materials
 from .scene import Scene
+from .texture_pack import PackedTextures, TexturePacker
+from .tri_attributes import needs_attributes, object_infos, tri_attributes
 
 
 def lights_switched(old: np.ndarray, new: np.ndarray, ratio: float) -> bool:
@@ -48,6 +51,8 @@ class DeviceScene:
         self.lights: DeviceLights
         self.light_array: LightArray
         self.motion_buf: cl.Buffer | None = None
+        self.ggx_tables_buf: cl.Buffer | None = None  # glossy builds only (upload_ggx_tables)
+        self._textures: PackedTextures | None = None  # packed once: materials do not animate
         self.lights_changed = True  # this frame's light records differ from (or may differ from) the last frame's
         self.light_indices_changed = False  # the light count changed: old reservoirs point at other lights
         self.lights_switched = False  # a light switched on or off, or its power jumped (light_change_ratio)
@@ -60,6 +65,7 @@ class DeviceScene:
         geo_key = frame if self.moving_objects else 0
         world = None
         if self._geometry_key != geo_key:
+            self._frame = frame
             world = scene.world_triangles(frame)
             self._upload_geometry(world)
             self._geometry_key = geo_key
@@ -82,10 +88,32 @@ class DeviceScene:
         self.nodes_buf = upload(self.context, bvh.nodes)
         self.tris_buf = upload(self.context, tris)
         self.triangle_count = len(world)
-        packed = pack_materials(self.scene.materials)
+        self._upload_materials()
+        attributes = needs_attributes(self.scene, self.material_flags["HAS_TEXTURES"])
+        self.objects_buf = upload(self.context, object_infos(self.scene, attributes))
+        self.tri_attr_buf = upload(self.context, tri_attributes(self.scene, world, bvh.order,
+                                                                self._frame) if attributes else np.zeros(16, np.uint8))
+
+    def _upload_materials(self) -> None:
+        if self._textures is not None:
+            return
+        packer = TexturePacker(self.scene.materials)
+        packed = pack_materials(self.scene.materials, packer.index)
+        self._textures = tex = packer.packed()
+        self.nonfinite_texels = tex.nonfinite_texels
         self.material_flags = {"HAS_GLOSSY": packed.glossy, "HAS_TEXTURES": packed.textured}
         self.materials_buf = upload(self.context, packed.materials)
         self.closures_buf = upload(self.context, packed.closures)
+        self.textures = {"tex_nodes": upload(self.context, tex.nodes), "tex_images": upload(self.context, tex.images),
+                         "texels": upload(self.context, tex.texels)}
+        if packed.glossy:
+            self.upload_ggx_tables()
+
+    def upload_ggx_tables(self) -> None:
+        """The GGX energy tables the BSDF resolve (primary pass) reads in glossy builds; computed once per process
+        (a few CPU seconds), so diffuse-only scenes leave them out."""
+        if self.ggx_tables_buf is None:
+            self.ggx_tables_buf = upload(self.context, ggx_tables())
 
     def _upload_lights(self, lights: DeviceLights) -> None:
         old = getattr(self, "lights", None)
@@ -123,6 +151,13 @@ class DeviceScene:
     def geometry(self) -> dict[str, cl.Buffer]:
         """The kernels' geometry arguments (BVH nodes and triangles), by parameter name."""
         return {"nodes": self.nodes_buf, "tris": self.tris_buf}
+
+    @property
+    def surface(self) -> dict[str, cl.Buffer]:
+        """What the primary pass reads about surfaces beyond the triangles: materials and their closures, the
+        per-triangle attributes and per-object texture spaces, the texture programs and texels, by parameter name."""
+        return {"materials": self.materials_buf, "closures": self.closures_buf, "tri_attr": self.tri_attr_buf,
+                "objects": self.objects_buf, **self.textures}
 
     @property
     def light_sampling(self) -> dict[str, cl.Buffer]:

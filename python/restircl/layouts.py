@@ -17,6 +17,10 @@ BVH_NODE = np.dtype(
 I4 = (np.int32, 4)
 MATERIAL = np.dtype([("albedo", F4), ("emission", F4), ("info", I4)])
 CLOSURE = np.dtype([("base", F4), ("spec", F4), ("tint", F4), ("kind", I4), ("tex", I4), ("tex2", I4)])
+TRI_ATTR = np.dtype([(n, F4) for n in ("n0", "n1", "n2", "u", "v", "o0", "oe1", "oe2", "tangent")])
+OBJECT_INFO = np.dtype([("gen_mid", F4), ("gen_scale", F4)])
+TEX_NODE = np.dtype([*[(n, F4) for n in ("a", "b", "p", "m0", "m1", "m2")], ("op", I4), ("in", I4), ("blk", I4)])
+TEX_IMAGE = np.dtype([(n, np.int32) for n in ("offset", "width", "height", "levels")])
 LIGHT = np.dtype([("p", F4), ("a", F4), ("b", F4), ("L", F4)])
 CAMERA = np.dtype(
     [
@@ -35,6 +39,8 @@ CAMERA = np.dtype(
 GSAMPLE = np.dtype(
     [("pos", F4), ("normal", F4), ("gnormal", F4), ("albedo", F4), ("emission", F4), ("motion", F4)]
 )
+SPEC_LOBE = np.dtype([("metal_f0", F4), ("metal_b", F4), ("metal_w", F4), ("diel_f0", F4), ("diel_w", F4)])
+GLOSSY_SAMPLE = np.dtype([("wo", F4), ("lobe0", SPEC_LOBE), ("lobe1", SPEC_LOBE)])
 RESERVOIR = np.dtype(
     [
         ("light", np.int32),
@@ -77,9 +83,15 @@ STRUCTS: dict[str, np.dtype] = {
     "BVHNode": BVH_NODE,
     "Material": MATERIAL,
     "Closure": CLOSURE,
+    "TriAttr": TRI_ATTR,
+    "ObjectInfo": OBJECT_INFO,
+    "TexNode": TEX_NODE,
+    "TexImage": TEX_IMAGE,
     "Light": LIGHT,
     "Camera": CAMERA,
     "GSample": GSAMPLE,
+    "SpecLobe": SPEC_LOBE,
+    "GlossySample": GLOSSY_SAMPLE,
     "Reservoir": RESERVOIR,
     "FrameParams": FRAME_PARAMS,
     "SamplerParams": SAMPLER_PARAMS,

@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from .material import Material
+from .material_check import MaterialError, check_material
 
 MAX_RESOLUTION = 16384
 LIGHT_TYPES = ("point", "spot", "sun", "area")
@@ -230,15 +231,10 @@ class Scene:
             raise SceneError(f"camera: sensor_fit must be one of {SENSOR_FITS}, got {cam.sensor_fit!r}")
         _check_basis(cam.transforms, "camera")
         for i, mat in enumerate(self.materials):
-            label = f"material {i} {mat.name!r}"
-            for what, v in (("albedo", mat.albedo), ("emission", mat.emission)):
-                a = np.asarray(v, dtype=np.float64)
-                if a.shape != (3,) or not np.all(np.isfinite(a)):
-                    raise SceneError(f"{label}: {what} must be 3 finite numbers, got {v!r}")
-                if np.any(a < 0):
-                    raise SceneError(f"{label}: {what} must not be negative, got {v!r}")
-            if not math.isfinite(mat.emission_strength) or mat.emission_strength < 0:
-                raise SceneError(f"{label}: emission_strength must be finite and >= 0, got {mat.emission_strength!r}")
+            try:
+                check_material(mat)
+            except MaterialError as exc:
+                raise SceneError(f"material {i} {mat.name!r}: {exc}") from None
         n_mat = len(self.materials)
         for mesh in self.meshes:
             label = f"mesh {mesh.name!r}"
@@ -252,6 +248,11 @@ class Scene:
                 raise SceneError(f"{label}: {len(mesh.material_ids)} material ids for {len(mesh.triangles)} triangles")
             if len(mesh.material_ids) and (mesh.material_ids.min() < 0 or mesh.material_ids.max() >= n_mat):
                 raise SceneError(f"{label}: material id out of range 0..{n_mat - 1}")
+            for what, corner in (("uvs", 2), ("normals", 3)):
+                a = getattr(mesh, what)
+                if a is not None and (np.shape(a) != (len(mesh.triangles), 3, corner) or not np.all(np.isfinite(a))):
+                    raise SceneError(f"{label}: {what} must be finite, shape ({len(mesh.triangles)}, 3, {corner}), "
+                                     f"got shape {np.shape(a)}")
         for lt in self.lights:
             label = f"light {lt.name!r}"
             if lt.type not in LIGHT_TYPES:

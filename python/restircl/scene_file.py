@@ -11,25 +11,27 @@ from pathlib import Path
 
 import numpy as np
 
-from .scene import Camera, Light, Material, Mesh, Scene, SceneError, SceneFileError
+from .material_file import MaterialReader, MaterialWriter
+from .scene import Camera, Light, Mesh, Scene, SceneError, SceneFileError
 
 SCENE_FILE_MAGIC = "restircl-scene"
-SCENE_FILE_VERSION = 1
+# 2: every Material field, texture nodes (a node table; images as arrays or paths), Mesh.uvs and Mesh.normals
+SCENE_FILE_VERSION = 2
+READABLE_VERSIONS = (1, 2)
 
 
 def save_scene(scene: Scene, path: str | Path) -> None:
     """Write `scene` as one versioned .npz file (no pickles)."""
     arrays: dict[str, np.ndarray] = {}
+    writer = MaterialWriter(arrays)
+    materials = [writer.material(m) for m in scene.materials]
     meta: dict = {
         "magic": SCENE_FILE_MAGIC,
         "version": SCENE_FILE_VERSION,
         "name": scene.name,
         "frame_count": scene.frame_count,
-        "materials": [
-            {"name": m.name, "albedo": list(map(float, m.albedo)), "emission": list(map(float, m.emission)),
-             "emission_strength": float(m.emission_strength)}
-            for m in scene.materials
-        ],
+        "materials": materials,
+        "texture_nodes": writer.nodes,
         "meshes": [],
         "lights": [],
         "camera": None,
@@ -40,6 +42,9 @@ def save_scene(scene: Scene, path: str | Path) -> None:
         arrays[f"mesh{i}_triangles"] = mesh.triangles
         arrays[f"mesh{i}_material_ids"] = mesh.material_ids
         arrays[f"mesh{i}_transforms"] = mesh.transforms
+        for what in ("uvs", "normals"):
+            if getattr(mesh, what) is not None:
+                arrays[f"mesh{i}_{what}"] = np.asarray(getattr(mesh, what), np.float64)
     for i, lt in enumerate(scene.lights):
         d = {k: getattr(lt, k) for k in ("name", "type", "power", "radius", "soft_falloff", "spot_size",
                                           "spot_blend", "angle", "shape", "size", "size_y")}
@@ -77,16 +82,17 @@ def load_scene(path: str | Path, cls: type[Scene] = Scene) -> Scene:
         raise SceneFileError(f"{path}: not a restircl scene file (no readable header)") from exc
     if not isinstance(meta, dict) or meta.get("magic") != SCENE_FILE_MAGIC:
         raise SceneFileError(f"{path}: not a restircl scene file (wrong magic)")
-    if meta.get("version") != SCENE_FILE_VERSION:
+    if meta.get("version") not in READABLE_VERSIONS:
         raise SceneFileError(f"{path}: scene file version {meta.get('version')!r}, this restircl reads "
-                             f"version {SCENE_FILE_VERSION}")
+                             f"versions {', '.join(map(str, READABLE_VERSIONS))}")
     try:
         scene = cls(name=meta.get("name", "scene"), frame_count=meta.get("frame_count"))
-        scene.materials = [Material(m["name"], tuple(m["albedo"]), tuple(m["emission"]), m["emission_strength"])
-                           for m in meta["materials"]]
+        reader = MaterialReader(meta.get("texture_nodes", []), data)
+        scene.materials = [reader.material(m) for m in meta["materials"]]
         for i, m in enumerate(meta["meshes"]):
             scene.meshes.append(Mesh(m["name"], data[f"mesh{i}_vertices"], data[f"mesh{i}_triangles"],
-                                     data[f"mesh{i}_material_ids"], data[f"mesh{i}_transforms"]))
+                                     data[f"mesh{i}_material_ids"], data[f"mesh{i}_transforms"],
+                                     uvs=data.get(f"mesh{i}_uvs"), normals=data.get(f"mesh{i}_normals")))
         for i, d in enumerate(meta["lights"]):
             d = dict(d)
             d["color"] = tuple(d["color"])

@@ -96,8 +96,9 @@ class Primary(Stage):
         cl.enqueue_copy(q, b.cameras[2], camera_record(camera, state.next_frame))
         self.kernels.launch("primary", image_size(state), cam=b.cameras[0],
                             prev_cam=b.cameras[1], next_cam=b.cameras[2], **self.scene.geometry,
-                            materials=self.scene.materials_buf, object_motion=self.scene.motion_buf,
-                            gbuf=h.gbuf(h.cur), vector=b.vector)
+                            **self.scene.surface, ggx_tables=self.scene.ggx_tables_buf or b.none,
+                            object_motion=self.scene.motion_buf, gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
+                            vector=b.vector)
 
 
 class LightTiles(Stage):
@@ -134,7 +135,8 @@ class Initial(Stage):
         params = L.pack(L.INITIAL_PARAMS, sampler=state.sampler, candidates=s.candidates,
                         visibility_reuse=int(s.visibility_reuse))
         out = self.buffers.res_initial
-        self.kernels.launch("restir_initial", pixel_count(state), gbuf=h.gbuf(h.cur), **self.scene.geometry,
+        self.kernels.launch("restir_initial", pixel_count(state), gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
+                            **self.scene.geometry,
                             **self.scene.light_sampling, **tiles, out=out, frame_params=state.frame_params,
                             params=params)
         return out
@@ -154,6 +156,7 @@ class Temporal(Stage):
                         lights_static=int(not self.scene.lights_changed))
         out = self.buffers.res_temp
         self.kernels.launch("restir_temporal", image_size(state), gbuf=h.gbuf(h.cur), prev_gbuf=h.gbuf(h.prev),
+                            glossy=h.glossy(h.cur), prev_glossy=h.glossy(h.prev),
                             **self.scene.geometry, lights=self.scene.lights_buf, current=current,
                             previous=h.reservoirs(h.prev), out=out, guards=self.buffers.guards,
                             frame_params=state.frame_params, params=params)
@@ -176,7 +179,8 @@ class Spatial(Stage):
             params = L.pack(L.SPATIAL_PARAMS, spatial_neighbours=s.spatial_neighbours,
                             spatial_radius=s.spatial_radius, similar=self._similarity(), bias_correction=self.bias_code,
                             visibility_reuse=int(s.visibility_reuse), pass_index=p)
-            self.kernels.launch("restir_spatial", image_size(state), gbuf=h.gbuf(h.cur), **self.scene.geometry,
+            self.kernels.launch("restir_spatial", image_size(state), gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
+                                **self.scene.geometry,
                                 lights=self.scene.lights_buf, input=res, out=dst,
                                 frame_params=state.frame_params, params=params)
             res = dst
@@ -193,8 +197,9 @@ class Shade(Stage):
 
     def _common(self, state: FrameState) -> dict:
         h = self.history
-        return {"gbuf": h.gbuf(h.cur), **self.scene.geometry, "lights": self.scene.lights_buf,
-                "guards": self.buffers.guards, "out": self.buffers.sample, "frame_params": state.frame_params}
+        return {"gbuf": h.gbuf(h.cur), "glossy": h.glossy(h.cur), **self.scene.geometry,
+                "lights": self.scene.lights_buf, "guards": self.buffers.guards, "out": self.buffers.sample,
+                "frame_params": state.frame_params}
 
     def restir(self, state: FrameState) -> None:
         """Shade the reservoir this frame leaves as history."""

@@ -1,0 +1,223 @@
+"""Texture nodes -> the device's texture programs (TexNode records), image table (TexImage) and texel buffer
+(opencl/texture_nodes.h, texture_image.h).
+
+Every material input linked to a texture node gets a program: the node's sub-graph in post-order, contiguous in the
+node table and ending at the node the input refers to (TexturePacker.index, material_pack's texture_index hook), so
+the device evaluates it in one loop. A node graph with a loop is refused (SceneError naming the material). All
+images share one float4 texel buffer, each with its mip chain; an image that cannot be used (a missing or unreadable
+file, a 0x0 image, an unsupported colour space) renders magenta, as Blender shows a missing image, with a warning
+naming the material and the image; NaN/Inf texels are counted, zeroed and warned about.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from . import layouts as L
+from .image_load import LINEAR_COLORSPACES, ImageReadError, mip_chain, read_image_file, to_linear_rgba
+from .material import TEXTURABLE, Material
+from .material_pack import constant_float, constant_rgb
+from .scene import SceneError
+from .textures import (
+    COORDS,
+    EXTENSIONS,
+    INTERPOLATIONS,
+    MIX_BLENDS,
+    CheckerTexture,
+    ImageTexture,
+    MixColor,
+    NormalMap,
+    is_texture,
+)
+
+MAX_TEX_PROGRAM = 16  # opencl/types.h: the registers of one input's program
+MAGENTA = (1.0, 0.0, 1.0, 1.0)
+NODE_CODE = {ImageTexture: 0, CheckerTexture: 1, MixColor: 2, NormalMap: 3}
+MAX_TEXELS = 2**31 - 1  # int offsets on the device
+
+
+@dataclass
+class PackedTextures:
+    nodes: np.ndarray  # L.TEX_NODE
+    images: np.ndarray  # L.TEX_IMAGE
+    texels: np.ndarray  # (N, 4) float32
+    nonfinite_texels: int  # NaN/Inf texels zeroed
+
+
+def material_inputs(m: Material) -> list[object]:
+    """Every input of m (and of its layers) that may hold a texture node, and the Mix factor."""
+    out = [getattr(c, f) for c in [m, *m.layers] for f in TEXTURABLE]
+    return [*out, m.mix]
+
+
+def node_inputs(node: object) -> list[object]:
+    """The inputs of a texture node that may be nodes themselves (a, b, factor order for the device)."""
+    if isinstance(node, MixColor):
+        return [node.a, node.b, node.factor]
+    if isinstance(node, CheckerTexture):
+        return [node.color1, node.color2]
+    if isinstance(node, NormalMap):
+        return [node.color]
+    return []
+
+
+def image_label(node: ImageTexture) -> str:
+    if node.name:
+        return repr(node.name)
+    if isinstance(node.image, str | Path):
+        return repr(str(node.image))
+    return f"(array {np.shape(node.image)})"
+
+
+class TexturePacker:
+    """The texture programs of a scene's materials, built once; index(node) is material_pack's texture_index."""
+
+    def __init__(self, materials: list[Material]) -> None:
+        self._roots: dict[int, int] = {}  # id(node) -> index of the last node of its program
+        self._alive: list[object] = []  # the nodes indexed by id, kept alive so ids stay unique
+        self._nodes: list[np.void] = []
+        self._levels: list[list[np.ndarray]] = []
+        self._image_keys: dict[tuple, int] = {}
+        self.nonfinite_texels = 0
+        for i, m in enumerate(materials):
+            label = f"material {i} {m.name!r}"
+            for value in material_inputs(m):
+                if is_texture(value):
+                    self._program(value, label)
+
+    def index(self, node: object) -> int:
+        return self._roots[id(node)]
+
+    def packed(self) -> PackedTextures:
+        nodes = np.zeros(max(len(self._nodes), 1), L.TEX_NODE)
+        for k, r in enumerate(self._nodes):
+            nodes[k] = r
+        images = np.zeros(max(len(self._levels), 1), L.TEX_IMAGE)
+        chunks, offset = [], 0
+        for k, levels in enumerate(self._levels):
+            images[k] = (offset, levels[0].shape[1], levels[0].shape[0], len(levels))
+            for lv in levels:
+                chunks.append(lv.reshape(-1, 4))
+                offset += lv.shape[0] * lv.shape[1]
+        if offset > MAX_TEXELS:
+            raise SceneError(f"textures: {offset} texels with their mip chains exceed the device limit {MAX_TEXELS}")
+        texels = np.concatenate(chunks) if chunks else np.zeros((1, 4), np.float32)
+        return PackedTextures(nodes, images, np.ascontiguousarray(texels, np.float32), self.nonfinite_texels)
+
+    # ---- programs ------------------------------------------------------------------------------------
+
+    def _program(self, root: object, label: str) -> None:
+        if id(root) in self._roots:
+            return
+        order: list[object] = []
+        _post_order(root, order, set(), [], label)
+        if len(order) > MAX_TEX_PROGRAM:
+            raise SceneError(f"{label}: an input's texture graph has {len(order)} nodes, at most {MAX_TEX_PROGRAM}")
+        first = len(self._nodes)
+        where: dict[int, int] = {}
+        for node in order:
+            where[id(node)] = len(self._nodes)
+            self._nodes.append(self._record(node, where, first, label))
+        self._roots[id(root)] = len(self._nodes) - 1
+        self._alive.append(root)
+
+    def _record(self, node: object, where: dict[int, int], first: int, label: str) -> np.void:
+        r = np.zeros((), L.TEX_NODE)
+        r["op"] = (NODE_CODE[type(node)], 0, 0, 0)
+        r["in"] = (-1, -1, -1, -1)
+        r["blk"] = (first, 0, 0, 0)
+        r["m0"], r["m1"], r["m2"] = np.eye(4, dtype=np.float32)[:3]
+        for k, value in enumerate(node_inputs(node)):
+            if is_texture(value):
+                r["in"][k] = where[id(value)]
+            elif k < 2:
+                r["a" if k == 0 else "b"][:3] = constant_rgb(value)
+            else:
+                r["p"][0] = constant_float(value)
+        if isinstance(node, ImageTexture | CheckerTexture):
+            self._coords(r, node)
+        if isinstance(node, ImageTexture):
+            r["op"][1] = INTERPOLATIONS.index(node.interpolation)
+            r["op"][2] = EXTENSIONS.index(node.extension)
+            r["in"][3] = self._image(node, label)
+        elif isinstance(node, CheckerTexture):
+            r["p"][0] = float(node.scale)
+        elif isinstance(node, MixColor):
+            r["op"][1] = MIX_BLENDS.index(node.blend)
+            r["blk"][1] = int(bool(node.clamp_factor))
+        elif isinstance(node, NormalMap):
+            r["p"][0] = float(node.strength)
+        return r
+
+    @staticmethod
+    def _coords(r: np.void, node: ImageTexture | CheckerTexture) -> None:
+        r["op"][3] = COORDS.index(node.coords)
+        if node.mapping is None:
+            return
+        m = np.asarray(node.mapping, dtype=np.float64)
+        r["m0"], r["m1"], r["m2"] = m[:3].astype(np.float32)
+        # the mapping scales the footprint: by the square root of its area scale on the UV plane, else the cube
+        # root of its volume scale
+        det = abs(np.linalg.det(m[:2, :2])) ** 0.5 if node.coords == "uv" else abs(np.linalg.det(m[:3, :3])) ** (1 / 3)
+        r["p"][1] = math.log2(max(float(det), 1e-30))
+
+    # ---- images --------------------------------------------------------------------------------------
+
+    def _image(self, node: ImageTexture, label: str) -> int:
+        src = node.image
+        key = (("path", str(Path(src).resolve())) if isinstance(src, str | Path) else ("array", id(src)),
+               node.colorspace)
+        if key in self._image_keys:
+            return self._image_keys[key]
+        self._alive.append(src)
+        texels = self._load(node, label)
+        self._image_keys[key] = len(self._levels)
+        self._levels.append(mip_chain(texels))
+        return self._image_keys[key]
+
+    def _load(self, node: ImageTexture, label: str) -> np.ndarray:
+        name = image_label(node)
+        magenta = np.array(MAGENTA, np.float32).reshape(1, 1, 4)
+        if node.colorspace != "sRGB" and node.colorspace not in LINEAR_COLORSPACES:
+            warnings.warn(f"{label}: image {name}: colour space {node.colorspace!r} is not supported (sRGB, "
+                          f"{', '.join(LINEAR_COLORSPACES)}); it renders magenta", stacklevel=4)
+            return magenta
+        try:
+            pixels = read_image_file(node.image) if isinstance(node.image, str | Path) else np.asarray(node.image)
+            if pixels.ndim < 2 or pixels.shape[0] == 0 or pixels.shape[1] == 0:
+                raise ImageReadError(f"the image is empty ({pixels.shape[1] if pixels.ndim >= 2 else 0}x"
+                                     f"{pixels.shape[0] if pixels.ndim >= 1 else 0})")
+            texels = to_linear_rgba(pixels, node.colorspace)
+        except ImageReadError as exc:
+            warnings.warn(f"{label}: image {name}: {exc}; it renders magenta", stacklevel=4)
+            return magenta
+        bad = ~np.isfinite(texels)
+        if bad.any():
+            n = int(bad.any(axis=2).sum())
+            self.nonfinite_texels += n
+            texels[bad] = 0.0
+            warnings.warn(f"{label}: image {name}: {n} texels hold NaN or Inf; they are set to 0", stacklevel=4)
+        return texels
+
+
+def _post_order(node: object, out: list[object], done: set[int], path: list[object], label: str) -> None:
+    """Append node's sub-graph to out, inputs first, each node once; a node reached again through its own inputs is
+    a loop."""
+    if id(node) in done:
+        return
+    if any(p is node for p in path):
+        start = next(k for k, p in enumerate(path) if p is node)
+        names = " -> ".join(type(p).__name__ for p in [*path[start:], node])
+        raise SceneError(f"{label}: its texture nodes form a loop ({names})")
+    path.append(node)
+    for value in node_inputs(node):
+        if is_texture(value):
+            _post_order(value, out, done, path, label)
+    path.pop()
+    done.add(id(node))
+    out.append(node)
