@@ -38,6 +38,23 @@ def pattern_image(name: str, size: int = 64, non_color: bool = False):
     return img
 
 
+def normal_image(name: str, size: int = 64):
+    """A packed tangent-space normal map of gentle bumps (slopes along u and v up to 15 degrees), Non-Color."""
+    img = bpy.data.images.new(name, size, size, alpha=True)
+    y, x = (np.mgrid[0:size, 0:size] + 0.5) / size
+    k = 2 * math.pi * 3
+    a = math.tan(math.radians(15)) / k  # the height's amplitude: its steepest slope is tan(15 degrees)
+    dx, dy = a * k * np.cos(k * x) * np.sin(k * y), a * k * np.sin(k * x) * np.cos(k * y)
+    n = np.stack([-dx, -dy, np.ones_like(dx)], axis=-1)
+    n /= np.linalg.norm(n, axis=-1, keepdims=True)
+    px = np.ones((size, size, 4), np.float32)
+    px[..., :3] = 0.5 * n + 0.5
+    img.pixels.foreach_set(px.reshape(-1))
+    img.pack()
+    img.colorspace_settings.name = "Non-Color"
+    return img
+
+
 def _image_node(tree, img):
     tex = tree.nodes.new("ShaderNodeTexImage")
     tex.image = img
@@ -123,7 +140,7 @@ def _feature_material(feature: str):
         return mat, {"textures", "glossy"}
     if kind == "normal_map":
         nm = tree.nodes.new("ShaderNodeNormalMap")
-        img = pattern_image("Nrm", non_color=True)
+        img = normal_image("Nrm")
         tree.links.new(_image_node(tree, img).outputs["Color"], nm.inputs["Color"])
         tree.links.new(nm.outputs["Normal"], p.inputs["Normal"])
         return mat, {"textures", "glossy"}
