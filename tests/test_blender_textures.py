@@ -297,3 +297,28 @@ def test_other_graphs_are_baked():
     assert not any(n.bl_idname == "ShaderNodeEmission" for n in tree.nodes)
     assert not any(i.name.startswith("restircl-bake") for i in bpy.data.images)
     assert ob.name in {x.name for x in exp.scene.meshes}
+
+
+def test_unreadable_image_and_nan_pixels_warn(tmp_path):
+    fresh_scene()
+    bad = tmp_path / "broken.tga"
+    bad.write_bytes(b"not an image at all")
+    broken = bpy.data.images.load(str(bad))
+    mat, _tree, p, _tex = textured("Broken", broken)
+    plane(mat, "A")
+    img = image("NaNs", float_buffer=True)
+    px = np.zeros(4 * 2 * 4, np.float32)
+    img.pixels.foreach_get(px)
+    px[0] = np.nan
+    img.pixels.foreach_set(px)
+    img.pack()
+    nan_mat, *_ = textured("NaNMat", img)
+    plane(nan_mat, "B", 1.0)
+    exp = export()
+    mats = {m.name: m for m in exp.scene.materials}
+    mine = warnings_of(exp.warnings, "Broken")
+    assert len(mine) == 1 and "no pixels" in mine[0], mine
+    assert mats["Broken"].albedo == pytest.approx(tuple(p.inputs["Base Color"].default_value[:3]))
+    mine = warnings_of(exp.warnings, "NaNMat")
+    assert len(mine) == 1 and "NaN" in mine[0], mine
+    assert np.all(np.isfinite(mats["NaNMat"].albedo.image))

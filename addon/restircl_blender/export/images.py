@@ -21,8 +21,8 @@ LINEAR_LIKE = ("Linear", "ACES2065", "ACEScg", "Log")  # linear or log encodings
 
 def colorspace_of(name: str, note: Callable[[str], None], what: str) -> str:
     """Blender's colour space name -> "sRGB" or "Non-Color"; others become the nearest, with a note."""
-    if name == "sRGB" or name in LINEAR_EXACT:
-        return "sRGB" if name == "sRGB" else "Non-Color"
+    if name in ("sRGB", "") or name in LINEAR_EXACT:  # "": an image Blender could not read (said elsewhere)
+        return "sRGB" if name in ("sRGB", "") else "Non-Color"
     nearest = "Non-Color" if any(k in name for k in LINEAR_LIKE) else "sRGB"  # display encodings: sRGB
     note(f"{what}: colour space {name!r} is not supported; read as {nearest}")
     return nearest
