@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from restircl.scenes import material_balls
 
-from .helpers import Settings, allowed_outliers, batch_stats, collect, luminance
+from .helpers import Settings, assert_mean_equals_reference, collect
 
 FRAMES = 1024
 BATCHES = 32
@@ -28,14 +28,4 @@ def reference(device, scene):
 def test_sampler_mean_equals_reference_with_glossy_bsdf(device, scene, reference, method):
     samples = collect(scene, Settings(method=method, candidates=4, seed=7, jitter=False), FRAMES, device)
     assert np.all(np.isfinite(samples))
-    m, se = batch_stats(luminance(samples), BATCHES)
-    mr, ser = batch_stats(luminance(reference), BATCHES)
-    sigma = np.sqrt(se**2 + ser**2)
-    z = np.abs(m - mr) / np.where(sigma > 0, sigma, 1.0)
-    exact = sigma == 0
-    assert np.all(np.abs(m - mr)[exact] <= 1e-5 * np.abs(mr[exact]) + 1e-12)
-    n_out = int((z[~exact] > 4).sum())
-    assert n_out <= allowed_outliers(int((~exact).sum()), BATCHES), (method, n_out, np.sort(z.ravel())[-5:])
-    mi, si = batch_stats(samples.mean(axis=(1, 2)), BATCHES)
-    mr2, sr2 = batch_stats(reference.mean(axis=(1, 2)), BATCHES)
-    assert np.all(np.abs(mi - mr2) <= 4 * np.sqrt(si**2 + sr2**2)), (method, mi, mr2, si, sr2)
+    assert_mean_equals_reference(samples, reference, BATCHES, method)
