@@ -101,3 +101,17 @@ def test_material_similarity_rejects_other_roughness_and_metallic(device):
     cl.Kernel(prog, "similar")(device.queue, (len(cases),), None, lb, ob)
     cl.enqueue_copy(device.queue, out, ob)
     assert out.tolist() == [w for _, w in cases]
+
+
+def test_diffuse_build_shades_a_mix_of_diffuse_closures_with_its_weights(device):
+    from restircl import Material
+
+    scene = cornell_box(16, 16)
+    a, b = Material("a", (0.9, 0.1, 0.1), kind="diffuse"), Material("b", (0.1, 0.1, 0.9), kind="diffuse")
+    scene.materials[0] = Material.mixed(a, b, 0.25, name="mix")
+    r = Renderer(scene, Settings(method="ris", jitter=False), device)
+    assert not r.flags["HAS_GLOSSY"]
+    albedo = r.render_frame(0).albedo
+    want = np.array([0.75 * 0.9 + 0.25 * 0.1, 0.1, 0.75 * 0.1 + 0.25 * 0.9], np.float32)
+    floor = np.all(np.abs(albedo - want) < 1e-6, axis=-1)
+    assert floor.sum() > 10  # the white walls and floor now show the mix
