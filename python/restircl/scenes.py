@@ -233,7 +233,8 @@ BALLS = [
 
 def material_balls(width: int = 320, height: int = 180, frames: int = 1, diffuse: bool = False,
                    area_light: bool = False) -> Scene:
-    """Two rows of four spheres (BALLS) and a Mix Shader sphere (diffuse 0.6, glossy 0.4) on a grey floor, lit by
+    """Two rows of four spheres (BALLS), a Mix Shader sphere (diffuse 0.6, glossy 0.4) and a plain-GGX (not
+    multiscatter) metal of roughness 0.7 at the right, on a grey floor, lit by
     two point lights (and, with `area_light`, a square area light). `diffuse`: the twin with every material
     replaced by a diffuse one of the same colour (the frame-time comparison of a glossy scene)."""
     fv, ft = quad(10, 10)
@@ -247,7 +248,9 @@ def material_balls(width: int = 320, height: int = 180, frames: int = 1, diffuse
     mats.append(Material.mixed(Material("mix_diffuse", (0.1, 0.5, 0.7), kind="diffuse"),
                                Material("mix_glossy", (0.9, 0.9, 0.9), kind="glossy", roughness=0.15), 0.4,
                                name="mix"))
-    meshes.append(Mesh("mix", sv, st, len(mats) - 1, translation(2.75, 0.0, 0.42)))
+    meshes.append(Mesh("mix", sv, st, len(mats) - 1, translation(2.55, -0.6, 0.42)))
+    mats.append(Material("metal_ggx", (0.9, 0.9, 0.9), metallic=1.0, roughness=0.7, distribution="ggx"))
+    meshes.append(Mesh("metal_ggx", sv, st, len(mats) - 1, translation(2.55, 0.6, 0.42)))
     if diffuse:
         mats = [Material(m.name, m.layers[0].albedo if m.layers else m.albedo) for m in mats]
     lights = [Light("key", "point", (1.0, 0.95, 0.9), 300.0, translation(-2.0, -3.0, 3.5)),
