@@ -48,6 +48,10 @@ def ms_factor(fss: np.ndarray, e: float, e_avg: float) -> np.ndarray:
     return 1.0 + fms * (1.0 - e) / e
 
 
+def smith_lambda(alpha2: float, c: np.ndarray) -> np.ndarray:
+    return 0.5 * (np.sqrt(1.0 + alpha2 * np.maximum(1.0 / np.maximum(c * c, 1e-12) - 1.0, 0.0)) - 1.0)
+
+
 def resolve(closures: list[Closure], mu: float) -> tuple[np.ndarray, list[dict]]:
     """(diffuse albedo, lobes) at view cosine mu."""
     tab = tables()
@@ -89,7 +93,7 @@ def resolve(closures: list[Closure], mu: float) -> tuple[np.ndarray, list[dict]]
             f0s *= 2.0 * max(c.specular, 0.0)
             eta = float(T.ior_from_f0(f0s))
         dw = wr
-        if wr > 1e-5 and eta != 1.0:
+        if wr > 1e-5 and eta > 1.0:
             df0 = np.clip(f0s * tint, 0.0, 1.0)
             f0_eta = ((eta - 1.0) / (eta + 1.0)) ** 2
             s_avg = min(max(((eta - 1.0) / (4.08567 + 1.00071 * eta) - f0_eta) / (1.0 - f0_eta), 0.0), 1.0)
@@ -119,8 +123,7 @@ def eval_f(closures: list[Closure], wo: np.ndarray, wi: np.ndarray) -> np.ndarra
         a2 = lb["alpha"] ** 2
         c2 = np.minimum(h[:, 2] ** 2, 1.0)
         d = a2 / (np.pi * ((1.0 - c2) + a2 * c2) ** 2)
-        lam = lambda c: 0.5 * (np.sqrt(1.0 + a2 * np.maximum(1.0 / np.maximum(c * c, 1e-12) - 1.0, 0.0)) - 1.0)  # noqa: E731
-        g2 = 1.0 / (1.0 + lam(co) + lam(ci))
+        g2 = 1.0 / (1.0 + smith_lambda(a2, co) + smith_lambda(a2, ci))
         F = lb["metal_w"] * f82(chi, lb["metal_f0"], lb["b"])
         if lb["eta"] > 1.0:
             s = np.clip((fresnel_dielectric(chi, lb["eta"]) - lb["f0_eta"]) / (1.0 - lb["f0_eta"]), 0.0, 1.0)
