@@ -229,3 +229,17 @@ def test_version_1_scene_files_still_load(tmp_path):
     np.savez_compressed(tmp_path / "old.npz", meta=np.frombuffer(json.dumps(meta).encode(), np.uint8))
     m = Scene.load(tmp_path / "old.npz").materials[0]
     assert m.albedo == (0.5, 0.6, 0.7) and m.kind == "principled" and m.specular == 0.0 and m.normal is None
+
+
+def test_builtin_textured_room_renders_and_survives_the_scene_file(tmp_path):
+    from restircl import scenes
+
+    scene = scenes.builtin("textured_room", width=40, height=30)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        a = Renderer(scene, Settings(method="light_array", jitter=False)).render_frame(0)
+    assert "textures" in a.features and np.all(np.isfinite(a.color))
+    assert a.albedo[..., 0].std() > 0.05  # textured: not one flat colour per object
+    scene.save(tmp_path / "room.npz")
+    b = Renderer(Scene.load(tmp_path / "room.npz"), Settings(method="light_array", jitter=False)).render_frame(0)
+    np.testing.assert_array_equal(a.color, b.color)

@@ -5,6 +5,7 @@
                   and a camera flythrough
     cornell_box   a closed box with two blocks and one area light in the ceiling
     moving_box    a box sliding over a floor under a panning camera (reprojection, disocclusion, TAA)
+    textured_room image, checker, mix and normal-map textures and smooth shading (scenes_textured.py)
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ import math
 import numpy as np
 
 from .scene import Camera, Light, Material, Mesh, Scene, look_at, translation
+from .scenes_textured import textured_room
 
 # ---- geometry helpers -----------------------------------------------------------------------------
 
@@ -217,7 +219,8 @@ def moving_box(width: int = 160, height: int = 120, frames: int = 16, pan: float
     )
 
 
-BUILTIN = {"many_lights": many_lights, "cornell_box": cornell_box, "moving_box": moving_box}
+BUILTIN = {"many_lights": many_lights, "cornell_box": cornell_box, "moving_box": moving_box,
+           "textured_room": textured_room}
 
 
 def builtin(name: str, **kwargs) -> Scene:
