@@ -243,3 +243,14 @@ def test_builtin_textured_room_renders_and_survives_the_scene_file(tmp_path):
     scene.save(tmp_path / "room.npz")
     b = Renderer(Scene.load(tmp_path / "room.npz"), Settings(method="light_array", jitter=False)).render_frame(0)
     np.testing.assert_array_equal(a.color, b.color)
+
+
+def test_uv_textures_on_a_mesh_without_uvs_warn():
+    scene = facing_square(Material("m", albedo=ImageTexture(np.ones((2, 2)))))
+    scene.meshes[0].uvs = None
+    with pytest.warns(UserWarning, match="mesh 'square' has no UV map but material 0 'm' reads one"):
+        Renderer(scene, Settings(method="light_array"))
+    scene.materials[0] = Material("m", albedo=CheckerTexture(coords="generated"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        Renderer(scene, Settings(method="light_array"))

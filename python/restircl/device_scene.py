@@ -16,7 +16,7 @@ from .light_array import LightArray, build_light_array
 from .lights import DeviceLights, scene_lights
 from .material_pack import pack_materials
 from .scene import Scene
-from .texture_pack import PackedTextures, TexturePacker
+from .texture_pack import PackedTextures, TexturePacker, warn_missing_uv_maps
 from .tri_attributes import needs_attributes, object_infos, tri_attributes
 
 
@@ -96,6 +96,7 @@ class DeviceScene:
         if self._textures is not None:
             return
         packer = TexturePacker(self.scene.materials)
+        warn_missing_uv_maps(self.scene.meshes, self.scene.materials)
         packed = pack_materials(self.scene.materials, packer.index)
         self._textures = tex = packer.packed()
         self.nonfinite_texels = tex.nonfinite_texels

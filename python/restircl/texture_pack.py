@@ -230,3 +230,30 @@ def _post_order(node: object, out: list[object], done: set[int], path: list[obje
     path.pop()
     done.add(id(node))
     out.append(node)
+
+
+def uses_uv_map(m: Material) -> bool:
+    """Whether some texture node of m reads the UV map (an Image or Checker on "uv", or a Normal Map)."""
+    stack, seen = [v for v in material_inputs(m) if is_texture(v)], set()
+    while stack:
+        node = stack.pop()
+        if id(node) in seen:
+            continue
+        seen.add(id(node))
+        if isinstance(node, NormalMap) or (isinstance(node, ImageTexture | CheckerTexture) and node.coords == "uv"):
+            return True
+        stack.extend(v for v in node_inputs(node) if is_texture(v))
+    return False
+
+
+def warn_missing_uv_maps(meshes: list, materials: list[Material]) -> None:
+    """A mesh without a UV map whose material reads one: its UVs are (0, 0), as in Blender, and a normal map leaves
+    its normal unchanged; worth a warning naming both, once each."""
+    for mesh in meshes:
+        if mesh.uvs is not None or len(mesh.material_ids) == 0:
+            continue
+        for i in np.unique(mesh.material_ids):
+            m = materials[int(i)]
+            if uses_uv_map(m):
+                warnings.warn(f"mesh {mesh.name!r} has no UV map but material {int(i)} {m.name!r} reads one: its "
+                              f"UV textures read (0, 0) there and its normal map does nothing", stacklevel=3)
