@@ -51,6 +51,7 @@ class DeviceScene:
         self.light_array: LightArray
         self.motion_buf: cl.Buffer | None = None
         self._textures: PackedTextures | None = None  # packed once: materials do not animate
+        self._frame = 0  # the frame of the geometry on the device
         self.lights_changed = True  # this frame's light records differ from (or may differ from) the last frame's
         self.light_indices_changed = False  # the light count changed: old reservoirs point at other lights
         self.lights_switched = False  # a light switched on or off, or its power jumped (light_change_ratio)
@@ -89,8 +90,8 @@ class DeviceScene:
         self._upload_materials()
         attributes = needs_attributes(self.scene, self.material_flags["HAS_TEXTURES"])
         self.objects_buf = upload(self.context, object_infos(self.scene, attributes))
-        self.tri_attr_buf = upload(self.context, tri_attributes(self.scene, world, bvh.order,
-                                                                self._frame) if attributes else np.zeros(16, np.uint8))
+        attr = tri_attributes(self.scene, world, bvh.order, self._frame) if attributes else np.zeros(0, np.uint8)
+        self.tri_attr_buf = upload(self.context, attr)  # 16 zero bytes, never read, without attributes
 
     def _upload_materials(self) -> None:
         if self._textures is not None:
