@@ -75,7 +75,7 @@ def _check_input(value: object, what: str, colour: bool, unit: bool = False) -> 
         a = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError):
         raise MaterialError(f"{what} must be a number, an rgb triple or a texture node, got {value!r}") from None
-    if colour and a.shape not in ((3,), ()):
+    if colour and a.shape != (3,):
         raise MaterialError(f"{what} must be 3 numbers (rgb), got {value!r}")
     if not colour and a.shape not in ((), (1,), (3,)):
         raise MaterialError(f"{what} must be a number, got {value!r}")
