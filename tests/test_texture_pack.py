@@ -52,7 +52,9 @@ def test_a_node_loop_is_refused_naming_the_material():
     a.b = b
     scene = facing_square(Material("looped", albedo=a))
     with pytest.raises(SceneError, match="material 0 'looped'.*loop"):
-        Renderer(scene, Settings(method="light_array"))
+        scene.validate()
+    with pytest.raises(SceneError, match="material 0 'looped'.*loop"):  # packing refuses it too
+        TexturePacker(scene.materials)
 
 
 def test_a_program_longer_than_the_registers_is_refused():
@@ -80,6 +82,10 @@ def test_png_and_exr_files_are_read(tmp_path):
     rgb8 = np.random.default_rng(4).integers(0, 256, (3, 5, 3), dtype=np.uint8)
     Image.fromarray(rgb8, "RGB").save(tmp_path / "a.png")
     np.testing.assert_array_equal(read_image_file(tmp_path / "a.png"), rgb8)
+    grey16 = np.random.default_rng(6).integers(0, 65536, (4, 3), dtype=np.uint16)
+    Image.fromarray(grey16).save(tmp_path / "g.png")
+    np.testing.assert_array_equal(read_image_file(tmp_path / "g.png"), grey16)
+    np.testing.assert_allclose(to_linear_rgba(grey16, "Non-Color")[0, :, 1], grey16[-1] / 65535.0, rtol=1e-6)
     hdr = np.random.default_rng(5).random((3, 5, 4)).astype(np.float32) * 10
     write_exr(tmp_path / "b.exr", hdr)
     np.testing.assert_array_equal(read_image_file(tmp_path / "b.exr"), hdr)
