@@ -52,6 +52,14 @@ inline float4 tex_level(const __global float4* texels, TexImage im, int level, f
     return (1.0f - ay) * ((1.0f - ax) * c00 + ax * c10) + ay * ((1.0f - ax) * c01 + ax * c11);
 }
 
+/* sRGB-encoded -> linear (IEC 61966-2-1), for 8-bit sRGB images that Cycles keeps encoded and filters as they
+ * are (its bilinear blend of two texels is the decoded blend of their codes, darker than the blend of the decoded
+ * texels); every other image is linear in the texel buffer. */
+inline float tex_srgb_decode(float c)
+{
+    return c <= 0.04045f ? c * (1.0f / 12.92f) : pow((fmax_f(c, 0.0f) + 0.055f) * (1.0f / 1.055f), 2.4f);
+}
+
 /* The mip level of a footprint: lod is log2 of the footprint's width in image units (texture_point.h); a footprint
  * of one texel is level 0. Clamped to the chain; NaN reads level 0. */
 inline float tex_mip_level(TexImage im, float lod)

@@ -101,7 +101,8 @@ typedef struct {
     int4 op;           /* x: TEXNODE_*; y: Mix blend (TEXMIX_*) / image interpolation (TEXINTERP_*); z: image
                           extension (TEXEXT_*); w: coordinates (TEXCOORD_*) */
     int4 in;           /* x, y, z: node feeding a, b, the factor (-1: the constant); w: image index */
-    int4 blk;          /* x: first node of the program ending here; y: 1 = clamp the Mix factor; zw: unused */
+    int4 blk;          /* x: first node of the program ending here; y: 1 = clamp the Mix factor; z: 1 = the image's
+                          texels are sRGB-encoded: decode after filtering (8-bit sRGB images, as Cycles); w: unused */
 } TexNode;             /* 144 bytes */
 
 /* One image and its mip chain in the texel buffer: level 0 (width x height texels, bottom row first as Blender

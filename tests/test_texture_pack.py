@@ -52,7 +52,9 @@ def test_a_node_loop_is_refused_naming_the_material():
     a.b = b
     scene = facing_square(Material("looped", albedo=a))
     with pytest.raises(SceneError, match="material 0 'looped'.*loop"):
-        Renderer(scene, Settings(method="light_array"))
+        scene.validate()
+    with pytest.raises(SceneError, match="material 0 'looped'.*loop"):  # packing refuses it too
+        TexturePacker(scene.materials)
 
 
 def test_a_program_longer_than_the_registers_is_refused():
@@ -80,6 +82,10 @@ def test_png_and_exr_files_are_read(tmp_path):
     rgb8 = np.random.default_rng(4).integers(0, 256, (3, 5, 3), dtype=np.uint8)
     Image.fromarray(rgb8, "RGB").save(tmp_path / "a.png")
     np.testing.assert_array_equal(read_image_file(tmp_path / "a.png"), rgb8)
+    grey16 = np.random.default_rng(6).integers(0, 65536, (4, 3), dtype=np.uint16)
+    Image.fromarray(grey16).save(tmp_path / "g.png")
+    np.testing.assert_array_equal(read_image_file(tmp_path / "g.png"), grey16)
+    np.testing.assert_allclose(to_linear_rgba(grey16, "Non-Color")[0, :, 1], grey16[-1] / 65535.0, rtol=1e-6)
     hdr = np.random.default_rng(5).random((3, 5, 4)).astype(np.float32) * 10
     write_exr(tmp_path / "b.exr", hdr)
     np.testing.assert_array_equal(read_image_file(tmp_path / "b.exr"), hdr)
@@ -229,3 +235,28 @@ def test_version_1_scene_files_still_load(tmp_path):
     np.savez_compressed(tmp_path / "old.npz", meta=np.frombuffer(json.dumps(meta).encode(), np.uint8))
     m = Scene.load(tmp_path / "old.npz").materials[0]
     assert m.albedo == (0.5, 0.6, 0.7) and m.kind == "principled" and m.specular == 0.0 and m.normal is None
+
+
+def test_builtin_textured_room_renders_and_survives_the_scene_file(tmp_path):
+    from restircl import scenes
+
+    scene = scenes.builtin("textured_room", width=40, height=30)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        a = Renderer(scene, Settings(method="light_array", jitter=False)).render_frame(0)
+    assert "textures" in a.features and np.all(np.isfinite(a.color))
+    assert a.albedo[..., 0].std() > 0.05  # textured: not one flat colour per object
+    scene.save(tmp_path / "room.npz")
+    b = Renderer(Scene.load(tmp_path / "room.npz"), Settings(method="light_array", jitter=False)).render_frame(0)
+    np.testing.assert_array_equal(a.color, b.color)
+
+
+def test_uv_textures_on_a_mesh_without_uvs_warn():
+    scene = facing_square(Material("m", albedo=ImageTexture(np.ones((2, 2)))))
+    scene.meshes[0].uvs = None
+    with pytest.warns(UserWarning, match="mesh 'square' has no UV map but material 0 'm' reads one"):
+        Renderer(scene, Settings(method="light_array"))
+    scene.materials[0] = Material("m", albedo=CheckerTexture(coords="generated"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        Renderer(scene, Settings(method="light_array"))

@@ -171,7 +171,8 @@ def test_mix_blends_match_blender(device, blend):
 # ---- through the renderer: the UV-mapped square of texture_scenes.py --------------------------------------
 
 def render(scene, **settings) -> object:
-    return Renderer(scene, Settings(method="light_array", jitter=False, **settings)).render_frame(0)
+    settings = {"method": "light_array", "jitter": False, **settings}
+    return Renderer(scene, Settings(**settings)).render_frame(0)
 
 
 def test_srgb_images_are_decoded_and_non_color_is_not(device):
@@ -185,7 +186,7 @@ def test_srgb_images_are_decoded_and_non_color_is_not(device):
         tex = ImageTexture(img, colorspace=space, interpolation="Closest")
         f = render(facing_square(Material("m", albedo=tex), 16))
         want = decode(img[::-1].astype(np.float64) / 255.0)[iy, ix]
-        np.testing.assert_allclose(f.albedo, want, atol=2e-6)
+        np.testing.assert_allclose(f.albedo, want, atol=2e-6, rtol=1e-5)
     np.testing.assert_allclose(to_linear_rgba(img, "sRGB")[::-1, :, :3], srgb_to_linear(img / 255.0), atol=1e-6)
 
 
@@ -330,3 +331,29 @@ def test_mips_remove_aliasing_on_a_grazing_plane(device, monkeypatch, interp):
     assert var_without > (0.1 if interp == "Closest" else 0.02)
     assert var_with < 0.1 * var_without
     assert abs(with_mips.mean() - 0.5) < 0.05
+
+
+def test_specialised_and_general_builds_agree_on_a_textured_scene(device):
+    img = np.random.default_rng(4).random((8, 8, 3)).astype(np.float32)
+    m = Material("m", albedo=MixColor(ImageTexture(img), CheckerTexture(), factor=0.5),
+                 normal=NormalMap((0.6, 0.5, 0.9)))
+    scene = facing_square(m, 16)
+    scene.meshes[0].normals = np.broadcast_to((0.1, 0.0, 1.0), (2, 3, 3)).copy()
+    a, b = render(scene, method="ris"), render(scene, method="ris", specialise=False)
+    np.testing.assert_array_equal(a.color, b.color)
+    np.testing.assert_array_equal(a.normal, b.normal)
+
+
+def test_object_coordinates_move_with_the_object(device):
+    """A checker on Object coordinates is painted on the object: moved by (0.5, 0, 0) in frame 1, the pattern the
+    camera sees moves by the same amount (a quarter of the 32-pixel view: 8 pixels)."""
+    tex = CheckerTexture((1.0, 1.0, 1.0), (0.0, 0.0, 0.0), scale=2.0, coords="object")
+    scene = facing_square(Material("m", albedo=tex), 32, half=1.0)
+    scene.meshes[0].vertices *= 3.0  # larger than the view: it fills it in both frames
+    moved = np.eye(4)
+    moved[0, 3] = 0.5
+    scene.meshes[0].transforms = np.stack([np.eye(4), moved])
+    r = Renderer(scene, Settings(method="light_array", jitter=False))
+    f0, f1 = r.render_frame(0).albedo, r.render_frame(1).albedo
+    np.testing.assert_array_equal(f1[:, 8:], f0[:, :-8])
+    assert f0[:, :, 0].std() > 0.3  # the pattern is there

@@ -17,7 +17,7 @@ from .light_array import LightArray, build_light_array
 from .lights import DeviceLights, scene_lights
 from .material_pack import pack_materials
 from .scene import Scene
-from .texture_pack import PackedTextures, TexturePacker
+from .texture_pack import PackedTextures, TexturePacker, warn_missing_uv_maps
 from .tri_attributes import needs_attributes, object_infos, tri_attributes
 
 
@@ -53,6 +53,7 @@ class DeviceScene:
         self.motion_buf: cl.Buffer | None = None
         self.ggx_tables_buf: cl.Buffer | None = None  # glossy builds only (upload_ggx_tables)
         self._textures: PackedTextures | None = None  # packed once: materials do not animate
+        self._frame = 0  # the frame of the geometry on the device
         self.lights_changed = True  # this frame's light records differ from (or may differ from) the last frame's
         self.light_indices_changed = False  # the light count changed: old reservoirs point at other lights
         self.lights_switched = False  # a light switched on or off, or its power jumped (light_change_ratio)
@@ -91,13 +92,14 @@ class DeviceScene:
         self._upload_materials()
         attributes = needs_attributes(self.scene, self.material_flags["HAS_TEXTURES"])
         self.objects_buf = upload(self.context, object_infos(self.scene, attributes))
-        self.tri_attr_buf = upload(self.context, tri_attributes(self.scene, world, bvh.order,
-                                                                self._frame) if attributes else np.zeros(16, np.uint8))
+        attr = tri_attributes(self.scene, world, bvh.order, self._frame) if attributes else np.zeros(0, np.uint8)
+        self.tri_attr_buf = upload(self.context, attr)  # 16 zero bytes, never read, without attributes
 
     def _upload_materials(self) -> None:
         if self._textures is not None:
             return
         packer = TexturePacker(self.scene.materials)
+        warn_missing_uv_maps(self.scene.meshes, self.scene.materials)
         packed = pack_materials(self.scene.materials, packer.index)
         self._textures = tex = packer.packed()
         self.nonfinite_texels = tex.nonfinite_texels

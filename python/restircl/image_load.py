@@ -42,7 +42,8 @@ def read_image_file(path: str | Path) -> np.ndarray:
         with Image.open(path) as im:
             im.load()
             if im.mode in ("I;16", "I;16B", "I;16L", "I"):
-                return np.asarray(im, dtype=np.uint16 if im.mode.startswith("I;16") else np.int32)
+                # Pillow opens 16-bit PNGs as I;16 or as 32-bit I holding 0..65535
+                return np.clip(np.asarray(im, dtype=np.int64), 0, 65535).astype(np.uint16)
             if im.mode == "F":
                 return np.asarray(im, dtype=np.float32)
             return np.asarray(im.convert("RGBA" if "A" in im.getbands() else "RGB"))

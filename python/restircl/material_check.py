@@ -75,7 +75,7 @@ def _check_input(value: object, what: str, colour: bool, unit: bool = False) -> 
         a = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError):
         raise MaterialError(f"{what} must be a number, an rgb triple or a texture node, got {value!r}") from None
-    if colour and a.shape not in ((3,), ()):
+    if colour and a.shape != (3,):
         raise MaterialError(f"{what} must be 3 numbers (rgb), got {value!r}")
     if not colour and a.shape not in ((), (1,), (3,)):
         raise MaterialError(f"{what} must be a number, got {value!r}")
@@ -88,13 +88,13 @@ def _check_input(value: object, what: str, colour: bool, unit: bool = False) -> 
 
 
 def check_node(node: object, what: str) -> None:
-    """The node's own fields (its node inputs are checked by the recursion; loops are texture_pack's refusal)."""
+    """The node's fields and, recursively, its input nodes'; a node reached again through its own inputs is a loop."""
     _check_node(node, what, [])
 
 
 def _check_node(node: object, what: str, path: list[object]) -> None:
     if any(p is node for p in path):
-        return  # a loop: texture_pack refuses it with the loop's path
+        raise MaterialError(f"{what}: its texture nodes form a loop through a {type(node).__name__}")
     path = [*path, node]
     label = f"{what}: {type(node).__name__}"
     if isinstance(node, ImageTexture | CheckerTexture):

@@ -6,6 +6,7 @@
     cornell_box   a closed box with two blocks and one area light in the ceiling
     moving_box    a box sliding over a floor under a panning camera (reprojection, disocclusion, TAA)
     material_balls  glossy and metallic spheres (Principled, Glossy, Mix) on a diffuse floor under point lights
+    textured_room image, checker, mix and normal-map textures and smooth shading (scenes_textured.py)
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ import math
 import numpy as np
 
 from .scene import Camera, Light, Material, Mesh, Scene, look_at, translation
+from .scenes_textured import textured_room
 
 # ---- geometry helpers -----------------------------------------------------------------------------
 
@@ -263,7 +265,7 @@ def material_balls(width: int = 320, height: int = 180, frames: int = 1, diffuse
 
 
 BUILTIN = {"many_lights": many_lights, "cornell_box": cornell_box, "moving_box": moving_box,
-           "material_balls": material_balls}
+           "material_balls": material_balls, "textured_room": textured_room}
 
 
 def builtin(name: str, **kwargs) -> Scene:
