@@ -18,10 +18,15 @@ def _addon():
     ensure_registered()
 
 
-def export():
+def export(**kw):
+    """The export of the current scene; every material it gives passes the renderer's own check."""
+    from restircl.material_check import check_material
     from restircl_blender import export as ex
 
-    return ex.export_scene(bpy.context.evaluated_depsgraph_get())
+    exp = ex.export_scene(bpy.context.evaluated_depsgraph_get(), **kw)
+    for m in exp.scene.materials:
+        check_material(m)
+    return exp
 
 
 def node_material(name: str):
@@ -255,3 +260,23 @@ def test_unsupported_shader_node_is_named():
     mine = warnings_of(warnings, "Glassy")
     assert len(mine) == 1 and "Glass BSDF" in mine[0] and "left out" in mine[0]
     assert mats["Glassy"].albedo == (0.0, 0.0, 0.0)
+
+
+def test_out_of_range_inputs_are_clamped_as_cycles_does():
+    fresh_scene()
+    mat, tree, p = principled("Wild", **{"IOR": 0.0})
+    v = add_node(tree, "ShaderNodeValue")
+    v.outputs[0].default_value = -0.5
+    tree.links.new(v.outputs[0], p.inputs["Roughness"])
+    rgb = add_node(tree, "ShaderNodeRGB")
+    rgb.outputs[0].default_value = (-1.0, 0.5, 2.0, 1.0)
+    fmix = add_node(tree, "ShaderNodeMix", data_type="FLOAT")
+    tree.links.new(v.outputs[0], socket(fmix.inputs, "B_Float"))
+    tree.links.new(socket(fmix.outputs, "Result_Float"), p.inputs["Metallic"])
+    tree.links.new(rgb.outputs[0], p.inputs["Base Color"])
+    mats, warnings = exported(mat)
+    m = mats["Wild"]
+    assert m.roughness == 0.0 and m.albedo == (0.0, 0.5, 2.0) and m.ior == 1.0
+    assert isinstance(m.metallic, restircl.textures.MixColor) and m.metallic.b == (0.0, 0.0, 0.0)
+    mine = warnings_of(warnings, "Wild")
+    assert any("Roughness -0.5" in w for w in mine) and any("IOR" in w for w in mine)

@@ -40,6 +40,14 @@ class InputReader:
     def value(self, socket, stack: tuple = ()):
         return self._read(socket, stack, VALUE, 0)
 
+    def unit(self, socket, stack: tuple, what: str):
+        """A value input that Cycles clamps to [0, 1] (Metallic, Roughness, Specular IOR Level, Mix factors)."""
+        v = self.value(socket, stack)
+        if isinstance(v, float) and not 0.0 <= v <= 1.0:
+            self.notes.note(f"{what} {v:g} is outside [0, 1]; clamped")
+            v = min(max(v, 0.0), 1.0)
+        return v
+
     def constant(self, socket, stack: tuple, what: str) -> float:
         """An input the renderer takes as a number only (IOR, strengths, scales)."""
         try:
@@ -83,7 +91,9 @@ class InputReader:
     # ---- one input ------------------------------------------------------------------------------------
 
     def _default(self, socket, want: str):
-        return default_rgb(socket) if want == COLOR else default_float(socket)
+        if want == COLOR:
+            return tuple(max(c, 0.0) for c in default_rgb(socket))
+        return default_float(socket)
 
     def _read(self, socket, stack: tuple, want: str, depth: int):
         if depth > 16:
@@ -99,7 +109,10 @@ class InputReader:
         value = self._node(src, want, depth)
         if value is None:
             value = self._baked(src, want)
-        return self._default(socket, want) if value is None or value is USE_VALUE else value
+        value = self._default(socket, want) if value is None or value is USE_VALUE else value
+        if want == COLOR and isinstance(value, tuple) and min(value) < 0:  # Cycles clamps colours at 0
+            value = tuple(max(c, 0.0) for c in value)
+        return value
 
     def _node(self, src: Source, want: str, depth: int):
         """A node we evaluate natively, or None (to bake)."""
@@ -191,9 +204,12 @@ class InputReader:
         blend = "MIX" if node.bl_idname == "ShaderNodeMix" and node.data_type == "FLOAT" else node.blend_type
         if blend not in MIX_BLENDS or (clamp_result and blend in CLAMP_MATTERS):
             return None
-        want = COLOR if names[0] != "A_Float" else VALUE
-        a, b = (self._read(find_input(node, (n,)), src.stack, want, depth + 1) for n in names)
+        # a float mix too: its a and b as grey colours (a texture node's inputs are colours)
+        a, b = (self._read(find_input(node, (n,)), src.stack, COLOR, depth + 1) for n in names)
         f = self._read(find_input(node, (fac, "Fac", "Factor")), src.stack, VALUE, depth + 1)
+        if isinstance(f, float) and f < 0:
+            self.notes.note(f"{node_label(node)} {node.name!r}: factor {f:g} is below 0; 0 is used")
+            f = 0.0
         return MixColor(a=a, b=b, factor=f, blend=blend, clamp_factor=bool(clamp_factor))
 
     def _baked(self, src: Source, want: str):

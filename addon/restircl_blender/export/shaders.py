@@ -4,6 +4,7 @@ Material."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from .inputs import InputReader
@@ -117,7 +118,7 @@ class ShaderReader:
         inp = self.inputs
         rough = find_input(node, ("Roughness",))
         return restircl.Material(
-            name=node.name, roughness=inp.value(rough, stack) if rough is not None else 0.5,
+            name=node.name, roughness=inp.unit(rough, stack, f"{label} Roughness") if rough is not None else 0.5,
             normal=inp.normal(find_input(node, ("Normal",)), stack, f"{label} Normal"), **fields)
 
     def _distribution(self, node, label: str) -> str:
@@ -126,14 +127,22 @@ class ShaderReader:
             self.notes.note(f"{label}: distribution {d} is not supported; GGX is used")
         return DISTRIBUTIONS.get(d, "ggx")
 
+    def _ior(self, node, stack: tuple, label: str) -> float:
+        ior = self.inputs.constant(find_input(node, ("IOR",)), stack, f"{label} IOR")
+        if not math.isfinite(ior) or ior <= 0:
+            self.notes.note(f"{label}: IOR {ior:g} is not a refractive index; 1 (no specular reflection) is used")
+            return 1.0
+        return ior
+
     def _principled(self, node, stack: tuple, w: Weight, label: str) -> list[Term]:
         inp = self.inputs
         self._lobes_off(node, stack, label, PRINCIPLED_LOBES)
         closure = self._common(
             node, stack, label, kind="principled", albedo=inp.color(find_input(node, ("Base Color",)), stack),
-            metallic=inp.value(find_input(node, ("Metallic",)), stack),
-            ior=inp.constant(find_input(node, ("IOR",)), stack, f"{label} IOR"),
-            specular=inp.value(find_input(node, ("Specular IOR Level", "Specular")), stack),
+            metallic=inp.unit(find_input(node, ("Metallic",)), stack, f"{label} Metallic"),
+            ior=self._ior(node, stack, label),
+            specular=inp.unit(find_input(node, ("Specular IOR Level", "Specular")), stack,
+                              f"{label} Specular IOR Level"),
             specular_tint=inp.color(find_input(node, ("Specular Tint",)), stack),
             distribution=self._distribution(node, label))
         terms = [Term(w, label, closure=closure)]
