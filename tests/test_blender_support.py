@@ -77,14 +77,6 @@ def relmse(ours: np.ndarray, ref: np.ndarray, eps: float = 1e-2) -> float:
     return float(np.mean((ours - ref) ** 2 / (ref * ref + eps)))
 
 
-def render_to(scene, path: Path, animation: bool = False) -> None:
-    scenes.exr_output(scene, str(path))
-    if animation:
-        bpy.ops.render.render(animation=True)
-    else:
-        bpy.ops.render.render(write_still=True)
-
-
 def cycles_and_ours(tmp_path: Path, sc, cycles_samples: int, our_samples: int, label: str,
                     **settings) -> tuple[float, float]:
     """Render `sc` with Cycles (direct light only) and with restircl's reference method (`settings`: more
@@ -105,6 +97,14 @@ def cycles_and_ours(tmp_path: Path, sc, cycles_samples: int, our_samples: int, l
     print(f"{label}: relMSE {100 * err:.3f} %  sum ours/cycles {ratio:.4f}")
     assert cyc[..., :3].mean() > 0.01, "the comparison scene is dark: nothing is tested"
     return err, ratio
+
+
+def render_to(scene, path: Path, animation: bool = False) -> None:
+    scenes.exr_output(scene, str(path))
+    if animation:
+        bpy.ops.render.render(animation=True)
+    else:
+        bpy.ops.render.render(write_still=True)
 
 
 LIGHT_KINDS = ("point", "sphere", "sphere_soft", "spot", "sun", "area_square", "area_rectangle", "area_disk",

@@ -91,12 +91,12 @@ class MaterialTable:
 
 
 def _uses_nodes(mat) -> bool:
-    """Material.use_nodes, which Blender 5 deprecates (its materials always use their node tree)."""
-    import bpy
-
-    if bpy.app.version >= (5, 0, 0):
+    """Material.use_nodes, which Blender 5 deprecates (its materials always use their node tree): read only where
+    it is not deprecated."""
+    prop = mat.bl_rna.properties.get("use_nodes")
+    if prop is None or getattr(prop, "is_deprecated", False):
         return True
-    return bool(getattr(mat, "use_nodes", True))
+    return bool(mat.use_nodes)
 
 
 def _key(mat) -> str | None:
