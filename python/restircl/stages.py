@@ -135,7 +135,8 @@ class Initial(Stage):
                         visibility_reuse=int(s.visibility_reuse))
         out = self.buffers.res_initial
         self.kernels.launch("restir_initial", pixel_count(state), gbuf=h.gbuf(h.cur), **self.scene.geometry,
-                            **self.scene.light_sampling, **tiles, out=out, frame_params=state.frame_params,
+                            **self.scene.light_sampling, **tiles, tri_light=self.scene.tri_light_buf, out=out,
+                            frame_params=state.frame_params,
                             params=params)
         return out
 
@@ -149,7 +150,8 @@ class Temporal(Stage):
 
     def run(self, state: FrameState, current: cl.Buffer) -> cl.Buffer:
         s, h = self.settings, self.history
-        params = L.pack(L.TEMPORAL_PARAMS, m_cap=s.m_cap * s.candidates, similar=self._similarity(),
+        per_frame = s.candidates + int(state.sampler["bsdf_candidates"])  # the M of an initial reservoir
+        params = L.pack(L.TEMPORAL_PARAMS, m_cap=s.m_cap * per_frame, similar=self._similarity(),
                         bias_correction=self.bias_code, visibility_reuse=int(s.visibility_reuse),
                         lights_static=int(not self.scene.lights_changed))
         out = self.buffers.res_temp
@@ -208,7 +210,8 @@ class Shade(Stage):
         params = L.pack(L.SHADE_PARAMS, sampler=state.sampler, method=self.method_codes[state.method],
                         candidates=self.settings.candidates)
         self.kernels.launch("shade_direct", pixel_count(state), **self._common(state), slots=self.scene.slots_buf,
-                            light_pdf=self.scene.light_pdf_buf, **tiles, params=params)
+                            light_pdf=self.scene.light_pdf_buf, **tiles, tri_light=self.scene.tri_light_buf,
+                            params=params)
 
     def reference(self, state: FrameState) -> None:
         params = L.pack(L.SHADE_PARAMS, sampler=state.sampler)
