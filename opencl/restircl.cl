@@ -19,6 +19,7 @@
 #include "bsdf_candidates.h"
 #include "ris.h"
 #include "reproject.h"
+#include "view_dependence.h"
 #include "restir_pairwise.h"
 #include "restir_reuse.h"
 

@@ -18,14 +18,15 @@ from restircl.program import build_program, opencl_dir
 from restircl.setting_spec import Range, declared
 from restircl.settings import BIAS_CORRECTIONS, JOINT_LIMITS, METHODS, kernel_defines
 
-# the fields, defaults and order of Settings before the table (scripts pass them by keyword and by position)
+# the fields, defaults and order of Settings before the table (scripts pass them by keyword and by position); new
+# fields come last
 BEFORE = (
     ("method", "restir"), ("candidates", 8), ("temporal", True), ("spatial", True), ("spatial_neighbours", 3),
     ("spatial_radius", 30.0), ("spatial_passes", 1), ("bias_correction", "pairwise"), ("m_cap", 20.0),
     ("visibility_reuse", True), ("taa", True), ("alpha_min", 0.1), ("gamma", 1.0), ("max_history", 256),
     ("depth_tolerance", 0.1), ("normal_angle", 25.0), ("slots_per_light", 4.0), ("light_tiles", "auto"),
     ("light_tile_count", 128), ("light_tile_size", 1024), ("light_change_ratio", 2.0), ("jitter", True),
-    ("seed", 0), ("specialise", True),
+    ("seed", 0), ("specialise", True), ("bsdf_sampling", "auto"), ("bsdf_candidates", 1),
 )
 NUMBERS = [d for d in declared(Settings) if d.spec.range is not None]
 

@@ -70,12 +70,6 @@ class Settings:
     candidates: int = setting(8, "Candidates", "Light candidates per pixel and frame (RIS, ReSTIR)",
                               flag="--candidates", range=Range(int, 1, 4096), panel="sampling", applies_when=_RIS,
                               soft_max=64)
-    bsdf_sampling: str = setting("auto", "BSDF Sampling", "RIS and ReSTIR: add BSDF-sampled candidates, combined "
-                                 "with the light candidates by multiple importance sampling", flag="--bsdf-sampling",
-                                 choices=BSDF_SAMPLING_CHOICES, panel="sampling", applies_when=_RIS)
-    bsdf_candidates: int = setting(1, "BSDF Candidates", "BSDF-sampled candidates per pixel and frame (RIS, ReSTIR)",
-                                   flag="--bsdf-candidates", range=Range(int, 1, 64), panel="sampling",
-                                   applies_when=_BSDF, soft_max=8)
     temporal: bool = setting(True, "Temporal Reuse", "ReSTIR: merge the reprojected reservoir of the previous frame",
                              flag="--no-temporal", panel="reuse", applies_when=_RESTIR)
     spatial: bool = setting(True, "Spatial Reuse", "ReSTIR: merge neighbouring reservoirs", flag="--no-spatial",
@@ -133,6 +127,12 @@ class Settings:
     seed: int = setting(0, "Seed", "Random seed", flag="--seed", range=Range(int, 0, UINT32_MAX), panel="sampling")
     specialise: bool = setting(True, "Specialised Kernels", "Compile only the features the scene needs (off: every "
                                "feature, for tests and benchmarks)", flag="--general", panel="device")
+    bsdf_sampling: str = setting("auto", "BSDF Sampling", "RIS and ReSTIR: add BSDF-sampled candidates, combined "
+                                 "with the light candidates by multiple importance sampling", flag="--bsdf-sampling",
+                                 choices=BSDF_SAMPLING_CHOICES, panel="sampling", applies_when=_RIS)
+    bsdf_candidates: int = setting(1, "BSDF Candidates", "BSDF-sampled candidates per pixel and frame (RIS, ReSTIR)",
+                                   flag="--bsdf-candidates", range=Range(int, 1, 64), panel="sampling",
+                                   applies_when=_BSDF, soft_max=8)
 
     def validate(self) -> Settings:
         check(self)
