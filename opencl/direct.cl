@@ -2,7 +2,7 @@
  * `ris` (candidates from the light array or the presampled light tiles), and the exhaustive `reference` (every
  * light, one sample each). One shadow ray per light sample. */
 
-__kernel void shade_direct(const __global GSample* gbuf, const __global BVHNode* nodes, const __global Tri* tris,
+__kernel void shade_direct(const __global GSample* gbuf, const __global GlossySample* glossy, const __global BVHNode* nodes, const __global Tri* tris,
                            const __global Light* lights, const __global int* slots, const __global float* light_pdf,
                            const __global Light* tile_rec, const __global int2* tile_info,
                            const __global int* tri_light, volatile __global int* guards, __global float4* out, FrameParams frame_params,
@@ -15,7 +15,7 @@ __kernel void shade_direct(const __global GSample* gbuf, const __global BVHNode*
     const int method = params.method, candidates = params.candidates;
     int i = get_global_id(0);
     if (i >= pixel_count) return;
-    Surface s = surface_load(gbuf, i);
+    Surface s = surface_load(gbuf, glossy, i);
     float3 c = gbuf[i].emission.xyz;
     if (s.valid && light_count > 0) {
         uint rng = rng_seed((uint)i, frame, seed, 1u);
@@ -41,7 +41,7 @@ __kernel void shade_direct(const __global GSample* gbuf, const __global BVHNode*
     out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), 1.0f);
 }
 
-__kernel void shade_reference(const __global GSample* gbuf, const __global BVHNode* nodes, const __global Tri* tris,
+__kernel void shade_reference(const __global GSample* gbuf, const __global GlossySample* glossy, const __global BVHNode* nodes, const __global Tri* tris,
                               const __global Light* lights, volatile __global int* guards, __global float4* out,
                               FrameParams frame_params, ShadeParams params)
 {
@@ -50,7 +50,7 @@ __kernel void shade_reference(const __global GSample* gbuf, const __global BVHNo
     const int light_count = params.sampler.light_count;
     int i = get_global_id(0);
     if (i >= pixel_count) return;
-    Surface s = surface_load(gbuf, i);
+    Surface s = surface_load(gbuf, glossy, i);
     float3 c = gbuf[i].emission.xyz;
     if (s.valid) {
         uint rng = rng_seed((uint)i, frame, seed, 2u);

@@ -12,8 +12,9 @@ inline float3 motion_apply(const __global float4* m, float3 p)
 
 __kernel void primary(const __global Camera* cam, const __global Camera* prev_cam, const __global Camera* next_cam,
                       const __global BVHNode* nodes, const __global Tri* tris,
-                      const __global Material* materials, const __global float4* object_motion,
-                      __global GSample* gbuf, __global float4* vector)
+                      const __global Material* materials, const __global Closure* closures,
+                      const __global float* ggx_tables, const __global float4* object_motion,
+                      __global GSample* gbuf, __global GlossySample* glossy, __global float4* vector)
 {
     int x = get_global_id(0), y = get_global_id(1);
     int w = cam->width, h = cam->height;
@@ -43,6 +44,9 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
 #endif
         gbuf[i] = g;
         vector[i] = vec;
+#ifdef HAS_GLOSSY
+        glossy[i].wo = (float4)(-d, as_float(0));
+#endif
         return;
     }
     Tri t = tris[hit.prim];
@@ -56,6 +60,23 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
     g.normal = (float4)(ng, as_float(hit.prim));
     g.gnormal = (float4)(ng, as_float(mat));
     g.albedo = (float4)(m.albedo.xyz, as_float(obj));
+#ifdef HAS_GLOSSY
+    /* the material's closures resolved for this view: the diffuse albedo under the specular layer, and the lobes */
+    int count = min(m.info.y, MAX_LAYERS);
+    if (count > 0) {
+        ClosureInputs cin[MAX_LAYERS];
+        for (int k = 0; k < count; ++k) cin[k] = closure_constants(&closures[m.info.x + k]);
+        GlossySample gx;
+        g.albedo.xyz = surface_resolve(cin, count, ng, -d, ggx_tables, &gx);
+        glossy[i] = gx;
+    } else {
+        glossy[i].wo = (float4)(-d, as_float(0));
+    }
+#else
+    (void)closures;
+    (void)ggx_tables;
+    (void)glossy;
+#endif
     g.emission = (float4)(m.emission.xyz, 0.0f);
     g.motion = (float4)(0.0f, 0.0f, 1.0f, g.pos.w);  /* nothing moves: the previous position is this one */
     float4 vec = (float4)(0.0f);

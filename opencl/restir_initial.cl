@@ -2,7 +2,7 @@
  * presampled light tile, light_tiles.h) into a reservoir (ris.h); with visibility reuse, a chosen sample that is
  * occluded gets W = 0 (its M stays). */
 
-__kernel void restir_initial(const __global GSample* gbuf, const __global BVHNode* nodes, const __global Tri* tris,
+__kernel void restir_initial(const __global GSample* gbuf, const __global GlossySample* glossy, const __global BVHNode* nodes, const __global Tri* tris,
                              const __global Light* lights, const __global int* slots, const __global float* light_pdf,
                              const __global Light* tile_rec, const __global int2* tile_info,
                              const __global int* tri_light, __global Reservoir* out, FrameParams frame_params, InitialParams params)
@@ -14,7 +14,7 @@ __kernel void restir_initial(const __global GSample* gbuf, const __global BVHNod
     const int visibility_reuse = p.visibility_reuse;
     int i = get_global_id(0);
     if (i >= pixel_count) return;
-    Surface s = surface_load(gbuf, i);
+    Surface s = surface_load(gbuf, glossy, i);
     Reservoir r;
     res_init(&r);
     if (s.valid && light_count > 0) {

@@ -9,12 +9,13 @@
 #ifndef RESTIRCL_RESTIR_REUSE_H
 #define RESTIRCL_RESTIR_REUSE_H
 
-/* Combine c with qs[0 .. n-1] at surface s into *r (finalised). Input k's surface is input_gbuf[input_pixel[k]], and
- * qs[k].target its target at its own sample there, evaluated with this frame's lights (read by BIAS_PAIRWISE only).
+/* Combine c with qs[0 .. n-1] at surface s into *r (finalised). Input k's surface is pixel input_pixel[k] of
+ * input_gbuf and input_glossy, and qs[k].target its target at its own sample there, evaluated with this frame's lights (read by BIAS_PAIRWISE only).
  * One random number per input, drawn in input order (the canonical one first, except for BIAS_PAIRWISE where it is
  * last). Returns the input whose sample *r holds: -1 the canonical reservoir (or none), k the input qs[k]. */
 inline int reuse_combine(const Surface* s, const Reservoir* c, const Reservoir* qs, int n,
-                         const __global GSample* input_gbuf, const int* input_pixel, const __global BVHNode* nodes,
+                         const __global GSample* input_gbuf, const __global GlossySample* input_glossy,
+                         const int* input_pixel, const __global BVHNode* nodes,
                          const __global Tri* tris, const __global Light* lights, int bias_correction, int visibility,
                          uint* rng, Reservoir* r)
 {
@@ -24,7 +25,7 @@ inline int reuse_combine(const Surface* s, const Reservoir* c, const Reservoir* 
     if (bias_correction == BIAS_PAIRWISE) {
         PairwiseMis mis = pairwise_begin(c, (float)n);
         for (int k = 0; k < n; ++k) {
-            Surface sn = surface_load(input_gbuf, input_pixel[k]);
+            Surface sn = surface_load(input_gbuf, input_glossy, input_pixel[k]);
             if (pairwise_neighbour(&mis, r, s, &sn, c, &qs[k], qs[k].target, nodes, tris, lights, visibility,
                                    rng_next(rng), &chosen))
                 src = k;
@@ -46,7 +47,7 @@ inline int reuse_combine(const Surface* s, const Reservoir* c, const Reservoir* 
             for (int k = 0; k < n; ++k) {
                 /* the input that supplied the sample has it in its support (W > 0 there: p-hat > 0 and, with
                  * visibility reuse, visible); any other input is tested at its own surface */
-                Surface sn = surface_load(input_gbuf, input_pixel[k]);
+                Surface sn = surface_load(input_gbuf, input_glossy, input_pixel[k]);
                 if ((k == src && qs[k].W > 0.0f)
                     || in_support(&sn, nodes, tris, lights, r->light, r->u, r->v, visibility))
                     norm += qs[k].M;

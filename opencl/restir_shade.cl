@@ -2,7 +2,7 @@
  * visible_known: the reuse passes already kept W = 0 for samples occluded at this pixel (unbiased mode with
  * visibility reuse), so the shadow ray is left out. */
 
-__kernel void restir_shade(const __global GSample* gbuf, const __global BVHNode* nodes, const __global Tri* tris,
+__kernel void restir_shade(const __global GSample* gbuf, const __global GlossySample* glossy, const __global BVHNode* nodes, const __global Tri* tris,
                            const __global Light* lights, const __global Reservoir* res,
                            volatile __global int* guards, __global float4* out, FrameParams frame_params,
                            ShadeParams params)
@@ -11,7 +11,7 @@ __kernel void restir_shade(const __global GSample* gbuf, const __global BVHNode*
     const int visible_known = params.visible_known;
     int i = get_global_id(0);
     if (i >= pixel_count) return;
-    Surface s = surface_load(gbuf, i);
+    Surface s = surface_load(gbuf, glossy, i);
     float3 c = gbuf[i].emission.xyz;
     Reservoir r = res[i];
     LightEval e;

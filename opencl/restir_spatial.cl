@@ -22,7 +22,7 @@ inline float2 disk_offset(float r, uint* rng)
     return (float2)(0.0f, 0.0f);
 }
 
-__kernel void restir_spatial(const __global GSample* gbuf, const __global BVHNode* nodes, const __global Tri* tris,
+__kernel void restir_spatial(const __global GSample* gbuf, const __global GlossySample* glossy, const __global BVHNode* nodes, const __global Tri* tris,
                              const __global Light* lights, const __global Reservoir* input, __global Reservoir* out,
                              FrameParams frame_params, SpatialParams params)
 {
@@ -34,7 +34,7 @@ __kernel void restir_spatial(const __global GSample* gbuf, const __global BVHNod
     if (x >= width || y >= height) return;
     int i = y * width + x;
     Reservoir c = input[i];
-    Surface s = surface_load(gbuf, i);
+    Surface s = surface_load(gbuf, glossy, i);
     if (!s.valid) { out[i] = c; return; }
     uint rng = rng_seed((uint)i, frame_params.sample, frame_params.seed, 5u + (uint)pass);
     /* the neighbours: random pixels in the disk that show a similar surface */
@@ -59,7 +59,7 @@ __kernel void restir_spatial(const __global GSample* gbuf, const __global BVHNod
         bool similar = used[k] != i && as_int(nn[k].w) >= 0 && abs_f(nd[k] - s.depth) <= p.similar.depth_tolerance * s.depth
                        && dot3(nn[k].xyz, s.n) >= p.similar.normal_cos;
         if (similar) {  /* and of a material alike: a glossy target is not a diffuse one's */
-            Surface sn = surface_load(gbuf, used[k]);
+            Surface sn = surface_load(gbuf, glossy, used[k]);
             similar = surface_material_similar(&s, &sn);
         }
         if (similar) used[n_used++] = used[k];
@@ -69,6 +69,6 @@ __kernel void restir_spatial(const __global GSample* gbuf, const __global BVHNod
     for (int k = 0; k < n_used; ++k) qs[k] = input[used[k]];
 
     Reservoir r;
-    reuse_combine(&s, &c, qs, n_used, gbuf, used, nodes, tris, lights, bias_correction, visibility_reuse, &rng, &r);
+    reuse_combine(&s, &c, qs, n_used, gbuf, glossy, used, nodes, tris, lights, bias_correction, visibility_reuse, &rng, &r);
     out[i] = r;
 }

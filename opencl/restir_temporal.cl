@@ -7,6 +7,7 @@
  * (glossy) surfaces, whose target moves with the camera (view_dependence.h). */
 
 __kernel void restir_temporal(const __global GSample* gbuf, const __global GSample* prev_gbuf,
+                              const __global GlossySample* glossy, const __global GlossySample* prev_glossy,
                               const __global BVHNode* nodes, const __global Tri* tris, const __global Light* lights,
                               const __global Reservoir* current, const __global Reservoir* previous,
                               __global Reservoir* out, volatile __global int* guards, FrameParams frame_params,
@@ -20,11 +21,11 @@ __kernel void restir_temporal(const __global GSample* gbuf, const __global GSamp
     if (x >= width || y >= height) return;
     int i = y * width + x;
     Reservoir c = current[i];
-    Surface s = surface_load(gbuf, i);
+    Surface s = surface_load(gbuf, glossy, i);
     if (!s.valid) { out[i] = c; return; }
     int j = reproject_pixel(gbuf, prev_gbuf, x, y, width, height, p.similar.depth_tolerance, p.similar.normal_cos);
     if (j < 0) { out[i] = c; return; }
-    Surface sp = surface_load(prev_gbuf, j);
+    Surface sp = surface_load(prev_gbuf, prev_glossy, j);
     if (!surface_material_similar(&s, &sp)) { out[i] = c; return; }  /* a glossy target is not a diffuse one's */
     Reservoir q = previous[j];
     q.M = fmin_f(q.M, p.m_cap * view_dependent_cap(&s));
@@ -35,6 +36,6 @@ __kernel void restir_temporal(const __global GSample* gbuf, const __global GSamp
         q.target = target_of(&sp, lights, q.light, q.u, q.v, &e);
     }
     Reservoir r;
-    reuse_combine(&s, &c, &q, 1, prev_gbuf, &j, nodes, tris, lights, bias_correction, visibility_reuse, &rng, &r);
+    reuse_combine(&s, &c, &q, 1, prev_gbuf, prev_glossy, &j, nodes, tris, lights, bias_correction, visibility_reuse, &rng, &r);
     out[i] = r;
 }

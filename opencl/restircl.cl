@@ -13,6 +13,8 @@
 #include "surface.h"
 #include "closure_inputs.h"
 #include "bsdf.h"
+#include "bsdf_tables.h"
+#include "bsdf_principled.h"
 #include "target.h"
 #include "visibility.h"
 #include "guards.h"

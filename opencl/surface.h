@@ -1,30 +1,33 @@
-/* The surface a pixel shows, as the shading code reads it from the G-buffer: where it is, which way it faces, and
- * its material (what the BSDF, bsdf.h, reads). Private to a kernel; the G-buffer (GSample, types.h) is the stored
- * form. */
+/* The surface a pixel shows, as the shading code reads it from the G-buffer: where it is, which way it faces, where
+ * the viewer is, and its material (what the BSDF, bsdf.h, reads). Private to a kernel; the G-buffer (GSample, and
+ * GlossySample in glossy scenes, types.h) is the stored form. */
 #ifndef RESTIRCL_SURFACE_H
 #define RESTIRCL_SURFACE_H
 
-/* The material parameters of a surface, for the BSDF. The diffuse BSDF reads the albedo only; a BSDF with more
- * parameters (base colour, roughness, metallic, ...) adds them here and surface_load fills them, so resampling and
- * the shading sites, which pass the Surface along, do not change. */
+/* The material parameters of a surface, for the BSDF: the diffuse albedo and, in glossy builds, the GGX lobes the
+ * primary pass resolved for this pixel's view (bsdf_principled.h). */
 typedef struct {
-    float3 albedo;  /* diffuse reflectance, rgb in [0, 1] */
+    float3 albedo;  /* diffuse reflectance, rgb in [0, 1] (under the specular layer: already scaled for it) */
+#ifdef HAS_GLOSSY
+    int lobes;      /* specular lobes in use, 0 .. MAX_LAYERS */
+    SpecLobe lobe[MAX_LAYERS];
+#endif
 } SurfaceMaterial;
 
 typedef struct {
     float3 x;       /* world position */
     float3 n;       /* shading normal facing the camera */
     float3 ng;      /* geometric normal facing the camera */
-    float3 wo;      /* unit direction towards the viewer: NOT stored in this G-buffer layout, so set to n. Only the
-                       diffuse BSDF reads surfaces yet and it ignores wo; a BSDF that reads it needs the G-buffer to
-                       carry it first (or the camera position to derive it from x). */
+    float3 wo;      /* unit direction towards the viewer. Glossy builds store it per pixel (GlossySample.wo); a
+                       diffuse-only build, whose Lambert BSDF ignores it, sets it to n and stores nothing */
     SurfaceMaterial mat;
     float depth;    /* view depth */
     int valid;      /* 0: the primary ray missed */
     int prim;       /* the triangle hit (leaf order; < 0: none), for the shadow ray offset */
 } Surface;
 
-inline Surface surface_load(const __global GSample* g, int i)
+/* Pixel i of the G-buffer g and its extension gx (read only in glossy builds; a placeholder buffer otherwise). */
+inline Surface surface_load(const __global GSample* g, const __global GlossySample* gx, int i)
 {
     Surface s;
     GSample gs = g[i];
@@ -34,17 +37,53 @@ inline Surface surface_load(const __global GSample* g, int i)
     s.depth = gs.pos.w;
     s.n = gs.normal.xyz;
     s.ng = gs.gnormal.xyz;
-    s.wo = s.n;
     s.mat.albedo = gs.albedo.xyz;
+#ifdef HAS_GLOSSY
+    const __global GlossySample* q = gx + i;
+    float4 wo = q->wo;
+    s.wo = wo.xyz;
+    s.mat.lobes = s.valid ? min(as_int(wo.w), MAX_LAYERS) : 0;
+    s.mat.lobe[0] = q->lobe0;
+    s.mat.lobe[1] = q->lobe1;
+#else
+    (void)gx;
+    s.wo = s.n;
+#endif
     return s;
 }
 
-/* Whether the materials of two surfaces are alike enough for one to reuse the other's light samples (temporal and
- * spatial reuse): a glossy target at one is not the other's when roughness or metallic differ much. */
+/* How far two surfaces' materials may differ for one to reuse the other's light samples (temporal and spatial
+ * reuse): a glossy target at one is not the other's when roughness or the metallic share differ much. */
+#define SIMILAR_ROUGHNESS 0.15f   /* |roughness difference| of a lobe */
+#define SIMILAR_METALLIC 0.25f    /* |difference| of the share of the metallic part in the reflectance */
+
+#ifdef HAS_GLOSSY
+/* the share of the F82-tint (metal or Glossy) part in a lobe's and the diffuse reflectance */
+inline float surface_metal_share(const SurfaceMaterial* m, int k)
+{
+    const SpecLobe* l = &m->lobe[k];
+    float mw = l->metal_w.x + l->metal_w.y + l->metal_w.z;
+    float dw = l->diel_w.x + l->diel_w.y + l->diel_w.z + m->albedo.x + m->albedo.y + m->albedo.z;
+    return mw / fmax_f(mw + dw, 1e-6f);
+}
+#endif
+
+/* Whether the materials of two surfaces are alike enough for one to reuse the other's light samples: the same
+ * number of lobes, each of similar roughness and metallic share. Diffuse-only builds: always. */
 inline bool surface_material_similar(const Surface* a, const Surface* b)
 {
+#ifdef HAS_GLOSSY
+    if (a->mat.lobes != b->mat.lobes) return false;
+    for (int k = 0; k < a->mat.lobes; ++k) {
+        float ra = sqrt(a->mat.lobe[k].metal_f0.w), rb = sqrt(b->mat.lobe[k].metal_f0.w);
+        if (abs_f(ra - rb) > SIMILAR_ROUGHNESS) return false;
+        if (abs_f(surface_metal_share(&a->mat, k) - surface_metal_share(&b->mat, k)) > SIMILAR_METALLIC)
+            return false;
+    }
+#else
     (void)a;
     (void)b;
+#endif
     return true;
 }
 

@@ -25,7 +25,8 @@ inline float3 clip_to_box(float3 h, float3 centre, float3 extent)
     return m > 1.0f ? centre + d / m : h;
 }
 
-__kernel void taa(const __global float4* sample, const __global GSample* gbuf, const __global GSample* prev_gbuf,
+__kernel void taa(const __global float4* sample, const __global GSample* gbuf, const __global GlossySample* glossy,
+                  const __global GSample* prev_gbuf,
                   const __global float4* history_in, __global float4* history_out, volatile __global int* guards,
                   FrameParams frame_params, TaaParams params)
 {
@@ -39,7 +40,7 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
     /* a view-dependent (glossy) surface's history does not follow its motion: shorter, clipped harder */
     float alpha_min = p.alpha_min, gamma = p.gamma;
     if (p.moving) {
-        Surface sf = surface_load(gbuf, i);
+        Surface sf = surface_load(gbuf, glossy, i);
         alpha_min = view_dependent_alpha_min(&sf, alpha_min);
         gamma = view_dependent_gamma(&sf, gamma);
     }

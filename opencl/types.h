@@ -39,6 +39,7 @@ typedef struct {
                           constant); w: MATERIAL_* flags (informative: each closure carries its own weight) */
 } Material;            /* 48 bytes */
 
+#define MAX_LAYERS 2   /* closures per material (python/restircl/material.py MAX_LAYERS) */
 #define MATERIAL_MIX 1 /* the two closures are mixed by closure 1's weight w (1 - w, w); else added */
 
 #define CLOSURE_PRINCIPLED 0
@@ -97,6 +98,27 @@ typedef struct {
     float4 emission;   /* rgb: radiance emitted towards the camera (lights seen directly) */
     float4 motion;     /* xy: motion in pixels, previous minus current position (jitter removed); zw: 0 */
 } GSample;             /* 96 bytes */
+
+/* One resolved specular lobe of a pixel (HAS_GLOSSY): a GGX distribution (alpha) shared by a Principled closure's
+ * metallic part (F82-tint Fresnel; a Glossy BSDF is one with f0 = 1, b = 0) and its dielectric specular (the real
+ * Fresnel of eta remapped from its F0 onto [f0, 1]). The weights include the closure's weight and, for multiscatter
+ * GGX, the energy compensation for this pixel's view direction (opencl/bsdf_principled.h). */
+typedef struct {
+    float4 metal_f0;   /* rgb: F82-tint f0; w: alpha (roughness^2, clamped) */
+    float4 metal_b;    /* rgb: F82-tint b; w: eta of the dielectric specular (1: none) */
+    float4 metal_w;    /* rgb: weight of the metallic / Glossy part; w: F0 of eta */
+    float4 diel_f0;    /* rgb: dielectric f0 (F0 scaled by the Specular IOR Level, times Specular Tint); w: the
+                          lobe's sampling weight (its estimated albedo) */
+    float4 diel_w;     /* rgb: weight of the dielectric specular; w: unused */
+} SpecLobe;            /* 80 bytes */
+
+/* The G-buffer extension of glossy scenes (HAS_GLOSSY): what the BSDF needs beyond GSample, whose albedo holds the
+ * diffuse part (already layered under the specular). */
+typedef struct {
+    float4 wo;         /* xyz: unit direction towards the viewer; w: lobe count (int bits) */
+    SpecLobe lobe0;
+    SpecLobe lobe1;
+} GlossySample;        /* 176 bytes */
 
 /* A weighted reservoir holding one light sample y = (light, u, v). */
 typedef struct {

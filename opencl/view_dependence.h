@@ -8,11 +8,25 @@
 /* Roughness above which a specular lobe is wide enough to count as view-independent for reprojection. */
 #define VIEW_DEPENDENT_ROUGHNESS 0.5f
 
-/* In [0, 1]: the view dependence of surface s. The Lambert-only Surface has no specular lobe: 0. */
+/* In [0, 1]: the view dependence of surface s, the share of its specular lobes in its reflectance (their sampling
+ * weights, bsdf.h, against the diffuse albedo) weighted by how sharp each is: 1 at roughness 0, 0 from
+ * VIEW_DEPENDENT_ROUGHNESS up. Diffuse surfaces, and every surface of a diffuse-only build: 0. */
 inline float view_dependence(const Surface* s)
 {
+#ifdef HAS_GLOSSY
+    if (!s->valid || s->mat.lobes == 0) return 0.0f;
+    float total = (s->mat.albedo.x + s->mat.albedo.y + s->mat.albedo.z) * (1.0f / 3.0f), sharp = 0.0f;
+    for (int k = 0; k < s->mat.lobes; ++k) {
+        float w = s->mat.lobe[k].diel_f0.w;
+        float roughness = sqrt(fmax_f(s->mat.lobe[k].metal_f0.w, 0.0f));  /* alpha = roughness^2 */
+        sharp += w * clamp_f(1.0f - roughness / VIEW_DEPENDENT_ROUGHNESS, 0.0f, 1.0f);
+        total += w;
+    }
+    return total > 0.0f ? clamp_f(sharp / total, 0.0f, 1.0f) : 0.0f;
+#else
     (void)s;
     return 0.0f;
+#endif
 }
 
 /* TAA's blend floor a_min raised towards TAA_GLOSSY_ALPHA on a sharp reflection: its history lasts a few frames. */

@@ -27,6 +27,9 @@ inline Surface test_surface(float4 n4, float4 albedo4)
     s.ng = n4.xyz;
     s.wo = n4.xyz;
     s.mat.albedo = albedo4.xyz;
+#ifdef HAS_GLOSSY
+    s.mat.lobes = 0;
+#endif
     s.depth = 1.0f;
     s.valid = 1;
     s.prim = 0;

@@ -12,6 +12,7 @@ import pyopencl as cl
 from . import layouts as L
 from .buffers import upload
 from .bvh import build_bvh, make_tris
+from .ggx_tables import ggx_tables
 from .light_array import LightArray, build_light_array
 from .light_hit import analytic_light_count, triangle_lights
 from .lights import DeviceLights, scene_lights
@@ -49,6 +50,7 @@ class DeviceScene:
         self.lights: DeviceLights
         self.light_array: LightArray
         self.motion_buf: cl.Buffer | None = None
+        self.ggx_tables_buf: cl.Buffer | None = None  # glossy builds only (upload_ggx_tables)
         self.lights_changed = True  # this frame's light records differ from (or may differ from) the last frame's
         self.light_indices_changed = False  # the light count changed: old reservoirs point at other lights
         self.lights_switched = False  # a light switched on or off, or its power jumped (light_change_ratio)
@@ -92,6 +94,14 @@ class DeviceScene:
         self.material_flags = {"HAS_GLOSSY": packed.glossy, "HAS_TEXTURES": packed.textured}
         self.materials_buf = upload(self.context, packed.materials)
         self.closures_buf = upload(self.context, packed.closures)
+        if packed.glossy:
+            self.upload_ggx_tables()
+
+    def upload_ggx_tables(self) -> None:
+        """The GGX energy tables the BSDF resolve (primary pass) reads in glossy builds; computed once per process
+        (a few CPU seconds), so diffuse-only scenes leave them out."""
+        if self.ggx_tables_buf is None:
+            self.ggx_tables_buf = upload(self.context, ggx_tables())
 
     def _upload_lights(self, lights: DeviceLights) -> None:
         old = getattr(self, "lights", None)

@@ -1,6 +1,9 @@
 """What a frame leaves to the next: G-buffers, ReSTIR reservoirs and TAA colour, each a pair of buffers (this frame
 writes slot `cur` and reads last frame's slot `prev`), swapped once per frame in swap().
 
+In glossy builds (HAS_GLOSSY) each G-buffer has its extension (GlossySample: the view direction and the resolved
+specular lobes), kept and swapped with it; otherwise the extension is a 16-byte placeholder the kernels never read.
+
 A still ReSTIR render runs two chains of history, one per half buffer (still.py), so that the halves stay
 independent: a Chain is one pair of G-buffers and reservoirs with its own slot index and validity. The TAA colour
 follows the slot index of the active chain.
@@ -20,14 +23,16 @@ from . import layouts as L
 class Chain:
     gbuf: list[cl.Buffer]
     reservoirs: list[cl.Buffer]
+    glossy: list[cl.Buffer]
     cur: int = 0  # the slot this frame writes
     valid: bool = False  # whether slot 1 - cur holds a frame this one may reuse
 
 
 class History:
-    def __init__(self, alloc: Callable[[int], cl.Buffer], pixels: int) -> None:
+    def __init__(self, alloc: Callable[[int], cl.Buffer], pixels: int, glossy: bool = False) -> None:
         self._alloc = alloc
         self.pixels = pixels
+        self.glossy_bytes = pixels * L.GLOSSY_SAMPLE.itemsize if glossy else 16
         self.chains = [self._new_chain()]
         self.active = 0
         self.taa = [alloc(pixels * 16) for _ in range(2)]  # rgb: colour; w: history length n
@@ -35,7 +40,8 @@ class History:
     def _new_chain(self) -> Chain:
         n = self.pixels
         return Chain([self._alloc(n * L.GSAMPLE.itemsize) for _ in range(2)],
-                     [self._alloc(n * L.RESERVOIR.itemsize) for _ in range(2)])
+                     [self._alloc(n * L.RESERVOIR.itemsize) for _ in range(2)],
+                     [self._alloc(self.glossy_bytes) for _ in range(2)])
 
     @property
     def chain(self) -> Chain:
@@ -58,6 +64,10 @@ class History:
 
     def gbuf(self, slot: int) -> cl.Buffer:
         return self.chain.gbuf[slot]
+
+    def glossy(self, slot: int) -> cl.Buffer:
+        """The G-buffer extension of slot `slot` (a placeholder in diffuse-only builds)."""
+        return self.chain.glossy[slot]
 
     def reservoirs(self, slot: int) -> cl.Buffer:
         return self.chain.reservoirs[slot]

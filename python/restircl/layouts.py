@@ -35,6 +35,8 @@ CAMERA = np.dtype(
 GSAMPLE = np.dtype(
     [("pos", F4), ("normal", F4), ("gnormal", F4), ("albedo", F4), ("emission", F4), ("motion", F4)]
 )
+SPEC_LOBE = np.dtype([("metal_f0", F4), ("metal_b", F4), ("metal_w", F4), ("diel_f0", F4), ("diel_w", F4)])
+GLOSSY_SAMPLE = np.dtype([("wo", F4), ("lobe0", SPEC_LOBE), ("lobe1", SPEC_LOBE)])
 RESERVOIR = np.dtype(
     [
         ("light", np.int32),
@@ -81,6 +83,8 @@ STRUCTS: dict[str, np.dtype] = {
     "Light": LIGHT,
     "Camera": CAMERA,
     "GSample": GSAMPLE,
+    "SpecLobe": SPEC_LOBE,
+    "GlossySample": GLOSSY_SAMPLE,
     "Reservoir": RESERVOIR,
     "FrameParams": FRAME_PARAMS,
     "SamplerParams": SAMPLER_PARAMS,

@@ -74,11 +74,14 @@ class Renderer:
         self.light_tiles_used = False  # whether the last frame drew its RIS candidates from the tiles
         self.guard_totals = dict.fromkeys(L.GUARD_NAMES[: L.GUARD_COUNT], 0)
         context, queue = self.device.context, self.device.queue
-        self.history = History(lambda nbytes: alloc(context, nbytes), self.pixels)
         self.buffers = FrameBuffers(context, queue, self.pixels)
         self.device_scene = DeviceScene(context, scene, s.slots_per_light, s.light_change_ratio)
         self.device_scene.upload(0, None)
         self._build()
+        glossy = self.flags.get("HAS_GLOSSY", False)
+        if glossy:
+            self.device_scene.upload_ggx_tables()
+        self.history = History(lambda nbytes: alloc(context, nbytes), self.pixels, glossy=glossy)
         stage = (self.kernels, self.device_scene, self.buffers, self.history, s)
         bias = BIAS_CORRECTIONS.index(s.bias_correction)
         self.primary = Primary(*stage)

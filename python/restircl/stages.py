@@ -96,8 +96,9 @@ class Primary(Stage):
         cl.enqueue_copy(q, b.cameras[2], camera_record(camera, state.next_frame))
         self.kernels.launch("primary", image_size(state), cam=b.cameras[0],
                             prev_cam=b.cameras[1], next_cam=b.cameras[2], **self.scene.geometry,
-                            materials=self.scene.materials_buf, object_motion=self.scene.motion_buf,
-                            gbuf=h.gbuf(h.cur), vector=b.vector)
+                            materials=self.scene.materials_buf, closures=self.scene.closures_buf,
+                            ggx_tables=self.scene.ggx_tables_buf or b.none, object_motion=self.scene.motion_buf,
+                            gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur), vector=b.vector)
 
 
 class LightTiles(Stage):
@@ -134,9 +135,9 @@ class Initial(Stage):
         params = L.pack(L.INITIAL_PARAMS, sampler=state.sampler, candidates=s.candidates,
                         visibility_reuse=int(s.visibility_reuse))
         out = self.buffers.res_initial
-        self.kernels.launch("restir_initial", pixel_count(state), gbuf=h.gbuf(h.cur), **self.scene.geometry,
-                            **self.scene.light_sampling, **tiles, tri_light=self.scene.tri_light_buf, out=out,
-                            frame_params=state.frame_params,
+        self.kernels.launch("restir_initial", pixel_count(state), gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
+                            **self.scene.geometry, **self.scene.light_sampling, **tiles,
+                            tri_light=self.scene.tri_light_buf, out=out, frame_params=state.frame_params,
                             params=params)
         return out
 
@@ -156,6 +157,7 @@ class Temporal(Stage):
                         lights_static=int(not self.scene.lights_changed))
         out = self.buffers.res_temp
         self.kernels.launch("restir_temporal", image_size(state), gbuf=h.gbuf(h.cur), prev_gbuf=h.gbuf(h.prev),
+                            glossy=h.glossy(h.cur), prev_glossy=h.glossy(h.prev),
                             **self.scene.geometry, lights=self.scene.lights_buf, current=current,
                             previous=h.reservoirs(h.prev), out=out, guards=self.buffers.guards,
                             frame_params=state.frame_params, params=params)
@@ -178,7 +180,8 @@ class Spatial(Stage):
             params = L.pack(L.SPATIAL_PARAMS, spatial_neighbours=s.spatial_neighbours,
                             spatial_radius=s.spatial_radius, similar=self._similarity(), bias_correction=self.bias_code,
                             visibility_reuse=int(s.visibility_reuse), pass_index=p)
-            self.kernels.launch("restir_spatial", image_size(state), gbuf=h.gbuf(h.cur), **self.scene.geometry,
+            self.kernels.launch("restir_spatial", image_size(state), gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
+                                **self.scene.geometry,
                                 lights=self.scene.lights_buf, input=res, out=dst,
                                 frame_params=state.frame_params, params=params)
             res = dst
@@ -195,8 +198,9 @@ class Shade(Stage):
 
     def _common(self, state: FrameState) -> dict:
         h = self.history
-        return {"gbuf": h.gbuf(h.cur), **self.scene.geometry, "lights": self.scene.lights_buf,
-                "guards": self.buffers.guards, "out": self.buffers.sample, "frame_params": state.frame_params}
+        return {"gbuf": h.gbuf(h.cur), "glossy": h.glossy(h.cur), **self.scene.geometry,
+                "lights": self.scene.lights_buf, "guards": self.buffers.guards, "out": self.buffers.sample,
+                "frame_params": state.frame_params}
 
     def restir(self, state: FrameState) -> None:
         """Shade the reservoir this frame leaves as history."""
@@ -226,6 +230,7 @@ class Taa(Stage):
         params = L.pack(L.TAA_PARAMS, alpha_min=s.alpha_min, gamma=s.gamma, similar=self._similarity(),
                         moving=int(moving), max_history=s.max_history, reset=int(not state.history))
         self.kernels.launch("taa", image_size(state), sample=self.buffers.sample, gbuf=h.gbuf(h.cur),
+                            glossy=h.glossy(h.cur),
                             prev_gbuf=h.gbuf(h.prev), history_in=h.taa[h.prev], history_out=h.taa[h.cur],
                             guards=self.buffers.guards, frame_params=state.frame_params, params=params)
         return h.taa[h.cur]
