@@ -13,7 +13,7 @@
  * VIEW_DEPENDENT_ROUGHNESS up. Diffuse surfaces, and every surface of a diffuse-only build: 0. */
 inline float view_dependence(const Surface* s)
 {
-#ifdef HAS_GLOSSY
+#if defined(HAS_GLOSSY) && !defined(VIEW_DEPENDENCE_OFF)  /* OFF: the before of the ghosting test (test_taa_glossy.py) */
     if (!s->valid || s->mat.lobes == 0) return 0.0f;
     float total = (s->mat.albedo.x + s->mat.albedo.y + s->mat.albedo.z) * (1.0f / 3.0f), sharp = 0.0f;
     for (int k = 0; k < s->mat.lobes; ++k) {
