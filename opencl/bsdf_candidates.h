@@ -25,14 +25,27 @@
 
 /* What the BSDF candidates of a frame look for (SamplerParams). */
 typedef struct {
-    int count;      /* BSDF candidates per pixel; 0: light candidates only */
-    int analytic;   /* the first `analytic` lights (the scene's analytic lights) are tested against each ray */
-    int triangles;  /* 1: emissive triangles are found through the BVH (tri_light) */
+    int count;        /* BSDF candidates per pixel; 0: light candidates only */
+    int analytic;     /* the first `analytic` lights (the scene's analytic lights) are tested against each ray */
+    int triangles;    /* 1: emissive triangles are found through the BVH (tri_light) */
+    int glossy_only;  /* 1: only at pixels whose material has a specular lobe (bsdf_sampling "auto") */
 } BsdfSource;
 
 inline BsdfSource bsdf_source(SamplerParams sp)
 {
-    BsdfSource b = {sp.bsdf_candidates, sp.bsdf_analytic, sp.bsdf_triangles};
+    BsdfSource b = {sp.bsdf_candidates, sp.bsdf_analytic, sp.bsdf_triangles, sp.bsdf_glossy_only};
+    return b;
+}
+
+/* The BSDF candidates surface s gets: none on a diffuse pixel when they are for glossy ones only. The count depends
+ * on the surface alone, so every pixel's estimator stays unbiased (M counts what it drew). */
+inline BsdfSource bsdf_source_at(const Surface* s, BsdfSource b)
+{
+#ifdef HAS_GLOSSY
+    if (b.glossy_only && s->mat.lobes == 0) b.count = 0;
+#else
+    if (b.glossy_only) b.count = 0;
+#endif
     return b;
 }
 

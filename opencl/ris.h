@@ -40,8 +40,9 @@ inline void ris_candidates(const Surface* s, const __global Light* lights, const
                            const __global float* light_pdf, const __global Light* tile_rec,
                            const __global int2* tile_info, RisSource src, int candidates,
                            const __global BVHNode* nodes, const __global Tri* tris, const __global int* tri_light,
-                           BsdfSource bsdf, uint* rng, Reservoir* r, LightEval* chosen)
+                           BsdfSource bsdf_frame, uint* rng, Reservoir* r, LightEval* chosen)
 {
+    const BsdfSource bsdf = bsdf_source_at(s, bsdf_frame);
     const float n_light = (float)candidates, n_bsdf = (float)bsdf.count;
     LightEval e;
     bool tiled = src.tile_count > 0;

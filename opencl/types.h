@@ -157,7 +157,7 @@ typedef struct {
     int bsdf_candidates;   /* BSDF-sampled candidates per pixel (bsdf_candidates.h); 0: none */
     int bsdf_analytic;     /* how many of the first lights (the analytic ones) BSDF rays are tested against */
     int bsdf_triangles;    /* 1: BSDF rays look for emissive triangles (tri_light) */
-    int pad0;
+    int bsdf_glossy_only;  /* 1: BSDF candidates only where the material has a specular lobe */
 } SamplerParams;           /* 32 bytes */
 
 /* When a history or neighbour surface counts as the pixel's own (temporal and spatial reuse, TAA). */

@@ -193,7 +193,8 @@ class Renderer:
                          tile_count=s.light_tile_count if tiles else 0, tile_size=s.light_tile_size if tiles else 0,
                          bsdf_candidates=bsdf,
                          bsdf_analytic=ds.analytic_lights if bsdf and ds.analytic_lights <= BSDF_ANALYTIC_MAX else 0,
-                         bsdf_triangles=int(bool(bsdf) and ds.triangle_lights))
+                         bsdf_triangles=int(bool(bsdf) and ds.triangle_lights),
+                         bsdf_glossy_only=int(s.bsdf_sampling == "auto"))
         jit = jitter_px if jitter_px is not None else jitter(self._sample) if s.jitter else (0.0, 0.0)
         # A light switched on or off (or its power jumped) makes last frame's reservoirs samples of another target:
         # kept, they would dilute this frame's estimate for many frames. The decision depends on the scene only, not

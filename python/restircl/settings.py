@@ -38,7 +38,7 @@ LIGHT_TILE_CHOICES = (
 )
 LIGHT_TILES = tuple(c.id for c in LIGHT_TILE_CHOICES)
 BSDF_SAMPLING_CHOICES = (
-    Choice("auto", "Auto", "BSDF-sampled candidates where a material has a specular lobe", 0),
+    Choice("auto", "Auto", "BSDF-sampled candidates at the pixels whose material has a specular lobe", 0),
     Choice("on", "On", "BSDF-sampled candidates for every scene (also diffuse ones, e.g. with large or mesh lights)",
            1),
     Choice("off", "Off", "Light candidates only", 2),

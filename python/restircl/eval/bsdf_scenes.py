@@ -56,13 +56,15 @@ def neon(width: int = 160, height: int = 90) -> Scene:
 
 
 def glossy_many_lights(width: int = 160, height: int = 90, frames: int = 24) -> Scene:
-    """many_lights with its four surface materials made glossy: a polished floor (dielectric, roughness 0.15),
-    brushed metal (0.25), a glossy red plastic (0.35) and a mirror-like blue metal (0.05); the lamps as they are."""
+    """many_lights with its four surface materials made glossy: a polished floor (dielectric, roughness 0.2),
+    brushed metal (0.25), a glossy red plastic (0.35) and a blue metal (0.2); the lamps as they are. (With a
+    near-mirror metal, roughness 0.05, point lights make spikes that neither strategy samples well: relMSE at
+    160x90 stayed about 20 from 0.5 to 4 s for every method, so no figure could tell them apart.)"""
     scene = many_lights(width, height, frames)
-    scene.materials[0] = Material("polished_floor", (0.6, 0.6, 0.6), roughness=0.15, specular=0.5)
+    scene.materials[0] = Material("polished_floor", (0.6, 0.6, 0.6), roughness=0.2, specular=0.5)
     scene.materials[1] = Material("brushed_metal", (0.9, 0.9, 0.9), metallic=1.0, roughness=0.25)
     scene.materials[2] = Material("red_plastic", (0.8, 0.2, 0.15), roughness=0.35, specular=0.5)
-    scene.materials[3] = Material("blue_mirror", (0.3, 0.5, 0.9), metallic=1.0, roughness=0.05)
+    scene.materials[3] = Material("blue_metal", (0.3, 0.5, 0.9), metallic=1.0, roughness=0.2)
     scene.name = "glossy_many_lights"
     return scene
 
