@@ -57,9 +57,8 @@ def neon(width: int = 160, height: int = 90) -> Scene:
 
 def glossy_many_lights(width: int = 160, height: int = 90, frames: int = 24) -> Scene:
     """many_lights with its four surface materials made glossy: a polished floor (dielectric, roughness 0.2),
-    brushed metal (0.25), a glossy red plastic (0.35) and a blue metal (0.2); the lamps as they are. (With a
-    near-mirror metal, roughness 0.05, point lights make spikes that neither strategy samples well: relMSE at
-    160x90 stayed about 20 from 0.5 to 4 s for every method, so no figure could tell them apart.)"""
+    brushed metal (0.25), a glossy red plastic (0.35) and a blue metal (0.2); the lamps as they are. (Scene files
+    do not keep the glossy inputs yet, scene_file.py: build it here rather than loading a saved copy.)"""
     scene = many_lights(width, height, frames)
     scene.materials[0] = Material("polished_floor", (0.6, 0.6, 0.6), roughness=0.2, specular=0.5)
     scene.materials[1] = Material("brushed_metal", (0.9, 0.9, 0.9), metallic=1.0, roughness=0.25)
