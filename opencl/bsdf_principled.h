@@ -92,7 +92,7 @@ inline float3 closure_resolve(const ClosureInputs* c, float mu, const __global f
         if (ior < 1.0f) eta = 1.0f / eta;
     }
     float3 diffuse_w = (float3)(wr);
-    if (wr > CLOSURE_WEIGHT_CUTOFF && eta != 1.0f) {
+    if (wr > CLOSURE_WEIGHT_CUTOFF && eta > 1.0f) {  /* an IOR <= 1: no reflection modelled (no transmission) */
         float3 df0 = saturate3((float3)(f0) * tint);
         float f0_eta = f0_from_ior(eta);
         float s_avg = clamp_f((fresnel_dielectric_avg(eta) - f0_eta) / (1.0f - f0_eta), 0.0f, 1.0f);

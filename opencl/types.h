@@ -33,7 +33,8 @@ typedef struct {
 /* A material: what the diffuse-only kernels read (albedo, emission) first; then where its closures are. A material
  * is 1..MAX_LAYERS closures (python/restircl/material.py), summed with their weights (Mix / Add Shader). */
 typedef struct {
-    float4 albedo;     /* rgb: diffuse albedo (the first closure's base colour, constant part); w: unused */
+    float4 albedo;     /* rgb: diffuse albedo of diffuse-only builds (the closures' constant colours summed with
+                          their weights); w: unused */
     float4 emission;   /* rgb: emitted radiance (colour * strength); w: 1 if emissive */
     int4 info;         /* x: first closure in the closure table; y: closure count; z: emission texture node (-1:
                           constant); w: MATERIAL_* flags (informative: each closure carries its own weight) */

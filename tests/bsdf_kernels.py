@@ -65,19 +65,17 @@ __kernel void eval_dirs(const __global float* p, int count, const __global float
     out[i] = (float4)(bsdf_eval(&s, wo4.xyz, wi), bsdf_pdf(&s, wo4.xyz, wi));
 }
 
-/* per sample: (wi, pdf), (f, bsdf_pdf at wi) */
-__kernel void sample_dirs(const __global float* p, int count, const __global float* tab, float4 wo4, uint seed,
-                          __global float4* out)
+/* per sample of the host's uniform numbers u[i]: (wi, pdf), (f, bsdf_pdf at wi) */
+__kernel void sample_dirs(const __global float* p, int count, const __global float* tab, float4 wo4,
+                          const __global float2* u, __global float4* out)
 {
     int i = get_global_id(0);
     Surface s = test_surface(p, count, tab, wo4.xyz);
-    uint rng = rng_seed((uint)i, 0u, seed, 0u);
-    float u0 = rng_next(&rng), u1 = rng_next(&rng);
     float3 wi;
     float pdf;
-    float3 f = bsdf_sample(&s, wo4.xyz, u0, u1, &wi, &pdf);
+    float3 f = bsdf_sample(&s, wo4.xyz, u[i].x, u[i].y, &wi, &pdf);
     out[2 * i] = (float4)(wi, pdf);
-    out[2 * i + 1] = (float4)(f, bsdf_pdf(&s, wo4.xyz, wi));
+    out[2 * i + 1] = (float4)(f, bsdf_pdf(&s, s.wo, wi));
 }
 """
 
@@ -132,10 +130,13 @@ class BsdfKernels:
 
     def sample(self, closures: list[Closure], wo: np.ndarray, count: int, seed: int = 7) -> np.ndarray:
         """(count, 2, 4): (wi, pdf), (f, bsdf_pdf at wi), float64."""
+        # uniform in [0, 1) as float32 (a float64 draw can round up to 1.0)
+        u = np.minimum(np.random.default_rng(seed).random((count, 2)), 0.99999994).astype(np.float32)
+        mf = cl.mem_flags
+        ub = cl.Buffer(self.device.context, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=u)
         out = np.empty((count, 2, 4), np.float32)
-        ob = cl.Buffer(self.device.context, cl.mem_flags.WRITE_ONLY, out.nbytes)
+        ob = cl.Buffer(self.device.context, mf.WRITE_ONLY, out.nbytes)
         cl.Kernel(self.prog, "sample_dirs")(self.device.queue, (count,), None, self._params(closures),
-                                            np.int32(len(closures)), self.tab, clt.make_float4(*wo, 0.0),
-                                            np.uint32(seed), ob)
+                                            np.int32(len(closures)), self.tab, clt.make_float4(*wo, 0.0), ub, ob)
         cl.enqueue_copy(self.device.queue, out, ob)
         return out.astype(np.float64)

@@ -101,6 +101,23 @@ def allowed_outliers(n: int, batches: int = 16, z: float = 4.0) -> int:
     return int(math.ceil(n * p + 4 * math.sqrt(n * p * (1 - p)) + 1))
 
 
+def assert_mean_equals_reference(samples: np.ndarray, reference: np.ndarray, batches: int, label: str) -> None:
+    """The per-frame estimates `samples` (frames, H, W, 3) and the exhaustive `reference` agree in the mean: per
+    pixel (luminance) within 4 standard errors of the batch means but for the allowed outliers, exactly where
+    neither varies, and over the image per channel."""
+    m, se = batch_stats(luminance(samples), batches)
+    mr, ser = batch_stats(luminance(reference), batches)
+    sigma = np.sqrt(se**2 + ser**2)
+    z = np.abs(m - mr) / np.where(sigma > 0, sigma, 1.0)
+    exact = sigma == 0
+    assert np.all(np.abs(m - mr)[exact] <= 1e-5 * np.abs(mr[exact]) + 1e-12), label
+    n_out = int((z[~exact] > 4).sum())
+    assert n_out <= allowed_outliers(int((~exact).sum()), batches), (label, n_out, np.sort(z.ravel())[-5:])
+    mi, si = batch_stats(samples.mean(axis=(1, 2)), batches)
+    mr2, sr2 = batch_stats(reference.mean(axis=(1, 2)), batches)
+    assert np.all(np.abs(mi - mr2) <= 4 * np.sqrt(si**2 + sr2**2)), (label, mi, mr2, si, sr2)
+
+
 def rel_mse(x: np.ndarray, ref: np.ndarray) -> float:
     """mean of (x - r)^2 / (r^2 + 0.01), over pixels and channels (the issue's relMSE)."""
     return float(np.mean((x - ref) ** 2 / (ref * ref + 0.01)))
@@ -110,8 +127,9 @@ def luminance(x: np.ndarray) -> np.ndarray:
     return x @ np.array([0.2126, 0.7152, 0.0722])
 
 
-__all__ = ["Renderer", "Settings", "allowed_outliers", "batch_stats", "below_only_scene", "collect",
-           "luminance", "mean_and_se", "mixed_lights_scene", "occluder_scene", "rel_mse", "run_means"]
+__all__ = ["Renderer", "Settings", "allowed_outliers", "assert_mean_equals_reference", "batch_stats",
+           "below_only_scene", "collect", "luminance", "mean_and_se", "mixed_lights_scene", "occluder_scene", "rel_mse",
+           "run_means"]
 
 
 def run_means(scene: Scene, settings: Settings, runs: int, frames: int, device=None) -> np.ndarray:

@@ -93,7 +93,7 @@ def resolve(closures: list[Closure], mu: float) -> tuple[np.ndarray, list[dict]]
             f0s *= 2.0 * max(c.specular, 0.0)
             eta = float(T.ior_from_f0(f0s))
         dw = wr
-        if wr > 1e-5 and eta != 1.0:
+        if wr > 1e-5 and eta > 1.0:
             df0 = np.clip(f0s * tint, 0.0, 1.0)
             f0_eta = ((eta - 1.0) / (eta + 1.0)) ** 2
             s_avg = min(max(((eta - 1.0) / (4.08567 + 1.00071 * eta) - f0_eta) / (1.0 - f0_eta), 0.0), 1.0)

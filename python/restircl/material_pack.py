@@ -67,6 +67,19 @@ def uses_textures(m: Material) -> bool:
     return any(is_texture(getattr(c, f)) for c in [m, *m.layers] for f in fields)
 
 
+def diffuse_albedo(m: Material) -> tuple[float, float, float]:
+    """The albedo diffuse-only builds shade with (Material.albedo): the closures' constant colours summed with
+    their weights ((1 - f, f) for a Mix, (1, 1) for an Add; a textured factor counts as 0.5). Glossy builds resolve
+    the closures per pixel instead (opencl/bsdf_principled.h)."""
+    cl = closures_of(m)
+    if len(cl) == 1:
+        return constant_rgb(cl[0].albedo, (0.8, 0.8, 0.8))
+    f = constant_float(m.mix, 0.5) if m.mix is not None else None
+    weights = (1.0 - f, f) if f is not None else (1.0, 1.0)
+    total = sum(w * np.asarray(constant_rgb(c.albedo, (0.8, 0.8, 0.8))) for c, w in zip(cl, weights, strict=True))
+    return float(total[0]), float(total[1]), float(total[2])
+
+
 @dataclass
 class PackedMaterials:
     materials: np.ndarray  # L.MATERIAL
@@ -81,7 +94,7 @@ def pack_materials(materials: Sequence[Material], texture_index: TextureIndex = 
     rows: list[np.void] = []
     for i, m in enumerate(materials):
         cl = closures_of(m)
-        recs["albedo"][i, :3] = constant_rgb(cl[0].albedo, (0.8, 0.8, 0.8))
+        recs["albedo"][i, :3] = diffuse_albedo(m)
         recs["emission"][i, :3] = m.radiance
         recs["emission"][i, 3] = float(m.is_emissive)
         flags = MATERIAL_MIX if (m.layers and m.mix is not None) else 0

@@ -5,6 +5,7 @@
                   and a camera flythrough
     cornell_box   a closed box with two blocks and one area light in the ceiling
     moving_box    a box sliding over a floor under a panning camera (reprojection, disocclusion, TAA)
+    material_balls  glossy and metallic spheres (Principled, Glossy, Mix) on a diffuse floor under point lights
 """
 
 from __future__ import annotations
@@ -217,7 +218,52 @@ def moving_box(width: int = 160, height: int = 120, frames: int = 16, pan: float
     )
 
 
-BUILTIN = {"many_lights": many_lights, "cornell_box": cornell_box, "moving_box": moving_box}
+# the spheres of material_balls, left to right, front row first: (name, Material keyword arguments)
+BALLS = [
+    ("dielectric_r005", {"albedo": (0.8, 0.1, 0.1), "roughness": 0.05, "specular": 0.5}),
+    ("dielectric_r03", {"albedo": (0.1, 0.6, 0.2), "roughness": 0.3, "specular": 0.5}),
+    ("dielectric_r1", {"albedo": (0.2, 0.3, 0.8), "roughness": 1.0, "specular": 0.5}),
+    ("specular_level", {"albedo": (0.7, 0.7, 0.7), "roughness": 0.2, "specular": 1.0, "ior": 1.45}),
+    ("metal_r005", {"albedo": (0.95, 0.65, 0.3), "metallic": 1.0, "roughness": 0.05}),
+    ("metal_r03", {"albedo": (0.95, 0.65, 0.3), "metallic": 1.0, "roughness": 0.3}),
+    ("metal_r1", {"albedo": (0.9, 0.9, 0.9), "metallic": 1.0, "roughness": 1.0, "specular_tint": (0.6, 0.8, 1.0)}),
+    ("glossy", {"kind": "glossy", "albedo": (0.8, 0.8, 0.8), "roughness": 0.2}),
+]
+
+
+def material_balls(width: int = 320, height: int = 180, frames: int = 1, diffuse: bool = False,
+                   area_light: bool = False) -> Scene:
+    """Two rows of four spheres (BALLS), a Mix Shader sphere (diffuse 0.6, glossy 0.4) and a plain-GGX (not
+    multiscatter) metal of roughness 0.7 at the right, on a grey floor, lit by
+    two point lights (and, with `area_light`, a square area light). `diffuse`: the twin with every material
+    replaced by a diffuse one of the same colour (the frame-time comparison of a glossy scene)."""
+    fv, ft = quad(10, 10)
+    sv, st = icosphere(3, 0.42)
+    mats = [Material("floor", (0.5, 0.5, 0.5))]
+    meshes = [Mesh("floor", fv, ft, 0)]
+    for k, (name, kw) in enumerate(BALLS):
+        mats.append(Material(name, **kw))
+        x, y = -1.65 + 1.1 * (k % 4), -0.6 + 1.2 * (k // 4)
+        meshes.append(Mesh(name, sv, st, len(mats) - 1, translation(x, y, 0.42)))
+    mats.append(Material.mixed(Material("mix_diffuse", (0.1, 0.5, 0.7), kind="diffuse"),
+                               Material("mix_glossy", (0.9, 0.9, 0.9), kind="glossy", roughness=0.15), 0.4,
+                               name="mix"))
+    meshes.append(Mesh("mix", sv, st, len(mats) - 1, translation(2.55, -0.6, 0.42)))
+    mats.append(Material("metal_ggx", (0.9, 0.9, 0.9), metallic=1.0, roughness=0.7, distribution="ggx"))
+    meshes.append(Mesh("metal_ggx", sv, st, len(mats) - 1, translation(2.55, 0.6, 0.42)))
+    if diffuse:
+        mats = [Material(m.name, m.layers[0].albedo if m.layers else m.albedo) for m in mats]
+    lights = [Light("key", "point", (1.0, 0.95, 0.9), 300.0, translation(-2.0, -3.0, 3.5)),
+              Light("rim", "point", (0.8, 0.9, 1.0), 150.0, translation(3.0, 2.5, 2.5))]
+    if area_light:
+        lights.append(Light("panel", "area", (1.0, 1.0, 1.0), 200.0, translation(0.0, -1.5, 3.0), size=1.0))
+    eye = look_at((0.4, -5.2, 2.6), (0.4, 0.0, 0.35))
+    cam = Camera(np.repeat(eye[None], max(frames, 1), axis=0), width, height, lens=35.0)
+    return Scene(meshes, mats, lights, cam, name="material_balls")
+
+
+BUILTIN = {"many_lights": many_lights, "cornell_box": cornell_box, "moving_box": moving_box,
+           "material_balls": material_balls}
 
 
 def builtin(name: str, **kwargs) -> Scene:

@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from ..scene import Scene
+from .cycles_materials import is_plain_diffuse, material_to_bpy
 
 
 def available() -> bool:
@@ -104,7 +105,8 @@ def to_bpy(scene: Scene, frame: int = 0):
     sc.render.resolution_x, sc.render.resolution_y = int(cam.width), int(cam.height)
     sc.render.resolution_percentage = 100
     black_world(bpy, sc)
-    mats = [_material(bpy, m) for m in scene.materials]
+    mats = [_material(bpy, m) if is_plain_diffuse(m) else material_to_bpy(bpy, m, node_material)
+            for m in scene.materials]
     for mesh in scene.meshes:
         if len(mesh.triangles) == 0:
             continue
