@@ -5,7 +5,7 @@
 __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySample* glossy, const __global BVHNode* nodes, const __global Tri* tris,
                            const __global Light* lights, const __global int* slots, const __global float* light_pdf,
                            const __global Light* tile_rec, const __global int2* tile_info,
-                           volatile __global int* guards, __global float4* out, FrameParams frame_params,
+                           const __global int* tri_light, volatile __global int* guards, __global float4* out, FrameParams frame_params,
                            ShadeParams params)
 {
     const int pixel_count = frame_params.pixels;
@@ -24,7 +24,8 @@ __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySa
             Reservoir r;
             res_init(&r);
             RisSource src = ris_source(slot_count, tile_count, tile_size, i, frame, seed);
-            ris_candidates(&s, lights, slots, light_pdf, tile_rec, tile_info, src, candidates, &rng, &r, &e);
+            ris_candidates(&s, lights, slots, light_pdf, tile_rec, tile_info, src, candidates, nodes, tris, tri_light,
+                           bsdf_source(params.sampler), &rng, &r, &e);
             res_finalize(&r, r.M);
             /* W > 0: a candidate of target > 0 was picked, and e holds its evaluation */
             if (r.W > 0.0f && visible(nodes, tris, &s, &e))

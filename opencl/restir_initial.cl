@@ -5,7 +5,7 @@
 __kernel void restir_initial(const __global GSample* gbuf, const __global GlossySample* glossy, const __global BVHNode* nodes, const __global Tri* tris,
                              const __global Light* lights, const __global int* slots, const __global float* light_pdf,
                              const __global Light* tile_rec, const __global int2* tile_info,
-                             __global Reservoir* out, FrameParams frame_params, InitialParams params)
+                             const __global int* tri_light, __global Reservoir* out, FrameParams frame_params, InitialParams params)
 {
     const InitialParams p = params;
     const int pixel_count = frame_params.pixels;
@@ -21,7 +21,8 @@ __kernel void restir_initial(const __global GSample* gbuf, const __global Glossy
         uint rng = rng_seed((uint)i, frame_params.sample, frame_params.seed, 3u);
         LightEval chosen;  /* the evaluation of the picked candidate, for its shadow ray */
         RisSource src = ris_source(slot_count, tile_count, tile_size, i, frame_params.sample, frame_params.seed);
-        ris_candidates(&s, lights, slots, light_pdf, tile_rec, tile_info, src, p.candidates, &rng, &r, &chosen);
+        ris_candidates(&s, lights, slots, light_pdf, tile_rec, tile_info, src, p.candidates, nodes, tris, tri_light,
+                       bsdf_source(p.sampler), &rng, &r, &chosen);
         res_finalize(&r, r.M);
         /* W > 0: a candidate with target > 0 was picked, and chosen holds its evaluation */
         if (visibility_reuse && r.W > 0.0f && !visible(nodes, tris, &s, &chosen)) r.W = 0.0f;

@@ -1,5 +1,6 @@
 /* ReSTIR pass 5: merge up to `spatial_neighbours` reservoirs of random pixels within `spatial_radius` whose
- * surface is similar (view depth and normal) with the pixel's own (restir_reuse.h). */
+ * surface is similar (view depth, normal and material: surface_material_similar) with the pixel's own
+ * (restir_reuse.h). */
 
 /* the table's limit (settings.py) arrives as -DMAX_NEIGHBOURS; this fallback serves builds outside program.py */
 #ifndef MAX_NEIGHBOURS
@@ -57,6 +58,10 @@ __kernel void restir_spatial(const __global GSample* gbuf, const __global Glossy
     for (int k = 0; k < k_max; ++k) {
         bool similar = used[k] != i && as_int(nn[k].w) >= 0 && abs_f(nd[k] - s.depth) <= p.similar.depth_tolerance * s.depth
                        && dot3(nn[k].xyz, s.n) >= p.similar.normal_cos;
+        if (similar) {  /* and of a material alike: a glossy target is not a diffuse one's */
+            Surface sn = surface_load(gbuf, glossy, used[k]);
+            similar = surface_material_similar(&s, &sn);
+        }
         if (similar) used[n_used++] = used[k];
     }
     if (n_used == 0) { out[i] = c; return; }

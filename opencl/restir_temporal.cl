@@ -2,7 +2,9 @@
  * reprojection), its M capped, by the reuse combine (restir_reuse.h). Targets at this pixel are evaluated with this
  * frame's lights, so a light switched off stops contributing at once. Pairwise MIS also needs the previous input's
  * target at its own sample, at last frame's surface with this frame's lights and geometry; lights_static: the light
- * records are last frame's, so that is the target the reservoir stored and is not evaluated again. */
+ * records are last frame's, so that is the target the reservoir stored and is not evaluated again. Last frame's
+ * surface must carry a similar material (surface_material_similar), and the history cap shrinks on view-dependent
+ * (glossy) surfaces, whose target moves with the camera (view_dependence.h). */
 
 __kernel void restir_temporal(const __global GSample* gbuf, const __global GSample* prev_gbuf,
                               const __global GlossySample* glossy, const __global GlossySample* prev_glossy,
@@ -23,12 +25,13 @@ __kernel void restir_temporal(const __global GSample* gbuf, const __global GSamp
     if (!s.valid) { out[i] = c; return; }
     int j = reproject_pixel(gbuf, prev_gbuf, x, y, width, height, p.similar.depth_tolerance, p.similar.normal_cos);
     if (j < 0) { out[i] = c; return; }
+    Surface sp = surface_load(prev_gbuf, prev_glossy, j);
+    if (!surface_material_similar(&s, &sp)) { out[i] = c; return; }  /* a glossy target is not a diffuse one's */
     Reservoir q = previous[j];
-    q.M = fmin_f(q.M, p.m_cap);
+    q.M = fmin_f(q.M, p.m_cap * view_dependent_cap(&s));
     if (!finite_f(q.W) || !finite_f(q.M)) { guard_count(guards, GUARD_NONFINITE_RESERVOIR); out[i] = c; return; }
     uint rng = rng_seed((uint)i, frame_params.sample, frame_params.seed, 4u);
     if (bias_correction == BIAS_PAIRWISE && !lights_static && q.light >= 0 && q.W > 0.0f) {
-        Surface sp = surface_load(prev_gbuf, prev_glossy, j);
         LightEval e;
         q.target = target_of(&sp, lights, q.light, q.u, q.v, &e);
     }

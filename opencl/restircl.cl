@@ -6,6 +6,7 @@
 #include "bvh.h"
 #include "camera.h"
 #include "lights.h"
+#include "light_hit.h"
 #include "light_array.h"
 #include "light_tiles.h"
 #include "reservoir.h"
@@ -21,8 +22,10 @@
 #include "target.h"
 #include "visibility.h"
 #include "guards.h"
+#include "bsdf_candidates.h"
 #include "ris.h"
 #include "reproject.h"
+#include "view_dependence.h"
 #include "restir_pairwise.h"
 #include "restir_reuse.h"
 

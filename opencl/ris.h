@@ -8,7 +8,9 @@
  * for a whole batch first, the misses overlap instead of each waiting behind the previous candidate's evaluation
  * (1e6 point lights: ReSTIR's initial pass 91-95 -> 65-66 ms). The random numbers are drawn in the same order as
  * one candidate at a time (slot, r0, r1, resampling): the same samples. (OpenCL's prefetch() did nothing on PoCL.)
- * With presampled light tiles (light_tiles.h) a candidate is an entry of the pixel's tile instead of a slot. */
+ * With presampled light tiles (light_tiles.h) a candidate is an entry of the pixel's tile instead of a slot.
+ * With BSDF candidates (bsdf_candidates.h) every weight's source pdf is the two strategies' mixture density, and
+ * the BSDF's candidates follow the light candidates; without them the weights are target / pdf exactly as before. */
 #ifndef RESTIRCL_RIS_H
 #define RESTIRCL_RIS_H
 
@@ -31,13 +33,17 @@ inline RisSource ris_source(int slot_count, int tile_count, int tile_size, int i
     return src;
 }
 
-/* Stream `candidates` light-array samples for surface s into r (not finalised). *chosen: the evaluation of the
- * candidate r holds (valid when r->light >= 0 and its target > 0), for the caller's shadow ray. */
+/* Stream `candidates` light-array samples and bsdf.count BSDF samples for surface s into r (not finalised).
+ * *chosen: the evaluation of the candidate r holds (valid when r->light >= 0 and its target > 0), for the caller's
+ * shadow ray. */
 inline void ris_candidates(const Surface* s, const __global Light* lights, const __global int* slots,
                            const __global float* light_pdf, const __global Light* tile_rec,
-                           const __global int2* tile_info, RisSource src, int candidates, uint* rng, Reservoir* r,
-                           LightEval* chosen)
+                           const __global int2* tile_info, RisSource src, int candidates,
+                           const __global BVHNode* nodes, const __global Tri* tris, const __global int* tri_light,
+                           BsdfSource bsdf_frame, uint* rng, Reservoir* r, LightEval* chosen)
 {
+    const BsdfSource bsdf = bsdf_source_at(s, bsdf_frame);
+    const float n_light = (float)candidates, n_bsdf = (float)bsdf.count;
     LightEval e;
     bool tiled = src.tile_count > 0;
     uint draw_range = (uint)(tiled ? src.tile_size : src.slot_count);
@@ -65,9 +71,13 @@ inline void ris_candidates(const Surface* s, const __global Light* lights, const
             float2 uv = light_sample_typed(rec[k], type[k], s->x, r0[k], r1[k], &py);
             float pdf = pick_pdf[k] * py;
             float t = pdf > 0.0f ? target_of_record(s, rec[k], uv.x, uv.y, &e) : 0.0f;
+            if (bsdf.count > 0 && t > 0.0f)
+                pdf = mis_mixture_pdf(n_light, pdf, n_bsdf,
+                                      bsdf_pdf_of_light_sample(s, rec[k], type[k], light[k], bsdf, &e));
             if (res_update(r, light[k], uv.x, uv.y, t / pdf, t, rnd[k], 1.0f)) *chosen = e;
         }
     }
+    if (bsdf.count > 0) bsdf_candidates(s, lights, light_pdf, nodes, tris, tri_light, n_light, bsdf, rng, r, chosen);
 }
 
 #endif

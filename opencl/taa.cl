@@ -2,7 +2,8 @@
  * per-pixel history length n. When something moves, history is fetched bilinearly from the taps that show the
  * same surface and clipped to the current 3x3 neighbourhood's YCoCg variance box (mean +- gamma * sigma); in a
  * still scene every frame's sample belongs to the pixel (the jitter moves the sample, not the scene) and the
- * history is kept whole. A NaN/Inf never enters the history: it is counted and the pixel restarts. */
+ * history is kept whole. On view-dependent (glossy) surfaces a moving scene's history is shortened and clipped
+ * harder (view_dependence.h). A NaN/Inf never enters the history: it is counted and the pixel restarts. */
 
 inline float3 rgb_to_ycocg(float3 c)
 {
@@ -24,7 +25,8 @@ inline float3 clip_to_box(float3 h, float3 centre, float3 extent)
     return m > 1.0f ? centre + d / m : h;
 }
 
-__kernel void taa(const __global float4* sample, const __global GSample* gbuf, const __global GSample* prev_gbuf,
+__kernel void taa(const __global float4* sample, const __global GSample* gbuf, const __global GlossySample* glossy,
+                  const __global GSample* prev_gbuf,
                   const __global float4* history_in, __global float4* history_out, volatile __global int* guards,
                   FrameParams frame_params, TaaParams params)
 {
@@ -35,6 +37,13 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
     int i = y * width + x;
     float3 s = sample[i].xyz;
     if (!finite3_f(s)) { guard_count(guards, GUARD_NONFINITE_SAMPLE); s = (float3)(0.0f); }
+    /* a view-dependent (glossy) surface's history does not follow its motion: shorter, clipped harder */
+    float alpha_min = p.alpha_min, gamma = p.gamma;
+    if (p.moving) {
+        Surface sf = surface_load(gbuf, glossy, i);
+        alpha_min = view_dependent_alpha_min(&sf, alpha_min);
+        gamma = view_dependent_gamma(&sf, gamma);
+    }
     float3 h = (float3)(0.0f);
     float n_prev = 0.0f;
     float2 prev;
@@ -82,10 +91,10 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
             }
         float3 mean = m1 / cnt;
         float3 sigma = sqrt(fmax(m2 / cnt - mean * mean, (float3)(0.0f)));
-        h = ycocg_to_rgb(clip_to_box(rgb_to_ycocg(h), mean, p.gamma * sigma));
+        h = ycocg_to_rgb(clip_to_box(rgb_to_ycocg(h), mean, gamma * sigma));
     }
     float n = fmin_f(n_prev + 1.0f, (float)p.max_history);
-    float a = n_prev > 0.0f ? fmax_f(1.0f / n, p.alpha_min) : 1.0f;
+    float a = n_prev > 0.0f ? fmax_f(1.0f / n, alpha_min) : 1.0f;
     float3 o = a * s + (1.0f - a) * h;
     if (!finite3_f(o)) { guard_count(guards, GUARD_NONFINITE_HISTORY); o = s; n = 1.0f; }
     history_out[i] = (float4)(o, n);

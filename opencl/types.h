@@ -233,7 +233,11 @@ typedef struct {
     int slot_count;        /* light array slots */
     int tile_count;        /* presampled light tiles; 0: candidates come straight from the light array */
     int tile_size;         /* entries per tile */
-} SamplerParams;           /* 16 bytes */
+    int bsdf_candidates;   /* BSDF-sampled candidates per pixel (bsdf_candidates.h); 0: none */
+    int bsdf_analytic;     /* how many of the first lights (the analytic ones) BSDF rays are tested against */
+    int bsdf_triangles;    /* 1: BSDF rays look for emissive triangles (tri_light) */
+    int bsdf_glossy_only;  /* 1: BSDF candidates only where the material has a specular lobe */
+} SamplerParams;           /* 32 bytes */
 
 /* When a history or neighbour surface counts as the pixel's own (temporal and spatial reuse, TAA). */
 typedef struct {
@@ -250,7 +254,7 @@ typedef struct {
     int visibility_reuse;  /* 1: shadow-test the chosen sample */
     int pad0;
     int pad1;
-} InitialParams;           /* 32 bytes */
+} InitialParams;           /* 48 bytes */
 
 /* ReSTIR pass 4 (restir_temporal.cl). */
 typedef struct {
@@ -281,7 +285,7 @@ typedef struct {
     int candidates;        /* RIS candidates per pixel (shade_direct, METHOD_RIS) */
     int visible_known;     /* restir_shade: the reuse passes already zeroed occluded samples */
     int pad0;
-} ShadeParams;             /* 32 bytes */
+} ShadeParams;             /* 48 bytes */
 
 /* Pass 7: temporal accumulation (taa.cl). */
 typedef struct {

@@ -21,4 +21,13 @@ inline float2 disk_sample(const __global Light* l, float3 x, float r0, float r1,
     return planar_sample(l, r0, r1, pdf);
 }
 
+/* The sample (u, v) of l that the ray x + t wi (t > 0) hits; false when it misses the ellipse. */
+inline bool disk_hit(const __global Light* l, float3 x, float3 wi, float2* uv)
+{
+    float2 ab;
+    if (!planar_ray_coords(planar_light(l), x, wi, &ab) || !(ab.x * ab.x + ab.y * ab.y <= 1.0f)) return false;
+    *uv = concentric_disk_inverse(ab);
+    return true;
+}
+
 #endif

@@ -34,4 +34,19 @@ inline float2 planar_sample(const __global Light* l, float r0, float r1, float* 
     return (float2)(r0, r1);
 }
 
+/* Where the ray x + t wi (t > 0) meets the plane of pl: the point's coordinates (a, b) with
+ * point = origin + a span_u + b span_v; false when the ray is parallel to the plane or the plane is behind x. */
+inline bool planar_ray_coords(PlanarLight pl, float3 x, float3 wi, float2* ab)
+{
+    float3 n = cross3(pl.span_u, pl.span_v);
+    float denom = dot3(n, wi);
+    float nn = dot3(n, n);
+    if (!(abs_f(denom) > 0.0f) || !(nn > 0.0f)) return false;
+    float t = dot3(n, pl.origin - x) / denom;
+    if (!(t > 0.0f) || !finite_f(t)) return false;
+    float3 q = x + t * wi - pl.origin;
+    *ab = (float2)(dot3(cross3(q, pl.span_v), n), dot3(cross3(pl.span_u, q), n)) / nn;
+    return true;
+}
+
 #endif

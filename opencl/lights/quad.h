@@ -19,4 +19,13 @@ inline float2 quad_sample(const __global Light* l, float3 x, float r0, float r1,
     return planar_sample(l, r0, r1, pdf);
 }
 
+/* The sample (u, v) of l that the ray x + t wi (t > 0) hits; false when it misses the quad. */
+inline bool quad_hit(const __global Light* l, float3 x, float3 wi, float2* uv)
+{
+    float2 ab;
+    if (!planar_ray_coords(planar_light(l), x, wi, &ab)) return false;
+    *uv = ab;
+    return ab.x >= 0.0f && ab.x < 1.0f && ab.y >= 0.0f && ab.y < 1.0f;
+}
+
 #endif

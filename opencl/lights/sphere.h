@@ -103,4 +103,53 @@ inline float2 sphere_sample(const __global Light* l, float3 x, float r0, float r
     return sphere_uv(ny);
 }
 
+/* The sample (u, v) of l that the ray x + t wi (t > 0) hits: the nearer point of the sphere, or, with soft
+ * falloff, a point of the disk facing x. False for a miss and for points (radius 0: a delta no ray hits). */
+inline bool sphere_hit(const __global Light* l, float3 x, float3 wi, float2* uv)
+{
+    SphereLight sp = sphere_light(l);
+    float r = sp.radius;
+    if (!(r > 0.0f)) return false;
+    float3 oc = sp.centre - x;
+    if (sp.soft_falloff) {
+        float dc = len3(oc);
+        if (!(dc > 0.0f)) return false;
+        float3 w = oc / dc;
+        float cw = dot3(wi, w);
+        if (!(cw > 0.0f)) return false;
+        float3 q = x + (dc / cw) * wi - sp.centre;
+        float3 s, t;
+        light_onb(w, &s, &t);
+        float2 ab = (float2)(dot3(q, s), dot3(q, t)) / r;
+        if (!(ab.x * ab.x + ab.y * ab.y <= 1.0f)) return false;
+        *uv = concentric_disk_inverse(ab);
+        return true;
+    }
+    float b = dot3(oc, wi);
+    float3 perp = oc - b * wi;  /* the discriminant from the ray's closest approach: no cancellation far away */
+    float disc = r * r - dot3(perp, perp);
+    if (!(disc >= 0.0f)) return false;
+    float h = sqrt(disc);
+    float t = b - h > 0.0f ? b - h : b + h;
+    if (!(t > 0.0f)) return false;
+    *uv = sphere_uv(norm3(x + t * wi - sp.centre));
+    return true;
+}
+
+/* The density in area of sphere_sample producing the evaluated point e (its normal e->nl, outward) from x. */
+inline float sphere_point_pdf(const __global Light* l, float3 x, const LightEval* e)
+{
+    SphereLight sp = sphere_light(l);
+    float r = sp.radius;
+    if (!(r > 0.0f)) return 0.0f;
+    if (sp.soft_falloff) return 1.0f / (RESTIRCL_PI * r * r);
+    float3 d = sp.centre - x;
+    float dc2 = dot3(d, d), r2 = r * r;
+    if (dc2 <= r2 * 1.0001f) return 1.0f / (4.0f * RESTIRCL_PI * r2);
+    float sin2max = r2 / dc2;
+    float omc = sin2max / (1.0f + sqrt(fmax_f(0.0f, 1.0f - sin2max)));
+    float cos_l = -dot3(e->nl, e->wi);
+    return cos_l > 0.0f ? cos_l / (e->dist * e->dist * 2.0f * RESTIRCL_PI * omc) : 0.0f;
+}
+
 #endif

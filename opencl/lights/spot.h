@@ -46,4 +46,7 @@ inline float2 spot_sample(const __global Light* l, float3 x, float r0, float r1,
     return sphere_sample(l, x, r0, r1, pdf);
 }
 
+/* Rays meet a spot where they meet its sphere; the cone masks the emission (spot_eval). */
+inline bool spot_hit(const __global Light* l, float3 x, float3 wi, float2* uv) { return sphere_hit(l, x, wi, uv); }
+
 #endif

@@ -42,4 +42,14 @@ inline float2 sun_sample(const __global Light* l, float3 x, float r0, float r1, 
     return (float2)(r0, r1);
 }
 
+/* The sample (u, v) of direction wi when it lies in the sun's cone; false outside it and for a delta sun. */
+inline bool sun_hit(const __global Light* l, float3 x, float3 wi, float2* uv)
+{
+    (void)x;
+    SunLight sun = sun_light(l);
+    if (!(sun.omc > 0.0f) || !(dot3(wi, sun.dir) > 0.0f)) return false;
+    *uv = cone_dir_inverse(sun.dir, sun.omc, wi);  /* 1 - cos from the sine: tiny suns are not lost to rounding */
+    return uv->x < 1.0f;
+}
+
 #endif

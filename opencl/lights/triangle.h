@@ -24,4 +24,13 @@ inline float2 triangle_sample(const __global Light* l, float3 x, float r0, float
     return planar_sample(l, r0, r1, pdf);
 }
 
+/* The sample (u, v) of the point with barycentric weights b1 (of v1) and b2 (of v2): the inverse of
+ * triangle_eval's map, for a ray that hit the triangle (bvh.h Hit.u, Hit.v). */
+inline float2 triangle_uv(float b1, float b2)
+{
+    float su = b1 + b2;
+    if (!(su > 0.0f)) return (float2)(0.0f, 0.0f);
+    return (float2)(clamp_f(su * su, 0.0f, 0.99999994f), clamp_f(b2 / su, 0.0f, 0.99999994f));
+}
+
 #endif

@@ -57,4 +57,37 @@ inline float3 cone_dir(float3 w, float omc, float u, float v)
     return norm3(sin_t * cos(phi) * s + sin_t * sin(phi) * t + (1.0f - omc_t) * w);
 }
 
+/* Inverse of concentric_disk: the (u, v) in [0,1)^2 that maps to the point q of the unit disk. */
+inline float2 concentric_disk_inverse(float2 q)
+{
+    float R = sqrt(q.x * q.x + q.y * q.y);
+    if (!(R > 0.0f)) return (float2)(0.5f, 0.5f);
+    /* forward: |a| > |b| gives r = a, phi = pi/4 b/a; else r = b, phi = pi/2 - pi/4 a/b; r may be negative, so a
+     * point of the left (lower) half has r = -R and phi the angle of -q */
+    float a, b;
+    if (abs_f(q.x) >= abs_f(q.y)) {
+        a = q.x >= 0.0f ? R : -R;
+        float phi = q.x >= 0.0f ? atan2(q.y, q.x) : atan2(-q.y, -q.x);
+        b = a * phi * (4.0f * RESTIRCL_INV_PI);
+    } else {
+        b = q.y >= 0.0f ? R : -R;
+        float phi = q.y >= 0.0f ? atan2(q.y, q.x) : atan2(-q.y, -q.x);
+        a = b * (RESTIRCL_PI * 0.5f - phi) * (4.0f * RESTIRCL_INV_PI);
+    }
+    return (float2)(clamp_f(0.5f * (a + 1.0f), 0.0f, 0.99999994f), clamp_f(0.5f * (b + 1.0f), 0.0f, 0.99999994f));
+}
+
+/* Inverse of cone_dir: the (u, v) of unit direction d near the cone around unit w with 1 - cos = omc. 1 - cos is
+ * computed from the sine (|d - (d.w) w|^2 / (1 + cos)), exact for tiny cones where 1 - d.w would cancel. */
+inline float2 cone_dir_inverse(float3 w, float omc, float3 d)
+{
+    float3 s, t;
+    light_onb(w, &s, &t);
+    float ds = dot3(d, s), dt = dot3(d, t), c = dot3(d, w);
+    float omc_t = (ds * ds + dt * dt) / (1.0f + c);
+    float v = atan2(dt, ds) * (0.5f * RESTIRCL_INV_PI);
+    if (v < 0.0f) v += 1.0f;
+    return (float2)(omc_t / omc, v >= 1.0f ? 0.0f : v);  /* u >= 1: outside the cone */
+}
+
 #endif

@@ -14,6 +14,7 @@ from .buffers import upload
 from .bvh import build_bvh, make_tris
 from .ggx_tables import ggx_tables
 from .light_array import LightArray, build_light_array
+from .light_hit import analytic_light_count, triangle_lights
 from .lights import DeviceLights, scene_lights
 from .material_pack import pack_materials
 from .scene import Scene
@@ -77,12 +78,17 @@ class DeviceScene:
                 world = scene.world_triangles(frame)
             self._upload_lights(scene_lights(scene, frame, world))
             self._lights_key = lights_key
+        if world is not None:  # the geometry or the lights changed: the triangle -> light map of BSDF rays
+            self.tri_light_buf = upload(self.context, triangle_lights(self._leaf_order, self.lights))
+            self.analytic_lights = analytic_light_count(self.lights)
+            self.triangle_lights = bool(np.any(self.lights.source < 0))
         if self.moving_objects or self.motion_buf is None:
             self.motion_buf = upload(self.context, self._motion_rows(frame, last_frame))
 
     def _upload_geometry(self, world) -> None:
         t0 = time.perf_counter()
         bvh = build_bvh(world.v0, world.v1, world.v2)
+        self._leaf_order = bvh.order
         tris = make_tris(world.v0, world.v1, world.v2, world.material, world.prim, bvh.order)
         tris["e2"][:, 3] = L.int_bits(world.object[bvh.order])
         self.bvh_seconds = time.perf_counter() - t0

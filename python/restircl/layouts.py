@@ -64,7 +64,8 @@ def _floats(*names: str) -> list[tuple[str, type]]:
 # The parameter structs of the passes (types.h "parameters of the passes"): one per stage, read by field name.
 FRAME_PARAMS = np.dtype([*_ints("width", "height", "pixels"), ("sample", np.uint32), ("seed", np.uint32),
                          *_ints("pad0", "pad1", "pad2")])
-SAMPLER_PARAMS = np.dtype(_ints("light_count", "slot_count", "tile_count", "tile_size"))
+SAMPLER_PARAMS = np.dtype(_ints("light_count", "slot_count", "tile_count", "tile_size", "bsdf_candidates",
+                                "bsdf_analytic", "bsdf_triangles", "bsdf_glossy_only"))
 SIMILARITY_PARAMS = np.dtype([*_floats("depth_tolerance", "normal_cos"), *_ints("pad0", "pad1")])
 INITIAL_PARAMS = np.dtype([("sampler", SAMPLER_PARAMS), *_ints("candidates", "visibility_reuse", "pad0", "pad1")])
 TEMPORAL_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), ("m_cap", np.float32),

@@ -37,6 +37,7 @@ from .program import build_program
 from .scene import Scene
 from .settings import (  # noqa: F401  (restircl.pipeline.Settings etc. are public)
     BIAS_CORRECTIONS,
+    BSDF_ANALYTIC_MAX,
     LIGHT_TILES,
     LIGHT_TILES_AUTO,
     MAX_LIGHT_TILE_ENTRIES,
@@ -187,8 +188,13 @@ class Renderer:
             method = "light_array"  # RIS over one light picks that light: leave the loop out
         tiles = self._use_light_tiles(method, light_count)
         self.light_tiles_used = tiles
+        bsdf = self._bsdf_candidates(method, light_count)
         sampler = L.pack(L.SAMPLER_PARAMS, light_count=light_count, slot_count=ds.light_array.slot_count,
-                         tile_count=s.light_tile_count if tiles else 0, tile_size=s.light_tile_size if tiles else 0)
+                         tile_count=s.light_tile_count if tiles else 0, tile_size=s.light_tile_size if tiles else 0,
+                         bsdf_candidates=bsdf,
+                         bsdf_analytic=ds.analytic_lights if bsdf and ds.analytic_lights <= BSDF_ANALYTIC_MAX else 0,
+                         bsdf_triangles=int(bool(bsdf) and ds.triangle_lights),
+                         bsdf_glossy_only=int(s.bsdf_sampling == "auto"))
         jit = jitter_px if jitter_px is not None else jitter(self._sample) if s.jitter else (0.0, 0.0)
         # A light switched on or off (or its power jumped) makes last frame's reservoirs samples of another target:
         # kept, they would dilute this frame's estimate for many frames. The decision depends on the scene only, not
@@ -216,6 +222,16 @@ class Renderer:
         if method not in ("ris", "restir") or light_count < 2 or mode == "off":
             return False
         return mode == "on" or light_count >= LIGHT_TILES_AUTO
+
+    def _bsdf_candidates(self, method: str, light_count: int) -> int:
+        """BSDF-sampled candidates per pixel this frame (bsdf_candidates.h): for the RIS-based methods, where a
+        material is glossy ("auto") or always ("on")."""
+        s = self.settings
+        if method not in ("ris", "restir") or light_count == 0 or s.bsdf_sampling == "off":
+            return 0
+        if s.bsdf_sampling == "auto" and not self.device_scene.material_flags.get("HAS_GLOSSY", False):
+            return 0
+        return s.bsdf_candidates
 
     def will_use_light_tiles(self) -> bool:
         """Whether the frames of this scene and settings (with its current lights) draw their RIS candidates from

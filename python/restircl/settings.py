@@ -37,6 +37,16 @@ LIGHT_TILE_CHOICES = (
     Choice("off", "Off", "Draw the RIS candidates from the whole light array", 2),
 )
 LIGHT_TILES = tuple(c.id for c in LIGHT_TILE_CHOICES)
+BSDF_SAMPLING_CHOICES = (
+    Choice("auto", "Auto", "BSDF-sampled candidates at the pixels whose material has a specular lobe", 0),
+    Choice("on", "On", "BSDF-sampled candidates for every scene (also diffuse ones, e.g. with large or mesh lights)",
+           1),
+    Choice("off", "Off", "Light candidates only", 2),
+)
+BSDF_SAMPLING = tuple(c.id for c in BSDF_SAMPLING_CHOICES)
+#: BSDF rays are tested against at most this many analytic lights (a loop per ray); beyond it the BSDF strategy
+#: leaves them to light sampling (pdf 0 in the MIS weights, which stay correct)
+BSDF_ANALYTIC_MAX = 64
 TILE_INFO_BYTES = 8  # a tile entry's int2 (light index, pick pdf bits), next to its Light record
 MAX_LIGHT_TILE_ENTRIES = 1 << 22  # light_tile_count * light_tile_size
 UINT32_MAX = (1 << 32) - 1
@@ -48,6 +58,7 @@ _TEMPORAL = (*_RESTIR, ("temporal", (True,)))
 _SPATIAL = (*_RESTIR, ("spatial", (True,)))
 _TILES = (*_RIS, ("light_tiles", ("auto", "on")))
 _TAA = (("taa", (True,)),)
+_BSDF = (*_RIS, ("bsdf_sampling", ("auto", "on")))
 
 
 @dataclass
@@ -121,6 +132,12 @@ class Settings:
                                    "the object's UV map; 0: no baking, the input's value is used)",
                                    flag="--bake-resolution", range=Range(int, 0, 8192), panel="device",
                                    soft_max=2048, subtype="PIXEL")
+    bsdf_sampling: str = setting("auto", "BSDF Sampling", "RIS and ReSTIR: add BSDF-sampled candidates, combined "
+                                 "with the light candidates by multiple importance sampling", flag="--bsdf-sampling",
+                                 choices=BSDF_SAMPLING_CHOICES, panel="sampling", applies_when=_RIS)
+    bsdf_candidates: int = setting(1, "BSDF Candidates", "BSDF-sampled candidates per pixel and frame (RIS, ReSTIR)",
+                                   flag="--bsdf-candidates", range=Range(int, 1, 64), panel="sampling",
+                                   applies_when=_BSDF, soft_max=8)
 
     def validate(self) -> Settings:
         check(self)

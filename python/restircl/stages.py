@@ -136,8 +136,8 @@ class Initial(Stage):
                         visibility_reuse=int(s.visibility_reuse))
         out = self.buffers.res_initial
         self.kernels.launch("restir_initial", pixel_count(state), gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
-                            **self.scene.geometry,
-                            **self.scene.light_sampling, **tiles, out=out, frame_params=state.frame_params,
+                            **self.scene.geometry, **self.scene.light_sampling, **tiles,
+                            tri_light=self.scene.tri_light_buf, out=out, frame_params=state.frame_params,
                             params=params)
         return out
 
@@ -151,7 +151,8 @@ class Temporal(Stage):
 
     def run(self, state: FrameState, current: cl.Buffer) -> cl.Buffer:
         s, h = self.settings, self.history
-        params = L.pack(L.TEMPORAL_PARAMS, m_cap=s.m_cap * s.candidates, similar=self._similarity(),
+        per_frame = s.candidates + int(state.sampler["bsdf_candidates"])  # the M of an initial reservoir
+        params = L.pack(L.TEMPORAL_PARAMS, m_cap=s.m_cap * per_frame, similar=self._similarity(),
                         bias_correction=self.bias_code, visibility_reuse=int(s.visibility_reuse),
                         lights_static=int(not self.scene.lights_changed))
         out = self.buffers.res_temp
@@ -213,7 +214,8 @@ class Shade(Stage):
         params = L.pack(L.SHADE_PARAMS, sampler=state.sampler, method=self.method_codes[state.method],
                         candidates=self.settings.candidates)
         self.kernels.launch("shade_direct", pixel_count(state), **self._common(state), slots=self.scene.slots_buf,
-                            light_pdf=self.scene.light_pdf_buf, **tiles, params=params)
+                            light_pdf=self.scene.light_pdf_buf, **tiles, tri_light=self.scene.tri_light_buf,
+                            params=params)
 
     def reference(self, state: FrameState) -> None:
         params = L.pack(L.SHADE_PARAMS, sampler=state.sampler)
@@ -228,6 +230,7 @@ class Taa(Stage):
         params = L.pack(L.TAA_PARAMS, alpha_min=s.alpha_min, gamma=s.gamma, similar=self._similarity(),
                         moving=int(moving), max_history=s.max_history, reset=int(not state.history))
         self.kernels.launch("taa", image_size(state), sample=self.buffers.sample, gbuf=h.gbuf(h.cur),
+                            glossy=h.glossy(h.cur),
                             prev_gbuf=h.gbuf(h.prev), history_in=h.taa[h.prev], history_out=h.taa[h.cur],
                             guards=self.buffers.guards, frame_params=state.frame_params, params=params)
         return h.taa[h.cur]

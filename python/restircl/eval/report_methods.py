@@ -15,8 +15,14 @@ METHODS: dict[str, dict] = {
     "restir_temporal_biased": dict(method="restir", spatial=False, bias_correction="none"),
     "restir_spatial_biased": dict(method="restir", temporal=False, bias_correction="none"),
     "restir_biased": dict(method="restir", bias_correction="none"),
+    # BSDF-sampled candidates forced on or off (the plain names use the default, "auto": on for glossy scenes)
+    "ris_bsdf": dict(method="ris", bsdf_sampling="on"),
+    "ris_no_bsdf": dict(method="ris", bsdf_sampling="off"),
+    "restir_bsdf": dict(method="restir", bsdf_sampling="on"),
+    "restir_no_bsdf": dict(method="restir", bsdf_sampling="off"),
 }
-UNBIASED = ("uniform", "light_array", "ris", "restir_temporal", "restir_spatial", "restir", "cycles")
+UNBIASED = ("uniform", "light_array", "ris", "restir_temporal", "restir_spatial", "restir", "cycles", "ris_bsdf",
+            "ris_no_bsdf", "restir_bsdf", "restir_no_bsdf")
 
 
 def method_settings(name: str, base: Settings | None, seed: int) -> Settings:

@@ -54,12 +54,20 @@ def default_cache_dir() -> Path:
     return Path.home() / ".cache" / "restircl"
 
 
+def emissive_triangle_count(scene: Scene, frame: int = 0) -> int:
+    """The emissive triangles (each a light): the exhaustive reference loops over every one of them."""
+    emissive = np.array([m.is_emissive for m in scene.materials], bool)
+    if not emissive.any():
+        return 0
+    return int(emissive[scene.world_triangles(frame).material].sum())
+
+
 def get_reference(scene: Scene, frame: int = 0, seconds_hint: float = 60.0, frames: int | None = None, device=None,
               cache_dir: Path | None = None, log: Callable[[str], None] = print) -> Reference:
     """A converged image of `scene` at `frame`, cached on disk (see the module docstring)."""
     cache_dir = Path(cache_dir or default_cache_dir())
     cache_dir.mkdir(parents=True, exist_ok=True)
-    n_lights = len(scene.lights) + sum(1 for m in scene.materials if m.is_emissive)
+    n_lights = len(scene.lights) + emissive_triangle_count(scene, frame)
     settings = Settings(method="reference" if n_lights <= 16 else "ris", candidates=32, seed=987654)
     r = Renderer(scene, settings, device)
     # the probe also keeps lazy kernel compilation and first uploads out of the timing below
