@@ -2,8 +2,8 @@
 
     python blend/scenes.py [outdir]      # writes many_lights.blend and area_interior.blend (default: blend/)
 
-Needs the bpy module (pip install bpy==5.0.1) and restircl (its Cycles settings and material helpers). The
-helpers build everything from data (no operators that need a window), so they work headless.
+Needs the bpy module (Blender 4.2 to 5.3: pip install -e '.[blender]') and restircl (its Cycles settings and
+material helpers). The helpers build everything from data (no operators that need a window), so they work headless.
 """
 
 from __future__ import annotations
@@ -40,9 +40,12 @@ def cycles_direct_only(sc: bpy.types.Scene, samples: int = 1024, seed: int = 0, 
 
 def exr_output(sc: bpy.types.Scene, path: str, multilayer: bool = True) -> None:
     im = sc.render.image_settings
-    im.media_type = "MULTI_LAYER_IMAGE" if multilayer else "IMAGE"
-    if not multilayer:
-        im.file_format = "OPEN_EXR"
+    if hasattr(im, "media_type"):  # Blender 5: multilayer is a media type
+        im.media_type = "MULTI_LAYER_IMAGE" if multilayer else "IMAGE"
+        if not multilayer:
+            im.file_format = "OPEN_EXR"
+    else:
+        im.file_format = "OPEN_EXR_MULTILAYER" if multilayer else "OPEN_EXR"
     im.color_depth = "32"
     im.exr_codec = "ZIP"
     sc.render.filepath = path
