@@ -20,3 +20,15 @@ def uses_nodes(id_block) -> bool:
     if prop is None or getattr(prop, "is_deprecated", False):
         return True
     return bool(id_block.use_nodes)
+
+
+# The first release known to pick an extension's wheels by Python version (tools/build_extension.py).
+PER_PYTHON_WHEELS = (4, 2, 13)
+
+
+def import_error_hint(version: tuple[int, ...]) -> str:
+    """What to do when restircl (or pyopencl) does not import on Blender `version`."""
+    if tuple(version) < PER_PYTHON_WHEELS:
+        return ("this Blender chooses an extension's wheels by platform only: install the zip built with "
+                "`tools/build_extension.py --python-version 3.11`, or Blender 4.2.13 or newer")
+    return "install the extension with its bundled wheels, or `pip install restircl` into Blender's Python"
