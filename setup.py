@@ -7,6 +7,7 @@ setup(
     version="0.1.0",
     description="Many-light direct lighting with ReSTIR DI and TAA, in OpenCL C on PoCL or any OpenCL GPU",
     python_requires=">=3.11",
+    classifiers=["Programming Language :: Python :: 3.11", "Programming Language :: Python :: 3.13"],
     packages=["restircl", "restircl.eval", "restircl.lights", "restircl.opencl"],
     package_dir={"restircl": "python/restircl", "restircl.opencl": "opencl"},
     package_data={"restircl.opencl": ["*.h", "*.cl", "lights/*.h"]},
@@ -16,7 +17,10 @@ setup(
         # libclang: the OpenCL C front end for NVIDIA, AMD and SPIR targets (tests/test_portability.py)
         "test": ["pytest>=8", "ruff>=0.5", "scipy>=1.10", "matplotlib>=3.7", "libclang>=16"],
         "bench": ["embreex>=4.3", "matplotlib>=3.7", "flip-evaluator>=1.7"],
-        "blender": ["bpy==5.0.1"],
+        # bpy is Blender as a module, one Python per release line: 4.2 LTS-5.0 use CPython 3.11, 5.1 and newer 3.13
+        # (docs/blender.md, "Supported releases"); each bpy pins the numpy its Blender ships (5.0.1: < 2).
+        "blender": ['bpy==5.0.1; python_version == "3.11"', 'bpy==5.3.0; python_version == "3.13"'],
+        "blender-lts": ['bpy==4.2.23; python_version == "3.11"'],
     },
     entry_points={"console_scripts": ["restircl=restircl.cli:main"]},
 )

@@ -2,8 +2,8 @@
 
     python blend/scenes.py [outdir]      # writes many_lights.blend and area_interior.blend (default: blend/)
 
-Needs the bpy module (pip install bpy==5.0.1) and restircl (its Cycles settings and material helpers). The
-helpers build everything from data (no operators that need a window), so they work headless.
+Needs the bpy module (Blender 4.2 to 5.3: pip install -e '.[blender]') and restircl (its Cycles settings and
+material helpers). The helpers build everything from data (no operators that need a window), so they work headless.
 """
 
 from __future__ import annotations
@@ -17,9 +17,11 @@ import bpy
 # ---- scene and render settings ------------------------------------------------------------------------
 
 
-def new_scene(width: int = 64, height: int = 48, engine: str = "CYCLES") -> bpy.types.Scene:
-    """Empty factory scene with a black world, the given resolution and engine."""
-    bpy.ops.wm.read_factory_settings(use_empty=True)
+def new_scene(width: int = 64, height: int = 48, engine: str = "CYCLES", reset: bool = True) -> bpy.types.Scene:
+    """Empty factory scene with a black world, the given resolution and engine. reset=False keeps the data and
+    preferences there are (factory settings would disable an installed extension)."""
+    if reset:
+        bpy.ops.wm.read_factory_settings(use_empty=True)
     sc = bpy.context.scene
     sc.render.resolution_x, sc.render.resolution_y = width, height
     sc.render.resolution_percentage = 100
@@ -40,9 +42,12 @@ def cycles_direct_only(sc: bpy.types.Scene, samples: int = 1024, seed: int = 0, 
 
 def exr_output(sc: bpy.types.Scene, path: str, multilayer: bool = True) -> None:
     im = sc.render.image_settings
-    im.media_type = "MULTI_LAYER_IMAGE" if multilayer else "IMAGE"
-    if not multilayer:
-        im.file_format = "OPEN_EXR"
+    if hasattr(im, "media_type"):  # Blender 5: multilayer is a media type
+        im.media_type = "MULTI_LAYER_IMAGE" if multilayer else "IMAGE"
+        if not multilayer:
+            im.file_format = "OPEN_EXR"
+    else:
+        im.file_format = "OPEN_EXR_MULTILAYER" if multilayer else "OPEN_EXR"
     im.color_depth = "32"
     im.exr_codec = "ZIP"
     sc.render.filepath = path
@@ -183,6 +188,52 @@ def point_at(ob: bpy.types.Object, target) -> None:
 
     direction = Vector(target) - Vector(ob.location)
     ob.rotation_euler = direction.to_track_quat("-Z", "Y").to_euler()
+
+
+# ---- the scene the Cycles agreement tests use ----------------------------------------------------------
+
+
+LIGHT_KINDS = ("point", "sphere", "sphere_soft", "spot", "sun", "area_square", "area_rectangle", "area_disk",
+               "area_ellipse", "emission")
+
+
+def comparison_scene(kind: str, width: int = 64, height: int = 48, reset: bool = True):
+    """A floor, a wall and a box (for shadows) lit by one kind of light, or every kind for 'mixed'.
+    Light objects are hidden from camera rays (restircl does not draw lights; emissive meshes it does)."""
+    sc = new_scene(width, height, reset=reset)
+    quad("Floor", 12.0, 12.0, diffuse_material("Floor", (0.8, 0.8, 0.8)))
+    quad("Wall", 12.0, 4.0, diffuse_material("Wall", (0.6, 0.7, 0.5)), location=(0, 3, 2),
+         rotation=(math.pi / 2, 0, 0), facing_down=True)
+    box("Box", (0.8, 0.8, 0.8), diffuse_material("BoxMat", (0.7, 0.3, 0.2)), location=(0.3, 0.2, 0.4),
+        rotation=(0, 0, 0.5))
+    camera((0, -5.5, 3.5), (0, 0.5, 0.3), lens=30.0)
+    mixed = kind == "mixed"
+
+    def add(*args, **kwargs):
+        ob = light(*args, **kwargs)
+        ob.visible_camera = False
+        return ob
+
+    if kind == "point" or mixed:
+        add("POINT", "Point", (-1.2, -0.5, 1.5), energy=80.0, shadow_soft_size=0.0, color=(1.0, 0.9, 0.8))
+    if kind in ("sphere", "sphere_soft"):
+        add("POINT", "Sphere", (-1.0, -0.3, 1.2), energy=80.0, shadow_soft_size=0.3,
+            use_soft_falloff=kind == "sphere_soft")
+    if kind == "spot" or mixed:
+        add("SPOT", "Spot", (1.5, -1.0, 2.5), (math.radians(20), math.radians(15), 0), energy=200.0,
+            spot_size=math.radians(60), spot_blend=0.4, shadow_soft_size=0.0, color=(0.7, 0.8, 1.0))
+    if kind == "sun" or mixed:
+        add("SUN", "Sun", (0, 0, 5), (math.radians(30), math.radians(-20), 0), energy=1.5, angle=math.radians(5))
+    for shape, sx, sy in (("SQUARE", 1.0, 1.0), ("RECTANGLE", 1.5, 0.5), ("DISK", 1.0, 1.0),
+                          ("ELLIPSE", 1.5, 0.6)):
+        if kind == "area_" + shape.lower() or (mixed and shape in ("RECTANGLE", "DISK")):
+            loc = (-0.5, -0.5, 2.0) if shape != "DISK" or not mixed else (-2.0, 1.0, 1.8)
+            add("AREA", "Area" + shape.title(), loc, (math.radians(15), 0, 0.3), energy=120.0, shape=shape,
+                size=sx, size_y=sy)
+    if kind == "emission" or mixed:
+        quad("Lamp", 0.8, 0.4, emission_material("Glow", (1.0, 0.6, 0.3), 12.0),
+             location=(1.0, 0.8, 1.8), rotation=(math.radians(-30), 0, 0), facing_down=True)
+    return sc
 
 
 # ---- example scenes -----------------------------------------------------------------------------------

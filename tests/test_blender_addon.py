@@ -285,3 +285,27 @@ def test_a_setting_out_of_range_is_an_error_report_naming_it(tmp_path, monkeypat
     finally:
         sc.restircl.light_change_ratio = 2.0
     assert not crashes
+
+
+def test_uses_nodes_on_this_release_without_deprecation_warnings():
+    """compat.uses_nodes reads use_nodes only where it is not deprecated (lights from 5.1, materials and worlds
+    from 5.0) and says whether the node tree shades the data-block."""
+    import warnings
+
+    from restircl_blender import compat
+
+    scenes.new_scene(8, 8)
+    blocks = (bpy.data.lights.new("L", "POINT"), bpy.data.materials.new("M"), bpy.data.worlds.new("W"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", DeprecationWarning)
+        for block in blocks:
+            prop = block.bl_rna.properties["use_nodes"]
+            if getattr(prop, "is_deprecated", False):  # (no such attribute before 5.0)
+                assert compat.uses_nodes(block) == (block.node_tree is not None), block
+                continue
+            block.use_nodes = True
+            assert compat.uses_nodes(block), block
+            block.use_nodes = False
+            assert not compat.uses_nodes(block), block
+    assert "--python-version 3.11" in compat.import_error_hint((4, 2, 0))
+    assert "--python-version" not in compat.import_error_hint((4, 2, 13))

@@ -173,9 +173,13 @@ def test_animation_warmup_and_camera_cut(tmp_path):
 @pytest.mark.parametrize("name", ["many_lights", "area_interior"])
 def test_example_scenes_render(tmp_path, name):
     path = scenes_dir() / f"{name}.blend"
-    if not path.exists():
+    if bpy.app.version < (5, 0, 0):  # the files are written by Blender 5.0, which older releases cannot read
+        getattr(scenes, f"{name}_scene")()
+        bpy.context.scene.render.engine = "RESTIRCL"
+    elif not path.exists():
         pytest.skip(f"{path} not built (python blend/scenes.py)")
-    bpy.ops.wm.open_mainfile(filepath=str(path))
+    else:
+        bpy.ops.wm.open_mainfile(filepath=str(path))
     sc = bpy.context.scene
     assert sc.render.engine == "RESTIRCL"
     sc.render.resolution_percentage = 15

@@ -5,7 +5,6 @@ The other tests/test_blender_*.py import from here after skipping themselves whe
 
 from __future__ import annotations
 
-import math
 import sys
 from pathlib import Path
 
@@ -107,47 +106,8 @@ def render_to(scene, path: Path, animation: bool = False) -> None:
         bpy.ops.render.render(write_still=True)
 
 
-LIGHT_KINDS = ("point", "sphere", "sphere_soft", "spot", "sun", "area_square", "area_rectangle", "area_disk",
-               "area_ellipse", "emission")
-
-
-def comparison_scene(kind: str, width: int = 64, height: int = 48):
-    """A floor, a wall and a box (for shadows) lit by one kind of light, or every kind for 'mixed'.
-    Light objects are hidden from camera rays (restircl does not draw lights; emissive meshes it does)."""
-    sc = scenes.new_scene(width, height)
-    scenes.quad("Floor", 12.0, 12.0, scenes.diffuse_material("Floor", (0.8, 0.8, 0.8)))
-    scenes.quad("Wall", 12.0, 4.0, scenes.diffuse_material("Wall", (0.6, 0.7, 0.5)), location=(0, 3, 2),
-                rotation=(math.pi / 2, 0, 0), facing_down=True)
-    scenes.box("Box", (0.8, 0.8, 0.8), scenes.diffuse_material("BoxMat", (0.7, 0.3, 0.2)),
-               location=(0.3, 0.2, 0.4), rotation=(0, 0, 0.5))
-    scenes.camera((0, -5.5, 3.5), (0, 0.5, 0.3), lens=30.0)
-    mixed = kind == "mixed"
-
-    def add(*args, **kwargs):
-        ob = scenes.light(*args, **kwargs)
-        ob.visible_camera = False
-        return ob
-
-    if kind == "point" or mixed:
-        add("POINT", "Point", (-1.2, -0.5, 1.5), energy=80.0, shadow_soft_size=0.0, color=(1.0, 0.9, 0.8))
-    if kind in ("sphere", "sphere_soft"):
-        add("POINT", "Sphere", (-1.0, -0.3, 1.2), energy=80.0, shadow_soft_size=0.3,
-            use_soft_falloff=kind == "sphere_soft")
-    if kind == "spot" or mixed:
-        add("SPOT", "Spot", (1.5, -1.0, 2.5), (math.radians(20), math.radians(15), 0), energy=200.0,
-            spot_size=math.radians(60), spot_blend=0.4, shadow_soft_size=0.0, color=(0.7, 0.8, 1.0))
-    if kind == "sun" or mixed:
-        add("SUN", "Sun", (0, 0, 5), (math.radians(30), math.radians(-20), 0), energy=1.5, angle=math.radians(5))
-    for shape, sx, sy in (("SQUARE", 1.0, 1.0), ("RECTANGLE", 1.5, 0.5), ("DISK", 1.0, 1.0),
-                          ("ELLIPSE", 1.5, 0.6)):
-        if kind == "area_" + shape.lower() or (mixed and shape in ("RECTANGLE", "DISK")):
-            loc = (-0.5, -0.5, 2.0) if shape != "DISK" or not mixed else (-2.0, 1.0, 1.8)
-            add("AREA", "Area" + shape.title(), loc, (math.radians(15), 0, 0.3), energy=120.0, shape=shape,
-                size=sx, size_y=sy)
-    if kind == "emission" or mixed:
-        scenes.quad("Lamp", 0.8, 0.4, scenes.emission_material("Glow", (1.0, 0.6, 0.3), 12.0),
-                    location=(1.0, 0.8, 1.8), rotation=(math.radians(-30), 0, 0), facing_down=True)
-    return sc
+LIGHT_KINDS = scenes.LIGHT_KINDS
+comparison_scene = scenes.comparison_scene
 
 
 # ---- tests of the helpers -------------------------------------------------------------------------------

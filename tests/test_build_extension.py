@@ -47,4 +47,54 @@ def test_zipped_addon_imports_its_export(built_zip, tmp_path):
             "print(e.export_scene.__name__, e.Export.__name__, e.ExportError.__name__, e.render_resolution.__name__)")
     out = subprocess.run([sys.executable, "-c", code, str(tmp_path)], capture_output=True, text=True, timeout=120)
     assert out.returncode == 0, out.stderr
-    assert out.stdout.split() == ["export_scene", "Export", "ExportError", "render_resolution"]
+    # the last line: Blender 5.3 may log its colour management set-up to stdout first
+    assert out.stdout.splitlines()[-1].split() == ["export_scene", "Export", "ExportError", "render_resolution"]
+
+
+
+def _fake_wheel(folder: Path, name: str) -> None:
+    with zipfile.ZipFile(folder / name, "w") as z:
+        z.writestr(name.split("-")[0] + "-1.0.dist-info/WHEEL", "Wheel-Version: 1.0\n")
+
+
+def test_each_distribution_needs_a_wheel_for_every_python(tmp_path):
+    tool = _tool()
+    for name in ("restircl-0.1.0-py3-none-any.whl", "pyopencl-1.0-cp311-cp311-manylinux_2_28_x86_64.whl",
+                 "pyopencl-1.0-cp313-cp313-manylinux_2_28_x86_64.whl",
+                 "siphash24-1.0-cp311-cp311-manylinux2014_x86_64.whl"):
+        _fake_wheel(tmp_path, name)
+    with pytest.raises(SystemExit, match="siphash24: no wheel for CPython 3.13"):
+        tool.check_wheels(tmp_path, ["3.11", "3.13"])
+    _fake_wheel(tmp_path, "siphash24-1.0-cp313-cp313-manylinux2014_x86_64.whl")
+    assert len(tool.check_wheels(tmp_path, ["3.11", "3.13"])) == 5
+    with pytest.raises(SystemExit, match="cp313.*installs on none"):  # a wheel no target Python can use
+        tool.check_wheels(tmp_path, ["3.11"])
+    _fake_wheel(tmp_path, "pyopencl-1.0-cp313-cp313-win_amd64.whl")
+    with pytest.raises(SystemExit, match="win_amd64.*installs on none"):
+        tool.check_wheels(tmp_path, ["3.11", "3.13"])
+
+
+def test_blender_range_follows_the_pythons():
+    """3.11 alone: 4.2.0 up to (not including) 5.1.0; 3.13 alone: 5.1.0 on; both: from the first release that
+    picks wheels per Python."""
+    tool = _tool()
+    assert tool.blender_range(["3.11"]) == ("4.2.0", "5.1.0")
+    assert tool.blender_range(["3.13"]) == ("5.1.0", None)
+    assert tool.blender_range(["3.11", "3.13"]) == (tool.PER_PYTHON_WHEELS_MIN, None)
+    with pytest.raises(SystemExit, match="3.12"):
+        tool.blender_range(["3.12"])
+
+
+def test_manifest_gets_the_wheels_and_the_range(tmp_path):
+    import tomllib
+
+    tool = _tool()
+    staged = tool.stage(tmp_path)
+    wheels = ["./wheels/restircl-0.1.0-py3-none-any.whl"]
+    tool.write_manifest(staged, wheels, ["3.11"])
+    meta = tomllib.loads((staged / "blender_manifest.toml").read_text())
+    assert (meta["wheels"], meta["platforms"]) == (wheels, ["linux-x64"])
+    assert (meta["blender_version_min"], meta["blender_version_max"]) == ("4.2.0", "5.1.0")
+    tool.write_manifest(staged, wheels, ["3.11", "3.13"])  # rewriting drops the max
+    meta = tomllib.loads((staged / "blender_manifest.toml").read_text())
+    assert meta["blender_version_min"] == tool.PER_PYTHON_WHEELS_MIN and "blender_version_max" not in meta

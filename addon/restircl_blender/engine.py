@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 from restircl.passes import PASSES, blender_name
 
-from . import export
+from . import compat, export
 
 MAX_REPORTED_WARNINGS = 8
 
@@ -119,8 +119,8 @@ def _render(engine, depsgraph) -> None:
     try:
         import restircl
     except ImportError as exc:
-        engine.report({"ERROR"}, f"restircl: the restircl package cannot be imported ({exc}); install the "
-                      "extension with its bundled wheels, or `pip install restircl` into Blender's Python")
+        engine.report({"ERROR"}, f"restircl: the restircl package cannot be imported ({exc}); "
+                      f"{compat.import_error_hint(_version())}")
         return
     if not hasattr(restircl, "Renderer"):
         engine.report({"ERROR"}, "restircl: this restircl package has no Renderer (too old)")

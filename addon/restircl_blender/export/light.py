@@ -9,6 +9,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from ..compat import uses_nodes
 from .convert import matrix, rgb
 from .motion import Frames, fill_gaps, instance_key, transforms
 from .report import ExportError
@@ -81,7 +82,7 @@ def light_params(ld, scale: np.ndarray, warn: Callable[[str], None], name: str) 
     if getattr(ld, "use_temperature", False):
         colour = colour * np.array(rgb(ld.temperature_color))
     power = float(ld.energy) * 2.0 ** float(getattr(ld, "exposure", 0.0))
-    if getattr(ld, "use_nodes", False) and ld.node_tree is not None:
+    if uses_nodes(ld):
         factor = _light_node_factor(ld.node_tree, warn, name)
         colour = colour * factor[0]
         power *= factor[1]

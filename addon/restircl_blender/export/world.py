@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from ..compat import uses_nodes
+
 WORLD_NOT_RENDERED = "world lighting is not rendered (direct light from lights and emissive objects only)"
 
 
@@ -11,7 +13,7 @@ def world_warning(scene, warn: Callable[[str], None]) -> None:
     world = scene.world
     if world is None:
         return
-    if world.node_tree is None:
+    if not uses_nodes(world):
         if any(c > 0 for c in world.color):
             warn(WORLD_NOT_RENDERED)
         return
