@@ -59,7 +59,9 @@ def get_reference(scene: Scene, frame: int = 0, seconds_hint: float = 60.0, fram
     """A converged image of `scene` at `frame`, cached on disk (see the module docstring)."""
     cache_dir = Path(cache_dir or default_cache_dir())
     cache_dir.mkdir(parents=True, exist_ok=True)
-    n_lights = len(scene.lights) + sum(1 for m in scene.materials if m.is_emissive)
+    # every emissive triangle is a light: a few emissive materials on thousands of triangles are not "few lights"
+    emissive = {i for i, m in enumerate(scene.materials) if m.is_emissive}
+    n_lights = len(scene.lights) + sum(int(np.isin(m.material_ids, list(emissive)).sum()) for m in scene.meshes)
     settings = Settings(method="reference" if n_lights <= 16 else "ris", candidates=32, seed=987654)
     r = Renderer(scene, settings, device)
     # the probe also keeps lazy kernel compilation and first uploads out of the timing below
