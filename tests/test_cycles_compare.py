@@ -79,10 +79,11 @@ def test_comparison_runs_on_a_tiny_budget(tmp_path, device):
                      cache_dir=tmp_path / "cache", agreement_seconds=0.5, log=logs.append)
     assert {(r.method, r.budget_s) for r in res.rows} == {(m, b) for m in C.METHODS for b in (0.15, 0.3)}
     for r in res.rows:
-        assert r.samples >= 1 and math.isfinite(r.rel_mse) and r.rel_mse > 0, r
-        assert r.seconds < r.budget_s + 1.0, r  # a render stops within a frame of its budget
+        assert r.samples >= 1 and math.isfinite(r.rel_mse) and r.rel_mse > 0 and r.seconds > 0, r
+    # ours stops within a frame (milliseconds here) of its budget; Cycles' call has a fixed cost (sync) above
+    # these tiny budgets, which varies with the machine's load, so only ours is bounded
     ours = [r for r in res.rows if r.method != "cycles"]
-    assert all(0 < r.setup_s < r.seconds for r in ours)
+    assert all(0 < r.setup_s < r.seconds < r.budget_s + 1.0 for r in ours), ours
     # ours converged against Cycles' 2 x 8 spp: the image sums agree within 5 sigma of Cycles' noise (the relative
     # std of its sum, from its two halves; ours, 256 frames or more, is far below it) plus 0.5 % for the
     # renderers' own agreement (docs/units.md: within 0.1 % per light type)
