@@ -96,6 +96,9 @@ def test_comparison_runs_on_a_tiny_budget(tmp_path, device):
     again = C.cycles_reference("garden", H.held_out("garden", 48, 27), cycles.to_bpy(H.held_out("garden", 48, 27)),
                                8, cache_dir=tmp_path / "cache", log=logs.append)
     assert np.array_equal(again.image, ref.image) and "cached" in logs[-1]
+    eq = C.equal_samples("garden", 2, width=48, height=27, reference_spp=8, device=device, cache_dir=tmp_path / "cache",
+                         log=logs.append)
+    assert set(eq) == set(C.METHODS) and all(v["rel_mse"] > 0 and v["seconds"] > 0 for v in eq.values())
     paths = CR.write([res], tmp_path / "out", {"width": 48, "height": 27, "device": "test"})
     assert {p.suffix for p in paths} >= {".csv", ".json"}
     record = json.loads((tmp_path / "out" / "data" / "compare_cycles_48x27.json").read_text())

@@ -194,9 +194,35 @@ def run_kind(kind: str, budgets=BUDGETS, reps: int = 3, methods=METHODS, width: 
     return result
 
 
+def equal_samples(kind: str, samples: int = 64, methods=METHODS, width: int | None = None, height: int | None = None,
+                  reference_spp: int = REFERENCE_SPP, threads: int = 2, device=None, cache_dir: Path | None = None,
+                  log: Callable[[str], None] = print) -> dict[str, dict]:
+    """Every method at the same number of samples (Cycles spp, our frames): {method: {rel_mse, seconds}}. The error
+    at equal samples does not depend on the machine's load, and the seconds per sample measured in the same run
+    give the cost side: together they separate the estimator from the speed. Needs the cached reference."""
+    scene = held_out(kind, width or WIDTH, height or HEIGHT)
+    sc = cycles.to_bpy(scene)
+    ref = cycles_reference(kind, scene, sc, reference_spp, threads, cache_dir, log)
+    out = {}
+    for m in methods:
+        if m == "cycles":
+            cycles.render(sc, samples=1, threads=threads)
+            res = cycles.render(sc, samples=samples, seed=7, threads=threads)
+            img, secs = res.image, res.total_seconds
+        else:
+            r = Renderer(scene, Settings(**OURS[m], seed=7).validate(), device)
+            r.render_still(0, 2)
+            t0 = time.perf_counter()
+            img = r.render_still(0, samples).color[..., :3]
+            secs = time.perf_counter() - t0
+        out[m] = {"rel_mse": rel_mse(img, ref.image), "seconds": secs, "samples": samples}
+        log(f"{kind:<7} {m:<8} {samples} samples: {secs:6.2f} s, relMSE {out[m]['rel_mse']:.3e}")
+    return out
+
+
 def run(kinds=KINDS, **kwargs) -> list[KindResult]:
     return [run_kind(k, **kwargs) for k in kinds]
 
 
 __all__ = ["BUDGETS", "METHODS", "OURS", "CyclesReference", "KindResult", "Row", "agreement", "calibrate_cycles",
-           "cycles_reference", "halves_rel_mse", "run", "run_kind", "time_cycles", "time_ours"]
+           "cycles_reference", "equal_samples", "halves_rel_mse", "run", "run_kind", "time_cycles", "time_ours"]
