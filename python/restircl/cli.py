@@ -220,6 +220,12 @@ def cmd_report(a: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_compare(a: argparse.Namespace) -> int:
+    from .eval import cycles_compare_report
+
+    return cycles_compare_report.main(a)
+
+
 def cmd_save_scene(a: argparse.Namespace) -> int:
     scene = load_scene(a.scene, a.width, a.height)
     scene.save(a.path)
@@ -327,6 +333,24 @@ def build_parser() -> argparse.ArgumentParser:
     rp.add_argument("--out", default="out")
     rp.add_argument("--device", default=None)
     rp.set_defaults(func=cmd_report)
+
+    c = sub.add_parser("compare", help="ours against Cycles at equal wall time on the held-out scenes (needs bpy)",
+                       description="Render the held-out scenes (studio, neon, garden) with Cycles (direct light "
+                                   "only), our F12 default and RIS for each wall-time budget, and compare their "
+                                   "relMSE against a cached 2 x N-spp Cycles image: tables, CSV/JSON, plot.")
+    c.add_argument("--kinds", default="studio,neon,garden")
+    c.add_argument("--methods", default="cycles,default,ris")
+    c.add_argument("--budgets", type=POSITIVE.parse_list, default="1,4,16", help="seconds (%(default)s)")
+    c.add_argument("--reps", type=COUNT, default=3, help="repetitions of every budget (%(default)s)")
+    c.add_argument("--width", type=COUNT, default=192)
+    c.add_argument("--height", type=COUNT, default=108)
+    c.add_argument("--reference-spp", type=COUNT, default=1024, help="samples of each of the two reference halves")
+    c.add_argument("--agreement-seconds", type=SECONDS, default=60.0, help="time for our converged image")
+    c.add_argument("--threads", type=COUNT, default=2, help="Cycles' render threads (%(default)s)")
+    c.add_argument("--cache-dir", default=None, help="reference cache (default: ~/.cache/restircl)")
+    c.add_argument("--out", default="out", help="writes OUT/data/compare_cycles_WxH.* and OUT/img/...png")
+    c.add_argument("--device", default=None)
+    c.set_defaults(func=cmd_compare)
 
     s = sub.add_parser("save-scene", help="write a built-in scene to a scene file (.npz)")
     s.add_argument("scene")
