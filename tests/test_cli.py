@@ -64,6 +64,9 @@ report cornell_box --budgets 0.5,-1
 report cornell_box --every 0
 report cornell_box --reference-seconds inf
 report cornell_box --ms-per-frame 0
+compare --budgets 1,0
+compare --reps 0
+compare --agreement-seconds nan
 stress --bench-frames 0
 stress --seed -1
 """.strip().splitlines()
@@ -99,7 +102,7 @@ def test_every_setting_is_an_option():
 
 
 def test_help_texts():
-    for cmd in ("demo", "render", "devices", "bench", "save-scene"):
+    for cmd in ("demo", "render", "devices", "bench", "save-scene", "compare"):
         with pytest.raises(SystemExit) as e:
             main([cmd, "--help"])
         assert e.value.code == 0
