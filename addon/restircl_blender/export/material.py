@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from ..compat import uses_nodes
 from .convert import rgb
 from .inputs import InputReader
 from .layers import assemble
@@ -66,7 +67,7 @@ class MaterialTable:
 
         if mat is None:
             return restircl.Material(name="(none)", kind="diffuse", albedo=DEFAULT_ALBEDO), None, False
-        tree = mat.node_tree if _uses_nodes(mat) else None
+        tree = mat.node_tree if uses_nodes(mat) else None
         if tree is None:  # Cycles renders a material without nodes as a diffuse of its viewport colour
             return restircl.Material(name=name, kind="diffuse", albedo=rgb(mat.diffuse_color)), None, False
         out = output_node(tree)
@@ -88,15 +89,6 @@ class MaterialTable:
         m = assemble(name, terms, notes)
         notes.flush()
         return m, inputs, baker is not None and baker.count > 0
-
-
-def _uses_nodes(mat) -> bool:
-    """Material.use_nodes, which Blender 5 deprecates (its materials always use their node tree): read only where
-    it is not deprecated."""
-    prop = mat.bl_rna.properties.get("use_nodes")
-    if prop is None or getattr(prop, "is_deprecated", False):
-        return True
-    return bool(mat.use_nodes)
 
 
 def _key(mat) -> str | None:
