@@ -5,29 +5,13 @@ Written to a scene file by `python -m restircl.eval.bsdf_scenes NAME PATH`."""
 
 from __future__ import annotations
 
-import math
 import sys
 
 import numpy as np
 
 from ..scene import Camera, Material, Mesh, Scene, look_at
 from ..scenes import box, icosphere, many_lights, quad
-
-
-def torus(major: float, minor: float, n_major: int, n_minor: int) -> tuple[np.ndarray, np.ndarray]:
-    """A torus around +Z at the origin, outward-facing triangles."""
-    a = np.linspace(0, 2 * math.pi, n_major, endpoint=False)
-    b = np.linspace(0, 2 * math.pi, n_minor, endpoint=False)
-    aa, bb = np.meshgrid(a, b, indexing="ij")
-    r = major + minor * np.cos(bb)
-    v = np.stack([r * np.cos(aa), r * np.sin(aa), minor * np.sin(bb)], axis=-1).reshape(-1, 3)
-    i, j = np.meshgrid(np.arange(n_major), np.arange(n_minor), indexing="ij")
-    p00 = i * n_minor + j
-    p10 = ((i + 1) % n_major) * n_minor + j
-    p01 = i * n_minor + (j + 1) % n_minor
-    p11 = ((i + 1) % n_major) * n_minor + (j + 1) % n_minor
-    t = np.concatenate([np.stack([p00, p10, p11], -1).reshape(-1, 3), np.stack([p00, p11, p01], -1).reshape(-1, 3)])
-    return v, t
+from .held_out import torus
 
 
 def neon(width: int = 160, height: int = 90) -> Scene:
