@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -242,7 +243,9 @@ def test_light_node_strength_multiplies():
     basic_scene()
     ob = scenes.light("POINT", "Noded", (0, 0, 2), energy=10.0)
     ld = ob.data
-    ld.use_nodes = True
+    with warnings.catch_warnings():  # deprecated from Blender 5.1 (lights always use their nodes), still needed before
+        warnings.simplefilter("ignore", DeprecationWarning)
+        ld.use_nodes = True
     em = next(n for n in ld.node_tree.nodes if n.bl_idname == "ShaderNodeEmission")
     em.inputs["Strength"].default_value = 3.0
     em.inputs["Color"].default_value = (1.0, 0.5, 0.5, 1.0)
