@@ -66,3 +66,9 @@ class Material:
     def added(cls, a: Material, b: Material, name: str = "add") -> Material:
         """Add Shader: a + b."""
         return cls(name=name, layers=[a, b])
+
+
+def material_inputs(m: Material) -> list[object]:
+    """Every input of m (and of its layers) that may hold a texture node, and the Mix factor."""
+    out = [getattr(c, f) for c in [m, *m.layers] for f in TEXTURABLE]
+    return [*out, m.mix]

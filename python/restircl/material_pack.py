@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import layouts as L
-from .material import Material
+from .material import Material, material_inputs
 from .textures import Input, is_texture
 
 TEX_NONE = -1
@@ -61,10 +61,7 @@ def uses_glossy(m: Material) -> bool:
 
 
 def uses_textures(m: Material) -> bool:
-    fields = ("albedo", "metallic", "roughness", "specular", "specular_tint", "emission", "normal")
-    if m.mix is not None and is_texture(m.mix):
-        return True
-    return any(is_texture(getattr(c, f)) for c in [m, *m.layers] for f in fields)
+    return any(is_texture(v) for v in material_inputs(m))
 
 
 def diffuse_albedo(m: Material) -> tuple[float, float, float]:

@@ -20,7 +20,7 @@ import numpy as np
 
 from . import layouts as L
 from .image_load import LINEAR_COLORSPACES, ImageReadError, mip_chain, read_image_file, to_linear_rgba
-from .material import TEXTURABLE, Material
+from .material import Material, material_inputs
 from .material_pack import constant_float, constant_rgb
 from .scene import SceneError
 from .textures import (
@@ -47,12 +47,6 @@ class PackedTextures:
     images: np.ndarray  # L.TEX_IMAGE
     texels: np.ndarray  # (N, 4) float32
     nonfinite_texels: int  # NaN/Inf texels zeroed
-
-
-def material_inputs(m: Material) -> list[object]:
-    """Every input of m (and of its layers) that may hold a texture node, and the Mix factor."""
-    out = [getattr(c, f) for c in [m, *m.layers] for f in TEXTURABLE]
-    return [*out, m.mix]
 
 
 def node_inputs(node: object) -> list[object]:
