@@ -452,8 +452,10 @@ def _every_field_scene():
     light = restircl.Light(name="l", type="point", transforms=np.eye(4), radius=0.2,
                            power_per_frame=np.array([1.0, 0.5]))
     cam = restircl.Camera(transforms=np.eye(4), cuts=(1,))
+    world = restircl.Environment(image=np.ones((2, 4, 3), np.float32), path="sky.exr", rotation=np.eye(3),
+                                 strength_per_frame=np.array([1.0, 2.0]))
     return restircl.Scene(meshes=[mesh], materials=[material], lights=[light], camera=cam,
-                          frame_count=2)
+                          frame_count=2, environment=world)
 
 
 def _changed(value):
@@ -478,9 +480,9 @@ def test_fingerprint_covers_every_field():
     base = Export(scene=sc, frames=[1, 2]).fingerprint()
     assert Export(scene=_every_field_scene(), frames=[1, 2]).fingerprint() == base
     assert Export(scene=sc, frames=[1, 3]).fingerprint() != base
-    parts = [sc, sc.meshes[0], sc.materials[0], sc.lights[0], sc.camera]
+    parts = [sc, sc.meshes[0], sc.materials[0], sc.lights[0], sc.camera, sc.environment]
     assert {type(p) for p in parts} == {restircl.Scene, restircl.Mesh, restircl.Material, restircl.Light,
-                                        restircl.Camera}
+                                        restircl.Camera, restircl.Environment}
     checked = []
     for part in parts:
         for f in dataclasses.fields(part):

@@ -11,6 +11,7 @@ Public API::
 
 from . import scenes
 from .device import Device, DeviceError, choose_device, get_device, list_devices
+from .environment import Environment
 from .image_io import read_exr, write_exr, write_png
 from .pipeline import Frame, Renderer, Settings
 from .program import KernelBuildError
@@ -19,8 +20,8 @@ from .setting_spec import SettingError
 from .textures import CheckerTexture, ImageTexture, MixColor, NormalMap
 
 __all__ = [
-    "Camera", "CheckerTexture", "Device", "DeviceError", "Frame", "ImageTexture", "KernelBuildError", "Light",
-    "Material", "Mesh", "MixColor", "NormalMap", "Renderer",
+    "Camera", "CheckerTexture", "Device", "DeviceError", "Environment", "Frame", "ImageTexture", "KernelBuildError",
+    "Light", "Material", "Mesh", "MixColor", "NormalMap", "Renderer",
     "Scene", "SceneError", "SceneFileError", "SettingError", "Settings", "choose_device", "get_device", "list_devices",
     "look_at", "read_exr", "scenes", "translation", "write_exr", "write_png",
 ]

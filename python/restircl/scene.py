@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .environment import Environment, WorldError
 from .material import Material
 from .material_check import MaterialError, check_material
 
@@ -109,6 +110,7 @@ class Light:
     size: float = 1.0  # area: size along local X
     size_y: float = 1.0  # area: size along local Y (RECTANGLE, ELLIPSE)
     power_per_frame: np.ndarray | None = None  # optional (F,) multiplier of power, e.g. to switch a light off
+    visible_camera: bool = True  # Cycles' Ray Visibility > Camera: camera rays see the light's shape
 
     def __post_init__(self) -> None:
         self.transforms = _as_transforms(self.transforms, f"light {self.name!r}")
@@ -173,6 +175,7 @@ class Scene:
     lights: list[Light] = field(default_factory=list)
     camera: Camera | None = None
     name: str = "scene"
+    environment: Environment | None = None  # the world light (None: camera rays that miss see black)
     frame_count: int | None = None  # default: the longest animation among camera, meshes and lights
 
     # ---- animation ---------------------------------------------------------------------------------
@@ -282,6 +285,11 @@ class Scene:
                     raise SceneError(f"{label}: shape must be one of {AREA_SHAPES}, got {lt.shape!r}")
                 if lt.size <= 0 or (lt.shape in ("RECTANGLE", "ELLIPSE") and lt.size_y <= 0):
                     raise SceneError(f"{label}: area light size must be > 0")
+        if self.environment is not None:
+            try:
+                self.environment.validate()
+            except WorldError as exc:
+                raise SceneError(str(exc)) from None
         if self.frame_count is not None and int(self.frame_count) < 1:
             raise SceneError(f"frame_count must be >= 1, got {self.frame_count!r}")
         return self

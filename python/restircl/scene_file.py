@@ -47,7 +47,8 @@ def save_scene(scene: Scene, path: str | Path) -> None:
                 arrays[f"mesh{i}_{what}"] = np.asarray(getattr(mesh, what), np.float64)
     for i, lt in enumerate(scene.lights):
         d = {k: getattr(lt, k) for k in ("name", "type", "power", "radius", "soft_falloff", "spot_size",
-                                          "spot_blend", "angle", "shape", "size", "size_y")}
+                                          "spot_blend", "angle", "shape", "size", "size_y",
+                                          "visible_camera")}
         d["color"] = list(map(float, lt.color))
         meta["lights"].append(d)
         arrays[f"light{i}_transforms"] = lt.transforms
