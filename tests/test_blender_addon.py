@@ -267,10 +267,26 @@ def test_albedo_is_the_diffuse_colour_pass_cycles_writes(tmp_path):
     assert np.median(np.abs(ours - cyc)) < 0.01 and ours.max() > 0.3
 
 
+def test_a_value_between_off_and_the_range_moves_to_the_nearest_allowed():
+    """Blender's min/max cannot say "0 (off) or above 1": a Light Change Ratio typed into that gap moves to the
+    nearest value restircl accepts, so the panel offers no value that stops the render."""
+    ensure_registered()
+    p = scenes.new_scene(8, 8).restircl
+    try:
+        p.light_change_ratio = 0.9
+        assert 1.0 < p.light_change_ratio < 1.0 + 1e-6
+        p.light_change_ratio = 0.2
+        assert p.light_change_ratio == 0.0
+        p.light_change_ratio = 3.0
+        assert p.light_change_ratio == 3.0
+    finally:
+        p.light_change_ratio = 2.0
+
+
 @needs_renderer
 def test_a_setting_out_of_range_is_an_error_report_naming_it(tmp_path, monkeypatch):
-    """The one value the panel allows and restircl refuses (a Light Change Ratio in (0, 1]) is a report, not a
-    crash caught by the engine's last-resort handler."""
+    """A value that reached the property without its update callback (a script writing the ID property) and that
+    restircl refuses is a report, not a crash caught by the engine's last-resort handler."""
     addon = ensure_registered()
     crashes = []
     monkeypatch.setattr(addon.engine.traceback, "print_exc", lambda *a, **k: crashes.append(1))
@@ -278,7 +294,7 @@ def test_a_setting_out_of_range_is_an_error_report_naming_it(tmp_path, monkeypat
     scenes.quad("Floor", 4.0, 4.0, scenes.diffuse_material("Floor"))
     scenes.light("POINT", "Point", (0.0, 0.0, 1.5), energy=20.0)
     scenes.camera((0.0, -3.0, 2.0), (0.0, 0.0, 0.0))
-    sc.restircl.light_change_ratio = 0.5
+    sc.restircl["light_change_ratio"] = 0.5  # the ID property itself: no update callback runs
     try:
         with pytest.raises(RuntimeError, match="light_change_ratio"):
             render_to(sc, tmp_path / "x.exr")

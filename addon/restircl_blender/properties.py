@@ -57,6 +57,19 @@ def limits(d: Declared) -> tuple[float | None, float | None]:
     return lo, hi
 
 
+def _snapper(name: str, r: Range) -> Any:
+    """An update callback that moves a value Blender's min/max let through but the range refuses (between an `off`
+    value and the range, e.g. a ratio of 0.5 where 0 is off and ratios start above 1) to the nearest allowed one."""
+
+    def update(self: Any, _context: Any) -> None:
+        value = getattr(self, name)
+        snapped = r.nearest(value)
+        if snapped != value:
+            setattr(self, name, snapped)
+
+    return update
+
+
 def bpy_property(d: Declared) -> Any:
     spec = d.spec
     kw: dict[str, Any] = {"name": spec.label, "description": spec.description, "default": d.default}
@@ -69,6 +82,8 @@ def bpy_property(d: Declared) -> Any:
         return StringProperty(**kw)
     lo, hi = limits(d)
     kw.update({k: v for k, v in (("min", lo), ("max", hi), ("soft_max", spec.soft_max)) if v is not None})
+    if spec.range is not None and spec.range.off is not None:
+        kw["update"] = _snapper(d.name, spec.range)
     if d.kind is int:
         return IntProperty(**kw)
     return FloatProperty(subtype=spec.subtype, precision=spec.precision, **kw)

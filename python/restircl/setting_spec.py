@@ -95,6 +95,13 @@ class Range:
         """An argparse type for a comma-separated list of such numbers."""
         return [self.parse(part) for part in text.split(",")]
 
+    def nearest(self, value: float) -> float:
+        """The allowed value nearest to `value` (for sliders that can reach the gap between `off` and the range)."""
+        if self.contains(value):
+            return value
+        candidates = [v for v in (self.lowest(), self.highest(), self.off) if v is not None]
+        return min(candidates, key=lambda v: abs(v - value)) if candidates else value
+
     def lowest(self) -> float | None:
         """The smallest allowed value (for an open minimum: the next float32 or integer above it)."""
         return _step(self.min, self.kind, up=True) if self.min_open else self.min
