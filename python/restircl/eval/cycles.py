@@ -10,7 +10,6 @@ world, light objects hidden from camera rays (restircl does not draw lights; emi
 from __future__ import annotations
 
 import re
-import sys
 import tempfile
 import time
 from dataclasses import dataclass
@@ -159,15 +158,9 @@ def to_bpy(scene: Scene, frame: int = 0):
 
 
 def _addon():
-    try:
-        import restircl_blender  # an installed extension or add-on
-    except ImportError:
-        addon_dir = Path(__file__).resolve().parents[3] / "addon"  # a source checkout
-        if not (addon_dir / "restircl_blender").is_dir():
-            raise
-        sys.path.insert(0, str(addon_dir))
-        import restircl_blender
-    return restircl_blender
+    from ..blend_export import addon_module
+
+    return addon_module()
 
 
 def load_blend(path: str | Path, width: int | None = None, height: int | None = None, frame: int | None = None,
