@@ -23,12 +23,26 @@ def addon_module():
     return restircl_blender
 
 
+def import_bpy():
+    """The bpy module. A process started by one that had imported bpy (a Dask worker spawned by a test or by
+    Blender) inherits its sys.path, in which Blender's scripts/modules folder, holding a package named bpy that
+    needs Blender's own _bpy, comes before the module: those folders go, bpy puts them back when it loads."""
+    if "bpy" not in sys.modules:
+        sys.path[:] = [p for p in sys.path if not _blender_scripts(Path(p).parts)]
+    import bpy
+
+    return bpy
+
+
+def _blender_scripts(parts: tuple[str, ...]) -> bool:
+    return "scripts" in parts and ("bpy" in parts or "blender" in parts)
+
+
 def export_blend(path: str | Path, first: int, last: int, width: int | None = None,
                  height: int | None = None) -> Scene:
     """Open `path` and export Blender frames first..last (scene frame i is Blender frame first + i), with the
     resolution overridden if given. Geometry that deforms between frames cannot be one export: an error names it."""
-    import bpy
-
+    bpy = import_bpy()
     addon = addon_module()
     if not hasattr(bpy.types.Scene, "restircl"):  # the file's render engine, and its settings, are the add-on's
         addon.register()
