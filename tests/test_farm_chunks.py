@@ -15,7 +15,7 @@ from restircl.frame_files import frame_paths, write_frame, written_frames
 def test_parse_frames():
     assert parse_frames("16") == 16
     assert parse_frames("3-9") == FrameRange(3, 9) and FrameRange(3, 9).count == 7
-    for bad in ("0", "-3", "9-3", "a-b", "1-", "x"):
+    for bad in ("0", "-3", "9-3", "a-b", "1-", "x", "1.5"):
         with pytest.raises(argparse.ArgumentTypeError):
             parse_frames(bad)
 

@@ -12,6 +12,8 @@ import argparse
 import math
 from dataclasses import dataclass
 
+from .setting_spec import Range
+
 
 @dataclass(frozen=True)
 class FrameRange:
@@ -31,17 +33,14 @@ class FrameRange:
 def parse_frames(text: str) -> int | FrameRange:
     """An argparse type: 'N' (a count, frames 0..N-1, or samples of a still) or 'A-B' (frames A to B)."""
     first, dash, last = text.partition("-")
+    if not dash or not first:  # a count, or a negative number: the count's own message
+        return int(Range(int, 1).parse(text))
     try:
-        if not dash:
-            count = int(text)
-            if count < 1:
-                raise ValueError
-            return count
         a, b = int(first), int(last)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is neither a count >= 1 nor a frame range A-B") from None
-    if a < 0 or b < a:
-        raise argparse.ArgumentTypeError(f"frame range {text!r}: need 0 <= A <= B")
+        raise argparse.ArgumentTypeError(f"{text!r} is not a count N or a frame range A-B") from None
+    if b < a:
+        raise argparse.ArgumentTypeError(f"{text} is out of range: a frame range A-B needs A <= B")
     return FrameRange(a, b)
 
 
