@@ -38,6 +38,18 @@ def _blender_scripts(parts: tuple[str, ...]) -> bool:
     return "scripts" in parts and ("bpy" in parts or "blender" in parts)
 
 
+def open_blend(path: str | Path, width: int | None = None, height: int | None = None):
+    """Open `path` and return its scene, with the render resolution set to width x height (at 100 %) if given."""
+    bpy = import_bpy()
+    bpy.ops.wm.open_mainfile(filepath=str(path))
+    sc = bpy.context.scene
+    sc.render.resolution_x = int(width or sc.render.resolution_x)
+    sc.render.resolution_y = int(height or sc.render.resolution_y)
+    if width or height:
+        sc.render.resolution_percentage = 100
+    return sc
+
+
 def export_blend(path: str | Path, first: int, last: int, width: int | None = None,
                  height: int | None = None) -> Scene:
     """Open `path` and export Blender frames first..last (scene frame i is Blender frame first + i), with the
@@ -46,14 +58,7 @@ def export_blend(path: str | Path, first: int, last: int, width: int | None = No
     addon = addon_module()
     if not hasattr(bpy.types.Scene, "restircl"):  # the file's render engine, and its settings, are the add-on's
         addon.register()
-    bpy.ops.wm.open_mainfile(filepath=str(path))
-    sc = bpy.context.scene
-    if width:
-        sc.render.resolution_x = int(width)
-    if height:
-        sc.render.resolution_y = int(height)
-    if width or height:
-        sc.render.resolution_percentage = 100
+    sc = open_blend(path, width, height)
     sc.frame_set(int(first))
     exp = addon.export.export_scene(bpy.context.evaluated_depsgraph_get(), list(range(first, last + 1)),
                                              frame_set=sc.frame_set)

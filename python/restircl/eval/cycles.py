@@ -168,16 +168,11 @@ def load_blend(path: str | Path, width: int | None = None, height: int | None = 
     """Open a .blend, set the resolution if given, export the scene at `frame` (default: its current frame; with
     all_frames, from frame_start with the motion of the whole frame range) with the restircl add-on's exporter.
     Returns (restircl Scene, bpy scene, exporter warnings)."""
+    from ..blend_export import open_blend
+
     bpy = _bpy()
     export = _addon().export
-    bpy.ops.wm.open_mainfile(filepath=str(path))
-    sc = bpy.context.scene
-    if width:
-        sc.render.resolution_x = int(width)
-    if height:
-        sc.render.resolution_y = int(height)
-    if width or height:
-        sc.render.resolution_percentage = 100
+    sc = open_blend(path, width, height)
     if all_frames:
         frame = int(sc.frame_start)
     if frame is not None:
