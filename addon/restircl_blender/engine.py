@@ -201,14 +201,16 @@ def _render(engine, depsgraph) -> None:
 
     try:
         if animation:
+            # every frame's random stream is keyed by its Blender frame number, so a frame range split into
+            # chunks (Flamenco: -s A -e B per chunk, docs/farm.md) draws the same noise as one render of it
             if new_sequence:  # warm-up: the frames before the first, with their motion
                 for warm in range(index):
                     if engine.test_break():
                         return
-                    renderer.render_frame(warm)
+                    renderer.render_frame(warm, sample=exp.frames[warm])
             if engine.test_break():
                 return
-            result = renderer.render_frame(index)
+            result = renderer.render_frame(index, sample=frame)
             session.last_frame = frame
             show(1, 1, getattr(result, "ms", None))
         else:

@@ -24,9 +24,6 @@ class EngineSettings:
     target_error: float = setting(0.0, "Target Error", "Still render: stop before Samples once the estimated relMSE "
                                   "of the image (from two half buffers, no reference) reaches this; 0 = off",
                                   range=Range(float, 0, finite=True), panel="sampling", soft_max=0.1, precision=4)
-    warmup_frames: int = setting(0, "Warm-up Frames", "Frames before the first frame of an animation render that are "
-                                 "rendered (with their motion) and discarded, to fill the ReSTIR and TAA history",
-                                 range=Range(int, 0, 256), panel="sampling")
     device: str = setting("", "Device", "OpenCL device: 'P:D' (platform:device index) or part of its name; empty = "
                           "$RESTIRCL_DEVICE or the default choice", panel="device")
 

@@ -10,6 +10,7 @@ from pathlib import Path
 
 from . import scenes
 from .device import DeviceError, get_device, list_devices
+from .farm_chunks import parse_frames
 from .pipeline import Renderer
 from .program import KernelBuildError
 from .scene import Scene, SceneError
@@ -145,6 +146,10 @@ def cmd_demo(a: argparse.Namespace) -> int:
 
 
 def cmd_render(a: argparse.Namespace) -> int:
+    from .farm_cli import render_job, wants_farm
+
+    if wants_farm(a):
+        return render_job(a)
     scene = load_scene(a.scene, a.width, a.height, a.frames)
     return _render(scene, a.settings, a.frames, Path(a.out), a.mode, a.device, a.target_error)
 
@@ -260,6 +265,8 @@ def cmd_stress(a: argparse.Namespace) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
+    from .farm_cli import add_farm_arguments
+
     p = argparse.ArgumentParser(prog="restircl", description=__doc__)
     sub = p.add_subparsers(dest="command", required=True)
 
@@ -280,13 +287,15 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("scene", help=f"built-in scene ({', '.join(scenes.BUILTIN)}) or a scene file")
     r.add_argument("--width", type=COUNT, default=None)
     r.add_argument("--height", type=COUNT, default=None)
-    r.add_argument("--frames", type=COUNT, default=16, help="samples (still) or frames (animation)")
+    r.add_argument("--frames", type=parse_frames, default=16,
+                   help="samples (still) or frames (animation: N for 0..N-1, or a range A-B)")
     r.add_argument("--mode", choices=("auto", "still", "animation"), default="auto",
                    help="auto: still if the scene has one frame (default)")
     r.add_argument("--out", default="out")
     r.add_argument("--target-error", type=POSITIVE.parse, default=None,
                    help="still: stop once the estimated relMSE (from two half buffers, no reference) reaches this")
     add_settings_args(r)
+    add_farm_arguments(r)
     r.set_defaults(func=cmd_render)
 
     v = sub.add_parser("devices", help="list OpenCL devices and the one chosen")

@@ -116,10 +116,15 @@ class Renderer:
 
     # ---- the frame -------------------------------------------------------------------------------------
 
-    def render_frame(self, frame: int, *, still: bool = False, aovs: bool = True) -> Frame:
+    def render_frame(self, frame: int, *, still: bool = False, aovs: bool = True, sample: int | None = None) -> Frame:
         """Render animation frame `frame`, carrying history from the previous call (reset on a camera cut).
         aovs=False reads back the colour and the noisy sample only (no depth, normal, vector, albedo): a real-time
-        viewer needs no more, and the G-buffer read-back cost ~20 ms per 640x360 frame on a 2-core CPU."""
+        viewer needs no more, and the G-buffer read-back cost ~20 ms per 640x360 frame on a 2-core CPU.
+        `sample` is this frame's random stream key (and jitter index), by default the frames rendered so far: a
+        render split into chunks (farm.py) keys every frame by its number, so that its noise does not depend on
+        where a chunk began."""
+        if sample is not None:
+            self._sample = int(sample) % (1 << 32)  # FrameParams.sample is a uint
         t0 = time.perf_counter()
         stage, color_buf, gbuf = self._render(frame, still)
         out = self._read(color_buf, gbuf, frame, aovs=aovs)

@@ -138,6 +138,10 @@ class Settings:
     bsdf_candidates: int = setting(1, "BSDF Candidates", "BSDF-sampled candidates per pixel and frame (RIS, ReSTIR)",
                                    flag="--bsdf-candidates", range=Range(int, 1, 64), panel="sampling",
                                    applies_when=_BSDF, soft_max=8)
+    warmup_frames: int = setting(0, "Warm-up Frames", "Frames before the first frame of an animation render (and, "
+                                 "on a farm, of every chunk) that are rendered with their motion and discarded, to "
+                                 "fill the ReSTIR and TAA history", flag="--warmup-frames", range=Range(int, 0, 256),
+                                 panel="sampling")
 
     def validate(self) -> Settings:
         check(self)

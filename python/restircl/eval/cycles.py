@@ -10,7 +10,6 @@ world, light objects hidden from camera rays (restircl does not draw lights; emi
 from __future__ import annotations
 
 import re
-import sys
 import tempfile
 import time
 from dataclasses import dataclass
@@ -159,15 +158,9 @@ def to_bpy(scene: Scene, frame: int = 0):
 
 
 def _addon():
-    try:
-        import restircl_blender  # an installed extension or add-on
-    except ImportError:
-        addon_dir = Path(__file__).resolve().parents[3] / "addon"  # a source checkout
-        if not (addon_dir / "restircl_blender").is_dir():
-            raise
-        sys.path.insert(0, str(addon_dir))
-        import restircl_blender
-    return restircl_blender
+    from ..blend_export import addon_module
+
+    return addon_module()
 
 
 def load_blend(path: str | Path, width: int | None = None, height: int | None = None, frame: int | None = None,
@@ -175,16 +168,11 @@ def load_blend(path: str | Path, width: int | None = None, height: int | None = 
     """Open a .blend, set the resolution if given, export the scene at `frame` (default: its current frame; with
     all_frames, from frame_start with the motion of the whole frame range) with the restircl add-on's exporter.
     Returns (restircl Scene, bpy scene, exporter warnings)."""
+    from ..blend_export import open_blend
+
     bpy = _bpy()
     export = _addon().export
-    bpy.ops.wm.open_mainfile(filepath=str(path))
-    sc = bpy.context.scene
-    if width:
-        sc.render.resolution_x = int(width)
-    if height:
-        sc.render.resolution_y = int(height)
-    if width or height:
-        sc.render.resolution_percentage = 100
+    sc = open_blend(path, width, height)
     if all_frames:
         frame = int(sc.frame_start)
     if frame is not None:
