@@ -25,10 +25,11 @@ import pyopencl as cl
 from . import layouts as L
 from .buffers import FrameBuffers, alloc
 from .camera import jitter
+from .denoise import denoise_frame
 from .device import Device, get_device
 from .device_scene import DeviceScene
 from .features import derive_flags, describe, general_flags
-from .frame import Frame, read_aovs, read_colour, read_gbuffer, read_guards, read_image
+from .frame import Frame, read_aovs, read_colour, read_gbuffer, read_guards, read_image, surface_images
 from .history import History
 from .kernels import LOCAL_ITEMS, Kernels, local_size
 from .light_array import LightArray
@@ -53,8 +54,8 @@ __all__ = ["LOCAL_ITEMS", "Frame", "Renderer", "Settings", "local_size"]
 _METHOD_CODE = {"uniform": 0, "light_array": 1, "ris": 2}
 
 
-KERNELS = ("primary", "light_tiles_fill", "shade_direct", "shade_reference", "accumulate", "restir_initial",
-           "restir_temporal", "restir_spatial", "restir_shade", "taa")
+KERNELS = ("primary", "light_tiles_fill", "shade_direct", "shade_reference", "accumulate", "accumulate_aux",
+           "restir_initial", "restir_temporal", "restir_spatial", "restir_shade", "taa")
 
 
 class Renderer:
@@ -123,9 +124,18 @@ class Renderer:
         t0 = time.perf_counter()
         stage, color_buf, gbuf = self._render(frame, still)
         out = self._read(color_buf, gbuf, frame, aovs=aovs)
+        if self.settings.denoise:
+            self._denoise(out, gbuf)
         out.stage_ms = stage
         out.ms = (time.perf_counter() - t0) * 1e3
         return out
+
+    def _denoise(self, out: Frame, gbuf: cl.Buffer) -> None:
+        """Denoise an animation frame guided by its own G-buffer's albedo and normal (denoise.py)."""
+        if out.albedo is not None and out.normal is not None:
+            denoise_frame(out, out.albedo, out.normal)
+        else:
+            denoise_frame(out, *surface_images(self._read_gbuffer(gbuf)))
 
     def _render(self, frame: int, still: bool, jitter_px: tuple[float, float] | None = None
                 ) -> tuple[dict[str, float], cl.Buffer, cl.Buffer]:

@@ -138,6 +138,9 @@ class Settings:
     bsdf_candidates: int = setting(1, "BSDF Candidates", "BSDF-sampled candidates per pixel and frame (RIS, ReSTIR)",
                                    flag="--bsdf-candidates", range=Range(int, 1, 64), panel="sampling",
                                    applies_when=_BSDF, soft_max=8)
+    denoise: bool = setting(False, "Denoise", "Filter each finished image with Intel Open Image Denoise (pyoidn), "
+                            "guided by the albedo and normal of the same pixels; the image before it is kept as the "
+                            "Noisy Image pass", flag="--denoise", panel="sampling")
 
     def validate(self) -> Settings:
         check(self)
