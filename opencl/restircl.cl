@@ -34,6 +34,7 @@
 #include "direct.cl"
 #include "restir_initial.cl"
 #include "restir_temporal.cl"
+#include "restir_boiling.cl"
 #include "restir_spatial.cl"
 #include "restir_shade.cl"
 #include "taa.cl"

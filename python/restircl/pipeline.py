@@ -46,7 +46,7 @@ from .settings import (  # noqa: F401  (restircl.pipeline.Settings etc. are publ
     TILE_INFO_BYTES,
     Settings,
 )
-from .stages import FrameState, Initial, LightTiles, Primary, Shade, Spatial, StageTimer, Taa, Temporal
+from .stages import BoilingFilter, FrameState, Initial, LightTiles, Primary, Shade, Spatial, StageTimer, Taa, Temporal
 from .still import StillAccumulation, render_still
 
 __all__ = ["LOCAL_ITEMS", "Frame", "Renderer", "Settings", "local_size"]
@@ -55,7 +55,8 @@ _METHOD_CODE = {"uniform": 0, "light_array": 1, "ris": 2}
 
 
 KERNELS = ("primary", "light_tiles_fill", "shade_direct", "shade_reference", "accumulate", "accumulate_aux",
-           "restir_initial", "restir_temporal", "restir_spatial", "restir_shade", "taa")
+           "restir_initial", "restir_temporal", "boiling_tiles", "boiling_filter", "restir_spatial", "restir_shade",
+           "taa")
 
 
 class Renderer:
@@ -90,6 +91,7 @@ class Renderer:
         self.initial = Initial(*stage)
         self.temporal = Temporal(*stage, bias_code=bias)
         self.spatial = Spatial(*stage, bias_code=bias)
+        self.boiling = BoilingFilter(*stage)
         self.shade = Shade(*stage, method_codes=_METHOD_CODE)
         self.taa = Taa(*stage)
         self.still = StillAccumulation(self.kernels, self.pixels, (self.height, self.width))
@@ -157,6 +159,9 @@ class Renderer:
             if s.temporal and state.restir_history:  # 4 merge last frame's reservoir
                 res = self.temporal.run(state, res)
                 timer.mark("temporal")
+            if s.boiling_filter > 0 and not still:  # 4b biased: the animation path only
+                self.boiling.run(state, res)
+                timer.mark("boiling")
             if s.spatial and s.spatial_neighbours > 0:  # 5 merge the neighbours'
                 res = self.spatial.run(state, res)
                 timer.mark("spatial")

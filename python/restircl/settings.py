@@ -138,6 +138,11 @@ class Settings:
     bsdf_candidates: int = setting(1, "BSDF Candidates", "BSDF-sampled candidates per pixel and frame (RIS, ReSTIR)",
                                    flag="--bsdf-candidates", range=Range(int, 1, 64), panel="sampling",
                                    applies_when=_BSDF, soft_max=8)
+    boiling_filter: float = setting(0.0, "Boiling Filter", "ReSTIR, animation and viewport frames: empty a reservoir "
+                                    "whose weight stands far above the others of its 8x8 tile (RTXDI's filter: "
+                                    "strength 0-1, 1 the strongest, 0 off; biased, so still renders never use it)",
+                                    flag="--boiling-filter", range=Range(float, 0, 1), panel="reuse",
+                                    applies_when=_RESTIR, subtype="FACTOR")
     denoise: bool = setting(False, "Denoise", "Filter each finished image with Intel Open Image Denoise (pyoidn), "
                             "guided by the albedo and normal of the same pixels; the image before it is kept as the "
                             "Noisy Image pass", flag="--denoise", panel="sampling")

@@ -164,6 +164,29 @@ class Temporal(Stage):
         return out
 
 
+class BoilingFilter(Stage):
+    """4b (animation path): empty the reservoirs whose weight stands far above their tile's (restir_boiling.cl)."""
+
+    TILE = 8
+
+    def __init__(self, *args) -> None:
+        super().__init__(*args)
+        self._stats: cl.Buffer | None = None
+
+    def run(self, state: FrameState, res: cl.Buffer) -> None:
+        w, h = image_size(state)
+        tiles_x = -(-w // self.TILE)
+        tiles = tiles_x * -(-h // self.TILE)
+        if self._stats is None:
+            self._stats = alloc(self.kernels.device.context, tiles * 8)
+        strength = min(max(float(self.settings.boiling_filter), 1e-6), 1.0)
+        self.kernels.launch("boiling_tiles", (tiles,), res=res, tile_stats=self._stats,
+                            frame_params=state.frame_params, tiles_x=np.int32(tiles_x))
+        self.kernels.launch("boiling_filter", image_size(state), res=res, tile_stats=self._stats,
+                            frame_params=state.frame_params, tiles_x=np.int32(tiles_x),
+                            threshold=np.float32(10.0 / strength - 9.0))
+
+
 class Spatial(Stage):
     """5: merge neighbours' reservoirs, `spatial_passes` times, ping-pong between this frame's history slot and
     whichever scratch buffer does not hold the input."""
