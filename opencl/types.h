@@ -263,7 +263,11 @@ typedef struct {
     int bias_correction;   /* BIAS_* */
     int visibility_reuse;
     int lights_static;     /* 1: the light records are last frame's */
-} TemporalParams;          /* 32 bytes */
+    uint permutation;      /* 0: none; else 16 | a per-frame 4-bit key (permutation sampling, reproject.h) */
+    int pad0;
+    int pad1;
+    int pad2;
+} TemporalParams;          /* 48 bytes */
 
 /* ReSTIR pass 5 (restir_spatial.cl), one launch per spatial pass. */
 typedef struct {

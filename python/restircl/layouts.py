@@ -69,7 +69,8 @@ SAMPLER_PARAMS = np.dtype(_ints("light_count", "slot_count", "tile_count", "tile
 SIMILARITY_PARAMS = np.dtype([*_floats("depth_tolerance", "normal_cos"), *_ints("pad0", "pad1")])
 INITIAL_PARAMS = np.dtype([("sampler", SAMPLER_PARAMS), *_ints("candidates", "visibility_reuse", "pad0", "pad1")])
 TEMPORAL_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), ("m_cap", np.float32),
-                            *_ints("bias_correction", "visibility_reuse", "lights_static")])
+                            *_ints("bias_correction", "visibility_reuse", "lights_static"),
+                            ("permutation", np.uint32), *_ints("pad0", "pad1", "pad2")])
 SPATIAL_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), ("spatial_neighbours", np.int32),
                            ("spatial_radius", np.float32),
                            *_ints("bias_correction", "visibility_reuse", "pass_index", "pad0", "pad1",

@@ -143,6 +143,10 @@ class Settings:
                                     "strength 0-1, 1 the strongest, 0 off; biased, so still renders never use it)",
                                     flag="--boiling-filter", range=Range(float, 0, 1), panel="reuse",
                                     applies_when=_RESTIR, subtype="FACTOR")
+    temporal_permutation: bool = setting(False, "Permutation Sampling", "ReSTIR temporal reuse takes the history of "
+                                         "a neighbour within a 4x4 block, permuted every frame (RTXDI's), so that "
+                                         "a pixel's frames are less correlated", flag="--temporal-permutation",
+                                         panel="reuse", applies_when=_RESTIR)
     denoise: bool = setting(False, "Denoise", "Filter each finished image with Intel Open Image Denoise (pyoidn), "
                             "guided by the albedo and normal of the same pixels; the image before it is kept as the "
                             "Noisy Image pass", flag="--denoise", panel="sampling")

@@ -149,12 +149,20 @@ class Temporal(Stage):
         super().__init__(*args)
         self.bias_code = bias_code
 
+    def _permutation(self, state: FrameState) -> int:
+        """The frame's permutation-sampling key (reproject.h): one of the 16, from the frame's random stream."""
+        if not self.settings.temporal_permutation:
+            return 0
+        key = int(state.frame_params["sample"]) * 0x9E3779B1 + int(state.frame_params["seed"]) * 0x85EBCA6B
+        return 16 | ((key & 0xFFFFFFFF) >> 28)
+
     def run(self, state: FrameState, current: cl.Buffer) -> cl.Buffer:
         s, h = self.settings, self.history
         per_frame = s.candidates + int(state.sampler["bsdf_candidates"])  # the M of an initial reservoir
         params = L.pack(L.TEMPORAL_PARAMS, m_cap=s.m_cap * per_frame, similar=self._similarity(),
                         bias_correction=self.bias_code, visibility_reuse=int(s.visibility_reuse),
-                        lights_static=int(not self.scene.lights_changed))
+                        lights_static=int(not self.scene.lights_changed),
+                        permutation=self._permutation(state))
         out = self.buffers.res_temp
         self.kernels.launch("restir_temporal", image_size(state), gbuf=h.gbuf(h.cur), prev_gbuf=h.gbuf(h.prev),
                             glossy=h.glossy(h.cur), prev_glossy=h.glossy(h.prev),

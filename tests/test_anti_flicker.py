@@ -1,4 +1,5 @@
-"""ReSTIR's boiling filter (opencl/restir_boiling.cl, Settings.boiling_filter)."""
+"""ReSTIR's anti-flicker options: the boiling filter (opencl/restir_boiling.cl, Settings.boiling_filter) and
+permutation sampling (reproject.h, Settings.temporal_permutation; its unbiasedness: tests/test_restir.py)."""
 
 from __future__ import annotations
 
@@ -67,3 +68,17 @@ def test_still_renders_never_filter_and_animations_stay_finite(strength):
     r = Renderer(sc, Settings(seed=3, boiling_filter=strength))
     for f in range(4):
         assert np.all(np.isfinite(r.render_frame(f, aovs=False).color))
+
+
+def test_permutation_sampling_takes_a_neighbours_history():
+    """The key changes from frame to frame and the images change with it (still camera, no jitter: without the
+    permutation every pixel reuses its own history)."""
+    sc = scenes.many_lights(32, 20, frames=1)
+    imgs = []
+    for perm in (False, True):
+        r = Renderer(sc, Settings(seed=2, jitter=False, temporal_permutation=perm))
+        imgs.append([r.render_frame(0, aovs=False).color for _ in range(3)])
+    np.testing.assert_array_equal(imgs[0][0], imgs[1][0])  # no history yet: the same first frame
+    assert not np.array_equal(imgs[0][2], imgs[1][2])
+    keys = {r.temporal._permutation(type("S", (), {"frame_params": {"sample": k, "seed": 2}})()) for k in range(64)}
+    assert len(keys) == 16 and all(16 <= k < 32 for k in keys)
