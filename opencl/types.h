@@ -300,9 +300,9 @@ typedef struct {
                               neighbourhood (YCoCg variance box); 0: a still scene accumulates everything */
     int max_history;       /* cap of the per-pixel history length n */
     int reset;             /* 1: no history (first frame, camera cut): start from this frame's sample */
+    int filter;            /* history fetch: TAA_BILINEAR or TAA_CATMULL_ROM */
+    int dilate;            /* 1: take the motion of the nearest surface in the 3x3 neighbourhood */
     int pad0;
-    int pad1;
-    int pad2;
 } TaaParams;               /* 48 bytes */
 
 /* Counters of numerical guards, accumulated by the kernels with atomic_inc. */

@@ -28,6 +28,7 @@ BEFORE = (
     ("light_tile_count", 128), ("light_tile_size", 1024), ("light_change_ratio", 2.0), ("jitter", True),
     ("seed", 0), ("specialise", True), ("bake_resolution", 512),
     ("bsdf_sampling", "auto"), ("bsdf_candidates", 1), ("boiling_filter", 0.0), ("temporal_permutation", False),
+    ("taa_filter", "bilinear"), ("taa_dilation", False),
     ("denoise", False),
 )
 NUMBERS = [d for d in declared(Settings) if d.spec.range is not None]

@@ -77,7 +77,7 @@ SPATIAL_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), ("spatial_neighbours"
                                   "pad2")])
 SHADE_PARAMS = np.dtype([("sampler", SAMPLER_PARAMS), *_ints("method", "candidates", "visible_known", "pad0")])
 TAA_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), *_floats("alpha_min", "gamma"),
-                       *_ints("moving", "max_history", "reset", "pad0", "pad1", "pad2")])
+                       *_ints("moving", "max_history", "reset", "filter", "dilate", "pad0")])
 
 #: struct name in types.h -> numpy dtype
 STRUCTS: dict[str, np.dtype] = {

@@ -37,6 +37,13 @@ LIGHT_TILE_CHOICES = (
     Choice("off", "Off", "Draw the RIS candidates from the whole light array", 2),
 )
 LIGHT_TILES = tuple(c.id for c in LIGHT_TILE_CHOICES)
+TAA_FILTER_CHOICES = (
+    Choice("bilinear", "Bilinear", "History fetched from the 2x2 taps around its reprojected position", 0),
+    Choice("catmull_rom", "Catmull-Rom", "History fetched with a 4x4 Catmull-Rom filter: sharper under motion "
+           "(bilinear where a tap shows another surface)", 1),
+)
+TAA_FILTERS = tuple(c.id for c in TAA_FILTER_CHOICES)
+
 BSDF_SAMPLING_CHOICES = (
     Choice("auto", "Auto", "BSDF-sampled candidates at the pixels whose material has a specular lobe", 0),
     Choice("on", "On", "BSDF-sampled candidates for every scene (also diffuse ones, e.g. with large or mesh lights)",
@@ -147,6 +154,11 @@ class Settings:
                                          "a neighbour within a 4x4 block, permuted every frame (RTXDI's), so that "
                                          "a pixel's frames are less correlated", flag="--temporal-permutation",
                                          panel="reuse", applies_when=_RESTIR)
+    taa_filter: str = setting("bilinear", "History Filter", "How TAA samples its reprojected history",
+                              flag="--taa-filter", choices=TAA_FILTER_CHOICES, panel="taa", applies_when=_TAA)
+    taa_dilation: bool = setting(False, "Velocity Dilation", "TAA reprojects by the motion of the nearest surface in "
+                                 "the 3x3 neighbourhood first, so the edges of a moving object follow it",
+                                 flag="--taa-dilation", panel="taa", applies_when=_TAA)
     denoise: bool = setting(False, "Denoise", "Filter each finished image with Intel Open Image Denoise (pyoidn), "
                             "guided by the albedo and normal of the same pixels; the image before it is kept as the "
                             "Noisy Image pass", flag="--denoise", panel="sampling")
