@@ -38,4 +38,5 @@
 #include "restir_spatial.cl"
 #include "restir_shade.cl"
 #include "taa.cl"
+#include "atrous.cl"
 #include "accumulate.cl"

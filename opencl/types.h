@@ -305,6 +305,14 @@ typedef struct {
     int pad0;
 } TaaParams;               /* 48 bytes */
 
+/* One iteration of the real-time filter (atrous.cl). */
+typedef struct {
+    int step;              /* tap spacing in pixels: 1, 2, 4, ... */
+    float sigma_l;         /* luminance edge stop, in standard deviations of the centre */
+    float sigma_z;         /* view-depth edge stop, relative to the centre's depth, per pixel of spacing */
+    int pad0;
+} AtrousParams;            /* 16 bytes */
+
 /* Counters of numerical guards, accumulated by the kernels with atomic_inc. */
 #define GUARD_NONFINITE_SAMPLE   0  /* a shading result was NaN/Inf and replaced by 0 */
 #define GUARD_NONFINITE_HISTORY  1  /* a NaN/Inf reached the TAA history write and was replaced */

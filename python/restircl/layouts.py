@@ -79,6 +79,8 @@ SHADE_PARAMS = np.dtype([("sampler", SAMPLER_PARAMS), *_ints("method", "candidat
 TAA_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), *_floats("alpha_min", "gamma"),
                        *_ints("moving", "max_history", "reset", "filter", "dilate", "pad0")])
 
+ATROUS_PARAMS = np.dtype([("step", np.int32), *_floats("sigma_l", "sigma_z"), ("pad0", np.int32)])
+
 #: struct name in types.h -> numpy dtype
 STRUCTS: dict[str, np.dtype] = {
     "Tri": TRI,
@@ -100,6 +102,7 @@ STRUCTS: dict[str, np.dtype] = {
     "SimilarityParams": SIMILARITY_PARAMS,
     "InitialParams": INITIAL_PARAMS,
     "TemporalParams": TEMPORAL_PARAMS,
+    "AtrousParams": ATROUS_PARAMS,
     "SpatialParams": SPATIAL_PARAMS,
     "ShadeParams": SHADE_PARAMS,
     "TaaParams": TAA_PARAMS,

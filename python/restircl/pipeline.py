@@ -46,7 +46,19 @@ from .settings import (  # noqa: F401  (restircl.pipeline.Settings etc. are publ
     TILE_INFO_BYTES,
     Settings,
 )
-from .stages import BoilingFilter, FrameState, Initial, LightTiles, Primary, Shade, Spatial, StageTimer, Taa, Temporal
+from .stages import (
+    BoilingFilter,
+    FrameState,
+    Initial,
+    LightTiles,
+    Primary,
+    RealtimeFilter,
+    Shade,
+    Spatial,
+    StageTimer,
+    Taa,
+    Temporal,
+)
 from .still import StillAccumulation, render_still
 
 __all__ = ["LOCAL_ITEMS", "Frame", "Renderer", "Settings", "local_size"]
@@ -56,7 +68,7 @@ _METHOD_CODE = {"uniform": 0, "light_array": 1, "ris": 2}
 
 KERNELS = ("primary", "light_tiles_fill", "shade_direct", "shade_reference", "accumulate", "accumulate_aux",
            "restir_initial", "restir_temporal", "boiling_tiles", "boiling_filter", "restir_spatial", "restir_shade",
-           "taa")
+           "taa", "filter_variance", "atrous")
 
 
 class Renderer:
@@ -92,6 +104,7 @@ class Renderer:
         self.temporal = Temporal(*stage, bias_code=bias)
         self.spatial = Spatial(*stage, bias_code=bias)
         self.boiling = BoilingFilter(*stage)
+        self.realtime_filter = RealtimeFilter(*stage)
         self.shade = Shade(*stage, method_codes=_METHOD_CODE)
         self.taa = Taa(*stage)
         self.still = StillAccumulation(self.kernels, self.pixels, (self.height, self.width))
@@ -176,6 +189,9 @@ class Renderer:
         if s.taa and not still:  # 7 temporal accumulation (animation frames; a still render averages instead)
             color_buf = self.taa.run(state, self._moving(state))
             timer.mark("taa")
+            if s.realtime_filter:  # 8 edge-aware a-trous filter of what is shown (the history stays as it is)
+                color_buf = self.realtime_filter.run(state, color_buf)
+                timer.mark("filter")
         gbuf = h.gbuf(h.cur)
         self._last_frame = frame
         self._sample += 1

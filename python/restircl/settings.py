@@ -159,6 +159,13 @@ class Settings:
     taa_dilation: bool = setting(False, "Velocity Dilation", "TAA reprojects by the motion of the nearest surface in "
                                  "the 3x3 neighbourhood first, so the edges of a moving object follow it",
                                  flag="--taa-dilation", panel="taa", applies_when=_TAA)
+    realtime_filter: bool = setting(False, "Real-time Filter", "Animation and viewport frames: an edge-aware "
+                                    "a-trous filter (SVGF-style) of the TAA output, guided by depth, normal and the "
+                                    "estimated variance; the TAA history is not filtered", flag="--realtime-filter",
+                                    panel="taa", applies_when=_TAA)
+    filter_iterations: int = setting(4, "Filter Iterations", "Real-time filter: a-trous iterations (taps 1, 2, 4, "
+                                     "... pixels apart)", flag="--filter-iterations", range=Range(int, 1, 8),
+                                     panel="taa", applies_when=(("taa", (True,)), ("realtime_filter", (True,))))
     denoise: bool = setting(False, "Denoise", "Filter each finished image with Intel Open Image Denoise (pyoidn), "
                             "guided by the albedo and normal of the same pixels; the image before it is kept as the "
                             "Noisy Image pass", flag="--denoise", panel="sampling")

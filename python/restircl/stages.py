@@ -254,6 +254,32 @@ class Shade(Stage):
         self.kernels.launch("shade_reference", pixel_count(state), **self._common(state), params=params)
 
 
+class RealtimeFilter(Stage):
+    """8 (animation path, realtime_filter): the edge-aware a-trous filter of the TAA output (atrous.cl), into its
+    own buffers: the TAA history stays unfiltered."""
+
+    SIGMA_L = 4.0  # SVGF's luminance edge stop
+    SIGMA_Z = 0.02  # relative depth per pixel of tap spacing
+
+    def __init__(self, *args) -> None:
+        super().__init__(*args)
+        self._bufs: list[cl.Buffer] = []
+
+    def run(self, state: FrameState, taa: cl.Buffer) -> cl.Buffer:
+        w, hgt = image_size(state)
+        if not self._bufs:
+            self._bufs = [alloc(self.kernels.device.context, w * hgt * 16) for _ in range(2)]
+        gbuf = self.history.gbuf(self.history.cur)
+        self.kernels.launch("filter_variance", (w, hgt), sample=self.buffers.sample, taa=taa, out=self._bufs[0],
+                            frame_params=state.frame_params)
+        for k in range(self.settings.filter_iterations):
+            src, dst = self._bufs[k % 2], self._bufs[(k + 1) % 2]
+            params = L.pack(L.ATROUS_PARAMS, step=1 << k, sigma_l=self.SIGMA_L, sigma_z=self.SIGMA_Z)
+            self.kernels.launch("atrous", (w, hgt), input=src, out=dst, gbuf=gbuf,
+                                frame_params=state.frame_params, params=params)
+        return self._bufs[self.settings.filter_iterations % 2]
+
+
 class Taa(Stage):
     """7: f_n = a s_n + (1 - a) clip(history): blends into this frame's TAA slot, which it returns."""
 
