@@ -277,9 +277,9 @@ typedef struct {
     int bias_correction;   /* BIAS_* */
     int visibility_reuse;
     int pass_index;        /* index of this spatial pass: its own random numbers */
+    int boost_neighbours;  /* neighbours of a pixel whose reservoir has no history (M <= fresh_m); 0: no boost */
+    float fresh_m;         /* the M of a reservoir of this frame's candidates alone */
     int pad0;
-    int pad1;
-    int pad2;
 } SpatialParams;           /* 48 bytes */
 
 /* Pass 6: restir_shade, and the samplers without reuse (direct.cl). */

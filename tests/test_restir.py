@@ -98,6 +98,15 @@ def test_permutation_sampling_stays_unbiased(device, references, scene_name):
     assert_matches(runs, references[scene_name], f"{scene_name} permutation")
 
 
+def test_disocclusion_boost_stays_unbiased(device, references):
+    """Without temporal reuse no pixel has history, so every pixel takes the boosted neighbour count (8)."""
+    scene = occluder_scene(W, H)
+    s = Settings(method="restir", jitter=False, taa=False, seed=14, temporal=False, disocclusion_boost=8)
+    runs = run_means(scene, s, RUNS, FRAMES, device)
+    assert np.all(np.isfinite(runs))
+    assert_matches(runs, references["occluders"], "occluders disocclusion boost")
+
+
 def test_biased_mode_darkens_by_a_bounded_amount(device, references):
     """Plain M-weighted reuse keeps neighbours' samples that are occluded here: it darkens contact shadows.
     Measured on the occluder scene (image mean): about -2% to -5%; bounded here by -15% and required to be no

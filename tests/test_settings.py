@@ -29,7 +29,7 @@ BEFORE = (
     ("seed", 0), ("specialise", True), ("bake_resolution", 512),
     ("bsdf_sampling", "auto"), ("bsdf_candidates", 1), ("boiling_filter", 0.0), ("temporal_permutation", False),
     ("taa_filter", "bilinear"), ("taa_dilation", False),
-    ("realtime_filter", False), ("filter_iterations", 4),
+    ("realtime_filter", False), ("filter_iterations", 4), ("disocclusion_boost", 0),
     ("denoise", False),
 )
 NUMBERS = [d for d in declared(Settings) if d.spec.range is not None]

@@ -166,6 +166,10 @@ class Settings:
     filter_iterations: int = setting(4, "Filter Iterations", "Real-time filter: a-trous iterations (taps 1, 2, 4, "
                                      "... pixels apart)", flag="--filter-iterations", range=Range(int, 1, 8),
                                      panel="taa", applies_when=(("taa", (True,)), ("realtime_filter", (True,))))
+    disocclusion_boost: int = setting(0, "Disocclusion Boost", "ReSTIR: spatial neighbours for a pixel whose "
+                                      "temporal pass found no history (disocclusion, off-screen), in place of "
+                                      "Neighbours when larger (0: off)", flag="--disocclusion-boost",
+                                      range=Range(int, 0, 16), panel="reuse", applies_when=_SPATIAL)
     denoise: bool = setting(False, "Denoise", "Filter each finished image with Intel Open Image Denoise (pyoidn), "
                             "guided by the albedo and normal of the same pixels; the image before it is kept as the "
                             "Noisy Image pass", flag="--denoise", panel="sampling")

@@ -211,7 +211,9 @@ class Spatial(Stage):
             dst = bufs[p % 2]
             params = L.pack(L.SPATIAL_PARAMS, spatial_neighbours=s.spatial_neighbours,
                             spatial_radius=s.spatial_radius, similar=self._similarity(), bias_correction=self.bias_code,
-                            visibility_reuse=int(s.visibility_reuse), pass_index=p)
+                            visibility_reuse=int(s.visibility_reuse), pass_index=p,
+                            boost_neighbours=s.disocclusion_boost,
+                            fresh_m=s.candidates + int(state.sampler["bsdf_candidates"]))
             self.kernels.launch("restir_spatial", image_size(state), gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
                                 **self.scene.geometry,
                                 lights=self.scene.lights_buf, input=res, out=dst,
