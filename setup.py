@@ -16,8 +16,10 @@ setup(
         "pocl": ["pyopencl[pocl]>=2024.1"],
         # libclang: the OpenCL C front end for NVIDIA, AMD and SPIR targets (tests/test_portability.py)
         # distributed: the farm's engine (restircl render --workers/--scheduler, docs/farm.md; pure Python)
-        "test": ["pytest>=8", "ruff>=0.5", "scipy>=1.10", "matplotlib>=3.7", "libclang>=16", "distributed>=2024.8"],
+        "test": ["pytest>=8", "ruff>=0.5", "scipy>=1.10", "matplotlib>=3.7", "libclang>=16", "distributed>=2024.8",
+                 "pyoidn>=2.5"],
         "farm": ["distributed>=2024.8"],
+        "denoise": ["pyoidn>=2.5"],  # Intel Open Image Denoise (Settings.denoise)
         "bench": ["embreex>=4.3", "matplotlib>=3.7", "flip-evaluator>=1.7"],
         # bpy is Blender as a module, one Python per release line: 4.2 LTS-5.0 use CPython 3.11, 5.1 and newer 3.13
         # (docs/blender.md, "Supported releases"); each bpy pins the numpy its Blender ships (5.0.1: < 2).

@@ -25,13 +25,26 @@ inline bool reproject_same_surface(const GSample* cur, const GSample* prev, floa
     return dot3(cur->normal.xyz, prev->normal.xyz) >= normal_cos;
 }
 
+/* Permutation sampling (RTXDI's): move the reprojected pixel within its 4x4 block by a bijection that is the
+ * same for every pixel of a frame and changes from frame to frame (`permutation`: 16 | a 4-bit key; 0: off). Each
+ * pixel then reuses a neighbour's history, not its own, so consecutive frames of a pixel are less correlated (what
+ * a denoiser and the eye see as crawling patterns); the surface test below still applies to the pixel taken. */
+inline void permute_pixel(int* px, int* py, uint permutation)
+{
+    if (permutation == 0u) return;
+    int ox = (int)(permutation & 3u), oy = (int)((permutation >> 2) & 3u);
+    *px = ((*px + ox) ^ 3) - ox;
+    *py = ((*py + oy) ^ 3) - oy;
+}
+
 /* The previous-frame pixel index holding the surface of pixel (x, y), or -1 (off-screen or disoccluded). */
 inline int reproject_pixel(const __global GSample* gbuf, const __global GSample* prev_gbuf, int x, int y,
-                           int width, int height, float depth_tol, float normal_cos)
+                           int width, int height, float depth_tol, float normal_cos, uint permutation)
 {
     float2 p;
     if (!reproject_position(gbuf, x, y, width, &p)) return -1;
     int px = (int)floor(p.x), py = (int)floor(p.y);
+    permute_pixel(&px, &py, permutation);
     if (px < 0 || py < 0 || px >= width || py >= height) return -1;
     int j = py * width + px;
     GSample cur = gbuf[y * width + x], prev = prev_gbuf[j];

@@ -1,4 +1,4 @@
-/* ReSTIR pass 5: merge up to `spatial_neighbours` reservoirs of random pixels within `spatial_radius` whose
+/* ReSTIR pass 5: merge up to `spatial_neighbours` (or `boost_neighbours`) reservoirs of random pixels within `spatial_radius` whose
  * surface is similar (view depth, normal and material: surface_material_similar) with the pixel's own
  * (restir_reuse.h). */
 
@@ -39,7 +39,11 @@ __kernel void restir_spatial(const __global GSample* gbuf, const __global Glossy
     uint rng = rng_seed((uint)i, frame_params.sample, frame_params.seed, 5u + (uint)pass);
     /* the neighbours: random pixels in the disk that show a similar surface */
     int used[MAX_NEIGHBOURS];
-    int k_max = min(p.spatial_neighbours, MAX_NEIGHBOURS);
+    /* disocclusion boost (first pass): a pixel the temporal pass found no history for takes more neighbours. The
+     * count depends on the history's presence, not on any sample, so every bias correction stays as it was. */
+    int k_want = (pass == 0 && p.boost_neighbours > p.spatial_neighbours && c.M <= p.fresh_m)
+                 ? p.boost_neighbours : p.spatial_neighbours;
+    int k_max = min(k_want, MAX_NEIGHBOURS);
     for (int k = 0; k < k_max; ++k) {
         float2 o = disk_offset(p.spatial_radius, &rng);
         int nx = x + round_i(o.x), ny = y + round_i(o.y);

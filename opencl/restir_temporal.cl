@@ -23,7 +23,8 @@ __kernel void restir_temporal(const __global GSample* gbuf, const __global GSamp
     Reservoir c = current[i];
     Surface s = surface_load(gbuf, glossy, i);
     if (!s.valid) { out[i] = c; return; }
-    int j = reproject_pixel(gbuf, prev_gbuf, x, y, width, height, p.similar.depth_tolerance, p.similar.normal_cos);
+    int j = reproject_pixel(gbuf, prev_gbuf, x, y, width, height, p.similar.depth_tolerance, p.similar.normal_cos,
+                            p.permutation);
     if (j < 0) { out[i] = c; return; }
     Surface sp = surface_load(prev_gbuf, prev_glossy, j);
     if (!surface_material_similar(&s, &sp)) { out[i] = c; return; }  /* a glossy target is not a diffuse one's */

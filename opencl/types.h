@@ -263,7 +263,11 @@ typedef struct {
     int bias_correction;   /* BIAS_* */
     int visibility_reuse;
     int lights_static;     /* 1: the light records are last frame's */
-} TemporalParams;          /* 32 bytes */
+    uint permutation;      /* 0: none; else 16 | a per-frame 4-bit key (permutation sampling, reproject.h) */
+    int pad0;
+    int pad1;
+    int pad2;
+} TemporalParams;          /* 48 bytes */
 
 /* ReSTIR pass 5 (restir_spatial.cl), one launch per spatial pass. */
 typedef struct {
@@ -273,9 +277,9 @@ typedef struct {
     int bias_correction;   /* BIAS_* */
     int visibility_reuse;
     int pass_index;        /* index of this spatial pass: its own random numbers */
+    int boost_neighbours;  /* neighbours of a pixel whose reservoir has no history (M <= fresh_m); 0: no boost */
+    float fresh_m;         /* the M of a reservoir of this frame's candidates alone */
     int pad0;
-    int pad1;
-    int pad2;
 } SpatialParams;           /* 48 bytes */
 
 /* Pass 6: restir_shade, and the samplers without reuse (direct.cl). */
@@ -296,10 +300,18 @@ typedef struct {
                               neighbourhood (YCoCg variance box); 0: a still scene accumulates everything */
     int max_history;       /* cap of the per-pixel history length n */
     int reset;             /* 1: no history (first frame, camera cut): start from this frame's sample */
+    int filter;            /* history fetch: TAA_BILINEAR or TAA_CATMULL_ROM */
+    int dilate;            /* 1: take the motion of the nearest surface in the 3x3 neighbourhood */
     int pad0;
-    int pad1;
-    int pad2;
 } TaaParams;               /* 48 bytes */
+
+/* One iteration of the real-time filter (atrous.cl). */
+typedef struct {
+    int step;              /* tap spacing in pixels: 1, 2, 4, ... */
+    float sigma_l;         /* luminance edge stop, in standard deviations of the centre */
+    float sigma_z;         /* view-depth edge stop, relative to the centre's depth, per pixel of spacing */
+    int pad0;
+} AtrousParams;            /* 16 bytes */
 
 /* Counters of numerical guards, accumulated by the kernels with atomic_inc. */
 #define GUARD_NONFINITE_SAMPLE   0  /* a shading result was NaN/Inf and replaced by 0 */

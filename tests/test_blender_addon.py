@@ -218,11 +218,16 @@ def test_every_pass_reaches_blender():
             pass
 
     fake = FakeEngine()
+    engine.register_passes(fake, sc, vl)  # Denoise off: no Noisy Image pass, as in Cycles
+    assert "Noisy Image" not in [rp.name for rp in fake.passes]
+    sc.restircl.denoise = True
+    fake = FakeEngine()
     engine.register_passes(fake, sc, vl)
+    sc.restircl.denoise = False
     names = [blender_name(p, bpy.app.version) for p in PASSES]
     assert [rp.name for rp in fake.passes] == names
     assert ("Diffuse Color" if bpy.app.version >= (5, 0, 0) else "DiffCol") in names  # the albedo, as Cycles'
-    assert blender_name(PASSES[-1], (4, 2, 0)) == "DiffCol"
+    assert blender_name(next(p for p in PASSES if p.attr == "albedo"), (4, 2, 0)) == "DiffCol"
     frame = type("Frame", (), {p.attr: np.full((3, 4, len(p.channels)), k + 1.0, np.float32)
                                for k, p in enumerate(PASSES)})
     frame.depth = np.full((3, 4), np.inf, np.float32)

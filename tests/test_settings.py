@@ -28,6 +28,10 @@ BEFORE = (
     ("light_tile_count", 128), ("light_tile_size", 1024), ("light_change_ratio", 2.0), ("jitter", True),
     ("seed", 0), ("specialise", True), ("bake_resolution", 512),
     ("bsdf_sampling", "auto"), ("bsdf_candidates", 1), ("warmup_frames", 0),
+    ("boiling_filter", 0.0), ("temporal_permutation", False),
+    ("taa_filter", "bilinear"), ("taa_dilation", False),
+    ("realtime_filter", False), ("filter_iterations", 4), ("disocclusion_boost", 0),
+    ("denoise", False),
 )
 NUMBERS = [d for d in declared(Settings) if d.spec.range is not None]
 

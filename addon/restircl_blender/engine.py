@@ -41,7 +41,10 @@ def _pass_on(view_layer, p) -> bool:
 
 def register_passes(engine, scene, view_layer) -> None:
     """RenderEngine.update_render_passes: the passes of restircl.passes.PASSES the view layer has turned on."""
+    props = getattr(scene, "restircl", None)
     for p in PASSES:
+        if p.requires is not None and not getattr(props, p.requires, False):
+            continue
         if _pass_on(view_layer, p):
             engine.register_pass(scene, view_layer, blender_name(p, _version()), len(p.channels), p.channels,
                                  p.blender_type)

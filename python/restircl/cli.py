@@ -168,6 +168,26 @@ def cmd_bench(a: argparse.Namespace) -> int:
     return bench.main(a)
 
 
+def _report_flicker(a: argparse.Namespace, methods: list[str], cache: Path | None) -> int:
+    import json
+
+    from .eval import flicker
+
+    scene = load_scene(a.scene, a.width, a.height, a.frames)
+    if a.moving and scene.frames < 2:
+        raise ValueError(f"report --flicker --moving: {scene.name} has one frame (no camera motion)")
+    results = flicker.run_flicker(scene, methods, frames=a.flicker_frames, moving=a.moving, device=a.device,
+                                  cache_dir=cache, reference_seconds=a.reference_seconds, log=lambda s: None)
+    print(flicker.HEADER)
+    for res in results:
+        print(res.row())
+    out = Path(a.out) / f"flicker_{scene.name}_{'moving' if a.moving else 'still'}.json"
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps(flicker.as_json(results), indent=1))
+    print(f"wrote {out}")
+    return 0
+
+
 def cmd_report(a: argparse.Namespace) -> int:
     from .eval import cycles, report, report_moving, report_reference
     from .eval.report_methods import METHODS as REPORT_METHODS
@@ -183,6 +203,8 @@ def cmd_report(a: argparse.Namespace) -> int:
     if unknown:
         raise ValueError(f"unknown methods {unknown}; choose from {', '.join(REPORT_METHODS)}")
     cache = Path(a.cache_dir) if a.cache_dir else None
+    if a.flicker:
+        return _report_flicker(a, methods, cache)
     blend = a.scene.endswith(".blend")
     if blend and not cycles.available():
         raise ValueError("report: a .blend scene needs the bpy module (run under a Python with bpy installed)")
@@ -335,6 +357,10 @@ def build_parser() -> argparse.ArgumentParser:
     rp.add_argument("--ms-per-frame", type=SECONDS, default=None,
                     help="--moving: wall time per frame (default: the slowest method's frame time)")
     rp.add_argument("--every", type=COUNT, default=4, help="--moving: evaluate every N-th frame (%(default)s)")
+    rp.add_argument("--flicker", action="store_true",
+                    help="instead: temporal stability of the animation path (TAA output) per method: flicker, "
+                         "error, their ratio and boiling pixels, on the still camera or (--moving) a slowed one")
+    rp.add_argument("--flicker-frames", type=COUNT, default=16, help="--flicker: frames kept (%(default)s)")
     rp.add_argument("--reference-seconds", type=SECONDS, default=120.0,
                     help="time for a reference, per frame (%(default)s); references are cached")
     rp.add_argument("--cache-dir", default=None, help="reference cache (default: ~/.cache/restircl)")

@@ -29,6 +29,7 @@ class Frame:
     guards: dict[str, int] = field(default_factory=dict)
     features: list[str] = field(default_factory=list)
     error_estimate: float | None = None  # relMSE estimated from two half buffers (still renders)
+    noisy_image: np.ndarray | None = None  # (H, W, 4) the colour before denoising (Settings.denoise), else None
 
 
 def read_image(queue: cl.CommandQueue, buf: cl.Buffer, shape: tuple[int, int]) -> np.ndarray:
@@ -74,15 +75,21 @@ def read_guards(queue: cl.CommandQueue, guard_buf: cl.Buffer, totals: dict[str, 
     return dict(totals)
 
 
+def surface_images(g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(H, W, 3) albedo and shading normal of a read-back G-buffer, 0 where the camera ray missed."""
+    hit = (L.float_bits_to_int(g["normal"][..., 3]) >= 0)[..., None]
+    albedo = np.where(hit, g["albedo"][..., :3], 0.0).astype(np.float32)
+    return albedo, np.where(hit, g["normal"][..., :3], 0.0).astype(np.float32)
+
+
 def read_aovs(queue: cl.CommandQueue, out: Frame, gbuf: cl.Buffer, vector_buf: cl.Buffer) -> None:
     """Fill the depth, normal, vector and albedo passes of `out` from a G-buffer and the Vector buffer."""
     shape = out.color.shape[:2]
     g = read_gbuffer(queue, gbuf, shape)
     hit = L.float_bits_to_int(g["normal"][..., 3]) >= 0
+    out.albedo, out.normal = surface_images(g)
     vector = read_image(queue, vector_buf, shape)
     vector[..., 1] *= -1.0  # Blender's pixel y points up
     vector[..., 3] *= -1.0
     out.depth = np.where(hit, g["pos"][..., 3], np.inf).astype(np.float32)
-    out.normal = np.where(hit[..., None], g["normal"][..., :3], 0.0).astype(np.float32)
     out.vector = vector
-    out.albedo = np.where(hit[..., None], g["albedo"][..., :3], 0.0).astype(np.float32)

@@ -69,14 +69,17 @@ SAMPLER_PARAMS = np.dtype(_ints("light_count", "slot_count", "tile_count", "tile
 SIMILARITY_PARAMS = np.dtype([*_floats("depth_tolerance", "normal_cos"), *_ints("pad0", "pad1")])
 INITIAL_PARAMS = np.dtype([("sampler", SAMPLER_PARAMS), *_ints("candidates", "visibility_reuse", "pad0", "pad1")])
 TEMPORAL_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), ("m_cap", np.float32),
-                            *_ints("bias_correction", "visibility_reuse", "lights_static")])
+                            *_ints("bias_correction", "visibility_reuse", "lights_static"),
+                            ("permutation", np.uint32), *_ints("pad0", "pad1", "pad2")])
 SPATIAL_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), ("spatial_neighbours", np.int32),
                            ("spatial_radius", np.float32),
-                           *_ints("bias_correction", "visibility_reuse", "pass_index", "pad0", "pad1",
-                                  "pad2")])
+                           *_ints("bias_correction", "visibility_reuse", "pass_index", "boost_neighbours"),
+                           ("fresh_m", np.float32), ("pad0", np.int32)])
 SHADE_PARAMS = np.dtype([("sampler", SAMPLER_PARAMS), *_ints("method", "candidates", "visible_known", "pad0")])
 TAA_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), *_floats("alpha_min", "gamma"),
-                       *_ints("moving", "max_history", "reset", "pad0", "pad1", "pad2")])
+                       *_ints("moving", "max_history", "reset", "filter", "dilate", "pad0")])
+
+ATROUS_PARAMS = np.dtype([("step", np.int32), *_floats("sigma_l", "sigma_z"), ("pad0", np.int32)])
 
 #: struct name in types.h -> numpy dtype
 STRUCTS: dict[str, np.dtype] = {
@@ -99,6 +102,7 @@ STRUCTS: dict[str, np.dtype] = {
     "SimilarityParams": SIMILARITY_PARAMS,
     "InitialParams": INITIAL_PARAMS,
     "TemporalParams": TEMPORAL_PARAMS,
+    "AtrousParams": ATROUS_PARAMS,
     "SpatialParams": SPATIAL_PARAMS,
     "ShadeParams": SHADE_PARAMS,
     "TaaParams": TAA_PARAMS,

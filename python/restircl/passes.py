@@ -16,6 +16,7 @@ class Pass:
     blender_toggle: str | None
     miss: float | None = None  # written instead of inf where the camera ray hits nothing (as Blender does)
     blender_4: str | None = None  # its name before Blender 5.0 (which renamed the built-in passes), if other
+    requires: str | None = None  # a render setting (scene.restircl) without which the pass does not exist
 
 
 DEPTH_MISS = 1e10
@@ -28,6 +29,8 @@ PASSES = (
     # the surface's diffuse albedo is what Cycles writes as Diffuse Color, the pass compositors and denoisers
     # (OIDN's Albedo input) take from it
     Pass("albedo", "RGB", "Albedo", "Diffuse Color", "COLOR", "use_pass_diffuse_color", blender_4="DiffCol"),
+    # the image before the denoiser, as Cycles keeps it when denoising
+    Pass("noisy_image", "RGBA", "NoisyImage", "Noisy Image", "COLOR", None, requires="denoise"),
 )
 
 

@@ -25,10 +25,11 @@ import pyopencl as cl
 from . import layouts as L
 from .buffers import FrameBuffers, alloc
 from .camera import jitter
+from .denoise import denoise_frame
 from .device import Device, get_device
 from .device_scene import DeviceScene
 from .features import derive_flags, describe, general_flags
-from .frame import Frame, read_aovs, read_colour, read_gbuffer, read_guards, read_image
+from .frame import Frame, read_aovs, read_colour, read_gbuffer, read_guards, read_image, surface_images
 from .history import History
 from .kernels import LOCAL_ITEMS, Kernels, local_size
 from .light_array import LightArray
@@ -45,7 +46,19 @@ from .settings import (  # noqa: F401  (restircl.pipeline.Settings etc. are publ
     TILE_INFO_BYTES,
     Settings,
 )
-from .stages import FrameState, Initial, LightTiles, Primary, Shade, Spatial, StageTimer, Taa, Temporal
+from .stages import (
+    BoilingFilter,
+    FrameState,
+    Initial,
+    LightTiles,
+    Primary,
+    RealtimeFilter,
+    Shade,
+    Spatial,
+    StageTimer,
+    Taa,
+    Temporal,
+)
 from .still import StillAccumulation, render_still
 
 __all__ = ["LOCAL_ITEMS", "Frame", "Renderer", "Settings", "local_size"]
@@ -53,8 +66,9 @@ __all__ = ["LOCAL_ITEMS", "Frame", "Renderer", "Settings", "local_size"]
 _METHOD_CODE = {"uniform": 0, "light_array": 1, "ris": 2}
 
 
-KERNELS = ("primary", "light_tiles_fill", "shade_direct", "shade_reference", "accumulate", "restir_initial",
-           "restir_temporal", "restir_spatial", "restir_shade", "taa")
+KERNELS = ("primary", "light_tiles_fill", "shade_direct", "shade_reference", "accumulate", "accumulate_aux",
+           "restir_initial", "restir_temporal", "boiling_tiles", "boiling_filter", "restir_spatial", "restir_shade",
+           "taa", "filter_variance", "atrous")
 
 
 class Renderer:
@@ -89,6 +103,8 @@ class Renderer:
         self.initial = Initial(*stage)
         self.temporal = Temporal(*stage, bias_code=bias)
         self.spatial = Spatial(*stage, bias_code=bias)
+        self.boiling = BoilingFilter(*stage)
+        self.realtime_filter = RealtimeFilter(*stage)
         self.shade = Shade(*stage, method_codes=_METHOD_CODE)
         self.taa = Taa(*stage)
         self.still = StillAccumulation(self.kernels, self.pixels, (self.height, self.width))
@@ -128,9 +144,18 @@ class Renderer:
         t0 = time.perf_counter()
         stage, color_buf, gbuf = self._render(frame, still)
         out = self._read(color_buf, gbuf, frame, aovs=aovs)
+        if self.settings.denoise:
+            self._denoise(out, gbuf)
         out.stage_ms = stage
         out.ms = (time.perf_counter() - t0) * 1e3
         return out
+
+    def _denoise(self, out: Frame, gbuf: cl.Buffer) -> None:
+        """Denoise an animation frame guided by its own G-buffer's albedo and normal (denoise.py)."""
+        if out.albedo is not None and out.normal is not None:
+            denoise_frame(out, out.albedo, out.normal)
+        else:
+            denoise_frame(out, *surface_images(self._read_gbuffer(gbuf)))
 
     def _render(self, frame: int, still: bool, jitter_px: tuple[float, float] | None = None
                 ) -> tuple[dict[str, float], cl.Buffer, cl.Buffer]:
@@ -152,6 +177,9 @@ class Renderer:
             if s.temporal and state.restir_history:  # 4 merge last frame's reservoir
                 res = self.temporal.run(state, res)
                 timer.mark("temporal")
+            if s.boiling_filter > 0 and not still:  # 4b biased: the animation path only
+                self.boiling.run(state, res)
+                timer.mark("boiling")
             if s.spatial and s.spatial_neighbours > 0:  # 5 merge the neighbours'
                 res = self.spatial.run(state, res)
                 timer.mark("spatial")
@@ -166,6 +194,9 @@ class Renderer:
         if s.taa and not still:  # 7 temporal accumulation (animation frames; a still render averages instead)
             color_buf = self.taa.run(state, self._moving(state))
             timer.mark("taa")
+            if s.realtime_filter:  # 8 edge-aware a-trous filter of what is shown (the history stays as it is)
+                color_buf = self.realtime_filter.run(state, color_buf)
+                timer.mark("filter")
         gbuf = h.gbuf(h.cur)
         self._last_frame = frame
         self._sample += 1

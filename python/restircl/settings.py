@@ -37,6 +37,13 @@ LIGHT_TILE_CHOICES = (
     Choice("off", "Off", "Draw the RIS candidates from the whole light array", 2),
 )
 LIGHT_TILES = tuple(c.id for c in LIGHT_TILE_CHOICES)
+TAA_FILTER_CHOICES = (
+    Choice("bilinear", "Bilinear", "History fetched from the 2x2 taps around its reprojected position", 0),
+    Choice("catmull_rom", "Catmull-Rom", "History fetched with a 4x4 Catmull-Rom filter: sharper under motion "
+           "(bilinear where a tap shows another surface)", 1),
+)
+TAA_FILTERS = tuple(c.id for c in TAA_FILTER_CHOICES)
+
 BSDF_SAMPLING_CHOICES = (
     Choice("auto", "Auto", "BSDF-sampled candidates at the pixels whose material has a specular lobe", 0),
     Choice("on", "On", "BSDF-sampled candidates for every scene (also diffuse ones, e.g. with large or mesh lights)",
@@ -142,6 +149,34 @@ class Settings:
                                  "on a farm, of every chunk) that are rendered with their motion and discarded, to "
                                  "fill the ReSTIR and TAA history", flag="--warmup-frames", range=Range(int, 0, 256),
                                  panel="sampling")
+    boiling_filter: float = setting(0.0, "Boiling Filter", "ReSTIR, animation and viewport frames: empty a reservoir "
+                                    "whose weight stands far above the others of its 8x8 tile (RTXDI's filter: "
+                                    "strength 0-1, 1 the strongest, 0 off; biased, so still renders never use it)",
+                                    flag="--boiling-filter", range=Range(float, 0, 1), panel="reuse",
+                                    applies_when=_RESTIR, subtype="FACTOR")
+    temporal_permutation: bool = setting(False, "Permutation Sampling", "ReSTIR temporal reuse takes the history of "
+                                         "a neighbour within a 4x4 block, permuted every frame (RTXDI's), so that "
+                                         "a pixel's frames are less correlated", flag="--temporal-permutation",
+                                         panel="reuse", applies_when=_RESTIR)
+    taa_filter: str = setting("bilinear", "History Filter", "How TAA samples its reprojected history",
+                              flag="--taa-filter", choices=TAA_FILTER_CHOICES, panel="taa", applies_when=_TAA)
+    taa_dilation: bool = setting(False, "Velocity Dilation", "TAA reprojects by the motion of the nearest surface in "
+                                 "the 3x3 neighbourhood first, so the edges of a moving object follow it",
+                                 flag="--taa-dilation", panel="taa", applies_when=_TAA)
+    realtime_filter: bool = setting(False, "Real-time Filter", "Animation and viewport frames: an edge-aware "
+                                    "a-trous filter (SVGF-style) of the TAA output, guided by depth, normal and the "
+                                    "estimated variance; the TAA history is not filtered", flag="--realtime-filter",
+                                    panel="taa", applies_when=_TAA)
+    filter_iterations: int = setting(4, "Filter Iterations", "Real-time filter: a-trous iterations (taps 1, 2, 4, "
+                                     "... pixels apart)", flag="--filter-iterations", range=Range(int, 1, 8),
+                                     panel="taa", applies_when=(("taa", (True,)), ("realtime_filter", (True,))))
+    disocclusion_boost: int = setting(0, "Disocclusion Boost", "ReSTIR: spatial neighbours for a pixel whose "
+                                      "temporal pass found no history (disocclusion, off-screen), in place of "
+                                      "Neighbours when larger (0: off)", flag="--disocclusion-boost",
+                                      range=Range(int, 0, 16), panel="reuse", applies_when=_SPATIAL)
+    denoise: bool = setting(False, "Denoise", "Filter each finished image with Intel Open Image Denoise (pyoidn), "
+                            "guided by the albedo and normal of the same pixels; the image before it is kept as the "
+                            "Noisy Image pass", flag="--denoise", panel="sampling")
 
     def validate(self) -> Settings:
         check(self)

@@ -22,6 +22,7 @@ from .device_scene import DeviceScene
 from .history import History
 from .kernels import Kernels
 from .scene import Camera
+from .settings import TAA_FILTERS
 
 if TYPE_CHECKING:
     from .settings import Settings
@@ -149,12 +150,20 @@ class Temporal(Stage):
         super().__init__(*args)
         self.bias_code = bias_code
 
+    def _permutation(self, state: FrameState) -> int:
+        """The frame's permutation-sampling key (reproject.h): one of the 16, from the frame's random stream."""
+        if not self.settings.temporal_permutation:
+            return 0
+        key = int(state.frame_params["sample"]) * 0x9E3779B1 + int(state.frame_params["seed"]) * 0x85EBCA6B
+        return 16 | ((key & 0xFFFFFFFF) >> 28)
+
     def run(self, state: FrameState, current: cl.Buffer) -> cl.Buffer:
         s, h = self.settings, self.history
         per_frame = s.candidates + int(state.sampler["bsdf_candidates"])  # the M of an initial reservoir
         params = L.pack(L.TEMPORAL_PARAMS, m_cap=s.m_cap * per_frame, similar=self._similarity(),
                         bias_correction=self.bias_code, visibility_reuse=int(s.visibility_reuse),
-                        lights_static=int(not self.scene.lights_changed))
+                        lights_static=int(not self.scene.lights_changed),
+                        permutation=self._permutation(state))
         out = self.buffers.res_temp
         self.kernels.launch("restir_temporal", image_size(state), gbuf=h.gbuf(h.cur), prev_gbuf=h.gbuf(h.prev),
                             glossy=h.glossy(h.cur), prev_glossy=h.glossy(h.prev),
@@ -162,6 +171,29 @@ class Temporal(Stage):
                             previous=h.reservoirs(h.prev), out=out, guards=self.buffers.guards,
                             frame_params=state.frame_params, params=params)
         return out
+
+
+class BoilingFilter(Stage):
+    """4b (animation path): empty the reservoirs whose weight stands far above their tile's (restir_boiling.cl)."""
+
+    TILE = 8
+
+    def __init__(self, *args) -> None:
+        super().__init__(*args)
+        self._stats: cl.Buffer | None = None
+
+    def run(self, state: FrameState, res: cl.Buffer) -> None:
+        w, h = image_size(state)
+        tiles_x = -(-w // self.TILE)
+        tiles = tiles_x * -(-h // self.TILE)
+        if self._stats is None:
+            self._stats = alloc(self.kernels.device.context, tiles * 8)
+        strength = min(max(float(self.settings.boiling_filter), 1e-6), 1.0)
+        self.kernels.launch("boiling_tiles", (tiles,), res=res, tile_stats=self._stats,
+                            frame_params=state.frame_params, tiles_x=np.int32(tiles_x))
+        self.kernels.launch("boiling_filter", image_size(state), res=res, tile_stats=self._stats,
+                            frame_params=state.frame_params, tiles_x=np.int32(tiles_x),
+                            threshold=np.float32(10.0 / strength - 9.0))
 
 
 class Spatial(Stage):
@@ -179,7 +211,9 @@ class Spatial(Stage):
             dst = bufs[p % 2]
             params = L.pack(L.SPATIAL_PARAMS, spatial_neighbours=s.spatial_neighbours,
                             spatial_radius=s.spatial_radius, similar=self._similarity(), bias_correction=self.bias_code,
-                            visibility_reuse=int(s.visibility_reuse), pass_index=p)
+                            visibility_reuse=int(s.visibility_reuse), pass_index=p,
+                            boost_neighbours=s.disocclusion_boost,
+                            fresh_m=s.candidates + int(state.sampler["bsdf_candidates"]))
             self.kernels.launch("restir_spatial", image_size(state), gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
                                 **self.scene.geometry,
                                 lights=self.scene.lights_buf, input=res, out=dst,
@@ -222,13 +256,40 @@ class Shade(Stage):
         self.kernels.launch("shade_reference", pixel_count(state), **self._common(state), params=params)
 
 
+class RealtimeFilter(Stage):
+    """8 (animation path, realtime_filter): the edge-aware a-trous filter of the TAA output (atrous.cl), into its
+    own buffers: the TAA history stays unfiltered."""
+
+    SIGMA_L = 4.0  # SVGF's luminance edge stop
+    SIGMA_Z = 0.02  # relative depth per pixel of tap spacing
+
+    def __init__(self, *args) -> None:
+        super().__init__(*args)
+        self._bufs: list[cl.Buffer] = []
+
+    def run(self, state: FrameState, taa: cl.Buffer) -> cl.Buffer:
+        w, hgt = image_size(state)
+        if not self._bufs:
+            self._bufs = [alloc(self.kernels.device.context, w * hgt * 16) for _ in range(2)]
+        gbuf = self.history.gbuf(self.history.cur)
+        self.kernels.launch("filter_variance", (w, hgt), sample=self.buffers.sample, taa=taa, out=self._bufs[0],
+                            frame_params=state.frame_params)
+        for k in range(self.settings.filter_iterations):
+            src, dst = self._bufs[k % 2], self._bufs[(k + 1) % 2]
+            params = L.pack(L.ATROUS_PARAMS, step=1 << k, sigma_l=self.SIGMA_L, sigma_z=self.SIGMA_Z)
+            self.kernels.launch("atrous", (w, hgt), input=src, out=dst, gbuf=gbuf,
+                                frame_params=state.frame_params, params=params)
+        return self._bufs[self.settings.filter_iterations % 2]
+
+
 class Taa(Stage):
     """7: f_n = a s_n + (1 - a) clip(history): blends into this frame's TAA slot, which it returns."""
 
     def run(self, state: FrameState, moving: bool) -> cl.Buffer:
         s, h = self.settings, self.history
         params = L.pack(L.TAA_PARAMS, alpha_min=s.alpha_min, gamma=s.gamma, similar=self._similarity(),
-                        moving=int(moving), max_history=s.max_history, reset=int(not state.history))
+                        moving=int(moving), max_history=s.max_history, reset=int(not state.history),
+                        filter=TAA_FILTERS.index(s.taa_filter), dilate=int(s.taa_dilation))
         self.kernels.launch("taa", image_size(state), sample=self.buffers.sample, gbuf=h.gbuf(h.cur),
                             glossy=h.glossy(h.cur),
                             prev_gbuf=h.gbuf(h.prev), history_in=h.taa[h.prev], history_out=h.taa[h.cur],

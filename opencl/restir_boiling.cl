@@ -1,0 +1,48 @@
+/* ReSTIR's boiling filter (RTXDI's, run after the temporal pass): a light sample that was very unlikely to be
+ * drawn but lights a large area spreads through spatial and temporal reuse as a bright blotch that grows and
+ * fades ("boiling"). Such a sample stands out by its contribution weight W, far above its neighbours'. Each 8x8
+ * tile's mean W over its non-empty reservoirs is found first (boiling_tiles, one work-item per tile: the kernels
+ * use no local memory); then a reservoir whose W exceeds `threshold` times the mean of the others in its tile is
+ * emptied (boiling_filter). threshold = 10 / strength - 9, as RTXDI's: strength 1 drops anything above the mean,
+ * 0.2 what is 41 times above it. The filter is biased (it removes rare, correct samples), so only the animation
+ * path runs it; still renders and the unbiased estimator tests do not. */
+
+#define BOIL_TILE 8
+
+__kernel void boiling_tiles(const __global Reservoir* res, __global float2* tile_stats, FrameParams frame_params,
+                            int tiles_x)
+{
+    int t = get_global_id(0);
+    int tiles_y = (frame_params.height + BOIL_TILE - 1) / BOIL_TILE;
+    if (t >= tiles_x * tiles_y) return;
+    int x0 = (t % tiles_x) * BOIL_TILE, y0 = (t / tiles_x) * BOIL_TILE;
+    float sum = 0.0f, n = 0.0f;
+    for (int y = y0; y < min(y0 + BOIL_TILE, frame_params.height); ++y) {
+        for (int x = x0; x < min(x0 + BOIL_TILE, frame_params.width); ++x) {
+            Reservoir r = res[y * frame_params.width + x];
+            if (r.light >= 0 && r.W > 0.0f && finite_f(r.W)) {
+                sum += r.W;
+                n += 1.0f;
+            }
+        }
+    }
+    tile_stats[t] = (float2)(sum, n);
+}
+
+__kernel void boiling_filter(__global Reservoir* res, const __global float2* tile_stats, FrameParams frame_params,
+                             int tiles_x, float threshold)
+{
+    int x = get_global_id(0), y = get_global_id(1);
+    if (x >= frame_params.width || y >= frame_params.height) return;
+    int i = y * frame_params.width + x;
+    Reservoir r = res[i];
+    if (r.light < 0 || !(r.W > 0.0f) || !finite_f(r.W)) return;
+    float2 st = tile_stats[(y / BOIL_TILE) * tiles_x + x / BOIL_TILE];
+    float others = st.y - 1.0f;
+    if (others < 1.0f) return;  /* alone in its tile: nothing to compare with */
+    float mean_others = (st.x - r.W) / others;
+    if (r.W > threshold * mean_others) {
+        res_init(&r);
+        res[i] = r;
+    }
+}
