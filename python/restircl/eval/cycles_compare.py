@@ -41,7 +41,16 @@ from .report_reference import default_cache_dir, get_reference, scene_digest
 BUDGETS = (1.0, 4.0, 16.0)
 REFERENCE_SPP = 1024
 #: our methods: Settings overrides on the defaults (F12's method and settings)
-OURS: dict[str, dict] = {"default": {}, "ris": {"method": "ris"}}
+OURS: dict[str, dict] = {
+    "default": {},
+    "ris": {"method": "ris"},
+    # candidates for the still path (still_method.py): RIS with BSDF candidates, and ReSTIR variants meant for
+    # convergence: spatial reuse of fresh reservoirs every frame, temporal reuse with a short history
+    "ris_bsdf": {"method": "ris", "bsdf_sampling": "on"},
+    "spatial": {"temporal": False},
+    "spatial_bsdf": {"temporal": False, "bsdf_sampling": "on"},
+    "short_history": {"m_cap": 2.0},
+}
 METHODS = ("cycles", *OURS)
 CALIBRATION_SPP = 16
 
