@@ -13,6 +13,8 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+import numpy as np
+
 from .scene import Scene
 from .settings import Settings
 
@@ -22,17 +24,31 @@ OVERRIDES: dict[str, dict] = {
     "restir_spatial": {"method": "restir", "temporal": False},
 }
 
+#: `auto`'s choice per scene kind (scene_kind), from the measurements in docs/error-vs-time.md: RIS converged
+#: fastest on analytic lights (the studio's area lights, spots and sun; the garden's 300 points); on emissive
+#: meshes (neon) the BSDF candidates paid, and most with spatial reuse of fresh reservoirs
+RULE: dict[str, dict] = {
+    "analytic_lights": {"method": "ris"},
+    "mesh_lights": {"method": "restir", "temporal": False, "bsdf_sampling": "on"},
+}
+
 
 def scene_kind(scene: Scene) -> str:
-    """The kind of scene the rule tells apart, from what the host knows before any rendering."""
-    del scene
-    return "any"
+    """The kind of scene RULE tells apart, from what the host knows before rendering: whether any triangle emits
+    (mesh lights, which BSDF-sampled directions hit) or every emitter is a light object."""
+    emissive = {i for i, m in enumerate(scene.materials) if m.is_emissive}
+    if emissive and any(np.isin(mesh.material_ids, list(emissive)).any() for mesh in scene.meshes):
+        return "mesh_lights"
+    return "analytic_lights"
 
 
-def auto_choice(scene: Scene) -> str:
-    """The still estimator `auto` picks for a scene whose Method is ReSTIR (see the module docstring)."""
-    del scene
-    return "ris"
+def auto_overrides(scene: Scene, settings: Settings) -> dict:
+    """What `auto` changes in `settings` (whose Method is ReSTIR) for a still of `scene`. A BSDF sampling switched
+    off by the user stays off."""
+    over = dict(RULE[scene_kind(scene)])
+    if settings.bsdf_sampling == "off":
+        over.pop("bsdf_sampling", None)
+    return over
 
 
 def still_settings(settings: Settings, scene: Scene) -> Settings:
@@ -45,15 +61,17 @@ def still_settings(settings: Settings, scene: Scene) -> Settings:
     if choice == "auto":
         if settings.method != "restir":
             return settings
-        choice = auto_choice(scene)
+        return replace(settings, **auto_overrides(scene, settings)).validate()
     return replace(settings, **OVERRIDES[choice]).validate()
 
 
 def describe_still(settings: Settings, resolved: Settings) -> str:
-    """One line for a log: the still estimator and why."""
-    how = "as set" if settings.still_method == "as_set" or resolved == settings else settings.still_method
-    reuse = ""
+    """One line for a log: the still estimator and how it was chosen."""
+    how = "as set" if resolved == settings else f"still_method {settings.still_method}"
+    parts = [resolved.method]
     if resolved.method == "restir":
-        reuse = " (" + ", ".join(n for n, on in (("temporal", resolved.temporal), ("spatial", resolved.spatial))
-                                 if on) + " reuse)"
-    return f"still method: {resolved.method}{reuse}, {how}"
+        reuse = [n for n, on in (("temporal", resolved.temporal), ("spatial", resolved.spatial)) if on]
+        parts.append(f"({', '.join(reuse) or 'no'} reuse)")
+    if resolved.method in ("ris", "restir"):
+        parts.append(f"BSDF sampling {resolved.bsdf_sampling}")
+    return f"still method: {' '.join(parts)}, {how}"
