@@ -341,10 +341,12 @@ def build_parser() -> argparse.ArgumentParser:
 
     c = sub.add_parser("compare", help="ours against Cycles at equal wall time on the held-out scenes (needs bpy)",
                        description="Render the held-out scenes (studio, neon, garden) with Cycles (direct light "
-                                   "only), our F12 default and RIS for each wall-time budget, and compare their "
+                                   "only) and our methods (default: ReSTIR as for an animation; auto: F12's "
+                                   "still estimator; ris and the other still candidates of eval/cycles_compare.OURS) "
+                                   "for each wall-time budget, and compare their "
                                    "relMSE against a cached 2 x N-spp Cycles image: tables, CSV/JSON, plot.")
     c.add_argument("--kinds", default="studio,neon,garden")
-    c.add_argument("--methods", default="cycles,default,ris")
+    c.add_argument("--methods", default="cycles,default,auto,ris")
     c.add_argument("--budgets", type=POSITIVE.parse_list, default="1,4,16", help="seconds (%(default)s)")
     c.add_argument("--reps", type=COUNT, default=3, help="repetitions of every budget (%(default)s)")
     c.add_argument("--width", type=COUNT, default=192)

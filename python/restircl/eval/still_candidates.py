@@ -19,11 +19,12 @@ import argparse
 import json
 import os
 import time
+from dataclasses import replace
 from pathlib import Path
 
-from ..pipeline import Renderer, Settings
+from ..pipeline import Renderer
 from . import cycles
-from .cycles_compare import OURS, REFERENCE_SPP, cycles_reference
+from .cycles_compare import OURS, REFERENCE_SPP, cycles_reference, ours_settings
 from .held_out import HEIGHT, KINDS, WIDTH, held_out
 from .metrics import rel_mse
 
@@ -34,7 +35,7 @@ def measure(kind: str, methods, samples=(32, 128), cache_dir: Path | None = None
     ref = cycles_reference(kind, scene, cycles.to_bpy(scene), REFERENCE_SPP, cache_dir=cache_dir, log=log)
     rows = []
     for m in methods:
-        r = Renderer(scene, Settings(**OURS[m], seed=11).validate(), device)
+        r = Renderer(scene, replace(ours_settings(m, scene), seed=11), device)
         r.render_still(0, 2)  # kernels, first uploads
         for n in samples:
             c0, t0 = time.process_time(), time.perf_counter()
