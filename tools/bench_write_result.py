@@ -5,7 +5,7 @@ Result), per frame, median over the frames after the first.
     python tools/bench_write_result.py [--width 192 --height 108 --frames 24] [--passes all|none]
 
 `--passes all` turns on every pass the add-on writes (Depth, Normal, Vector, Noisy Direct, Diffuse Color), `none`
-leaves the view layer's defaults (Combined and Depth in a factory scene). Needs bpy and a device (PoCL).
+turns them off (Combined only). Needs bpy and a device (PoCL).
 """
 
 from __future__ import annotations
@@ -34,7 +34,7 @@ def build(width: int, height: int, frames: int, all_passes: bool):
         vl.use_pass_z = vl.use_pass_normal = vl.use_pass_vector = vl.use_pass_diffuse_color = True
         vl.restircl.use_pass_noisy_direct = True
     else:
-        vl.use_pass_normal = vl.use_pass_vector = vl.use_pass_diffuse_color = False
+        vl.use_pass_z = vl.use_pass_normal = vl.use_pass_vector = vl.use_pass_diffuse_color = False
         vl.restircl.use_pass_noisy_direct = False
     return sc
 

@@ -208,10 +208,10 @@ def _render(engine, depsgraph) -> None:
                 for warm in range(index):
                     if engine.test_break():
                         return
-                    renderer.render_frame(warm)
+                    renderer.render_frame(warm, aovs=False)  # discarded: no G-buffer read-back
             if engine.test_break():
                 return
-            result = renderer.render_frame(index)
+            result = renderer.render_frame(index, aovs=_aovs_needed(view_layer, scene.render.film_transparent))
             session.last_frame = frame
             show(1, 1, getattr(result, "ms", None))
         else:
@@ -245,6 +245,13 @@ def _render(engine, depsgraph) -> None:
         engine.report({"WARNING"}, "restircl: NaN/Inf values replaced by 0: "
                       + ", ".join(f"{k} {v}" for k, v in sorted(bad.items())))
     write_result(engine, result, width, height, view_layer, scene.render.film_transparent)
+
+
+def _aovs_needed(view_layer, film_transparent: bool) -> bool:
+    """Whether a frame must read back its G-buffer passes (depth, normal, vector, albedo): only for a pass the
+    view layer has on, or for the alpha of a transparent film (from the depth)."""
+    gbuffer = [p for p in PASSES[1:] if p.attr in ("depth", "normal", "vector", "albedo")]
+    return film_transparent or any(_pass_on(view_layer, p) for p in gbuffer)
 
 
 def _pass_data(frame, p, height: int, width: int) -> np.ndarray | None:
