@@ -311,9 +311,9 @@ def write_result(engine, frame, width: int, height: int, view_layer, film_transp
 
 
 def _set_rect(render_pass, pixels: np.ndarray) -> None:
-    """RenderPass.rect from (pixels, channels) float32. foreach_set copies the buffer at once; assigning the array
-    (`rect = pixels`) converts it element by element: 80-150 ms per pass of 192x108 against 0.1 ms measured
-    (tools/bench_write_result.py, docs/benchmarks.md)."""
+    """RenderPass.rect from (pixels, channels) float32. foreach_set takes the buffer whole; assigning the array
+    (`rect = pixels`) took 80-150 ms per pass of 192x108 against 0.1 ms (tools/bench_write_result.py,
+    docs/benchmarks.md)."""
     try:
         render_pass.rect.foreach_set(pixels.reshape(-1))
     except (AttributeError, TypeError):  # a Blender without foreach_set on this array
