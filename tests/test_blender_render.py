@@ -110,6 +110,35 @@ def test_second_still_render_reuses_the_renderer(tmp_path):
     assert engine._SESSIONS[(sc.name, sc.view_layers[0].name)].renderer is not first
 
 
+def test_still_render_uses_the_still_estimator_and_the_user_can_override_it(tmp_path):
+    import restircl
+    from restircl_blender import engine
+
+    sc = small_scene(samples=2)  # ReSTIR, with an emissive lamp: auto renders stills with RIS + BSDF candidates
+    key = (sc.name, sc.view_layers[0].name)
+    render_to(sc, tmp_path / "auto.exr")
+    used = engine._SESSIONS[key].renderer.settings
+    assert used == restircl.still_settings(restircl.Settings(**sc.restircl.settings_kwargs()),
+                                           engine._SESSIONS[key].export.scene)
+    assert (used.method, used.bsdf_sampling) == ("ris", "on")
+    sc.restircl.still_method = "as_set"
+    render_to(sc, tmp_path / "as_set.exr")
+    assert engine._SESSIONS[key].renderer.settings.method == "restir"
+    check_passes(read_exr_passes(tmp_path / "as_set.exr"))
+
+
+def test_animation_without_gbuffer_passes_writes_the_image(tmp_path):
+    sc = small_scene()
+    vl = sc.view_layers[0]
+    vl.use_pass_z = vl.use_pass_normal = vl.use_pass_vector = False
+    sc.frame_start, sc.frame_end = 1, 2
+    render_to(sc, tmp_path / "anim_", animation=True)
+    for f in sorted(tmp_path.glob("anim_*.exr")):
+        p = read_exr_passes(f)
+        assert "Depth" not in p and p["Combined"].shape == (H, W, 4)
+        assert np.all(np.isfinite(p["Combined"])) and p["Combined"][..., :3].mean() > 0.01
+
+
 def test_film_transparent_alpha(tmp_path):
     sc = small_scene(samples=1)
     sc.render.film_transparent = True

@@ -32,6 +32,7 @@ BEFORE = (
     ("taa_filter", "bilinear"), ("taa_dilation", False),
     ("realtime_filter", False), ("filter_iterations", 4), ("disocclusion_boost", 0),
     ("denoise", False),
+    ("still_method", "auto"),
 )
 NUMBERS = [d for d in declared(Settings) if d.spec.range is not None]
 

@@ -177,7 +177,10 @@ def _render(engine, depsgraph) -> None:
                 device_label = restircl.choose_device(device_spec)[0].label
                 with warnings.catch_warnings(record=True) as caught:
                     warnings.simplefilter("always")
-                    renderer = restircl.Renderer(exp.scene, make_settings(restircl, props), device=device_spec)
+                    settings = make_settings(restircl, props)
+                    if not animation and hasattr(restircl, "still_settings"):  # F12: the still estimator
+                        settings = restircl.still_settings(settings, exp.scene)
+                    renderer = restircl.Renderer(exp.scene, settings, device=device_spec)
             except known as exc:
                 engine.report({"ERROR"}, f"restircl: {exc}")
                 return
@@ -210,10 +213,11 @@ def _render(engine, depsgraph) -> None:
                 for warm in range(index):
                     if engine.test_break():
                         return
-                    renderer.render_frame(warm, sample=exp.frames[warm])
+                    renderer.render_frame(warm, aovs=False, sample=exp.frames[warm])  # discarded: no read-back
             if engine.test_break():
                 return
-            result = renderer.render_frame(index, sample=frame)
+            result = renderer.render_frame(index, aovs=_aovs_needed(view_layer, scene.render.film_transparent),
+                                           sample=frame)
             session.last_frame = frame
             show(1, 1, getattr(result, "ms", None))
         else:
@@ -247,6 +251,13 @@ def _render(engine, depsgraph) -> None:
         engine.report({"WARNING"}, "restircl: NaN/Inf values replaced by 0: "
                       + ", ".join(f"{k} {v}" for k, v in sorted(bad.items())))
     write_result(engine, result, width, height, view_layer, scene.render.film_transparent)
+
+
+def _aovs_needed(view_layer, film_transparent: bool) -> bool:
+    """Whether a frame must read back its G-buffer passes (depth, normal, vector, albedo): only for a pass the
+    view layer has on, or for the alpha of a transparent film (from the depth)."""
+    gbuffer = [p for p in PASSES[1:] if p.attr in ("depth", "normal", "vector", "albedo")]
+    return film_transparent or any(_pass_on(view_layer, p) for p in gbuffer)
 
 
 def _pass_data(frame, p, height: int, width: int) -> np.ndarray | None:
@@ -283,23 +294,36 @@ def _combined(frame, height: int, width: int, film_transparent: bool) -> np.ndar
 
 
 def write_result(engine, frame, width: int, height: int, view_layer, film_transparent: bool) -> None:
-    """Copy a restircl.Frame (rows top first) into the Render Result (rows bottom first)."""
+    """Copy a restircl.Frame (rows top first) into the Render Result (rows bottom first): only the passes the
+    result has, each converted once."""
     result = engine.begin_result(0, 0, width, height, layer=view_layer.name)
     try:
-        layer = result.layers[0]
         version = _version()
-        planes = {blender_name(p, version): _pass_data(frame, p, height, width) for p in PASSES[1:]}
-        planes[PASSES[0].blender] = _combined(frame, height, width, film_transparent)
-        for rp in layer.passes:
-            data = planes.get(rp.name)
+        by_name = {blender_name(p, version): p for p in PASSES}
+        for rp in result.layers[0].passes:
+            p = by_name.get(rp.name)
+            if p is None:
+                continue
+            data = _combined(frame, height, width, film_transparent) if p is PASSES[0] else \
+                _pass_data(frame, p, height, width)
             if data is None or data.shape[2] != rp.channels:
                 continue
             flipped = np.ascontiguousarray(data[::-1].reshape(width * height, rp.channels))
             if not np.all(np.isfinite(flipped)):
                 flipped = np.nan_to_num(flipped, nan=0.0, posinf=0.0, neginf=0.0)
-            rp.rect = flipped
+            _set_rect(rp, flipped)
     finally:
         engine.end_result(result)
+
+
+def _set_rect(render_pass, pixels: np.ndarray) -> None:
+    """RenderPass.rect from (pixels, channels) float32. foreach_set takes the buffer whole; assigning the array
+    (`rect = pixels`) took 80-150 ms per pass of 192x108 against 0.1 ms (tools/bench_write_result.py,
+    docs/benchmarks.md)."""
+    try:
+        render_pass.rect.foreach_set(pixels.reshape(-1))
+    except (AttributeError, TypeError):  # a Blender without foreach_set on this array
+        render_pass.rect = pixels
 
 
 def device_list() -> list[str]:

@@ -6,6 +6,7 @@ Public API::
     scene = restircl.scenes.cornell_box(width=160, height=120)
     renderer = restircl.Renderer(scene, restircl.Settings(method="restir"))
     frame = renderer.render_frame(0)          # restircl.Frame: .color (H, W, 4) float32 and AOVs
+    still = restircl.Renderer(scene, restircl.still_settings(restircl.Settings(), scene)).render_still(0, 64)
     restircl.write_exr("out/frame.exr", frame)
 """
 
@@ -17,12 +18,13 @@ from .pipeline import Frame, Renderer, Settings
 from .program import KernelBuildError
 from .scene import Camera, Light, Material, Mesh, Scene, SceneError, SceneFileError, look_at, translation
 from .setting_spec import SettingError
+from .still_method import still_settings
 from .textures import CheckerTexture, ImageTexture, MixColor, NormalMap
 
 __all__ = [
     "Camera", "CheckerTexture", "Device", "DeviceError", "Environment", "Frame", "ImageTexture", "KernelBuildError",
     "Light", "Material", "Mesh", "MixColor", "NormalMap", "Renderer",
     "Scene", "SceneError", "SceneFileError", "SettingError", "Settings", "choose_device", "get_device", "list_devices",
-    "look_at", "read_exr", "scenes", "translation", "write_exr", "write_png",
+    "look_at", "read_exr", "scenes", "still_settings", "translation", "write_exr", "write_png",
 ]
 __version__ = "0.1.0"

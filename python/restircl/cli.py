@@ -16,6 +16,7 @@ from .program import KernelBuildError
 from .scene import Scene, SceneError
 from .setting_spec import Range, SettingError, add_arguments, flag_of, from_arguments
 from .settings import Settings
+from .still_method import describe_still, still_settings
 
 COUNT = Range(int, 1).parse  # sizes, frame counts: 0 or less is a mistake, not "the default"
 POSITIVE = Range(float, 0, min_open=True, finite=True)  # seconds, error targets
@@ -81,19 +82,23 @@ def _render(scene: Scene, settings: Settings, frames: int, out: Path, mode: str,
             target_error: float | None = None) -> int:
     from .image_io import write_exr, write_png
 
-    renderer = Renderer(scene, settings, device)
+    if mode == "auto":
+        mode = "still" if scene.frames == 1 else "animation"
+    # a still camera gets the still estimator (still_method.py); the files keep the name of the Method asked for
+    used = still_settings(settings, scene) if mode == "still" else settings
+    renderer = Renderer(scene, used, device)
     cam = scene.camera
     assert cam is not None
     print(f"device: {renderer.device.label}")
     print(f"scene: {scene.name}, {renderer.triangle_count} triangles, {len(renderer.lights)} lights, "
           f"resolution {cam.width}x{cam.height}, method {settings.method}")
+    if mode == "still":
+        print(describe_still(settings, used))
     print(f"features compiled: {', '.join(renderer.features) or 'none'} (build {renderer.build_seconds:.2f} s, "
           f"BVH {renderer.bvh_seconds:.2f} s)")
     if renderer.will_use_light_tiles():
         print(f"light tiles: {settings.light_tile_count} x {settings.light_tile_size} presampled lights per frame")
     out.mkdir(parents=True, exist_ok=True)
-    if mode == "auto":
-        mode = "still" if scene.frames == 1 else "animation"
     if mode == "still":
         bar = Progress(frames, "render")
         state = {"err": None}
@@ -371,10 +376,12 @@ def build_parser() -> argparse.ArgumentParser:
 
     c = sub.add_parser("compare", help="ours against Cycles at equal wall time on the held-out scenes (needs bpy)",
                        description="Render the held-out scenes (studio, neon, garden) with Cycles (direct light "
-                                   "only), our F12 default and RIS for each wall-time budget, and compare their "
+                                   "only) and our methods (default: ReSTIR as for an animation; auto: F12's "
+                                   "still estimator; ris and the other still candidates of eval/cycles_compare.OURS) "
+                                   "for each wall-time budget, and compare their "
                                    "relMSE against a cached 2 x N-spp Cycles image: tables, CSV/JSON, plot.")
     c.add_argument("--kinds", default="studio,neon,garden")
-    c.add_argument("--methods", default="cycles,default,ris")
+    c.add_argument("--methods", default="cycles,default,auto,ris")
     c.add_argument("--budgets", type=POSITIVE.parse_list, default="1,4,16", help="seconds (%(default)s)")
     c.add_argument("--reps", type=COUNT, default=3, help="repetitions of every budget (%(default)s)")
     c.add_argument("--width", type=COUNT, default=192)

@@ -51,6 +51,16 @@ BSDF_SAMPLING_CHOICES = (
     Choice("off", "Off", "Light candidates only", 2),
 )
 BSDF_SAMPLING = tuple(c.id for c in BSDF_SAMPLING_CHOICES)
+STILL_METHOD_CHOICES = (
+    Choice("auto", "Auto", "Still renders replace ReSTIR's reuse, which converges slower on a still camera, by the "
+           "estimator that converged fastest per second on stills of the scene's kind (still_method.py); the "
+           "methods without reuse are used as set", 0),
+    Choice("as_set", "As Set", "Still renders use the Method and reuse settings as they are, like an animation", 1),
+    Choice("ris", "RIS", "Still renders use independent RIS frames (candidates and BSDF sampling as set)", 2),
+    Choice("restir_spatial", "ReSTIR, Spatial Only", "Still renders use ReSTIR with fresh reservoirs every frame and "
+           "spatial reuse only", 3),
+)
+STILL_METHODS = tuple(c.id for c in STILL_METHOD_CHOICES)
 #: BSDF rays are tested against at most this many analytic lights (a loop per ray); beyond it the BSDF strategy
 #: leaves them to light sampling (pdf 0 in the MIS weights, which stay correct)
 BSDF_ANALYTIC_MAX = 64
@@ -177,6 +187,10 @@ class Settings:
     denoise: bool = setting(False, "Denoise", "Filter each finished image with Intel Open Image Denoise (pyoidn), "
                             "guided by the albedo and normal of the same pixels; the image before it is kept as the "
                             "Noisy Image pass", flag="--denoise", panel="sampling")
+
+    still_method: str = setting("auto", "Still Method", "The estimator of still renders (F12, a still camera): "
+                                "animations and the viewport keep Method", flag="--still-method",
+                                choices=STILL_METHOD_CHOICES, panel="sampling")
 
     def validate(self) -> Settings:
         check(self)

@@ -22,6 +22,7 @@ from ..scene import Scene
 from ..scenes import many_lights
 from . import bench_traversal
 from .bench_scenes import light_scaling_scene
+from .frame_profile import floor_of
 from .metrics import rel_mse
 
 FRAME_METHODS: dict[str, dict] = {
@@ -69,6 +70,23 @@ def bench_frame(width: int, height: int, device=None, print_fn=print) -> dict:
         print_fn(f"  {name:<36} {ms:8.1f} ms  (CPU {st['cpu']:7.1f} ms)   [{stages}]")
     return out
 
+
+
+def bench_floor(width: int, height: int, device=None, frames: int = 12, print_fn=print) -> dict:
+    """The default ReSTIR + TAA frame (Settings()) of many_lights against the floor of one camera ray and one
+    shadow ray per pixel plus TAA (frame_profile.floor_of), measured in one run: per stage ms and the ratio."""
+    scene = many_lights(width=width, height=height, frames=16)
+    ms, st = time_frames(scene, Settings(), frames=frames, device=device)
+    la_ms, la = time_frames(scene, Settings(method="light_array"), frames=frames, device=device)
+    floor = floor_of(la, st.get("taa", 0.0))
+    stages = ", ".join(f"{k} {v:.1f}" for k, v in st.items() if k != "cpu")
+    print_fn(f"many_lights {width}x{height}, default ReSTIR + TAA (median of {frames} frames): {ms:.1f} ms = "
+             f"[{stages}] + read-back")
+    print_fn(f"  floor: camera rays {floor['camera_ms']:.1f} + one shadow ray {floor['shadow_ms']:.1f} (light_array "
+             f"frame, {la_ms:.1f} ms in all) + TAA {floor['taa_ms']:.1f} = {floor['ms']:.1f} ms")
+    ratio = ms / floor["ms"] if floor["ms"] > 0 else math.nan
+    print_fn(f"  default frame / floor: {ratio:.2f} (goal 1.5)")
+    return {"ms": ms, "stages_ms": st, "floor": floor, "ratio": ratio}
 
 
 def bench_lights(width: int, height: int, sizes=(100, 1000, 10_000, 100_000, 1_000_000), device=None,
@@ -172,6 +190,7 @@ def main(a: argparse.Namespace) -> int:
                             device=dev)
     if a.what in ("frame", "all"):
         bench_frame(a.width, a.height, dev)
+        bench_floor(a.width, a.height, dev)
     if a.what in ("lights", "all"):
         bench_lights(a.width, a.height, device=dev)
         bench_lights(a.width, a.height, device=dev, kind="panels")

@@ -8,10 +8,12 @@ and its relMSE is measured against a high-sample Cycles image:
   bpy.ops.render.render (scene sync, render, writing its EXR), as the user sees it. Cycles' own time limit counts
   its render only, so it is set to the budget less the fixed cost of a call (sync, set-up, writing), measured by a
   calibration of the same scene.
-- default: our still path as F12 uses it: `Settings()` (the add-on's defaults come from the same table) through
-  `Renderer(...).render_still`, the wall clock from before the Renderer is made (BVH build, upload; the kernels
-  are already compiled, as on any F12 after the first) to the image read back, stopped when the budget is spent.
-- ris: the same with method "ris".
+- default: `Settings()` (the add-on's defaults come from the same table: ReSTIR with temporal and spatial reuse,
+  what F12 used before still_method) through `Renderer(...).render_still`, the wall clock from before the
+  Renderer is made (BVH build, upload; the kernels are already compiled, as on any F12 after the first) to the
+  image read back, stopped when the budget is spent.
+- auto: our still path as F12 uses it now: `still_settings(Settings(), scene)` (still_method.py).
+- ris and the other candidates for the still path: the same with their overrides of `Settings()` (OURS).
 
 The reference is two independent Cycles renders of `reference_spp` samples each (2 x 1024 as in the issue),
 averaged and cached on disk (keyed by the scene file's content, the resolution, the sample count and Blender's
@@ -26,13 +28,14 @@ import hashlib
 import json
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 
 from ..pipeline import Renderer, Settings
 from ..scene import Scene
+from ..still_method import still_settings
 from . import cycles
 from .held_out import HEIGHT, KINDS, WIDTH, held_out
 from .metrics import rel_mse
@@ -41,8 +44,22 @@ from .report_reference import default_cache_dir, get_reference, scene_digest
 BUDGETS = (1.0, 4.0, 16.0)
 REFERENCE_SPP = 1024
 #: our methods: Settings overrides on the defaults (F12's method and settings)
-OURS: dict[str, dict] = {"default": {}, "ris": {"method": "ris"}}
-METHODS = ("cycles", *OURS)
+OURS: dict[str, dict] = {
+    "default": {},
+    "ris": {"method": "ris"},
+    # candidates for the still path (still_method.py): RIS with BSDF candidates, and ReSTIR variants meant for
+    # convergence: spatial reuse of fresh reservoirs every frame, temporal reuse with a short history
+    "ris_bsdf": {"method": "ris", "bsdf_sampling": "on"},
+    "spatial": {"temporal": False},
+    "spatial_bsdf": {"temporal": False, "bsdf_sampling": "on"},
+    "short_history": {"m_cap": 2.0},
+    "auto": {},  # through still_settings (STILL_PATH)
+}
+#: our methods whose settings go through still_settings, as F12's and the CLI's still renders do
+STILL_PATH = ("auto",)
+#: what a comparison runs unless told otherwise; any of OURS may be named
+METHODS = ("cycles", "default", "auto", "ris")
+ALL_METHODS = ("cycles", *OURS)
 CALIBRATION_SPP = 16
 
 
@@ -149,6 +166,12 @@ def time_cycles(bpy_scene, budget: float, calibration: dict, seed: int, threads:
     return res.image, res.total_seconds, spp
 
 
+def ours_settings(method: str, scene: Scene) -> Settings:
+    """The settings of one of our methods (OURS) for `scene`."""
+    s = Settings(**OURS[method]).validate()
+    return still_settings(s, scene) if method in STILL_PATH else s
+
+
 def time_ours(scene: Scene, settings: Settings, budget: float, device=None) -> tuple[np.ndarray, float, float, int]:
     """A still render from scratch stopped when `budget` seconds have passed: (image, seconds, setup seconds,
     samples). Every frame waits for the device (the stage timers), so the clock sees the work done."""
@@ -174,7 +197,7 @@ def run_kind(kind: str, budgets=BUDGETS, reps: int = 3, methods=METHODS, width: 
     result = KindResult(kind, ref, agree)
     if "cycles" in methods:
         result.cycles_calibration = calibrate_cycles(sc, threads)
-    settings = {m: Settings(**OURS[m]).validate() for m in methods if m in OURS}
+    settings = {m: ours_settings(m, scene) for m in methods if m in OURS}
     for s in settings.values():  # compile the kernels once (F12 after the first)
         Renderer(scene, s, device).render_still(0, 2)
     for rep in range(reps):
@@ -210,7 +233,7 @@ def equal_samples(kind: str, samples: int = 64, methods=METHODS, width: int | No
             res = cycles.render(sc, samples=samples, seed=7, threads=threads)
             img, secs = res.image, res.total_seconds
         else:
-            r = Renderer(scene, Settings(**OURS[m], seed=7).validate(), device)
+            r = Renderer(scene, replace(ours_settings(m, scene), seed=7), device)
             r.render_still(0, 2)
             t0 = time.perf_counter()
             img = r.render_still(0, samples).color[..., :3]
@@ -224,5 +247,6 @@ def run(kinds=KINDS, **kwargs) -> list[KindResult]:
     return [run_kind(k, **kwargs) for k in kinds]
 
 
-__all__ = ["BUDGETS", "METHODS", "OURS", "CyclesReference", "KindResult", "Row", "agreement", "calibrate_cycles",
-           "cycles_reference", "equal_samples", "halves_rel_mse", "run", "run_kind", "time_cycles", "time_ours"]
+__all__ = ["ALL_METHODS", "BUDGETS", "METHODS", "OURS", "STILL_PATH", "CyclesReference", "KindResult", "Row",
+           "agreement", "calibrate_cycles", "cycles_reference", "equal_samples", "halves_rel_mse", "ours_settings",
+           "run", "run_kind", "time_cycles", "time_ours"]

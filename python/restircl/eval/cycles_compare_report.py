@@ -9,9 +9,9 @@ import statistics
 from dataclasses import asdict
 from pathlib import Path
 
-from .cycles_compare import METHODS, KindResult, Row
+from .cycles_compare import ALL_METHODS, KindResult, Row
 
-COLOURS = {"cycles": "black", "default": "#d62728", "ris": "#1f77b4"}
+COLOURS = {"cycles": "black", "default": "#d62728", "ris": "#1f77b4", "auto": "#2ca02c"}
 
 
 def _series(rows: list[Row], method: str, budget: float) -> list[Row]:
@@ -23,7 +23,7 @@ def summary(result: KindResult) -> dict:
     Cycles, paired by repetition) only where Cycles ran."""
     out: dict[str, dict[str, dict]] = {}
     budgets = sorted({r.budget_s for r in result.rows})
-    for m in METHODS:
+    for m in ALL_METHODS:
         for b in budgets:
             rows = _series(result.rows, m, b)
             if not rows:
@@ -42,7 +42,8 @@ def summary(result: KindResult) -> dict:
 
 def ratio_table(results: list[KindResult]) -> str:
     """Markdown: per kind, our relMSE / Cycles' at each budget (median of the paired repetitions, range)."""
-    ours = [m for m in METHODS if m != "cycles"]
+    ran = {r.method for res in results for r in res.rows}
+    ours = [m for m in ALL_METHODS if m != "cycles" and m in ran]
     budgets = sorted({r.budget_s for res in results for r in res.rows})
     head = " / ".join(f"{b:g}" for b in budgets)
     lines = ["| scene kind | " + " | ".join(f"{m} at {head} s" for m in ours) + " |",
@@ -162,7 +163,7 @@ def main(a) -> int:
         raise ValueError("compare: needs the bpy module (run under a Python with bpy installed)")
     kinds = a.kinds.split(",")
     methods = a.methods.split(",")
-    for what, names, known in (("kind", kinds, KINDS), ("method", methods, METHODS)):
+    for what, names, known in (("kind", kinds, KINDS), ("method", methods, ALL_METHODS)):
         bad = [n for n in names if n not in known]
         if bad:
             raise ValueError(f"compare: unknown {what} {bad}; choose from {', '.join(known)}")

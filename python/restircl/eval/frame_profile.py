@@ -63,6 +63,15 @@ def grouped_profile(r: Renderer, n: int) -> tuple[float, dict[str, float]]:
     return wall, out
 
 
+def floor_of(light_array_stages: dict[str, float], taa_ms: float) -> dict[str, float]:
+    """The floor of a frame from the stage times of a light_array frame (its camera rays; its shade stage, one
+    light pick and one shadow ray per pixel) and the TAA stage of the frame it is compared with."""
+    out = {"camera_ms": light_array_stages.get("primary", 0.0), "shadow_ms": light_array_stages.get("shade", 0.0),
+           "taa_ms": taa_ms}
+    out["ms"] = out["camera_ms"] + out["shadow_ms"] + taa_ms
+    return out
+
+
 def profile(kind: str = "garden", width: int = 192, height: int = 108, frames: int = 64, device=None) -> dict:
     scene = held_out(kind, width, height)
     restir = Renderer(scene, Settings(), device)
@@ -75,10 +84,8 @@ def profile(kind: str = "garden", width: int = 192, height: int = 108, frames: i
         out[f"restir aovs={aovs}"] = {"wall_ms": statistics.median(walls), "stages_ms": stages,
                                       "outside_stages_ms": statistics.fmean(walls) - sum(stages.values())}
     walls, stages = _frames(floor_r, frames, False)
-    taa = out["restir aovs=False"]["stages_ms"].get("taa", 0.0)
-    out["floor"] = {"camera_ms": stages.get("primary", 0.0), "shadow_ms": stages.get("shade", 0.0), "taa_ms": taa,
-                    "light_array_wall_ms": statistics.median(walls)}
-    out["floor"]["ms"] = out["floor"]["camera_ms"] + out["floor"]["shadow_ms"] + taa
+    out["floor"] = floor_of(stages, out["restir aovs=False"]["stages_ms"].get("taa", 0.0))
+    out["floor"]["light_array_wall_ms"] = statistics.median(walls)
     out["ratio_to_floor"] = out["restir aovs=False"]["wall_ms"] / out["floor"]["ms"]
     wall, groups = grouped_profile(restir, frames)
     out["cprofile"] = {"wall_ms": wall, "self_ms": groups}

@@ -1,0 +1,79 @@
+"""The estimator of a still render (Settings.still_method): what F12 and `restircl render` of a still camera use.
+
+ReSTIR's reuse is built for animation: temporal reuse carries a pixel's samples from frame to frame and spatial
+reuse shares them between neighbours, so a frame is worth more than an independent one while the camera moves.
+Accumulated over the frames of a still camera, the same reuse makes consecutive frames correlated and the mean
+converges slower than the mean of independent frames. Measured on the held-out scenes (docs/error-vs-time.md, "The
+estimator of a still"), RULE below picks what converged fastest per second. Animations and the viewport keep
+Settings.method as it is; only the entry points of a still render (the CLI's still mode, the add-on's F12) call
+still_settings, and Renderer.render_still renders with the settings it was given.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from .scene import Scene
+from .settings import Settings
+
+#: what each explicit choice changes in the settings
+OVERRIDES: dict[str, dict] = {
+    "ris": {"method": "ris"},
+    "restir_spatial": {"method": "restir", "temporal": False},
+}
+
+#: `auto`'s choice per scene kind (scene_kind), from the measurements in docs/error-vs-time.md, "The estimator of
+#: a still": independent RIS frames converged fastest on every kind; on emissive meshes (neon) BSDF-sampled
+#: candidates cut RIS's relMSE x CPU seconds by 40 %, on light objects (studio, garden) they cost more than they gave.
+#: (Spatial-only ReSTIR with BSDF candidates was as good as RIS with them on neon, within the noise of the runs,
+#: and worse elsewhere: the rule keeps one method, whose frames are independent.)
+RULE: dict[str, dict] = {
+    "analytic_lights": {"method": "ris"},
+    "mesh_lights": {"method": "ris", "bsdf_sampling": "on"},
+}
+
+
+def scene_kind(scene: Scene) -> str:
+    """The kind of scene RULE tells apart, from what the host knows before rendering: whether any triangle emits
+    (mesh lights, which BSDF-sampled directions hit) or every emitter is a light object."""
+    emissive = {i for i, m in enumerate(scene.materials) if m.is_emissive}
+    if emissive and any(np.isin(mesh.material_ids, list(emissive)).any() for mesh in scene.meshes):
+        return "mesh_lights"
+    return "analytic_lights"
+
+
+def auto_overrides(scene: Scene, settings: Settings) -> dict:
+    """What `auto` changes in `settings` (whose Method is ReSTIR) for a still of `scene`. A BSDF sampling switched
+    off by the user stays off."""
+    over = dict(RULE[scene_kind(scene)])
+    if settings.bsdf_sampling == "off":
+        over.pop("bsdf_sampling", None)
+    return over
+
+
+def still_settings(settings: Settings, scene: Scene) -> Settings:
+    """The settings with which to render a still image of `scene`: `settings` with the estimator that
+    `settings.still_method` selects. `auto` changes ReSTIR only: the methods without reuse (uniform, light_array,
+    ris, reference) already give independent frames and are used as set."""
+    choice = settings.still_method
+    if choice == "as_set":
+        return settings
+    if choice == "auto":
+        if settings.method != "restir":
+            return settings
+        return replace(settings, **auto_overrides(scene, settings)).validate()
+    return replace(settings, **OVERRIDES[choice]).validate()
+
+
+def describe_still(settings: Settings, resolved: Settings) -> str:
+    """One line for a log: the still estimator and how it was chosen."""
+    how = "as set" if resolved == settings else f"still_method {settings.still_method}"
+    parts = [resolved.method]
+    if resolved.method == "restir":
+        reuse = [n for n, on in (("temporal", resolved.temporal), ("spatial", resolved.spatial)) if on]
+        parts.append(f"({', '.join(reuse) or 'no'} reuse)")
+    if resolved.method in ("ris", "restir"):
+        parts.append(f"BSDF sampling {resolved.bsdf_sampling}")
+    return f"still method: {' '.join(parts)}, {how}"

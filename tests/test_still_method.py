@@ -1,0 +1,101 @@
+"""The still estimator (still_method.py): which settings a still render of each kind of scene gets, that the
+user's choice overrides the rule, that the methods without reuse are left as set, and that the CLI's still mode
+uses it while its animation mode and Renderer.render_still take the settings as given. (The estimators it picks
+are tested for unbiasedness where they are defined: RIS in test_estimators.py, spatial-only ReSTIR in
+test_restir.py's "spatial" configuration, BSDF candidates in test_bsdf_candidates.py.)"""
+
+from __future__ import annotations
+
+import pytest
+from restircl import (
+    Camera,
+    Light,
+    Material,
+    Mesh,
+    Scene,
+    SettingError,
+    Settings,
+    look_at,
+    scenes,
+    still_settings,
+    translation,
+)
+from restircl.cli import main
+from restircl.settings import METHODS, STILL_METHODS
+from restircl.still_method import OVERRIDES, auto_overrides, scene_kind
+
+
+def _scene(light_types: tuple[str, ...] = (), emissive: bool = False) -> Scene:
+    """A floor under the given analytic lights, and an emissive quad over it when `emissive`."""
+    fv, ft = scenes.quad(4, 4)
+    meshes = [Mesh("floor", fv, ft, 0)]
+    materials = [Material("floor", (0.8, 0.8, 0.8))]
+    if emissive:
+        lv, lt = scenes.quad(0.5, 0.5)
+        meshes.append(Mesh("lamp", lv + (0.0, 0.0, 1.0), lt, 1))
+        materials.append(Material("lamp", (0, 0, 0), (1.0, 1.0, 1.0), 4.0))
+    lights = [Light(f"{t}{i}", t, (1, 1, 1), 50.0, translation(0, 0, 2)) for i, t in enumerate(light_types)]
+    cam = Camera(look_at((0.0, -3.0, 2.0), (0.0, 0.0, 0.0)), 16, 12)
+    return Scene(meshes, materials, lights, cam)
+
+
+KINDS = {
+    "mesh_lights": _scene(("point",), emissive=True),
+    "analytic_lights": _scene(("point", "spot", "sun", "area")),
+}
+
+
+@pytest.mark.parametrize("kind", sorted(KINDS))
+def test_auto_replaces_restir_by_the_rule_of_the_scene_kind(kind):
+    scene = KINDS[kind]
+    assert scene_kind(scene) == kind
+    got = still_settings(Settings(), scene)
+    want = auto_overrides(scene, Settings())
+    assert want["method"] in ("ris", "restir") and want
+    for name, value in want.items():
+        assert getattr(got, name) == value, name
+    # everything the rule does not choose stays as set
+    untouched = {n for n in Settings.names() if n not in want}
+    assert all(getattr(got, n) == getattr(Settings(), n) for n in untouched)
+
+
+def test_auto_leaves_the_methods_without_reuse_and_an_explicit_bsdf_choice_alone():
+    scene = KINDS["mesh_lights"]
+    for method in METHODS:
+        if method != "restir":
+            s = Settings(method=method, candidates=5)
+            assert still_settings(s, scene) == s
+    off = still_settings(Settings(bsdf_sampling="off"), scene)
+    assert off.bsdf_sampling == "off"
+
+
+def test_the_user_overrides_the_rule():
+    scene = KINDS["analytic_lights"]
+    s = Settings(candidates=6, spatial_neighbours=2)
+    assert still_settings(Settings(still_method="as_set"), scene) == Settings(still_method="as_set")
+    for choice, over in OVERRIDES.items():
+        got = still_settings(Settings(method="uniform", still_method=choice, candidates=6, spatial_neighbours=2),
+                             scene)
+        for name, value in over.items():
+            assert getattr(got, name) == value
+        assert got.candidates == s.candidates and got.spatial_neighbours == s.spatial_neighbours
+
+
+def test_still_method_is_validated():
+    assert set(STILL_METHODS) == {"auto", "as_set", *OVERRIDES}
+    with pytest.raises(SettingError):
+        Settings(still_method="fastest").validate()
+
+
+def test_cli_still_mode_uses_the_still_estimator_and_animation_mode_does_not(tmp_path, capsys):
+    path = tmp_path / "box.npz"
+    assert main(["save-scene", "cornell_box", str(path), "--width", "16", "--height", "16"]) == 0
+    capsys.readouterr()
+    assert main(["render", str(path), "--frames", "2", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    picked = still_settings(Settings(), Scene.load(path))
+    assert f"still method: {picked.method}" in out
+    assert main(["render", str(path), "--frames", "2", "--still-method", "as_set", "--out", str(tmp_path)]) == 0
+    assert "still method: restir (temporal, spatial reuse) BSDF sampling auto, as set" in capsys.readouterr().out
+    assert main(["render", str(path), "--frames", "2", "--mode", "animation", "--out", str(tmp_path)]) == 0
+    assert "still method" not in capsys.readouterr().out
