@@ -44,6 +44,13 @@ BSDF_SAMPLING_CHOICES = (
     Choice("off", "Off", "Light candidates only", 2),
 )
 BSDF_SAMPLING = tuple(c.id for c in BSDF_SAMPLING_CHOICES)
+AREA_SAMPLING_CHOICES = (
+    Choice("auto", "Auto", "Solid angle where an area light looks large from the shaded point, area elsewhere", 0),
+    Choice("solid_angle", "Solid Angle", "Area lights, emissive triangles and soft point lights sampled uniformly "
+           "in the solid angle they subtend (where float32 allows)", 1),
+    Choice("area", "Area", "Area lights and emissive triangles sampled uniformly in area", 2),
+)
+AREA_SAMPLING = tuple(c.id for c in AREA_SAMPLING_CHOICES)
 #: BSDF rays are tested against at most this many analytic lights (a loop per ray); beyond it the BSDF strategy
 #: leaves them to light sampling (pdf 0 in the MIS weights, which stay correct)
 BSDF_ANALYTIC_MAX = 64
@@ -135,6 +142,9 @@ class Settings:
     bsdf_sampling: str = setting("auto", "BSDF Sampling", "RIS and ReSTIR: add BSDF-sampled candidates, combined "
                                  "with the light candidates by multiple importance sampling", flag="--bsdf-sampling",
                                  choices=BSDF_SAMPLING_CHOICES, panel="sampling", applies_when=_RIS)
+    area_sampling: str = setting("area", "Area Light Sampling", "How a point on an area light (and an emissive "
+                                 "triangle, a soft point light) is drawn", flag="--area-sampling",
+                                 choices=AREA_SAMPLING_CHOICES, panel="lights")
     bsdf_candidates: int = setting(1, "BSDF Candidates", "BSDF-sampled candidates per pixel and frame (RIS, ReSTIR)",
                                    flag="--bsdf-candidates", range=Range(int, 1, 64), panel="sampling",
                                    applies_when=_BSDF, soft_max=8)

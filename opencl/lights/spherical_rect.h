@@ -1,0 +1,79 @@
+/* Uniform sampling of the solid angle a rectangle subtends (Urena, Fajardo and King, "An area-preserving
+ * parametrization for spherical rectangles", EGSR 2013). The rectangle is corner + s eu + t ev, s, t in [0, 1], eu
+ * and ev orthogonal. In the rectangle's frame (x along eu, y along ev, z away from the shading point's side) the
+ * rectangle spans [x0, x1] x [y0, y1] at height z0 < 0. The interior angles are written as pi/2 - asin(.), so the
+ * solid angle S = -sum asin(.) has no cancellation against 2 pi for small or far rectangles. */
+#ifndef RESTIRCL_LIGHTS_SPHERICAL_RECT_H
+#define RESTIRCL_LIGHTS_SPHERICAL_RECT_H
+
+#include "numerics.h"
+
+typedef struct {
+    float3 ex, ey, ez;   /* the rectangle's frame, ez pointing from the plane away from the shading point's side */
+    float lu, lv;        /* edge lengths */
+    float x0, x1, y0, y1, z0;
+    float b0, b1;        /* z of the normals of the planes through the shading point and the edges y = y0, y = y1 */
+    float phi0;          /* the first angle of the sweep, less pi */
+    float S;             /* solid angle */
+} SphRect;
+
+/* The spherical rectangle of (corner, eu, ev) seen from x; false when x lies on its plane. */
+inline bool sph_rect_setup(float3 corner, float3 eu, float3 ev, float3 x, SphRect* r)
+{
+    r->lu = len3(eu);
+    r->lv = len3(ev);
+    if (!(r->lu > 0.0f) || !(r->lv > 0.0f)) return false;
+    r->ex = eu / r->lu;
+    r->ey = ev / r->lv;
+    r->ez = cross3(r->ex, r->ey);
+    float3 d = corner - x;
+    float z0 = dot3(d, r->ez);
+    if (z0 > 0.0f) { r->ez = -r->ez; z0 = -z0; }
+    if (!(z0 < 0.0f)) return false;
+    float x0 = dot3(d, r->ex), y0 = dot3(d, r->ey);
+    float x1 = x0 + r->lu, y1 = y0 + r->lv;
+    float z2 = z0 * z0;
+    /* lengths of the (unnormalised) normals of the planes through x and each edge: (0, z0, -y0), (-z0, 0, x1),
+     * (0, -z0, y1), (z0, 0, -x0); the interior angle between consecutive ones is acos(-n_i.n_j) */
+    float m0 = sqrt(z2 + y0 * y0), m1 = sqrt(z2 + x1 * x1), m2 = sqrt(z2 + y1 * y1), m3 = sqrt(z2 + x0 * x0);
+    float a0 = asin(clamp_f(x1 * y0 / (m0 * m1), -1.0f, 1.0f));
+    float a1 = asin(clamp_f(-x1 * y1 / (m1 * m2), -1.0f, 1.0f));
+    float a2 = asin(clamp_f(x0 * y1 / (m2 * m3), -1.0f, 1.0f));
+    float a3 = asin(clamp_f(-x0 * y0 / (m3 * m0), -1.0f, 1.0f));
+    r->S = -(a0 + a1 + a2 + a3);
+    r->phi0 = a2 + a3;
+    r->b0 = -y0 / m0;
+    r->b1 = y1 / m2;
+    r->x0 = x0; r->x1 = x1; r->y0 = y0; r->y1 = y1; r->z0 = z0;
+    return r->S > 0.0f;
+}
+
+/* The point of the rectangle for (u, v) in [0,1)^2, uniform in solid angle, as rectangle coordinates (s, t) in
+ * [0, 1]^2 (point = corner + s eu + t ev). */
+inline float2 sph_rect_sample(const SphRect* r, float u, float v)
+{
+    /* the sweep angle au = pi + phi: cos(au) = -cos(phi), sin(au) = -sin(phi), phi small for small rectangles */
+    float phi = r->phi0 + u * r->S;
+    float sp = sin(phi), cp = cos(phi);
+    float fu = (cp * r->b0 + r->b1) / sp;
+    float cu = (fu >= 0.0f ? 1.0f : -1.0f) * rsqrt(fu * fu + r->b0 * r->b0);
+    cu = clamp_f(cu, -1.0f, 1.0f);
+    float xu = -(cu * r->z0) * rsqrt(fmax_f(1.0f - cu * cu, 1e-30f));
+    xu = clamp_f(xu, r->x0, r->x1);
+    if (!finite_f(xu)) xu = r->x0;
+    float d2 = xu * xu + r->z0 * r->z0;
+    float h0 = r->y0 * rsqrt(d2 + r->y0 * r->y0), h1 = r->y1 * rsqrt(d2 + r->y1 * r->y1);
+    float hv = h0 + v * (h1 - h0), hv2 = hv * hv;
+    float yv = hv2 < 1.0f - 1e-6f ? hv * sqrt(d2) * rsqrt(1.0f - hv2) : r->y1;
+    yv = clamp_f(yv, r->y0, r->y1);
+    return (float2)(clamp_f((xu - r->x0) / r->lu, 0.0f, 0.99999994f),
+                    clamp_f((yv - r->y0) / r->lv, 0.0f, 0.99999994f));
+}
+
+/* The area density of a point at distance dist seen under cos_l by uniform sampling of solid angle S. */
+inline float sa_area_pdf(float S, float cos_l, float dist)
+{
+    return (cos_l > 0.0f && dist > 0.0f) ? cos_l / (dist * dist * S) : 0.0f;
+}
+
+#endif
