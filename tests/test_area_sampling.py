@@ -11,7 +11,7 @@ import numpy as np
 import pyopencl as cl
 import pyopencl.cltypes as clt
 import pytest
-from restircl import Light, Material, Mesh, Scene, Settings, translation
+from restircl import Light, Material, Mesh, Scene, translation
 from restircl.features import general_flags
 from restircl.lights import scene_lights
 from restircl.program import build_program
@@ -147,3 +147,74 @@ def test_solid_angle_points_follow_their_pdf(device, kind, config):
     assert ok.sum() > 0.7 * N
 
 
+@pytest.mark.parametrize("dist", [0.45, 3.0])
+def test_soft_point_light_disk_is_sampled_uniformly_in_its_cone(device, dist):
+    """The soft-falloff disk (radius r facing the shading point) subtends a cone of tan = r / dist: its points'
+    directions are uniform in that cone, with the area density cos^3 / (dist^2 2 pi (1 - cos_max))."""
+    r = 0.4
+    light = Light("s", "point", (1, 1, 1), 50.0, translation(0.1, 0.0, dist), radius=r)
+    rec = scene_lights(Scene(lights=[light]), 0, area_sampling=SA).records
+    x = np.zeros(3)
+    out = sample(device, rec, x)
+    pdf, pos = out[:, 0, 3].astype(np.float64), out[:, 0, :3].astype(np.float64)
+    assert np.all(pdf > 0)
+    c = np.array([0.1, 0.0, dist])
+    dc = np.linalg.norm(c)
+    w = c / dc
+    d = pos - x
+    dn = np.linalg.norm(d, axis=1)
+    wi = d / dn[:, None]
+    omc = 1 - dc / math.hypot(dc, r)
+    cos_t = wi @ w
+    s = np.cross(w, [0.0, 1.0, 0.0])
+    s /= np.linalg.norm(s)
+    t = np.cross(w, s)
+    h, _, _ = np.histogram2d((1 - cos_t) / omc, np.arctan2(wi @ t, wi @ s), bins=(10, 8),
+                             range=[[0, 1], [-math.pi, math.pi]])
+    stat, p, dof = pooled_chi2(h, np.ones_like(h) / h.size)
+    assert p > 1e-4, (stat, p)
+    expect = cos_t**3 / (dc * dc * 2 * math.pi * omc)
+    assert np.quantile(np.abs(pdf / expect - 1), 0.99) < 2e-3
+    assert np.quantile(np.abs(out[:, 1, 2] / pdf - 1), 0.999) < 1e-3  # light_point_pdf
+
+
+ODD_POINTS = {"on_plane": np.array([0.5, 0.1, 1.0]), "behind": np.array([0.2, -0.1, 1.5]),
+              "touching": np.array([0.2, -0.1, 1.0 - 1e-4]), "on_edge": np.array([0.8, -0.1, 1.0]),
+              "far": np.array([1e4, 3e3, -2e3]), "far_above": np.array([0.0, 0.0, -1e4])}
+
+
+@pytest.mark.parametrize("kind", ["quad", "disk", "triangle", "soft"])
+@pytest.mark.parametrize("mode", [SA, "auto"])
+def test_no_nan_at_odd_shading_points(device, kind, mode):
+    if kind == "soft":
+        recs = scene_lights(Scene(lights=[Light("s", "point", (1, 1, 1), 50.0, translation(0.2, -0.1, 1.0),
+                                                radius=0.3)]), 0, area_sampling=mode).records
+    else:
+        recs = records(kind, 1.0, mode)
+    for name, x in ODD_POINTS.items():
+        out = sample(device, recs, x, n=-UP if name == "far_above" else UP, count=4096)
+        assert np.all(np.isfinite(out)), (kind, name)
+        pdf, uv = out[:, 0, 3], out[:, 1, :2]
+        assert np.all(pdf >= 0) and np.all((uv >= 0) & (uv < 1)), (kind, name)
+        lit = out[:, 2, :3].any(axis=1)
+        assert np.all(pdf[lit] > 0), (kind, name)
+
+
+def test_modes_flag_only_the_lights_they_sample_by_solid_angle():
+    from restircl.lights.area_sampling import FLAG_SA_AUTO, FLAG_SOLID_ANGLE, sampling_flags
+
+    lights = [area_light("RECTANGLE"), area_light("ELLIPSE"),
+              Light("p", "point", (1, 1, 1), 5.0, translation(0, 0, 1), radius=0.2),
+              Light("hard", "point", (1, 1, 1), 5.0, translation(0, 0, 1), radius=0.2, soft_falloff=False),
+              Light("sun", "sun", (1, 1, 1), 1.0, translation(0, 0, 1), angle=0.1)]
+    scene = Scene([Mesh("tri", TRI, [[0, 1, 2]], 0)], [Material("lamp", (0, 0, 0), (1, 1, 1), 3.0)], lights)
+    dl = scene_lights(scene, 0)
+    assert not sampling_flags(dl.records, dl.types, "area").any()
+    assert sampling_flags(dl.records, dl.types, SA).tolist() == [FLAG_SOLID_ANGLE] * 3 + [0, 0, FLAG_SOLID_ANGLE]
+    assert sampling_flags(dl.records, dl.types, "auto").tolist() == [FLAG_SOLID_ANGLE | FLAG_SA_AUTO] * 3 + [
+        0, 0, FLAG_SOLID_ANGLE | FLAG_SA_AUTO]
+    sheared = dl.records.copy()
+    sheared[0]["a"][:3] += 0.3 * sheared[0]["b"][:3]  # a parallelogram: area sampling
+    assert sampling_flags(sheared, dl.types, SA)[0] == 0
+    with pytest.raises(ValueError, match="area_sampling"):
+        sampling_flags(dl.records, dl.types, "cosine")
