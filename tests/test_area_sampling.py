@@ -5,18 +5,21 @@ light's visible part, light_point_pdf (MIS with BSDF candidates) gives the same 
 point lies on the light's plane, behind it, 1e-4 or 1e4 away; RIS and the unbiased ReSTIR modes agree with the
 exhaustive reference with it; and it cuts the per-frame variance of RIS where lights are large and close."""
 
+import dataclasses
 import math
 
 import numpy as np
 import pyopencl as cl
 import pyopencl.cltypes as clt
 import pytest
-from restircl import Light, Material, Mesh, Scene, translation
+from restircl import Light, Material, Mesh, Scene, Settings, translation
 from restircl.features import general_flags
 from restircl.lights import scene_lights
 from restircl.program import build_program
 
+from .helpers import batch_stats, collect, luminance, mean_and_se, run_means
 from .stats import pooled_chi2
+from .test_bsdf_candidates import BATCHES, FRAMES, RUN_FRAMES, RUNS, H, W, assert_unbiased, large_lights_scene
 
 SRC = """
 #include "types.h"
@@ -218,3 +221,64 @@ def test_modes_flag_only_the_lights_they_sample_by_solid_angle():
     assert sampling_flags(sheared, dl.types, SA)[0] == 0
     with pytest.raises(ValueError, match="area_sampling"):
         sampling_flags(dl.records, dl.types, "cosine")
+
+
+def spread_powers(scene: Scene) -> Scene:
+    """The same scene with its lights' powers spread over 1e-6..1e6 (and the emissive panel's strength 1e3)."""
+    powers = np.logspace(-6, 6, len(scene.lights))
+    lights = [dataclasses.replace(lt, power=float(p) * lt.power) for lt, p in zip(scene.lights, powers, strict=True)]
+    mats = [dataclasses.replace(m, emission_strength=m.emission_strength * 1e3) if m.emission_strength else m for m in scene.materials]
+    return dataclasses.replace(scene, lights=lights, materials=mats)
+
+
+SCENES = {"large": large_lights_scene, "powers": lambda w, h: spread_powers(large_lights_scene(w, h))}
+
+
+@pytest.fixture(scope="module")
+def references(device):
+    return {name: batch_stats(luminance(collect(make(W, H), Settings(method="reference", seed=17, jitter=False),
+                                                8192, device)), BATCHES) for name, make in SCENES.items()}
+
+
+UNBIASED_CASES = {
+    "ris": ("large", dict(method="ris", candidates=4)),
+    "ris_auto": ("large", dict(method="ris", candidates=4, area_sampling="auto")),
+    "ris_bsdf": ("large", dict(method="ris", candidates=4, bsdf_sampling="on")),
+    "ris_powers": ("powers", dict(method="ris", candidates=4, bsdf_sampling="on")),
+    "restir_pairwise": ("large", dict(method="restir", bsdf_sampling="on", taa=False)),
+    "restir_z_count": ("large", dict(method="restir", bias_correction="z_count", m_cap=4.0, taa=False)),
+    "restir_powers": ("powers", dict(method="restir", taa=False)),
+}
+
+
+@pytest.mark.parametrize("case", list(UNBIASED_CASES))
+def test_estimators_with_solid_angle_sampling_match_reference(device, references, case):
+    """Every area light type, an emissive panel partly behind a block, lights below the floor (large_lights_scene),
+    and the same with powers over 1e-6..1e6, against the exhaustive reference (area sampling)."""
+    scene_name, kw = UNBIASED_CASES[case]
+    s = Settings(**{"area_sampling": SA, "seed": 41, "jitter": False, **kw})
+    scene = SCENES[scene_name](W, H)
+    if s.method == "ris":
+        x = collect(scene, s, FRAMES, device)
+        assert np.all(np.isfinite(x))
+        m, se = batch_stats(luminance(x), BATCHES)
+        n_stats = BATCHES
+    else:
+        runs = luminance(run_means(scene, s, RUNS, RUN_FRAMES, device))
+        assert np.all(np.isfinite(runs))
+        m, se = mean_and_se(runs)
+        n_stats = RUNS
+    assert_unbiased(m, se, references[scene_name], n_stats, case)
+
+
+@pytest.mark.parametrize("glossy", [False, True])
+def test_solid_angle_sampling_cuts_the_variance_of_large_close_lights(device, glossy):
+    """Not a timing test: per-frame variance of RIS (4 candidates, no BSDF candidates) on large_lights_scene with
+    area and with solid-angle sampling, the same seeds."""
+    scene = large_lights_scene(W, H, glossy)
+    var = {}
+    for mode in ("area", SA):
+        x = collect(scene, Settings(method="ris", candidates=4, bsdf_sampling="off", area_sampling=mode, seed=31,
+                                    jitter=False), 512, device)
+        var[mode] = luminance(x).var(axis=0).mean()
+    assert var[SA] < 0.8 * var["area"], var

@@ -142,12 +142,13 @@ class Settings:
     bsdf_sampling: str = setting("auto", "BSDF Sampling", "RIS and ReSTIR: add BSDF-sampled candidates, combined "
                                  "with the light candidates by multiple importance sampling", flag="--bsdf-sampling",
                                  choices=BSDF_SAMPLING_CHOICES, panel="sampling", applies_when=_RIS)
-    area_sampling: str = setting("area", "Area Light Sampling", "How a point on an area light (and an emissive "
-                                 "triangle, a soft point light) is drawn", flag="--area-sampling",
-                                 choices=AREA_SAMPLING_CHOICES, panel="lights")
     bsdf_candidates: int = setting(1, "BSDF Candidates", "BSDF-sampled candidates per pixel and frame (RIS, ReSTIR)",
                                    flag="--bsdf-candidates", range=Range(int, 1, 64), panel="sampling",
                                    applies_when=_BSDF, soft_max=8)
+
+    area_sampling: str = setting("area", "Area Light Sampling", "How a point on an area light (and an emissive "
+                                 "triangle, a soft point light) is drawn", flag="--area-sampling",
+                                 choices=AREA_SAMPLING_CHOICES, panel="lights")
 
     def validate(self) -> Settings:
         check(self)
