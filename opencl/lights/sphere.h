@@ -3,8 +3,7 @@
  * sphere's radius facing the shading point: its measure is the disk's area, the same for every pixel, so reuse
  * across pixels stays valid (the point moves with the pixel, the measure does not). Without it the sphere is
  * sampled in the cone it subtends, seen from outside. The soft-falloff disk is sampled uniformly in its area or,
- * where the host flags it (area_sampling), in the cone it subtends (its point from the cone's direction exactly, in
- * the disk's own coordinates). */
+ * where the host flags it (area_sampling), in the cone it subtends (soft_disk_sample). */
 #ifndef RESTIRCL_LIGHTS_SPHERE_H
 #define RESTIRCL_LIGHTS_SPHERE_H
 
@@ -80,19 +79,21 @@ inline bool soft_disk_cone(const __global Light* l, SphereLight sp, float3 x, fl
     return *omc > 0.0f && finite_f(*omc);
 }
 
-/* The soft-falloff disk's sample (u, v) for (r0, r1) uniform in its cone, and its area density. */
+/* The soft-falloff disk's sample (u, v) for (r0, r1) uniform in its cone, and its area density. The cone and the
+ * concentric map are both radially symmetric: the map's angle is kept, and its radius, whose square is uniform,
+ * picks 1 - cos in the cone; then the point's radius on the disk scales the (u, v) about the centre, which the map
+ * takes to the same scale of the point (no transcendental: they cost PoCL far more than the rest here). */
 inline float2 soft_disk_sample(SphereLight sp, float dc, float omc, float r0, float r1, float* pdf)
 {
-    float omc_t = r0 * omc;
+    float a = 2.0f * r0 - 1.0f, b = 2.0f * r1 - 1.0f;
+    float rad = fmax_f(abs_f(a), abs_f(b));  /* the concentric map's radius */
+    float omc_t = rad * rad * omc;
     float cos_t = 1.0f - omc_t, sin_t = sqrt(fmax_f(0.0f, omc_t * (2.0f - omc_t)));
-    float rho = dc * sin_t / (cos_t * sp.radius);  /* the point's distance from the centre, in radii */
-    float phi = 2.0f * RESTIRCL_PI * r1;
-    float2 q = (float2)(rho * cos(phi), rho * sin(phi));
-    float qq = q.x * q.x + q.y * q.y;
-    if (qq > 1.0f) q *= rsqrt(qq);
+    float rho = fmin_f(dc * sin_t / (cos_t * sp.radius), 1.0f);  /* the point's distance from the centre, in radii */
+    float k = rad > 0.0f ? rho / rad : 0.0f;
     /* cos_l = cos_t at distance dc / cos_t */
     *pdf = cos_t * cos_t * cos_t / (dc * dc * 2.0f * RESTIRCL_PI * omc);
-    return concentric_disk_inverse(q);
+    return (float2)(clamp_f(0.5f + 0.5f * k * a, 0.0f, 0.99999994f), clamp_f(0.5f + 0.5f * k * b, 0.0f, 0.99999994f));
 }
 
 /* Uniform in (u, v) for points, soft-falloff disks and shading points inside the sphere; from outside, uniform in

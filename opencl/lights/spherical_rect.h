@@ -1,19 +1,27 @@
 /* Uniform sampling of the solid angle a rectangle subtends (Urena, Fajardo and King, "An area-preserving
  * parametrization for spherical rectangles", EGSR 2013). The rectangle is corner + s eu + t ev, s, t in [0, 1], eu
  * and ev orthogonal. In the rectangle's frame (x along eu, y along ev, z away from the shading point's side) the
- * rectangle spans [x0, x1] x [y0, y1] at height z0 < 0. The interior angles are written as pi/2 - asin(.), so the
- * solid angle S = -sum asin(.) has no cancellation against 2 pi for small or far rectangles. */
+ * rectangle spans [x0, x1] x [y0, y1] at height z0 < 0. Each interior angle is pi/2 - theta_i, and the four theta_i
+ * are summed as the arguments of unit complex numbers (cos theta_i, sin theta_i), both parts from exact closed
+ * forms: S = -sum theta_i needs one atan2 and has no cancellation against 2 pi for small or far rectangles, and no
+ * cos near 0 is lost when the shading point grazes the plane. (The map needs one atan2, one sin and one cos: trig.h.) */
 #ifndef RESTIRCL_LIGHTS_SPHERICAL_RECT_H
 #define RESTIRCL_LIGHTS_SPHERICAL_RECT_H
 
-#include "numerics.h"
+#include "lights/trig.h"
+#include "lights/warps.h"
+
+/* complex product and length of float2s */
+inline float2 cmul(float2 a, float2 b) { return (float2)(a.x * b.x - a.y * b.y, a.x * b.y + a.y * b.x); }
+
+inline float len2(float2 a) { return sqrt(a.x * a.x + a.y * a.y); }
 
 typedef struct {
     float3 ex, ey, ez;   /* the rectangle's frame, ez pointing from the plane away from the shading point's side */
     float lu, lv;        /* edge lengths */
     float x0, x1, y0, y1, z0;
     float b0, b1;        /* z of the normals of the planes through the shading point and the edges y = y0, y = y1 */
-    float phi0;          /* the first angle of the sweep, less pi */
+    float cos_phi0, sin_phi0;  /* the first angle of the sweep (less pi): theta_2 + theta_3 */
     float S;             /* solid angle */
 } SphRect;
 
@@ -32,16 +40,22 @@ inline bool sph_rect_setup(float3 corner, float3 eu, float3 ev, float3 x, SphRec
     if (!(z0 < 0.0f)) return false;
     float x0 = dot3(d, r->ex), y0 = dot3(d, r->ey);
     float x1 = x0 + r->lu, y1 = y0 + r->lv;
-    float z2 = z0 * z0;
+    float z2 = z0 * z0, az = -z0;
     /* lengths of the (unnormalised) normals of the planes through x and each edge: (0, z0, -y0), (-z0, 0, x1),
-     * (0, -z0, y1), (z0, 0, -x0); the interior angle between consecutive ones is acos(-n_i.n_j) */
+     * (0, -z0, y1), (z0, 0, -x0); sin theta_i = -n_i.n_j (normalised), cos theta_i = |z0| |corner| / (m_i m_j) */
     float m0 = sqrt(z2 + y0 * y0), m1 = sqrt(z2 + x1 * x1), m2 = sqrt(z2 + y1 * y1), m3 = sqrt(z2 + x0 * x0);
-    float a0 = asin(clamp_f(x1 * y0 / (m0 * m1), -1.0f, 1.0f));
-    float a1 = asin(clamp_f(-x1 * y1 / (m1 * m2), -1.0f, 1.0f));
-    float a2 = asin(clamp_f(x0 * y1 / (m2 * m3), -1.0f, 1.0f));
-    float a3 = asin(clamp_f(-x0 * y0 / (m3 * m0), -1.0f, 1.0f));
-    r->S = -(a0 + a1 + a2 + a3);
-    r->phi0 = a2 + a3;
+    float d00 = sqrt(z2 + x0 * x0 + y0 * y0), d10 = sqrt(z2 + x1 * x1 + y0 * y0);
+    float d11 = sqrt(z2 + x1 * x1 + y1 * y1), d01 = sqrt(z2 + x0 * x0 + y1 * y1);
+    float k01 = 1.0f / (m0 * m1), k12 = 1.0f / (m1 * m2), k23 = 1.0f / (m2 * m3), k30 = 1.0f / (m3 * m0);
+    float2 w0 = (float2)(az * d10 * k01, x1 * y0 * k01), w1 = (float2)(az * d11 * k12, -x1 * y1 * k12);
+    float2 w2 = (float2)(az * d01 * k23, x0 * y1 * k23), w3 = (float2)(az * d00 * k30, -x0 * y0 * k30);
+    float2 q23 = cmul(w2, w3);
+    float2 all = cmul(cmul(w0, w1), q23);
+    float S = atan2_f(-all.y, all.x);
+    r->S = S > 0.0f ? S : S + 2.0f * RESTIRCL_PI;  /* over pi: a shading point close to the plane */
+    float lq = len2(q23);
+    r->cos_phi0 = q23.x / lq;
+    r->sin_phi0 = q23.y / lq;
     r->b0 = -y0 / m0;
     r->b1 = y1 / m2;
     r->x0 = x0; r->x1 = x1; r->y0 = y0; r->y1 = y1; r->z0 = z0;
@@ -53,8 +67,9 @@ inline bool sph_rect_setup(float3 corner, float3 eu, float3 ev, float3 x, SphRec
 inline float2 sph_rect_sample(const SphRect* r, float u, float v)
 {
     /* the sweep angle au = pi + phi: cos(au) = -cos(phi), sin(au) = -sin(phi), phi small for small rectangles */
-    float phi = r->phi0 + u * r->S;
-    float sp = sin(phi), cp = cos(phi);
+    float2 sc = sincos_f(u * r->S);
+    float su = sc.x, cu_s = sc.y;
+    float sp = r->sin_phi0 * cu_s + r->cos_phi0 * su, cp = r->cos_phi0 * cu_s - r->sin_phi0 * su;
     float fu = (cp * r->b0 + r->b1) / sp;
     float cu = (fu >= 0.0f ? 1.0f : -1.0f) * rsqrt(fu * fu + r->b0 * r->b0);
     cu = clamp_f(cu, -1.0f, 1.0f);
