@@ -227,7 +227,8 @@ def spread_powers(scene: Scene) -> Scene:
     """The same scene with its lights' powers spread over 1e-6..1e6 (and the emissive panel's strength 1e3)."""
     powers = np.logspace(-6, 6, len(scene.lights))
     lights = [dataclasses.replace(lt, power=float(p) * lt.power) for lt, p in zip(scene.lights, powers, strict=True)]
-    mats = [dataclasses.replace(m, emission_strength=m.emission_strength * 1e3) if m.emission_strength else m for m in scene.materials]
+    mats = [dataclasses.replace(m, emission_strength=m.emission_strength * 1e3) if m.emission_strength else m
+            for m in scene.materials]
     return dataclasses.replace(scene, lights=lights, materials=mats)
 
 
