@@ -30,4 +30,10 @@ inline bool sa_wanted(const __global Light* l, float extent2, float dist2)
 /* A solid angle the spherical maps handle. */
 inline bool sa_in_range(float S) { return S > SA_MIN_SR && S < SA_MAX_SR && finite_f(S); }
 
+/* The area density of a point at distance dist seen under cos_l by uniform sampling of solid angle S. */
+inline float sa_area_pdf(float S, float cos_l, float dist)
+{
+    return (cos_l > 0.0f && dist > 0.0f) ? cos_l / (dist * dist * S) : 0.0f;
+}
+
 #endif

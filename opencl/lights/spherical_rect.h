@@ -85,10 +85,4 @@ inline float2 sph_rect_sample(const SphRect* r, float u, float v)
                     clamp_f((yv - r->y0) / r->lv, 0.0f, 0.99999994f));
 }
 
-/* The area density of a point at distance dist seen under cos_l by uniform sampling of solid angle S. */
-inline float sa_area_pdf(float S, float cos_l, float dist)
-{
-    return (cos_l > 0.0f && dist > 0.0f) ? cos_l / (dist * dist * S) : 0.0f;
-}
-
 #endif
