@@ -40,9 +40,7 @@ inline float2 disk_sample(const __global Light* l, float3 x, float r0, float r1,
     if (!(ab.x * ab.x + ab.y * ab.y <= 1.0f)) { *pdf = 0.0f; return (float2)(0.5f, 0.5f); }
     float2 uv = concentric_disk_inverse(ab);
     float2 q = concentric_disk(uv.x, uv.y);  /* the point disk_eval will evaluate */
-    float3 d = pl.origin + q.x * pl.span_u + q.y * pl.span_v - x;
-    float dist = len3(d);
-    *pdf = sa_area_pdf(r.S, -r.z0 / dist, dist);
+    *pdf = planar_sa_pdf(pl, q, x, r.S);
     return uv;
 }
 
@@ -51,8 +49,8 @@ inline float disk_point_pdf(const __global Light* l, float3 x, const LightEval* 
 {
     PlanarLight pl = planar_light(l);
     SphRect r;
-    if (!disk_solid_angle(l, pl, x, &r)) return 1.0f / pl.area;
-    return sa_area_pdf(r.S, abs_f(dot3(e->nl, e->wi)), e->dist);
+    bool sa = disk_solid_angle(l, pl, x, &r);
+    return sa_point_pdf(sa, sa ? r.S : 0.0f, pl.area, e);
 }
 
 /* The sample (u, v) of l that the ray x + t wi (t > 0) hits; false when it misses the ellipse. */

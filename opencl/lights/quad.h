@@ -32,9 +32,7 @@ inline float2 quad_sample(const __global Light* l, float3 x, float r0, float r1,
     SphRect r;
     if (!quad_solid_angle(l, pl, x, &r)) return planar_sample(l, r0, r1, pdf);
     float2 st = sph_rect_sample(&r, r0, r1);
-    float3 d = pl.origin + st.x * pl.span_u + st.y * pl.span_v - x;
-    float dist = len3(d);
-    *pdf = sa_area_pdf(r.S, -r.z0 / dist, dist);
+    *pdf = planar_sa_pdf(pl, st, x, r.S);
     return st;
 }
 
@@ -43,8 +41,8 @@ inline float quad_point_pdf(const __global Light* l, float3 x, const LightEval* 
 {
     PlanarLight pl = planar_light(l);
     SphRect r;
-    if (!quad_solid_angle(l, pl, x, &r)) return 1.0f / pl.area;
-    return sa_area_pdf(r.S, abs_f(dot3(e->nl, e->wi)), e->dist);
+    bool sa = quad_solid_angle(l, pl, x, &r);
+    return sa_point_pdf(sa, sa ? r.S : 0.0f, pl.area, e);
 }
 
 /* The sample (u, v) of l that the ray x + t wi (t > 0) hits; false when it misses the quad. */

@@ -5,6 +5,7 @@
 #ifndef RESTIRCL_LIGHTS_SOLID_ANGLE_H
 #define RESTIRCL_LIGHTS_SOLID_ANGLE_H
 
+#include "lights/eval.h"
 #include "lights/record.h"
 #include "numerics.h"
 
@@ -34,6 +35,13 @@ inline bool sa_in_range(float S) { return S > SA_MIN_SR && S < SA_MAX_SR && fini
 inline float sa_area_pdf(float S, float cos_l, float dist)
 {
     return (cos_l > 0.0f && dist > 0.0f) ? cos_l / (dist * dist * S) : 0.0f;
+}
+
+/* The density (area measure) with which a light of this area sampled it produces the evaluated point e: uniform in
+ * solid angle S where `solid_angle`, else uniform in area; for MIS with BSDF candidates (light_hit.h). */
+inline float sa_point_pdf(bool solid_angle, float S, float area, const LightEval* e)
+{
+    return solid_angle ? sa_area_pdf(S, abs_f(dot3(e->nl, e->wi)), e->dist) : 1.0f / area;
 }
 
 #endif

@@ -55,9 +55,7 @@ inline float2 triangle_sample(const __global Light* l, float3 x, float r0, float
     if (sum > 1.0f) b /= sum;  /* rounding put it just outside */
     float2 uv = triangle_uv(b.x, b.y);
     float su = sqrt(uv.x);  /* the point triangle_eval will evaluate */
-    float3 d = pl.origin + pl.span_u * (su * (1.0f - uv.y)) + pl.span_v * (su * uv.y) - x;
-    float dist = len3(d);
-    *pdf = sa_area_pdf(t.S, abs_f(dot3(planar_normal(pl), d)) / dist, dist);
+    *pdf = planar_sa_pdf(pl, (float2)(su * (1.0f - uv.y), su * uv.y), x, t.S);
     return uv;
 }
 
@@ -66,8 +64,8 @@ inline float triangle_point_pdf(const __global Light* l, float3 x, const LightEv
 {
     PlanarLight pl = planar_light(l);
     SphTri t;
-    if (!triangle_solid_angle(l, pl, x, &t)) return 1.0f / pl.area;
-    return sa_area_pdf(t.S, abs_f(dot3(e->nl, e->wi)), e->dist);
+    bool sa = triangle_solid_angle(l, pl, x, &t);
+    return sa_point_pdf(sa, sa ? t.S : 0.0f, pl.area, e);
 }
 
 #endif
