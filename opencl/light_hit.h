@@ -34,9 +34,15 @@ inline bool light_hit(const __global Light* l, int type, float3 x, float3 wi, fl
 inline float light_point_pdf(const __global Light* l, int type, float3 x, const LightEval* e)
 {
     switch (type) {
-    case LIGHT_TRIANGLE:
-    case LIGHT_QUAD:
-    case LIGHT_DISK: return 1.0f / planar_light(l).area;
+#ifdef HAS_TRIANGLE_LIGHTS
+    case LIGHT_TRIANGLE: return triangle_point_pdf(l, x, e);
+#endif
+#ifdef HAS_QUAD_LIGHTS
+    case LIGHT_QUAD: return quad_point_pdf(l, x, e);
+#endif
+#ifdef HAS_DISK_LIGHTS
+    case LIGHT_DISK: return disk_point_pdf(l, x, e);
+#endif
     case LIGHT_SPHERE:
     case LIGHT_SPOT: return sphere_point_pdf(l, x, e);
     case LIGHT_SUN: { float pdf; sun_sample(l, x, 0.0f, 0.0f, &pdf); return pdf; }

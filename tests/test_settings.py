@@ -33,6 +33,7 @@ BEFORE = (
     ("realtime_filter", False), ("filter_iterations", 4), ("disocclusion_boost", 0),
     ("denoise", False),
     ("still_method", "auto"),
+    ("area_sampling", "area"),
 )
 NUMBERS = [d for d in declared(Settings) if d.spec.range is not None]
 

@@ -34,6 +34,16 @@ inline float2 planar_sample(const __global Light* l, float r0, float r1, float* 
     return (float2)(r0, r1);
 }
 
+/* The area density, under uniform sampling of solid angle S from x, of the point origin + ab.x span_u + ab.y span_v
+ * of pl (solid_angle.h sa_area_pdf, written out: this header comes first). */
+inline float planar_sa_pdf(PlanarLight pl, float2 ab, float3 x, float S)
+{
+    float3 d = pl.origin + ab.x * pl.span_u + ab.y * pl.span_v - x;
+    float dist = len3(d);
+    float cos_l = abs_f(dot3(planar_normal(pl), d)) / dist;
+    return (cos_l > 0.0f && dist > 0.0f) ? cos_l / (dist * dist * S) : 0.0f;
+}
+
 /* Where the ray x + t wi (t > 0) meets the plane of pl: the point's coordinates (a, b) with
  * point = origin + a span_u + b span_v; false when the ray is parallel to the plane or the plane is behind x. */
 inline bool planar_ray_coords(PlanarLight pl, float3 x, float3 wi, float2* ab)

@@ -1,9 +1,12 @@
-/* Quad lights (Blender's square and rectangle area lights): a parallelogram sampled uniformly in area. Lanes:
- * planar.h, origin a corner, spans the two edges from it. */
+/* Quad lights (Blender's square and rectangle area lights): a parallelogram sampled uniformly in area, or, where
+ * the host flags it (a rectangle, area_sampling), uniformly in the solid angle it subtends (spherical_rect.h).
+ * Lanes: planar.h, origin a corner, spans the two edges from it. */
 #ifndef RESTIRCL_LIGHTS_QUAD_H
 #define RESTIRCL_LIGHTS_QUAD_H
 
 #include "lights/planar.h"
+#include "lights/solid_angle.h"
+#include "lights/spherical_rect.h"
 
 #define LIGHT_QUAD 1
 
@@ -14,9 +17,32 @@ inline bool quad_eval(const __global Light* l, float u, float v, float3 x, float
     return planar_contrib(l, pl, corner + u * edge_u + v * edge_v, x, n, e);
 }
 
+/* The spherical rectangle of quad pl at x, when it is sampled by solid angle there (solid_angle.h). */
+inline bool quad_solid_angle(const __global Light* l, PlanarLight pl, float3 x, SphRect* r)
+{
+    float3 dc = pl.origin + 0.5f * (pl.span_u + pl.span_v) - x;
+    float extent2 = 0.25f * (dot3(pl.span_u, pl.span_u) + dot3(pl.span_v, pl.span_v));
+    return sa_wanted(l, extent2, dot3(dc, dc)) && sph_rect_setup(pl.origin, pl.span_u, pl.span_v, x, r) &&
+           sa_in_range(r->S);
+}
+
 inline float2 quad_sample(const __global Light* l, float3 x, float r0, float r1, float* pdf)
 {
-    return planar_sample(l, r0, r1, pdf);
+    PlanarLight pl = planar_light(l);
+    SphRect r;
+    if (!quad_solid_angle(l, pl, x, &r)) return planar_sample(l, r0, r1, pdf);
+    float2 st = sph_rect_sample(&r, r0, r1);
+    *pdf = planar_sa_pdf(pl, st, x, r.S);
+    return st;
+}
+
+/* quad_sample's density (area measure) of the evaluated point e at x. */
+inline float quad_point_pdf(const __global Light* l, float3 x, const LightEval* e)
+{
+    PlanarLight pl = planar_light(l);
+    SphRect r;
+    bool sa = quad_solid_angle(l, pl, x, &r);
+    return sa_point_pdf(sa, sa ? r.S : 0.0f, pl.area, e);
 }
 
 /* The sample (u, v) of l that the ray x + t wi (t > 0) hits; false when it misses the quad. */

@@ -2,12 +2,14 @@
  * otherwise L is the radiance of the sphere's surface. Blender's default soft falloff maps (u, v) to a disk of the
  * sphere's radius facing the shading point: its measure is the disk's area, the same for every pixel, so reuse
  * across pixels stays valid (the point moves with the pixel, the measure does not). Without it the sphere is
- * sampled in the cone it subtends, seen from outside. */
+ * sampled in the cone it subtends, seen from outside. The soft-falloff disk is sampled uniformly in its area or,
+ * where the host flags it (area_sampling), in the cone it subtends (soft_disk_sample). */
 #ifndef RESTIRCL_LIGHTS_SPHERE_H
 #define RESTIRCL_LIGHTS_SPHERE_H
 
 #include "lights/eval.h"
 #include "lights/record.h"
+#include "lights/solid_angle.h"
 #include "lights/warps.h"
 
 #define LIGHT_SPHERE 3
@@ -63,6 +65,37 @@ inline bool sphere_eval(const __global Light* l, float u, float v, float3 x, flo
     return sphere_emit(sphere_light(l), light_radiance(l), 1.0f, u, v, x, n, e);
 }
 
+/* The cone (unit axis *w towards the centre, 1 - cos = *omc) that the soft-falloff disk of sp subtends at x, when
+ * it is sampled by solid angle there (solid_angle.h); *dc: the distance to the centre. */
+inline bool soft_disk_cone(const __global Light* l, SphereLight sp, float3 x, float3* w, float* dc, float* omc)
+{
+    float3 d = sp.centre - x;
+    float dc2 = dot3(d, d), r2 = sp.radius * sp.radius;
+    if (!(dc2 > 0.0f) || !sa_wanted(l, r2, dc2)) return false;
+    *dc = sqrt(dc2);
+    *w = d / *dc;
+    float h = sqrt(dc2 + r2);  /* the distance to the rim */
+    *omc = r2 / (h * (h + *dc));
+    return *omc > 0.0f && finite_f(*omc);
+}
+
+/* The soft-falloff disk's sample (u, v) for (r0, r1) uniform in its cone, and its area density. The cone and the
+ * concentric map are both radially symmetric: the map's angle is kept, and its radius, whose square is uniform,
+ * picks 1 - cos in the cone; then the point's radius on the disk scales the (u, v) about the centre, which the map
+ * takes to the same scale of the point (no transcendental: they cost PoCL far more than the rest here). */
+inline float2 soft_disk_sample(SphereLight sp, float dc, float omc, float r0, float r1, float* pdf)
+{
+    float a = 2.0f * r0 - 1.0f, b = 2.0f * r1 - 1.0f;
+    float rad = fmax_f(abs_f(a), abs_f(b));  /* the concentric map's radius */
+    float omc_t = rad * rad * omc;
+    float cos_t = 1.0f - omc_t, sin_t = sqrt(fmax_f(0.0f, omc_t * (2.0f - omc_t)));
+    float rho = fmin_f(dc * sin_t / (cos_t * sp.radius), 1.0f);  /* the point's distance from the centre, in radii */
+    float k = rad > 0.0f ? rho / rad : 0.0f;
+    /* cos_l = cos_t at distance dc / cos_t */
+    *pdf = cos_t * cos_t * cos_t / (dc * dc * 2.0f * RESTIRCL_PI * omc);
+    return (float2)(clamp_f(0.5f + 0.5f * k * a, 0.0f, 0.99999994f), clamp_f(0.5f + 0.5f * k * b, 0.0f, 0.99999994f));
+}
+
 /* Uniform in (u, v) for points, soft-falloff disks and shading points inside the sphere; from outside, uniform in
  * the solid angle of the visible cap, with *pdf converted to the sphere's area measure. */
 inline float2 sphere_sample(const __global Light* l, float3 x, float r0, float r1, float* pdf)
@@ -70,7 +103,13 @@ inline float2 sphere_sample(const __global Light* l, float3 x, float r0, float r
     SphereLight sp = sphere_light(l);
     float r = sp.radius;
     if (!(r > 0.0f)) { *pdf = 1.0f; return (float2)(r0, r1); }
-    if (sp.soft_falloff) { *pdf = 1.0f / (RESTIRCL_PI * r * r); return (float2)(r0, r1); }
+    if (sp.soft_falloff) {
+        float3 w;
+        float dc, omc;
+        if (soft_disk_cone(l, sp, x, &w, &dc, &omc)) return soft_disk_sample(sp, dc, omc, r0, r1, pdf);
+        *pdf = 1.0f / (RESTIRCL_PI * r * r);
+        return (float2)(r0, r1);
+    }
     float3 d = sp.centre - x;
     float dc2 = dot3(d, d);
     float r2 = r * r;
@@ -142,7 +181,13 @@ inline float sphere_point_pdf(const __global Light* l, float3 x, const LightEval
     SphereLight sp = sphere_light(l);
     float r = sp.radius;
     if (!(r > 0.0f)) return 0.0f;
-    if (sp.soft_falloff) return 1.0f / (RESTIRCL_PI * r * r);
+    if (sp.soft_falloff) {
+        float3 w;
+        float dc, omc;
+        if (!soft_disk_cone(l, sp, x, &w, &dc, &omc)) return 1.0f / (RESTIRCL_PI * r * r);
+        float cos_l = -dot3(e->nl, e->wi);
+        return cos_l > 0.0f ? cos_l / (e->dist * e->dist * 2.0f * RESTIRCL_PI * omc) : 0.0f;
+    }
     float3 d = sp.centre - x;
     float dc2 = dot3(d, d), r2 = r * r;
     if (dc2 <= r2 * 1.0001f) return 1.0f / (4.0f * RESTIRCL_PI * r2);

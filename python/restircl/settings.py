@@ -61,6 +61,13 @@ STILL_METHOD_CHOICES = (
            "spatial reuse only", 3),
 )
 STILL_METHODS = tuple(c.id for c in STILL_METHOD_CHOICES)
+AREA_SAMPLING_CHOICES = (
+    Choice("auto", "Auto", "Solid angle where an area light looks large from the shaded point, area elsewhere", 0),
+    Choice("solid_angle", "Solid Angle", "Area lights, emissive triangles and soft point lights sampled uniformly "
+           "in the solid angle they subtend (where float32 allows)", 1),
+    Choice("area", "Area", "Area lights and emissive triangles sampled uniformly in area", 2),
+)
+AREA_SAMPLING = tuple(c.id for c in AREA_SAMPLING_CHOICES)
 #: BSDF rays are tested against at most this many analytic lights (a loop per ray); beyond it the BSDF strategy
 #: leaves them to light sampling (pdf 0 in the MIS weights, which stay correct)
 BSDF_ANALYTIC_MAX = 64
@@ -191,6 +198,10 @@ class Settings:
     still_method: str = setting("auto", "Still Method", "The estimator of still renders (F12, a still camera): "
                                 "animations and the viewport keep Method", flag="--still-method",
                                 choices=STILL_METHOD_CHOICES, panel="sampling")
+
+    area_sampling: str = setting("area", "Area Light Sampling", "How a point on an area light (and an emissive "
+                                 "triangle, a soft point light) is drawn", flag="--area-sampling",
+                                 choices=AREA_SAMPLING_CHOICES, panel="lights")
 
     def validate(self) -> Settings:
         check(self)

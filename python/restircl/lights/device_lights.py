@@ -12,6 +12,7 @@ import numpy as np
 
 from .. import layouts as L
 from ..scene import Scene
+from .area_sampling import apply_sampling_flags
 from .light_type import PlacedLight
 from .record import LANES
 from .registry import type_of
@@ -34,8 +35,9 @@ class DeviceLights:
         return {int(t) for t in np.unique(self.types)}
 
 
-def scene_lights(scene: Scene, frame: int, world=None) -> DeviceLights:
-    """Device light records for `frame`: the scene's lights first (in order), then emissive triangles."""
+def scene_lights(scene: Scene, frame: int, world=None, area_sampling: str = "area") -> DeviceLights:
+    """Device light records for `frame`: the scene's lights first (in order), then emissive triangles, flagged for
+    the density `area_sampling` asks for (area_sampling.py)."""
     if world is None:
         world = scene.world_triangles(frame)
     recs: list[np.ndarray] = []
@@ -54,10 +56,12 @@ def scene_lights(scene: Scene, frame: int, world=None) -> DeviceLights:
     all_recs = np.concatenate([np.array(recs, np.float32).reshape(-1, LANES), tri_recs]) if recs else tri_recs
     records = np.zeros(len(all_recs), L.LIGHT)
     records.view(np.float32).reshape(-1, LANES)[:] = all_recs
+    all_types = np.concatenate([np.array(types, np.int64), np.full(len(tri_recs), TRIANGLE.code, np.int64)])
+    apply_sampling_flags(records, all_types, area_sampling)
     return DeviceLights(
         records,
         np.concatenate([np.array(power, np.float64), tri_power]),
-        np.concatenate([np.array(types, np.int64), np.full(len(tri_recs), TRIANGLE.code, np.int64)]),
+        all_types,
         np.concatenate([np.arange(len(recs), dtype=np.int64), tri_src]),
     )
 
