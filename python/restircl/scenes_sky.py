@@ -34,15 +34,17 @@ def texel_directions(height: int, width: int) -> np.ndarray:
     return np.stack(np.broadcast_arrays(st * np.cos(phi), st * np.sin(phi), np.cos(theta)), axis=-1)
 
 
-def sky_map(height: int = 256, width: int = 512, sun_scale: float = 1.0) -> np.ndarray:
-    """(H, W, 3) float32 linear radiance: sky, ground and sun disk (the sun's radiance times `sun_scale`)."""
+def sky_map(height: int = 256, width: int = 512, sun_scale: float = 1.0, sun: np.ndarray | None = None
+            ) -> np.ndarray:
+    """(H, W, 3) float32 linear radiance: sky, ground and sun disk (the sun's radiance times `sun_scale`, towards
+    `sun`, default sun_direction())."""
     d = texel_directions(height, width)
     z = d[..., 2:3]
     zenith, horizon, ground = np.array([0.08, 0.18, 0.5]), np.array([0.6, 0.7, 0.85]), np.array([0.12, 0.1, 0.08])
     t = np.clip(z, 0.0, 1.0) ** 0.4
     sky = horizon * (1.0 - t) + zenith * t
     rgb = np.where(z >= 0.0, sky, ground * np.clip(1.0 + 2.0 * z, 0.3, 1.0))
-    cos_sun = d @ sun_direction()
+    cos_sun = d @ (sun_direction() if sun is None else np.asarray(sun, np.float64) / np.linalg.norm(sun))
     rgb = np.where(cos_sun[..., None] >= math.cos(SUN_RADIUS), np.array(SUN_RADIANCE) * sun_scale, rgb)
     return rgb.astype(np.float32)
 
