@@ -44,9 +44,14 @@ def reference(device):
     return collect(sky_occluders(), Settings(method="reference", seed=31, jitter=False), FRAMES, device)
 
 
-@pytest.mark.parametrize("bsdf", [pytest.param("off", marks=pytest.mark.slow), "on"])
+# "tiles": candidates from presampled light tiles, whose record copies must not be used to reach the map (ris.h)
+RIS = {"off": dict(bsdf_sampling="off"), "on": dict(bsdf_sampling="on"),
+       "tiles": dict(bsdf_sampling="on", light_tiles="on", light_tile_count=4, light_tile_size=32)}
+
+
+@pytest.mark.parametrize("bsdf", [pytest.param("off", marks=pytest.mark.slow), "on", "tiles"])
 def test_ris_with_environment_matches_reference(device, reference, bsdf):
-    s = Settings(method="ris", candidates=4, seed=5, jitter=False, bsdf_sampling=bsdf)
+    s = Settings(method="ris", candidates=4, seed=5, jitter=False, **RIS[bsdf])
     samples = collect(sky_occluders(), s, FRAMES, device)
     assert np.all(np.isfinite(samples))
     assert_mean_equals_reference(samples, reference, BATCHES, f"ris bsdf={bsdf}")

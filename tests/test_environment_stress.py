@@ -1,7 +1,7 @@
 """The environment under stress and on its way in: a 1x1 map, an HDRI whose sun is 1e5 times the sky, an all-black
-map, NaN / Inf / negative texels (zeroed and counted with one warning naming the world, never in the image), camera visibility,
-strengths of 0 and 1e6, a huge map (slow: 16384 x 8192), image files (EXR, Radiance HDR, PNG) and the scene file.
-Also: the feature flag leaves the environment out of scenes without one, and a scene without one is unchanged."""
+map, NaN / Inf / negative texels (zeroed and counted with one warning naming the world, never in the image),
+camera visibility, strengths of 0 and 1e6, a huge map (slow: 16384 x 8192), image files (EXR, Radiance HDR, PNG)
+and the scene file. Also: the feature flag leaves the environment out of scenes without one."""
 
 import warnings
 

@@ -18,6 +18,7 @@
 
 #include "lights/eval.h"
 #include "lights/record.h"
+#include "lights/warps.h"
 
 #define LIGHT_ENVIRONMENT 6
 /* L.w flags: camera rays that miss the geometry see it (Film > Transparent leaves alpha 0 either way) */
@@ -37,16 +38,7 @@ typedef struct {
 inline EnvLight environment_light(const __global Light* l)
 {
     const __global float* base = (const __global float*)l;
-    EnvLight env;
-    env.texels = base + as_int(l->p.x);
-    env.table = base + as_int(l->a.w);
-    env.width = as_int(l->p.y);
-    env.height = as_int(l->p.z);
-    env.r0 = l->a.xyz;
-    env.r1 = l->b.xyz;
-    env.r2 = cross3(env.r0, env.r1);
-    env.norm = l->b.w;
-    env.cdf = (light_flags(l) & ENV_FLAG_CDF) != 0;
+    EnvLight env = {base + as_int(l->p.x), base + as_int(l->a.w), as_int(l->p.y), as_int(l->p.z), l->a.xyz, l->b.xyz, cross3(l->a.xyz, l->b.xyz), l->b.w, (light_flags(l) & ENV_FLAG_CDF) != 0};
     return env;
 }
 
@@ -193,7 +185,7 @@ inline float environment_point_pdf(const __global Light* l, const LightEval* e)
 }
 
 /* Does the environment emit at all (a map of zeros or a strength of 0 is never sampled nor hit)? */
-inline bool environment_emits(const __global Light* l) { return l->b.w > 0.0f; }
+inline bool environment_emits(const __global Light* l) { return environment_light(l).norm > 0.0f; }
 
 /* Every ray that leaves the scene meets the environment: the sample (u, v) of direction wi. Occluders are left
  * to the shadow ray, as for the sun, so the BSDF's density of the direction is exact. */

@@ -4,7 +4,8 @@ restircl Scene (through the add-on's exporter), and time-limited Cycles renders 
 Needs the `bpy` module (pip install bpy, Blender as a Python module); `available()` says whether it imports.
 Cycles is set up as in the Blender agreement tests (tests/test_blender_cycles.py, docs/units.md): every bounce
 limit 0, light threshold 0, no adaptive sampling, no denoising, no clamping, box pixel filter of width 1, the
-scene's Environment as the world (cycles_world.py; black without one), light objects hidden from camera rays (restircl does not draw lights; emissive meshes it does).
+scene's Environment as the world (cycles_world.py; black without one), light objects hidden from camera rays
+(restircl does not draw lights; emissive meshes it does).
 """
 
 from __future__ import annotations

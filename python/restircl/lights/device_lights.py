@@ -12,8 +12,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import layouts as L
-from . import environment as env_light
 from ..scene import Scene
+from . import environment as env_light
 from .light_type import PlacedLight
 from .record import LANES
 from .registry import type_of
