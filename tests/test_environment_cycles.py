@@ -3,7 +3,9 @@ by the Cycles bridge (eval/cycles_world.py: a Background colour, or an Environme
 Closest interpolation and the Mapping rotation) and rendered by Cycles, against restircl's still render.
 
 relMSE = mean((ours - cycles)^2 / (cycles^2 + 0.01)) over the RGB of every pixel (sky pixels included: they test the
-mapping); the bound is 1 % once both are converged (figures measured when written are in the docstrings)."""
+mapping); the bound is 1 % once both are converged. Measured when written at 48x27 (Cycles 256 spp, ours 128 frames):
+constant 0.22 %, hdri 0.074 %, rotated 0.084 %, lights 0.29 %; a rotation missing on one side: above 3 %
+(test_a_wrong_rotation_is_seen)."""
 
 from __future__ import annotations
 
