@@ -142,3 +142,18 @@ def test_16384_by_8192_map_renders():
     img[4000:4010, 9000:9010] = 5e3
     out = frames(scene_with(Environment("huge", color=(1, 1, 1), image=img)), "ris", 2)
     assert np.all(np.isfinite(out)) and out[..., :3].mean() > 0
+
+
+def test_strength_per_frame_animates_the_world():
+    """At frame 1, a world whose strength_per_frame is (1, 0.5) renders half as bright as one at (1, 1), pixel for
+    pixel (the same seeds and frame draw the same samples)."""
+    def at_frame_1(per_frame):
+        env = Environment("dimming", color=(1, 1, 1), image=sky_map(8, 16), strength_per_frame=per_frame)
+        scene = scene_with(env)
+        assert scene.has_moving_lights
+        return Renderer(scene, Settings(method="reference", seed=2, jitter=False, taa=False)).render_still(
+            1, samples=4).color[..., :3]
+
+    half, full = at_frame_1([1.0, 0.5]), at_frame_1([1.0, 1.0])
+    assert full.mean() > 0
+    np.testing.assert_allclose(half, 0.5 * full, rtol=1e-4, atol=1e-7)
