@@ -26,6 +26,9 @@ FLAG_CAMERA = 2  # ENV_FLAG_CAMERA
 FLAG_CDF = 4  # ENV_FLAG_CDF
 #: the sampling table of new scenes: "alias" or "cdf" (environment_table.py; measured in docs/benchmarks.md)
 TABLE_KIND = "alias"
+#: maps above this many texels get the cdf table whatever TABLE_KIND says: the host builds alias tables row by row
+#: in lock step, 23 s for 4096 x 2048 against 3.3 s for the cdf (docs/benchmarks.md), minutes for 16384 x 8192
+ALIAS_MAX_TEXELS = 1 << 22
 
 
 @dataclass
@@ -41,14 +44,16 @@ class PackedMap:
 
 
 def packed_map(env: Environment, kind: str | None = None) -> PackedMap:
-    """The world's map and table, built once per image and table kind (kept on the Environment)."""
-    kind = kind or TABLE_KIND
+    """The world's map and table, built once per image and table kind (kept on the Environment; an image changed in
+    place is not seen: assign a new array)."""
     rot = None if env.rotation is None else np.asarray(env.rotation).tobytes()
-    key = (id(env.image), env.path, tuple(env.color), kind, rot)
+    key = (id(env.image), env.path, tuple(env.color), kind or TABLE_KIND, rot)
     cached = getattr(env, "_packed_map", None)
     if cached is not None and cached.key == key:
         return cached
     texels, zeroed = environment_texels(env)
+    if kind is None:
+        kind = TABLE_KIND if texels.shape[0] * texels.shape[1] <= ALIAS_MAX_TEXELS else "cdf"
     lum = texels.astype(np.float64) @ LUMINANCE
     table = build_table(lum, kind)
     packed = PackedMap(key, texels, table, kind, float(texel_weights(lum).sum()), zeroed)
