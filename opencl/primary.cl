@@ -16,7 +16,7 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
                       const __global TriAttr* tri_attr, const __global ObjectInfo* objects,
                       const __global Closure* closures, const __global TexNode* tex_nodes,
                       const __global TexImage* tex_images, const __global float4* texels,
-                      const __global float* ggx_tables,
+                      const __global float* ggx_tables, const __global Light* lights,
                       __global GSample* gbuf, __global GlossySample* glossy, __global float4* vector)
 {
     int x = get_global_id(0), y = get_global_id(1);
@@ -34,6 +34,11 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
         g.gnormal = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
         g.albedo = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
         g.emission = (float4)(0.0f);
+#ifdef HAS_ENVIRONMENT
+        g.emission.xyz = environment_seen(lights, d);
+#else
+        (void)lights;
+#endif
         g.motion = (float4)(0.0f, 0.0f, 1.0f, INFINITY);  /* the background: reprojected by direction */
         float4 vec = (float4)(0.0f);
 #ifdef HAS_MOTION

@@ -375,11 +375,12 @@ def build_parser() -> argparse.ArgumentParser:
     rp.set_defaults(func=cmd_report)
 
     c = sub.add_parser("compare", help="ours against Cycles at equal wall time on the held-out scenes (needs bpy)",
-                       description="Render the held-out scenes (studio, neon, garden) with Cycles (direct light "
-                                   "only) and our methods (default: ReSTIR as for an animation; auto: F12's "
-                                   "still estimator; ris and the other still candidates of eval/cycles_compare.OURS) "
-                                   "for each wall-time budget, and compare their "
-                                   "relMSE against a cached 2 x N-spp Cycles image: tables, CSV/JSON, plot.")
+                       description="Render the held-out scenes (studio, neon, garden; sky, an HDRI world, with "
+                                   "--kinds) with Cycles (direct light only) and our methods (default: ReSTIR as "
+                                   "for an animation; auto: F12's still estimator; ris and the other still "
+                                   "candidates of eval/cycles_compare.OURS) for each wall-time budget, and "
+                                   "compare their relMSE against a cached 2 x N-spp Cycles image: tables, CSV/JSON, "
+                                   "plot.")
     c.add_argument("--kinds", default="studio,neon,garden")
     c.add_argument("--methods", default="cycles,default,auto,ris")
     c.add_argument("--budgets", type=POSITIVE.parse_list, default="1,4,16", help="seconds (%(default)s)")
