@@ -37,6 +37,14 @@ LIGHT_TILE_CHOICES = (
     Choice("off", "Off", "Draw the RIS candidates from the whole light array", 2),
 )
 LIGHT_TILES = tuple(c.id for c in LIGHT_TILE_CHOICES)
+LIGHT_PROPOSAL_CHOICES = (
+    Choice("auto", "Auto", "The light tree where it measured better than the light array (many lights spread out in "
+           "space), else the light array", 0),
+    Choice("array", "Light Array", "Candidates from the power-proportional light array (O(1) per candidate)", 1),
+    Choice("tree", "Light Tree", "Candidates from the light tree: picked by power, distance and orientation at each "
+           "shading point (a descent per candidate)", 2),
+)
+LIGHT_PROPOSALS = tuple(c.id for c in LIGHT_PROPOSAL_CHOICES)
 BSDF_SAMPLING_CHOICES = (
     Choice("auto", "Auto", "BSDF-sampled candidates at the pixels whose material has a specular lobe", 0),
     Choice("on", "On", "BSDF-sampled candidates for every scene (also diffuse ones, e.g. with large or mesh lights)",
@@ -114,6 +122,9 @@ class Settings:
     light_tiles: str = setting("auto", "Light Tiles", "RIS and ReSTIR: draw the candidates from per-frame presampled "
                                "light tiles (many lights)", flag="--light-tiles", choices=LIGHT_TILE_CHOICES,
                                panel="lights", applies_when=_RIS)
+    light_proposal: str = setting("array", "Light Proposal", "RIS and ReSTIR: where the light candidates come from",
+                                  flag="--light-proposal", choices=LIGHT_PROPOSAL_CHOICES, panel="lights",
+                                  applies_when=_RIS)
     light_tile_count: int = setting(128, "Tile Count", "Light tiles presampled per frame", flag="--light-tile-count",
                                     range=Range(int, 1, 4096), panel="lights", applies_when=_TILES)
     light_tile_size: int = setting(1024, "Tile Size", "Lights presampled into each tile", flag="--light-tile-size",
