@@ -7,7 +7,7 @@
  * a bound is wrong (a shading normal, a normal map); no branch goes below LIGHT_TREE_MIN_BRANCH. The pick's pdf is the product of the branch probabilities;
  * light_pick_pdf recomputes it for a given light from its leaf index (its trail: the binary digits of leaf + 1),
  * with the same arithmetic, for the MIS weights of BSDF candidates. Lights without a position (suns) are outside the
- * tree: with probability 1 - p_local one of them is picked by its power share instead.
+ * tree: with probability 1 - p_local one of them is picked instead, as often as the light array would pick it.
  *
  * Presampled light tiles do not apply: a tile is drawn without a shading point, the tree's proposal needs one. */
 #ifndef RESTIRCL_LIGHT_TREE_H
@@ -128,7 +128,7 @@ inline float light_tree_leaf_pdf(const LightPick* lp, int leaf, float3 x, float3
 }
 
 /* A light for the random word `bits` at x: from the tree with probability p_local, else a distant one (by its
- * power share); the word seeds the descent's stream. */
+ * light-array pdf); the word seeds the descent's stream. */
 inline int light_tree_pick(const LightPick* lp, float3 x, float3 n, uint bits, float* pdf)
 {
     uint state = bits;

@@ -247,7 +247,7 @@ typedef struct {
     int bsdf_glossy_only;  /* 1: BSDF candidates only where the material has a specular lobe */
     int light_tree;        /* 1: light candidates come from the light tree (light_tree.h), not the array */
     int tree_leaves;       /* lights in the tree */
-    int tree_distant;      /* lights outside it (no position: suns), picked by their power share */
+    int tree_distant;      /* lights outside it (no position: suns), picked as often as the light array does */
     float tree_p_local;    /* probability of a descent of the tree rather than a distant light */
 } SamplerParams;           /* 48 bytes */
 

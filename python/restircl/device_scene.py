@@ -151,7 +151,8 @@ class DeviceScene:
     def _upload_light_tree(self) -> None:
         t0 = time.perf_counter()
         lights = self.lights
-        self.light_tree = tree = build_light_tree(lights.records, lights.types, lights.power)
+        self.light_tree = tree = build_light_tree(lights.records, lights.types, lights.power,
+                                                        self.light_array.pdf)
         self.tree_seconds = time.perf_counter() - t0
         self.tree_bufs = {"tree_nodes": upload(self.context, tree.nodes),
                           "tree_info": upload(self.context, tree.light_info),

@@ -11,8 +11,8 @@ emitting light keeps a nonzero probability whatever the bound says). A light's l
 binary digits of leaf + 1 below the leading one are the branches taken, so the pmf of a given light at a given
 point is the product of the branch probabilities along it.
 
-Lights without a position (the sun; any type this module does not know) stay outside the tree: they are picked with
-their share of the total power, as Cycles does for distant lights."""
+Lights without a position (the sun; any type this module does not know) stay outside the tree, as Cycles keeps
+distant lights: one of them is picked with the probability the light array gives it."""
 
 from __future__ import annotations
 
@@ -145,8 +145,12 @@ def inorder_leaves(leaves: int) -> np.ndarray:
     return j[np.argsort(key, kind="stable")]
 
 
-def build_light_tree(records: np.ndarray, types: np.ndarray, power: np.ndarray) -> LightTree:
-    """The tree over the lights (layouts.LIGHT records with their LIGHT_* types and light-array power)."""
+def build_light_tree(records: np.ndarray, types: np.ndarray, power: np.ndarray,
+                     array_pdf: np.ndarray | None = None) -> LightTree:
+    """The tree over the lights (layouts.LIGHT records with their LIGHT_* types and light-array power). The
+    lights outside it are picked as often as the light array picks them (array_pdf: its pdf per light; without
+    it, by their power share): a sun's power is not comparable with a lamp's, and by power alone a sun lighting a
+    wall head-on could get a share of 1e-5."""
     bnd = light_bounds(records, types, power)
     n = len(bnd.phi)
     local = np.flatnonzero(bnd.local)
@@ -176,14 +180,15 @@ def build_light_tree(records: np.ndarray, types: np.ndarray, power: np.ndarray) 
     nodes["hi"][:, :3], nodes["hi"][:, 3] = hi, np.cos(theta_o)
     nodes["axis"][:, :3], nodes["axis"][:, 3] = axis, np.cos(theta_e)
     nodes["meta"][:, 0], nodes["meta"][:, 1] = light, np.where(two_sided, FLAG_TWO_SIDED, 0)
-    # distant lights (and nothing else outside the tree emits): their share of the power, in order
+    # distant lights (nothing else outside the tree emits), in order
     emits = bnd.phi > 0
     far = np.flatnonzero(emits & ~bnd.local)
-    power_all = bnd.phi[emits].sum()
-    p_local = float(bnd.phi[local].sum() / power_all) if power_all > 0 else 1.0
-    if len(far) == 0:
-        p_local = 1.0
-    cdf = np.cumsum(bnd.phi[far]) / max(bnd.phi[far].sum(), 1e-300)
+    weight = bnd.phi if array_pdf is None else np.asarray(array_pdf, np.float64)
+    total_weight = weight[emits].sum()
+    p_local = float(1.0 - weight[far].sum() / total_weight) if len(far) and total_weight > 0 else 1.0
+    if leaves == 0:
+        p_local = 0.0
+    cdf = np.cumsum(weight[far]) / max(weight[far].sum(), 1e-300)
     cdf32 = cdf.astype(np.float32)
     if len(cdf32):
         cdf32[-1] = 1.0
