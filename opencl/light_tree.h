@@ -16,6 +16,7 @@
 #define LIGHT_TREE_FLOOR 0.1f       /* light_tree.py FLOOR */
 #define LIGHT_TREE_TWO_SIDED 1      /* LightTreeNode.meta.y: a light below emits on both sides */
 #define LIGHT_TREE_MIN_BRANCH (1.0f / 4096.0f)  /* light_tree.py MIN_BRANCH */
+#define LIGHT_TREE_MEMO 15          /* the top four levels' branches are computed once per pixel and batch */
 
 /* Where a light pick comes from, and what it needs to give the pick pdf of any light: the light array, or
  * the tree's nodes, per-light info (leaf node, or -1 with the pick pdf's bits for lights outside the tree) and the
@@ -48,27 +49,35 @@ inline float2 light_tree_cos_sub(float cos_a, float sin_a, float cos_b, float si
     return (float2)(cos_a * cos_b + sin_a * sin_b, sin_a * cos_b - cos_a * sin_b);
 }
 
-/* An upper bound (up to a constant) of what the lights below node nd can give point x of unit normal n. */
+/* An upper bound (up to a constant) of what the lights below node nd can give point x of unit normal n. The cheap
+ * exits first: x inside the box's bounding sphere (every direction may reach it), the whole box behind x's
+ * tangent plane, lights that emit in every direction (points: no cone to test). */
 inline float light_tree_importance(const __global LightTreeNode* nd, float3 x, float3 n)
 {
     float4 lo = nd->lo, hi = nd->hi, ax = nd->axis;
     float3 d = x - 0.5f * (lo.xyz + hi.xyz);
     float3 ext = hi.xyz - lo.xyz;
     float d2 = dot3(d, d), r2 = 0.25f * dot3(ext, ext);
-    float3 wo = d2 > 0.0f ? d * (1.0f / sqrt(d2)) : n;  /* from the node towards x */
-    float cos_w = dot3(ax.xyz, wo);
-    if (nd->meta.y & LIGHT_TREE_TWO_SIDED) cos_w = abs_f(cos_w);
-    float sin_w = sqrt(fmax_f(0.0f, 1.0f - cos_w * cos_w));
-    bool inside = d2 <= r2;  /* x within the box's bounding sphere: every direction may reach it */
-    float sin2_b = inside ? 0.0f : r2 / d2;
-    float cos_b = inside ? -1.0f : sqrt(fmax_f(0.0f, 1.0f - sin2_b)), sin_b = inside ? 0.0f : sqrt(sin2_b);
-    float cos_o = hi.w, sin_o = sqrt(fmax_f(0.0f, 1.0f - cos_o * cos_o));
-    float2 w_o = light_tree_cos_sub(cos_w, sin_w, cos_o, sin_o);
-    float cos_p = light_tree_cos_sub(w_o.x, w_o.y, cos_b, sin_b).x;  /* the emission angle's bound */
-    float cos_i = -dot3(n, wo), sin_i = sqrt(fmax_f(0.0f, 1.0f - cos_i * cos_i));
-    float cos_ip = light_tree_cos_sub(cos_i, sin_i, cos_b, sin_b).x;  /* the incidence angle's bound */
-    if (cos_p < ax.w || !(cos_ip > 0.0f)) return 0.0f;
-    return lo.w * cos_ip * cos_p / fmax_f(fmax_f(d2, r2), 1e-12f);
+    if (d2 <= r2) return lo.w / fmax_f(r2, 1e-12f);
+    float inv_d = 1.0f / sqrt(d2);
+    float3 wo = d * inv_d;  /* from the node towards x */
+    float sin2_b = r2 * inv_d * inv_d;
+    float cos_b = sqrt(fmax_f(0.0f, 1.0f - sin2_b)), sin_b = sqrt(sin2_b);
+    float cos_i = -dot3(n, wo);
+    float cos_ip = cos_i >= cos_b ? 1.0f
+                                  : cos_i * cos_b + sqrt(fmax_f(0.0f, 1.0f - cos_i * cos_i)) * sin_b;
+    if (!(cos_ip > 0.0f)) return 0.0f;  /* the incidence angle's bound: the box is behind x */
+    float cos_p = 1.0f;                 /* the emission angle's bound */
+    float cos_o = hi.w;
+    if (cos_o > -1.0f) {
+        float cos_w = dot3(ax.xyz, wo);
+        if (nd->meta.y & LIGHT_TREE_TWO_SIDED) cos_w = abs_f(cos_w);
+        float2 w_o = light_tree_cos_sub(cos_w, sqrt(fmax_f(0.0f, 1.0f - cos_w * cos_w)), cos_o,
+                                        as_float(nd->meta.z));
+        cos_p = light_tree_cos_sub(w_o.x, w_o.y, cos_b, sin_b).x;
+        if (cos_p < ax.w) return 0.0f;
+    }
+    return lo.w * cos_ip * cos_p / d2;
 }
 
 /* The probability of taking the first of the children c, c + 1 at x, kept within [B, 1 - B] (B =
@@ -87,14 +96,21 @@ inline float light_tree_branch(const __global LightTreeNode* nodes, int c, float
 }
 
 /* Descend with the random stream `state` (a fresh number per level): the light of the leaf reached, *pdf its
- * probability. */
-inline int light_tree_descend(const LightPick* lp, float3 x, float3 n, uint state, float* pdf)
+ * probability. memo[j] caches the branch of node j < LIGHT_TREE_MEMO at this point (negative: not yet computed):
+ * the top levels are the same for every candidate of a pixel. */
+inline int light_tree_descend(const LightPick* lp, float3 x, float3 n, uint state, float* memo, float* pdf)
 {
     int j = 0;
     float p = 1.0f;
     while (j < lp->leaves - 1) {
         int c = 2 * j + 1;
-        float p0 = light_tree_branch(lp->nodes, c, x, n);
+        float p0;
+        if (j < LIGHT_TREE_MEMO) {
+            if (memo[j] < 0.0f) memo[j] = light_tree_branch(lp->nodes, c, x, n);
+            p0 = memo[j];
+        } else {
+            p0 = light_tree_branch(lp->nodes, c, x, n);
+        }
         if (rng_next(&state) < p0) {
             p *= p0;
             j = c;
@@ -129,13 +145,13 @@ inline float light_tree_leaf_pdf(const LightPick* lp, int leaf, float3 x, float3
 
 /* A light for the random word `bits` at x: from the tree with probability p_local, else a distant one (by its
  * light-array pdf); the word seeds the descent's stream. */
-inline int light_tree_pick(const LightPick* lp, float3 x, float3 n, uint bits, float* pdf)
+inline int light_tree_pick(const LightPick* lp, float3 x, float3 n, uint bits, float* memo, float* pdf)
 {
     uint state = bits;
     float u = rng_next(&state);
     if (lp->distant_count == 0 || u < lp->p_local) {
         float p;
-        int light = light_tree_descend(lp, x, n, state, &p);
+        int light = light_tree_descend(lp, x, n, state, memo, &p);
         *pdf = p * lp->p_local;
         return light;
     }
@@ -151,7 +167,9 @@ inline int light_tree_pick(const LightPick* lp, float3 x, float3 n, uint bits, f
 inline void light_tree_lights(const LightPick* lp, float3 x, float3 n, const uint* bits, int count, int* light,
                               float* pdf)
 {
-    for (int k = 0; k < count; ++k) light[k] = light_tree_pick(lp, x, n, bits[k], &pdf[k]);
+    float memo[LIGHT_TREE_MEMO];
+    for (int j = 0; j < LIGHT_TREE_MEMO; ++j) memo[j] = -1.0f;
+    for (int k = 0; k < count; ++k) light[k] = light_tree_pick(lp, x, n, bits[k], memo, &pdf[k]);
 }
 #endif
 

@@ -154,7 +154,8 @@ typedef struct {
     float4 lo;   /* xyz: box min;  w: summed power */
     float4 hi;   /* xyz: box max;  w: cos theta_o, the half angle of the cone of emission normals */
     float4 axis; /* xyz: unit axis of that cone;  w: cos theta_e, how far beyond the normals they emit */
-    int4 meta;   /* x: the light of a leaf (-1: inner node);  y: flags (LIGHT_TREE_TWO_SIDED);  zw: 0 */
+    int4 meta;   /* x: the light of a leaf (-1: inner node);  y: flags (LIGHT_TREE_TWO_SIDED);  z: sin theta_o
+                    (float bits);  w: 0 */
 } LightTreeNode; /* 64 bytes */
 
 /* ---- camera ----------------------------------------------------------------------------------- */

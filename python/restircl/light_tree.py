@@ -180,6 +180,7 @@ def build_light_tree(records: np.ndarray, types: np.ndarray, power: np.ndarray,
     nodes["hi"][:, :3], nodes["hi"][:, 3] = hi, np.cos(theta_o)
     nodes["axis"][:, :3], nodes["axis"][:, 3] = axis, np.cos(theta_e)
     nodes["meta"][:, 0], nodes["meta"][:, 1] = light, np.where(two_sided, FLAG_TWO_SIDED, 0)
+    nodes["meta"][:, 2] = np.sin(theta_o).astype(np.float32).view(np.int32)
     # distant lights (nothing else outside the tree emits), in order
     emits = bnd.phi > 0
     far = np.flatnonzero(emits & ~bnd.local)
@@ -249,28 +250,25 @@ def importance(nodes: np.ndarray, x: np.ndarray, n: np.ndarray) -> np.ndarray:
     """Each node's importance bound at point x with unit normal n (float64; the device computes it in float)."""
     lo, hi = nodes["lo"][:, :3].astype(np.float64), nodes["hi"][:, :3].astype(np.float64)
     phi, cos_o, cos_e = (nodes[k][:, 3].astype(np.float64) for k in ("lo", "hi", "axis"))
+    sin_o = nodes["meta"][:, 2].copy().view(np.float32).astype(np.float64)
     ax = nodes["axis"][:, :3].astype(np.float64)
     two = (nodes["meta"][:, 1] & FLAG_TWO_SIDED) != 0
-    pc = 0.5 * (lo + hi)
-    d = x - pc
+    d = x - 0.5 * (lo + hi)
     d2 = np.einsum("ij,ij->i", d, d)
     r2 = 0.25 * np.einsum("ij,ij->i", hi - lo, hi - lo)
+    inside = d2 <= r2
     wo = d / np.sqrt(np.maximum(d2, 1e-300))[:, None]  # from the node towards x
+    sin2_b = np.where(inside, 0.0, r2 / np.maximum(d2, 1e-300))
+    cos_b, sin_b = np.sqrt(np.maximum(0.0, 1 - sin2_b)), np.sqrt(sin2_b)
+    cos_i = -np.einsum("j,ij->i", n, wo)
+    cos_ip, _ = _cos_sub(cos_i, np.sqrt(np.maximum(0.0, 1 - cos_i**2)), cos_b, sin_b)
     cos_w = np.einsum("ij,ij->i", ax, wo)
     cos_w = np.where(two, np.abs(cos_w), cos_w)
-    sin_w = np.sqrt(np.maximum(0.0, 1 - cos_w**2))
-    inside = d2 <= r2
-    sin2_b = np.where(inside, 0.0, r2 / np.maximum(d2, 1e-300))
-    cos_b = np.where(inside, -1.0, np.sqrt(np.maximum(0.0, 1 - sin2_b)))
-    sin_b = np.where(inside, 0.0, np.sqrt(sin2_b))
-    sin_o = np.sqrt(np.maximum(0.0, 1 - cos_o**2))
-    c1, s1 = _cos_sub(cos_w, sin_w, cos_o, sin_o)
+    c1, s1 = _cos_sub(cos_w, np.sqrt(np.maximum(0.0, 1 - cos_w**2)), cos_o, sin_o)
     cos_p, _ = _cos_sub(c1, s1, cos_b, sin_b)
-    cos_i = -np.einsum("j,ij->i", n, wo)
-    sin_i = np.sqrt(np.maximum(0.0, 1 - cos_i**2))
-    cos_ip, _ = _cos_sub(cos_i, sin_i, cos_b, sin_b)
-    val = phi * cos_ip * cos_p / np.maximum(np.maximum(d2, r2), 1e-12)
-    return np.where((cos_p < cos_e) | (cos_ip <= 0), 0.0, val)
+    cos_p = np.where(cos_o > -1, cos_p, 1.0)
+    val = np.where((cos_p < cos_e) | (cos_ip <= 0), 0.0, phi * cos_ip * cos_p / np.maximum(d2, 1e-300))
+    return np.where(inside, phi / np.maximum(r2, 1e-12), val)
 
 
 def pmf(tree: LightTree, x: np.ndarray, n: np.ndarray) -> np.ndarray:

@@ -41,7 +41,8 @@ from .report_reference import default_cache_dir, get_reference, scene_digest
 BUDGETS = (1.0, 4.0, 16.0)
 REFERENCE_SPP = 1024
 #: our methods: Settings overrides on the defaults (F12's method and settings)
-OURS: dict[str, dict] = {"default": {}, "ris": {"method": "ris"}}
+OURS: dict[str, dict] = {"default": {}, "ris": {"method": "ris"}, "default_tree": {"light_proposal": "tree"},
+                         "ris_tree": {"method": "ris", "light_proposal": "tree"}}
 METHODS = ("cycles", *OURS)
 CALIBRATION_SPP = 16
 
