@@ -226,3 +226,22 @@ def test_million_lights_build():
     assert tree.leaves == n and len(tree.nodes) == 2 * n - 1
     assert np.isclose(tree.nodes["lo"][0, 3], power.sum(), rtol=1e-4)
     assert np.all(tree.light_info[:, 0] >= n - 1)
+
+
+def test_proposal_setting_flags_and_tiles(device):
+    """The tree is compiled in and used only where light_proposal asks for it (auto keeps the array: measured,
+    docs/benchmarks.md); with the tree, presampled light tiles are off (a tile has no shading point); the
+    specialised build gives the general build's image bit for bit."""
+    from restircl import Renderer, Settings
+
+    scene = mixed_lights_scene(16, 12)
+    default = Renderer(scene, Settings(method="ris"), device)
+    assert not default.light_tree and not default.flags["HAS_LIGHT_TREE"] and default.device_scene.light_tree is None
+    tree = Renderer(scene, Settings(method="ris", light_proposal="tree", light_tiles="on", seed=2), device)
+    assert tree.light_tree and tree.flags["HAS_LIGHT_TREE"]
+    a = tree.render_frame(0, still=True).noisy
+    assert not tree.light_tiles_used
+    general = Renderer(scene, Settings(method="ris", light_proposal="tree", light_tiles="on", seed=2,
+                                       specialise=False), device)
+    np.testing.assert_array_equal(general.render_frame(0, still=True).noisy, a)
+    assert not Renderer(scene, Settings(method="light_array", light_proposal="tree"), device).light_tree

@@ -1,8 +1,8 @@
 """Figures of the light tree against the light array (docs/benchmarks.md, docs/error-vs-time.md), side by side in
 one run: for RIS and ReSTIR with candidates from either proposal, the relMSE of one frame and of `frames` frames
 against a reference (the cached Cycles references of the held-out garden and neon, never re-rendered: pass their
-cache dir; our own converged image for many_lights), the error at equal wall time, the frame time and the tree's
-build time, with the load average before and after.
+cache dir; our own converged image for many_lights, cached in --own-cache), the error at equal wall time, the frame
+time and the tree's build time, with the load average before and after.
 
     python tools/light_proposal_figures.py --cache-dir /work/cache-compare23/refs --kinds garden,neon,many_lights
 """
@@ -25,15 +25,18 @@ from restircl.eval.report_reference import get_reference
 METHODS = {
     "ris": dict(method="ris"),
     "ris_tree": dict(method="ris", light_proposal="tree"),
+    "ris_tree_c2": dict(method="ris", light_proposal="tree", candidates=2),
+    "ris_tree_c4": dict(method="ris", light_proposal="tree", candidates=4),
+    "ris_c4": dict(method="ris", candidates=4),
     "restir": dict(method="restir"),
     "restir_tree": dict(method="restir", light_proposal="tree"),
 }
 
 
-def scene_and_reference(kind: str, cache_dir: Path, width: int, height: int):
+def scene_and_reference(kind: str, cache_dir: Path, width: int, height: int, own_cache: Path):
     if kind == "many_lights":
         scene = scenes.many_lights(width=width, height=height, frames=1)
-        return scene, get_reference(scene, 0, 60.0, cache_dir=cache_dir).image
+        return scene, get_reference(scene, 0, 60.0, cache_dir=own_cache).image
     scene = held_out(kind, width, height)
     # the file as cached, whatever digest of the scene model named it (never re-rendered here: 10-20 min each)
     found = sorted(cache_dir.glob(f"cycles_reference_{kind}_{width}x{height}_2x{REFERENCE_SPP}_*.npy"))
@@ -43,9 +46,9 @@ def scene_and_reference(kind: str, cache_dir: Path, width: int, height: int):
     return scene, np.load(found[0])
 
 
-def measure(kind: str, cache_dir: Path, frames: int, budgets: list[float], reps: int, width: int, height: int,
-            methods: list[str]) -> dict:
-    scene, ref = scene_and_reference(kind, cache_dir, width, height)
+def measure(kind: str, cache_dir: Path, own_cache: Path, frames: int, budgets: list[float], reps: int, width: int,
+            height: int, methods: list[str]) -> dict:
+    scene, ref = scene_and_reference(kind, cache_dir, width, height, own_cache)
     out: dict = {"kind": kind, "methods": {}}
     for m in methods:
         r = Renderer(scene, Settings(**METHODS[m], seed=7).validate())
@@ -76,6 +79,7 @@ def measure(kind: str, cache_dir: Path, frames: int, budgets: list[float], reps:
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--cache-dir", required=True)
+    p.add_argument("--own-cache", default="out/refs", help="where our converged many_lights image is cached")
     p.add_argument("--kinds", default="garden,neon,many_lights")
     p.add_argument("--methods", default=",".join(METHODS))
     p.add_argument("--frames", type=int, default=64)
@@ -86,8 +90,9 @@ def main() -> None:
     p.add_argument("--out", default="out/light_proposal.json")
     a = p.parse_args()
     load = os.getloadavg()
-    res = [measure(k, Path(a.cache_dir), a.frames, [float(b) for b in a.budgets.split(",")], a.reps, a.width,
-                   a.height, a.methods.split(",")) for k in a.kinds.split(",")]
+    budgets = [float(b) for b in a.budgets.split(",")]
+    res = [measure(k, Path(a.cache_dir), Path(a.own_cache), a.frames, budgets, a.reps, a.width, a.height,
+                   a.methods.split(",")) for k in a.kinds.split(",")]
     meta = {"load_before": load, "load_after": os.getloadavg()}
     print(f"load average before {load[0]:.2f}, after {meta['load_after'][0]:.2f}")
     Path(a.out).parent.mkdir(parents=True, exist_ok=True)

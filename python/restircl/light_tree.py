@@ -218,8 +218,13 @@ def _fill_internal(leaves: int, lo, hi, axis, theta_o, theta_e, phi, two_sided) 
         two_sided[j] = two_sided[c0] | two_sided[c1]
 
 
-#: light_proposal="auto" takes the tree from this many lights with a position (measured: docs/benchmarks.md)
-TREE_AUTO_LIGHTS = 64
+def tree_pays(types: np.ndarray) -> bool:
+    """light_proposal="auto": whether the tree beats the light array at equal time for lights of these types.
+    Not yet anywhere measured: on the 2-core CPU (PoCL) a tree candidate halved RIS's per-frame error on the
+    held-out garden (300 point lights) but cost 2.5-4x an array candidate, and gave 10 % on neon; at equal time the
+    array won on both (docs/benchmarks.md, "Light tree"). So auto keeps the array until a device measures
+    otherwise."""
+    return False
 
 
 def tree_proposal(method: str, proposal: str, types: np.ndarray) -> bool:
@@ -227,7 +232,7 @@ def tree_proposal(method: str, proposal: str, types: np.ndarray) -> bool:
     lights of these LIGHT_* types."""
     if method not in ("ris", "restir") or proposal == "array" or len(types) < 2:
         return False
-    return proposal == "tree" or int(np.isin(types, (TRIANGLE, QUAD, DISK, SPHERE, SPOT)).sum()) >= TREE_AUTO_LIGHTS
+    return proposal == "tree" or tree_pays(types)
 
 
 # ---- the host's reference of the device's branch probabilities (tests; opencl/light_tree.h) ----------------

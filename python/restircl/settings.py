@@ -38,8 +38,8 @@ LIGHT_TILE_CHOICES = (
 )
 LIGHT_TILES = tuple(c.id for c in LIGHT_TILE_CHOICES)
 LIGHT_PROPOSAL_CHOICES = (
-    Choice("auto", "Auto", "The light tree where it measured better than the light array (many lights spread out in "
-           "space), else the light array", 0),
+    Choice("auto", "Auto", "The light tree where it measured better than the light array at equal time (so far "
+           "nowhere on the CPU), else the light array", 0),
     Choice("array", "Light Array", "Candidates from the power-proportional light array (O(1) per candidate)", 1),
     Choice("tree", "Light Tree", "Candidates from the light tree: picked by power, distance and orientation at each "
            "shading point (a descent per candidate)", 2),
@@ -122,7 +122,7 @@ class Settings:
     light_tiles: str = setting("auto", "Light Tiles", "RIS and ReSTIR: draw the candidates from per-frame presampled "
                                "light tiles (many lights)", flag="--light-tiles", choices=LIGHT_TILE_CHOICES,
                                panel="lights", applies_when=_RIS)
-    light_proposal: str = setting("array", "Light Proposal", "RIS and ReSTIR: where the light candidates come from",
+    light_proposal: str = setting("auto", "Light Proposal", "RIS and ReSTIR: where the light candidates come from",
                                   flag="--light-proposal", choices=LIGHT_PROPOSAL_CHOICES, panel="lights",
                                   applies_when=_RIS)
     light_tile_count: int = setting(128, "Tile Count", "Light tiles presampled per frame", flag="--light-tile-count",
