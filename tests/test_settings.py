@@ -27,7 +27,7 @@ BEFORE = (
     ("depth_tolerance", 0.1), ("normal_angle", 25.0), ("slots_per_light", 4.0), ("light_tiles", "auto"),
     ("light_tile_count", 128), ("light_tile_size", 1024), ("light_change_ratio", 2.0), ("jitter", True),
     ("seed", 0), ("specialise", True), ("bake_resolution", 512),
-    ("bsdf_sampling", "auto"), ("bsdf_candidates", 1),
+    ("bsdf_sampling", "auto"), ("bsdf_candidates", 1), ("light_proposal", "auto"),
 )
 NUMBERS = [d for d in declared(Settings) if d.spec.range is not None]
 

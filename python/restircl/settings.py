@@ -122,9 +122,6 @@ class Settings:
     light_tiles: str = setting("auto", "Light Tiles", "RIS and ReSTIR: draw the candidates from per-frame presampled "
                                "light tiles (many lights)", flag="--light-tiles", choices=LIGHT_TILE_CHOICES,
                                panel="lights", applies_when=_RIS)
-    light_proposal: str = setting("auto", "Light Proposal", "RIS and ReSTIR: where the light candidates come from",
-                                  flag="--light-proposal", choices=LIGHT_PROPOSAL_CHOICES, panel="lights",
-                                  applies_when=_RIS)
     light_tile_count: int = setting(128, "Tile Count", "Light tiles presampled per frame", flag="--light-tile-count",
                                     range=Range(int, 1, 4096), panel="lights", applies_when=_TILES)
     light_tile_size: int = setting(1024, "Tile Size", "Lights presampled into each tile", flag="--light-tile-size",
@@ -149,6 +146,9 @@ class Settings:
     bsdf_candidates: int = setting(1, "BSDF Candidates", "BSDF-sampled candidates per pixel and frame (RIS, ReSTIR)",
                                    flag="--bsdf-candidates", range=Range(int, 1, 64), panel="sampling",
                                    applies_when=_BSDF, soft_max=8)
+    light_proposal: str = setting("auto", "Light Proposal", "RIS and ReSTIR: where the light candidates come from",
+                                  flag="--light-proposal", choices=LIGHT_PROPOSAL_CHOICES, panel="lights",
+                                  applies_when=_RIS)
 
     def validate(self) -> Settings:
         check(self)
