@@ -4,10 +4,11 @@
  * I the children's importance bounds at the shading point (power x orientation bound / squared distance, the bound
  * of pbrt-v4's LightBounds::Importance), phi their power, F = LIGHT_TREE_FLOOR. The power term is the floor: every
  * light of power > 0 keeps a nonzero probability everywhere, so RIS over tree candidates stays unbiased even where
- * a bound is wrong (a shading normal, a normal map); no branch goes below LIGHT_TREE_MIN_BRANCH. The pick's pdf is the product of the branch probabilities;
- * light_pick_pdf recomputes it for a given light from its leaf index (its trail: the binary digits of leaf + 1),
- * with the same arithmetic, for the MIS weights of BSDF candidates. Lights without a position (suns) are outside the
- * tree: with probability 1 - p_local one of them is picked instead, as often as the light array would pick it.
+ * a bound is wrong (a shading normal, a normal map); no branch goes below LIGHT_TREE_MIN_BRANCH. The pick's pdf
+ * is the product of the branch probabilities; light_pick_pdf recomputes it for a given light from its leaf index
+ * (its trail: the binary digits of leaf + 1), with the same arithmetic, for the MIS weights of BSDF candidates.
+ * Lights without a position (suns) are outside the tree: with probability 1 - p_local one of them is picked
+ * instead, as often as the light array would pick it.
  *
  * Presampled light tiles do not apply: a tile is drawn without a shading point, the tree's proposal needs one. */
 #ifndef RESTIRCL_LIGHT_TREE_H
@@ -33,8 +34,9 @@ typedef struct {
     float p_local;
 } LightPick;
 
-inline LightPick light_pick_source(const __global int* slots, const __global float* light_pdf, const __global LightTreeNode* nodes,
-                                   const __global int2* info, const __global int2* distant, SamplerParams sp)
+inline LightPick light_pick_source(const __global int* slots, const __global float* light_pdf,
+                                   const __global LightTreeNode* nodes, const __global int2* info,
+                                   const __global int2* distant, SamplerParams sp)
 {
     LightPick p = {slots, light_pdf, nodes, info, distant, sp.light_tree, sp.tree_leaves, sp.tree_distant,
                    sp.tree_p_local};
@@ -86,12 +88,12 @@ inline float light_tree_importance(const __global LightTreeNode* nd, float3 x, f
 inline float light_tree_branch(const __global LightTreeNode* nodes, int c, float3 x, float3 n)
 {
     float phi0 = nodes[c].lo.w, phi1 = nodes[c + 1].lo.w;
-    float pw = phi0 + phi1 > 0.0f ? phi0 / (phi0 + phi1) : 0.5f;
+    /* a child without power is never taken (the light array gives such lights no slot either) */
+    if (!(phi0 > 0.0f) || !(phi1 > 0.0f)) return phi0 > 0.0f ? 1.0f : 0.0f;
+    float pw = phi0 / (phi0 + phi1);
     float i0 = light_tree_importance(&nodes[c], x, n), i1 = light_tree_importance(&nodes[c + 1], x, n);
     float sum = i0 + i1;
     float p = !(sum > 0.0f) || !finite_f(sum) ? pw : (1.0f - LIGHT_TREE_FLOOR) * (i0 / sum) + LIGHT_TREE_FLOOR * pw;
-    /* a child without power is never taken (the light array gives such lights no slot either) */
-    if (!(phi0 > 0.0f) || !(phi1 > 0.0f)) return phi0 > 0.0f ? 1.0f : 0.0f;
     return clamp_f(p, LIGHT_TREE_MIN_BRANCH, 1.0f - LIGHT_TREE_MIN_BRANCH);
 }
 

@@ -17,8 +17,8 @@
 
 #define RIS_BATCH 8
 
-/* Where the candidates come from: the light array (tile_count 0), or the presampled tile of this pixel
- * (light_tiles.h; tile_base: its first entry). */
+/* Where the candidates come from: the light array or tree (tile_count 0; LightPick says which), or the presampled
+ * tile of this pixel (light_tiles.h; tile_base: its first entry). */
 typedef struct {
     int slot_count;
     int tile_count;

@@ -55,6 +55,7 @@ class DeviceScene:
         self.tree_wanted = False  # the samplers draw from the light tree: build it with every light upload
         self.light_tree: LightTree | None = None
         self.tree_seconds = 0.0  # the last tree build's time
+        self._no_tree: cl.Buffer | None = None  # the placeholder of the tree arguments without a tree
         self.motion_buf: cl.Buffer | None = None
         self.ggx_tables_buf: cl.Buffer | None = None  # glossy builds only (upload_ggx_tables)
         self._textures: PackedTextures | None = None  # packed once: materials do not animate
@@ -194,7 +195,7 @@ class DeviceScene:
     def light_tree_args(self) -> dict[str, cl.Buffer]:
         """The light tree's buffers by the RIS kernels' parameter names (placeholders when there is no tree)."""
         if self.light_tree is None:
-            if not hasattr(self, "_no_tree"):
+            if self._no_tree is None:
                 self._no_tree = upload(self.context, np.zeros(16, np.uint8))
             return dict.fromkeys(("tree_nodes", "tree_info", "tree_distant"), self._no_tree)
         return self.tree_bufs
