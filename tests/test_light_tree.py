@@ -236,12 +236,13 @@ def test_proposal_setting_flags_and_tiles(device):
 
     scene = mixed_lights_scene(16, 12)
     default = Renderer(scene, Settings(method="ris"), device)
-    assert not default.light_tree and not default.flags["HAS_LIGHT_TREE"] and default.device_scene.light_tree is None
+    assert not default.uses_light_tree and not default.flags["HAS_LIGHT_TREE"]
+    assert default.device_scene.light_tree is None
     tree = Renderer(scene, Settings(method="ris", light_proposal="tree", light_tiles="on", seed=2), device)
-    assert tree.light_tree and tree.flags["HAS_LIGHT_TREE"]
+    assert tree.uses_light_tree and tree.flags["HAS_LIGHT_TREE"] and not tree.will_use_light_tiles()
     a = tree.render_frame(0, still=True).noisy
     assert not tree.light_tiles_used
     general = Renderer(scene, Settings(method="ris", light_proposal="tree", light_tiles="on", seed=2,
                                        specialise=False), device)
     np.testing.assert_array_equal(general.render_frame(0, still=True).noisy, a)
-    assert not Renderer(scene, Settings(method="light_array", light_proposal="tree"), device).light_tree
+    assert not Renderer(scene, Settings(method="light_array", light_proposal="tree"), device).uses_light_tree

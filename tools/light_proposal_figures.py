@@ -61,7 +61,7 @@ def measure(kind: str, cache_dir: Path, own_cache: Path, frames: int, budgets: l
         secs = time.perf_counter() - t0
         out["methods"][m] = {"frame_rel_mse": float(np.mean(singles)), "rel_mse_at_frames": rel_mse(img, ref),
                              "frames": frames, "ms_per_frame": 1e3 * secs / frames,
-                             "tree_build_s": r.device_scene.tree_seconds if r.light_tree else None,
+                             "tree_build_s": r.device_scene.tree_seconds if r.uses_light_tree else None,
                              "equal_time": {str(b): [] for b in budgets}}
         print(f"{kind:<11} {m:<12} 1 frame relMSE {np.mean(singles):.3e}  {frames} frames {rel_mse(img, ref):.3e}"
               f"  {1e3 * secs / frames:7.1f} ms/frame", flush=True)

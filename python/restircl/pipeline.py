@@ -98,12 +98,12 @@ class Renderer:
         s, ds = self.scene, self.device_scene
         # a camera animation whose transforms are all equal does not move: no motion vectors to compile
         moving_camera = s.camera is not None and bool(np.any(s.camera.transforms != s.camera.transforms[:1]))
-        self.light_tree = tree_proposal(self.settings.method, self.settings.light_proposal, ds.lights.types)
-        if self.light_tree:
+        self.uses_light_tree = tree_proposal(self.settings.method, self.settings.light_proposal, ds.lights.types)
+        if self.uses_light_tree:
             ds.use_light_tree()
         if self.settings.specialise:
             flags = derive_flags(ds.lights.type_set, moving_camera or ds.moving_objects, ds.moving_objects,
-                                 ds.material_flags, self.light_tree)
+                                 ds.material_flags, self.uses_light_tree)
         else:
             flags = general_flags()
         self.flags = flags
@@ -190,7 +190,7 @@ class Renderer:
         method = s.method
         if method == "ris" and light_count == 1:
             method = "light_array"  # RIS over one light picks that light: leave the loop out
-        tree = ds.light_tree if self.light_tree and method in ("ris", "restir") and light_count > 1 else None
+        tree = ds.light_tree if self.uses_light_tree and method in ("ris", "restir") and light_count > 1 else None
         tiles = tree is None and self._use_light_tiles(method, light_count)
         self.light_tiles_used = tiles
         bsdf = self._bsdf_candidates(method, light_count)
@@ -242,8 +242,9 @@ class Renderer:
 
     def will_use_light_tiles(self) -> bool:
         """Whether the frames of this scene and settings (with its current lights) draw their RIS candidates from
-        light tiles."""
-        return self._use_light_tiles(self.settings.method, self.device_scene.sampled_light_count)
+        light tiles (never with the light tree's candidates)."""
+        return not self.uses_light_tree and self._use_light_tiles(self.settings.method,
+                                                             self.device_scene.sampled_light_count)
 
     # ---- output -----------------------------------------------------------------------------------------
 
