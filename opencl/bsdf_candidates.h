@@ -9,8 +9,8 @@
  * and the reservoir counts M = N_l + N_b; W = w_sum / (M p-hat) as before. That is the balance heuristic over the
  * two strategies (m_s = N_s p_s / (N_l p_l + N_b p_b), weight m_s p-hat / p_s), written as one mixture density.
  * Both pdfs are in the light's measure (area for area lights, solid angle for the sun), like p-hat: p_light is the
- * light-array pick times light_sample's density of the point (light_hit.h), p_bsdf the BSDF's solid-angle density
- * times cos_l / d^2. A direction that meets nothing adds 1 to M and no candidate.
+ * light pick (light array or tree: light_pick_pdf) times light_sample's density of the point (light_hit.h),
+ * p_bsdf the BSDF's solid-angle density times cos_l / d^2. A direction that meets nothing adds 1 to M and no candidate.
  *
  * What the BSDF strategy cannot produce gets p_bsdf = 0 in every candidate's p_mix, so the weights still sum to one
  * wherever the light strategy reaches (everywhere a light emits): delta lights, and analytic lights beyond the
@@ -74,20 +74,20 @@ inline float bsdf_pdf_of_light_sample(const Surface* s, const __global Light* re
 
 /* Stream the sample (u, v) of light `index` that a BSDF ray met, as one candidate (M unchanged). */
 inline void bsdf_candidate_add(const Surface* s, const __global Light* rec, int type, int index, float2 uv,
-                               const __global float* light_pdf, float n_light, BsdfSource b, uint* rng,
+                               const LightPick* lp, float n_light, BsdfSource b, uint* rng,
                                Reservoir* r, LightEval* chosen)
 {
     LightEval e;
     float rnd = rng_next(rng);
     float t = target_of_record(s, rec, uv.x, uv.y, &e);
     if (!(t > 0.0f)) return;
-    float p_light = light_pdf[index] * light_point_pdf(rec, type, s->x, &e);
+    float p_light = light_pick_pdf(lp, index, s->x, s->n) * light_point_pdf(rec, type, s->x, &e);
     float p_mix = mis_mixture_pdf(n_light, p_light, (float)b.count, bsdf_pdf_light_measure(s, &e));
     if (res_update(r, index, uv.x, uv.y, t / p_mix, t, rnd, 0.0f)) *chosen = e;
 }
 
 /* Draw b.count BSDF directions at s and stream the light samples they meet into r (M += b.count). */
-inline void bsdf_candidates(const Surface* s, const __global Light* lights, const __global float* light_pdf,
+inline void bsdf_candidates(const Surface* s, const __global Light* lights, const LightPick* lp,
                             const __global BVHNode* nodes, const __global Tri* tris, const __global int* tri_light,
                             float n_light, BsdfSource b, uint* rng, Reservoir* r, LightEval* chosen)
 {
@@ -103,7 +103,7 @@ inline void bsdf_candidates(const Surface* s, const __global Light* lights, cons
             int type = light_type(rec);
             float2 uv;
             if (light_hittable(rec, type, l, b.analytic, b.triangles) && light_hit(rec, type, s->x, wi, &uv))
-                bsdf_candidate_add(s, rec, type, l, uv, light_pdf, n_light, b, rng, r, chosen);
+                bsdf_candidate_add(s, rec, type, l, uv, lp, n_light, b, rng, r, chosen);
         }
 #ifdef HAS_TRIANGLE_LIGHTS
         if (b.triangles) {
@@ -115,7 +115,7 @@ inline void bsdf_candidates(const Surface* s, const __global Light* lights, cons
             Hit h = trace_closest(nodes, tris, o, wi, INFINITY);
             int l = h.prim >= 0 ? tri_light[h.prim] : -1;
             if (l >= 0)
-                bsdf_candidate_add(s, &lights[l], LIGHT_TRIANGLE, l, triangle_uv(h.u, h.v), light_pdf, n_light, b,
+                bsdf_candidate_add(s, &lights[l], LIGHT_TRIANGLE, l, triangle_uv(h.u, h.v), lp, n_light, b,
                                    rng, r, chosen);
         }
 #endif

@@ -4,6 +4,8 @@
 
 __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySample* glossy, const __global BVHNode* nodes, const __global Tri* tris,
                            const __global Light* lights, const __global int* slots, const __global float* light_pdf,
+                           const __global LightTreeNode* tree_nodes, const __global int2* tree_info,
+                           const __global int2* tree_distant,
                            const __global Light* tile_rec, const __global int2* tile_info,
                            const __global int* tri_light, volatile __global int* guards, __global float4* out, FrameParams frame_params,
                            ShadeParams params)
@@ -23,8 +25,9 @@ __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySa
         if (method == METHOD_RIS) {
             Reservoir r;
             res_init(&r);
+            LightPick lp = light_pick_source(slots, light_pdf, tree_nodes, tree_info, tree_distant, params.sampler);
             RisSource src = ris_source(slot_count, tile_count, tile_size, i, frame, seed);
-            ris_candidates(&s, lights, slots, light_pdf, tile_rec, tile_info, src, candidates, nodes, tris, tri_light,
+            ris_candidates(&s, lights, &lp, tile_rec, tile_info, src, candidates, nodes, tris, tri_light,
                            bsdf_source(params.sampler), &rng, &r, &e);
             res_finalize(&r, r.M);
             /* W > 0: a candidate of target > 0 was picked, and e holds its evaluation */

@@ -1,9 +1,11 @@
 /* ReSTIR pass 2: per pixel, RIS over `candidates` light samples drawn from the light array (or from the pixel's
- * presampled light tile, light_tiles.h) into a reservoir (ris.h); with visibility reuse, a chosen sample that is
- * occluded gets W = 0 (its M stays). */
+ * presampled light tile, light_tiles.h, or from the light tree, light_tree.h) into a reservoir (ris.h); with
+ * visibility reuse, a chosen sample that is occluded gets W = 0 (its M stays). */
 
 __kernel void restir_initial(const __global GSample* gbuf, const __global GlossySample* glossy, const __global BVHNode* nodes, const __global Tri* tris,
                              const __global Light* lights, const __global int* slots, const __global float* light_pdf,
+                             const __global LightTreeNode* tree_nodes, const __global int2* tree_info,
+                             const __global int2* tree_distant,
                              const __global Light* tile_rec, const __global int2* tile_info,
                              const __global int* tri_light, __global Reservoir* out, FrameParams frame_params, InitialParams params)
 {
@@ -20,8 +22,9 @@ __kernel void restir_initial(const __global GSample* gbuf, const __global Glossy
     if (s.valid && light_count > 0) {
         uint rng = rng_seed((uint)i, frame_params.sample, frame_params.seed, 3u);
         LightEval chosen;  /* the evaluation of the picked candidate, for its shadow ray */
+        LightPick lp = light_pick_source(slots, light_pdf, tree_nodes, tree_info, tree_distant, p.sampler);
         RisSource src = ris_source(slot_count, tile_count, tile_size, i, frame_params.sample, frame_params.seed);
-        ris_candidates(&s, lights, slots, light_pdf, tile_rec, tile_info, src, p.candidates, nodes, tris, tri_light,
+        ris_candidates(&s, lights, &lp, tile_rec, tile_info, src, p.candidates, nodes, tris, tri_light,
                        bsdf_source(p.sampler), &rng, &r, &chosen);
         res_finalize(&r, r.M);
         /* W > 0: a candidate with target > 0 was picked, and chosen holds its evaluation */

@@ -9,6 +9,7 @@
 #include "light_hit.h"
 #include "light_array.h"
 #include "light_tiles.h"
+#include "light_tree.h"
 #include "reservoir.h"
 #include "surface.h"
 #include "texture_point.h"

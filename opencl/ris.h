@@ -8,7 +8,8 @@
  * for a whole batch first, the misses overlap instead of each waiting behind the previous candidate's evaluation
  * (1e6 point lights: ReSTIR's initial pass 91-95 -> 65-66 ms). The random numbers are drawn in the same order as
  * one candidate at a time (slot, r0, r1, resampling): the same samples. (OpenCL's prefetch() did nothing on PoCL.)
- * With presampled light tiles (light_tiles.h) a candidate is an entry of the pixel's tile instead of a slot.
+ * With presampled light tiles (light_tiles.h) a candidate is an entry of the pixel's tile instead of a slot; with
+ * the light tree (light_tree.h) a light picked by a descent at the shading point.
  * With BSDF candidates (bsdf_candidates.h) every weight's source pdf is the two strategies' mixture density, and
  * the BSDF's candidates follow the light candidates; without them the weights are target / pdf exactly as before. */
 #ifndef RESTIRCL_RIS_H
@@ -16,8 +17,8 @@
 
 #define RIS_BATCH 8
 
-/* Where the candidates come from: the light array (tile_count 0), or the presampled tile of this pixel
- * (light_tiles.h; tile_base: its first entry). */
+/* Where the candidates come from: the light array or tree (tile_count 0; LightPick says which), or the presampled
+ * tile of this pixel (light_tiles.h; tile_base: its first entry). */
 typedef struct {
     int slot_count;
     int tile_count;
@@ -36,8 +37,8 @@ inline RisSource ris_source(int slot_count, int tile_count, int tile_size, int i
 /* Stream `candidates` light-array samples and bsdf.count BSDF samples for surface s into r (not finalised).
  * *chosen: the evaluation of the candidate r holds (valid when r->light >= 0 and its target > 0), for the caller's
  * shadow ray. */
-inline void ris_candidates(const Surface* s, const __global Light* lights, const __global int* slots,
-                           const __global float* light_pdf, const __global Light* tile_rec,
+inline void ris_candidates(const Surface* s, const __global Light* lights, const LightPick* lp,
+                           const __global Light* tile_rec,
                            const __global int2* tile_info, RisSource src, int candidates,
                            const __global BVHNode* nodes, const __global Tri* tris, const __global int* tri_light,
                            BsdfSource bsdf_frame, uint* rng, Reservoir* r, LightEval* chosen)
@@ -54,7 +55,8 @@ inline void ris_candidates(const Surface* s, const __global Light* lights, const
         const __global Light* rec[RIS_BATCH];
         float r0[RIS_BATCH], r1[RIS_BATCH], rnd[RIS_BATCH], pick_pdf[RIS_BATCH];
         for (int k = 0; k < n; ++k) {
-            pick[k] = rng_below(rng, draw_range);  /* a slot, or an entry of the tile */
+            /* a slot, an entry of the tile, or the tree's random word */
+            pick[k] = lp->tree ? rng_next_uint(rng) : rng_below(rng, draw_range);
             r0[k] = rng_next(rng);
             r1[k] = rng_next(rng);
             rnd[k] = rng_next(rng);
@@ -62,7 +64,7 @@ inline void ris_candidates(const Surface* s, const __global Light* lights, const
         if (tiled) {
             light_tile_entries(tile_rec, tile_info, src.tile_base, pick, n, light, pick_pdf, rec);
         } else {
-            light_array_lights(slots, light_pdf, pick, n, light, pick_pdf);
+            light_pick_lights(lp, s->x, s->n, pick, n, light, pick_pdf);
             for (int k = 0; k < n; ++k) rec[k] = &lights[light[k]];
         }
         for (int k = 0; k < n; ++k) type[k] = light_type(rec[k]);  /* read here: the record's line on its way early */
@@ -81,7 +83,7 @@ inline void ris_candidates(const Surface* s, const __global Light* lights, const
             if (res_update(r, light[k], uv.x, uv.y, t / pdf, t, rnd[k], 1.0f)) *chosen = e;
         }
     }
-    if (bsdf.count > 0) bsdf_candidates(s, lights, light_pdf, nodes, tris, tri_light, n_light, bsdf, rng, r, chosen);
+    if (bsdf.count > 0) bsdf_candidates(s, lights, lp, nodes, tris, tri_light, n_light, bsdf, rng, r, chosen);
 }
 
 #endif

@@ -149,6 +149,15 @@ typedef struct {
     float4 L;    /* rgb: radiance or intensity; w: flags (int bits) */
 } Light;         /* 64 bytes */
 
+/* A node of the light tree (light_tree.h, built by light_tree.py): the bounds of the lights below it. */
+typedef struct {
+    float4 lo;   /* xyz: box min;  w: summed power */
+    float4 hi;   /* xyz: box max;  w: cos theta_o, the half angle of the cone of emission normals */
+    float4 axis; /* xyz: unit axis of that cone;  w: cos theta_e, how far beyond the normals they emit */
+    int4 meta;   /* x: the light of a leaf (-1: inner node);  y: flags (LIGHT_TREE_TWO_SIDED);  z: sin theta_o
+                    (float bits);  w: 0 */
+} LightTreeNode; /* 64 bytes */
+
 /* ---- camera ----------------------------------------------------------------------------------- */
 
 /* A pinhole camera. The ray through normalised device coordinates (nx, ny) in [-1, 1]^2 has direction
@@ -237,7 +246,11 @@ typedef struct {
     int bsdf_analytic;     /* how many of the first lights (the analytic ones) BSDF rays are tested against */
     int bsdf_triangles;    /* 1: BSDF rays look for emissive triangles (tri_light) */
     int bsdf_glossy_only;  /* 1: BSDF candidates only where the material has a specular lobe */
-} SamplerParams;           /* 32 bytes */
+    int light_tree;        /* 1: light candidates come from the light tree (light_tree.h), not the array */
+    int tree_leaves;       /* lights in the tree */
+    int tree_distant;      /* lights outside it (no position: suns), picked as often as the light array does */
+    float tree_p_local;    /* probability of a descent of the tree rather than a distant light */
+} SamplerParams;           /* 48 bytes */
 
 /* When a history or neighbour surface counts as the pixel's own (temporal and spatial reuse, TAA). */
 typedef struct {
@@ -254,7 +267,7 @@ typedef struct {
     int visibility_reuse;  /* 1: shadow-test the chosen sample */
     int pad0;
     int pad1;
-} InitialParams;           /* 48 bytes */
+} InitialParams;           /* 64 bytes */
 
 /* ReSTIR pass 4 (restir_temporal.cl). */
 typedef struct {
@@ -289,7 +302,7 @@ typedef struct {
     int candidates;        /* RIS candidates per pixel (shade_direct, METHOD_RIS) */
     int visible_known;     /* restir_shade: the reuse passes already zeroed occluded samples */
     int pad0;
-} ShadeParams;             /* 48 bytes */
+} ShadeParams;             /* 64 bytes */
 
 /* Pass 7: temporal accumulation (taa.cl). */
 typedef struct {

@@ -34,6 +34,7 @@ BEFORE = (
     ("denoise", False),
     ("still_method", "auto"),
     ("area_sampling", "area"),
+    ("light_proposal", "auto"),
 )
 NUMBERS = [d for d in declared(Settings) if d.spec.range is not None]
 

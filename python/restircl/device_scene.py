@@ -15,6 +15,7 @@ from .bvh import build_bvh, make_tris
 from .ggx_tables import ggx_tables
 from .light_array import LightArray, build_light_array
 from .light_hit import analytic_light_count, triangle_lights
+from .light_tree import LightTree, build_light_tree
 from .lights import DeviceLights, scene_lights
 from .material_pack import pack_materials
 from .scene import Scene
@@ -53,6 +54,10 @@ class DeviceScene:
         self._lights_key: int | None = None
         self.lights: DeviceLights
         self.light_array: LightArray
+        self.tree_wanted = False  # the samplers draw from the light tree: build it with every light upload
+        self.light_tree: LightTree | None = None
+        self.tree_seconds = 0.0  # the last tree build's time
+        self._no_tree: cl.Buffer | None = None  # the placeholder of the tree arguments without a tree
         self.motion_buf: cl.Buffer | None = None
         self.ggx_tables_buf: cl.Buffer | None = None  # glossy builds only (upload_ggx_tables)
         self._textures: PackedTextures | None = None  # packed once: materials do not animate
@@ -136,6 +141,25 @@ class DeviceScene:
         self.lights_buf = upload(self.context, lights.device_array())
         self.slots_buf = upload(self.context, self.light_array.slots)
         self.light_pdf_buf = upload(self.context, self.light_array.pdf)
+        self.light_tree = None
+        if self.tree_wanted:
+            self._upload_light_tree()
+
+    def use_light_tree(self) -> None:
+        """Build the light tree (light_tree.py) now and again whenever the lights change."""
+        self.tree_wanted = True
+        if self.light_tree is None:
+            self._upload_light_tree()
+
+    def _upload_light_tree(self) -> None:
+        t0 = time.perf_counter()
+        lights = self.lights
+        self.light_tree = tree = build_light_tree(lights.records, lights.types, lights.power,
+                                                        self.light_array.pdf)
+        self.tree_seconds = time.perf_counter() - t0
+        self.tree_bufs = {"tree_nodes": upload(self.context, tree.nodes),
+                          "tree_info": upload(self.context, tree.light_info),
+                          "tree_distant": upload(self.context, tree.distant)}
 
     def _motion_rows(self, frame: int, last_frame: int | None) -> np.ndarray:
         """Per object: rows of M_prev M_cur^-1 (reprojection), then of M_next M_cur^-1 (the Vector pass);
@@ -168,6 +192,15 @@ class DeviceScene:
         per-triangle attributes and per-object texture spaces, the texture programs and texels, by parameter name."""
         return {"materials": self.materials_buf, "closures": self.closures_buf, "tri_attr": self.tri_attr_buf,
                 "objects": self.objects_buf, **self.textures}
+
+    @property
+    def light_tree_args(self) -> dict[str, cl.Buffer]:
+        """The light tree's buffers by the RIS kernels' parameter names (placeholders when there is no tree)."""
+        if self.light_tree is None:
+            if self._no_tree is None:
+                self._no_tree = upload(self.context, np.zeros(16, np.uint8))
+            return dict.fromkeys(("tree_nodes", "tree_info", "tree_distant"), self._no_tree)
+        return self.tree_bufs
 
     @property
     def light_sampling(self) -> dict[str, cl.Buffer]:

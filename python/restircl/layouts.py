@@ -22,6 +22,7 @@ OBJECT_INFO = np.dtype([("gen_mid", F4), ("gen_scale", F4)])
 TEX_NODE = np.dtype([*[(n, F4) for n in ("a", "b", "p", "m0", "m1", "m2")], ("op", I4), ("in", I4), ("blk", I4)])
 TEX_IMAGE = np.dtype([(n, np.int32) for n in ("offset", "width", "height", "levels")])
 LIGHT = np.dtype([("p", F4), ("a", F4), ("b", F4), ("L", F4)])
+LIGHT_TREE_NODE = np.dtype([("lo", F4), ("hi", F4), ("axis", F4), ("meta", I4)])
 CAMERA = np.dtype(
     [
         ("origin", F4),
@@ -64,8 +65,9 @@ def _floats(*names: str) -> list[tuple[str, type]]:
 # The parameter structs of the passes (types.h "parameters of the passes"): one per stage, read by field name.
 FRAME_PARAMS = np.dtype([*_ints("width", "height", "pixels"), ("sample", np.uint32), ("seed", np.uint32),
                          *_ints("pad0", "pad1", "pad2")])
-SAMPLER_PARAMS = np.dtype(_ints("light_count", "slot_count", "tile_count", "tile_size", "bsdf_candidates",
-                                "bsdf_analytic", "bsdf_triangles", "bsdf_glossy_only"))
+SAMPLER_PARAMS = np.dtype([*_ints("light_count", "slot_count", "tile_count", "tile_size", "bsdf_candidates",
+                                  "bsdf_analytic", "bsdf_triangles", "bsdf_glossy_only", "light_tree",
+                                  "tree_leaves", "tree_distant"), ("tree_p_local", np.float32)])
 SIMILARITY_PARAMS = np.dtype([*_floats("depth_tolerance", "normal_cos"), *_ints("pad0", "pad1")])
 INITIAL_PARAMS = np.dtype([("sampler", SAMPLER_PARAMS), *_ints("candidates", "visibility_reuse", "pad0", "pad1")])
 TEMPORAL_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), ("m_cap", np.float32),
@@ -92,6 +94,7 @@ STRUCTS: dict[str, np.dtype] = {
     "TexNode": TEX_NODE,
     "TexImage": TEX_IMAGE,
     "Light": LIGHT,
+    "LightTreeNode": LIGHT_TREE_NODE,
     "Camera": CAMERA,
     "GSample": GSAMPLE,
     "SpecLobe": SPEC_LOBE,

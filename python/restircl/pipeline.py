@@ -33,6 +33,7 @@ from .frame import Frame, read_aovs, read_colour, read_gbuffer, read_guards, rea
 from .history import History
 from .kernels import LOCAL_ITEMS, Kernels, local_size
 from .light_array import LightArray
+from .light_tree import tree_proposal
 from .lights import DeviceLights
 from .program import build_program
 from .scene import Scene
@@ -113,9 +114,12 @@ class Renderer:
         s, ds = self.scene, self.device_scene
         # a camera animation whose transforms are all equal does not move: no motion vectors to compile
         moving_camera = s.camera is not None and bool(np.any(s.camera.transforms != s.camera.transforms[:1]))
+        self.uses_light_tree = tree_proposal(self.settings.method, self.settings.light_proposal, ds.lights.types)
+        if self.uses_light_tree:
+            ds.use_light_tree()
         if self.settings.specialise:
             flags = derive_flags(ds.lights.type_set, moving_camera or ds.moving_objects, ds.moving_objects,
-                                 ds.material_flags)
+                                 ds.material_flags, self.uses_light_tree)
         else:
             flags = general_flags()
         self.flags = flags
@@ -224,10 +228,13 @@ class Renderer:
             # RIS over one light picks that light: leave the loop out (not for the environment, whose candidates
             # are directions that RIS and the BSDF candidates choose between)
             method = "light_array"
-        tiles = self._use_light_tiles(method, light_count)
+        tree = ds.light_tree if self.uses_light_tree and method in ("ris", "restir") and light_count > 1 else None
+        tiles = tree is None and self._use_light_tiles(method, light_count)
         self.light_tiles_used = tiles
         bsdf = self._bsdf_candidates(method, light_count)
         sampler = L.pack(L.SAMPLER_PARAMS, light_count=light_count, slot_count=ds.light_array.slot_count,
+                         light_tree=int(tree is not None), tree_leaves=tree.leaves if tree else 0,
+                         tree_distant=tree.distant_count if tree else 0, tree_p_local=tree.p_local if tree else 1.0,
                          tile_count=s.light_tile_count if tiles else 0, tile_size=s.light_tile_size if tiles else 0,
                          bsdf_candidates=bsdf,
                          bsdf_analytic=ds.analytic_lights if bsdf and ds.analytic_lights <= BSDF_ANALYTIC_MAX else 0,
@@ -273,8 +280,9 @@ class Renderer:
 
     def will_use_light_tiles(self) -> bool:
         """Whether the frames of this scene and settings (with its current lights) draw their RIS candidates from
-        light tiles."""
-        return self._use_light_tiles(self.settings.method, self.device_scene.sampled_light_count)
+        light tiles (never with the light tree's candidates)."""
+        return not self.uses_light_tree and self._use_light_tiles(self.settings.method,
+                                                             self.device_scene.sampled_light_count)
 
     # ---- output -----------------------------------------------------------------------------------------
 

@@ -44,6 +44,14 @@ TAA_FILTER_CHOICES = (
 )
 TAA_FILTERS = tuple(c.id for c in TAA_FILTER_CHOICES)
 
+LIGHT_PROPOSAL_CHOICES = (
+    Choice("auto", "Auto", "The light tree where it measured better than the light array at equal time (so far "
+           "nowhere on the CPU), else the light array", 0),
+    Choice("array", "Light Array", "Candidates from the power-proportional light array (O(1) per candidate)", 1),
+    Choice("tree", "Light Tree", "Candidates from the light tree: picked by power, distance and orientation at each "
+           "shading point (a descent per candidate)", 2),
+)
+LIGHT_PROPOSALS = tuple(c.id for c in LIGHT_PROPOSAL_CHOICES)
 BSDF_SAMPLING_CHOICES = (
     Choice("auto", "Auto", "BSDF-sampled candidates at the pixels whose material has a specular lobe", 0),
     Choice("on", "On", "BSDF-sampled candidates for every scene (also diffuse ones, e.g. with large or mesh lights)",
@@ -202,6 +210,9 @@ class Settings:
     area_sampling: str = setting("area", "Area Light Sampling", "How a point on an area light (and an emissive "
                                  "triangle, a soft point light) is drawn", flag="--area-sampling",
                                  choices=AREA_SAMPLING_CHOICES, panel="lights")
+    light_proposal: str = setting("auto", "Light Proposal", "RIS and ReSTIR: where the light candidates come from",
+                                  flag="--light-proposal", choices=LIGHT_PROPOSAL_CHOICES, panel="lights",
+                                  applies_when=_RIS)
 
     def validate(self) -> Settings:
         check(self)

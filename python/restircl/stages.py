@@ -138,8 +138,8 @@ class Initial(Stage):
                         visibility_reuse=int(s.visibility_reuse))
         out = self.buffers.res_initial
         self.kernels.launch("restir_initial", pixel_count(state), gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
-                            **self.scene.geometry, **self.scene.light_sampling, **tiles,
-                            tri_light=self.scene.tri_light_buf, out=out, frame_params=state.frame_params,
+                            **self.scene.geometry, **self.scene.light_sampling, **self.scene.light_tree_args,
+                            **tiles, tri_light=self.scene.tri_light_buf, out=out, frame_params=state.frame_params,
                             params=params)
         return out
 
@@ -249,8 +249,8 @@ class Shade(Stage):
         params = L.pack(L.SHADE_PARAMS, sampler=state.sampler, method=self.method_codes[state.method],
                         candidates=self.settings.candidates)
         self.kernels.launch("shade_direct", pixel_count(state), **self._common(state), slots=self.scene.slots_buf,
-                            light_pdf=self.scene.light_pdf_buf, **tiles, tri_light=self.scene.tri_light_buf,
-                            params=params)
+                            light_pdf=self.scene.light_pdf_buf, **self.scene.light_tree_args, **tiles,
+                            tri_light=self.scene.tri_light_buf, params=params)
 
     def reference(self, state: FrameState) -> None:
         params = L.pack(L.SHADE_PARAMS, sampler=state.sampler)

@@ -54,6 +54,9 @@ OURS: dict[str, dict] = {
     "spatial_bsdf": {"temporal": False, "bsdf_sampling": "on"},
     "short_history": {"m_cap": 2.0},
     "auto": {},  # through still_settings (STILL_PATH)
+    # the light tree as the candidates' proposal (light_tree.py)
+    "default_tree": {"light_proposal": "tree"},
+    "ris_tree": {"method": "ris", "light_proposal": "tree"},
 }
 #: our methods whose settings go through still_settings, as F12's and the CLI's still renders do
 STILL_PATH = ("auto",)
