@@ -45,7 +45,7 @@ inline Surface test_surface(const __global float* p, int count, const __global f
     }
     Surface s;
     s.x = (float3)(0.0f);
-    s.n = s.ng = (float3)(0.0f, 0.0f, 1.0f);
+    surface_set_normal(&s, (float3)(0.0f, 0.0f, 1.0f));
     s.wo = wo;
     s.depth = 1.0f;
     s.valid = 1;
