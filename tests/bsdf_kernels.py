@@ -108,9 +108,9 @@ def view(theta_deg: float) -> np.ndarray:
 
 
 class BsdfKernels:
-    def __init__(self, device) -> None:
+    def __init__(self, device, source: str = SRC) -> None:
         self.device = device
-        self.prog = build_program(device, general_flags(), source=SRC)
+        self.prog = build_program(device, general_flags(), source=source)
         mf = cl.mem_flags
         self.tab = cl.Buffer(device.context, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=ggx_tables())
 

@@ -14,7 +14,10 @@ from restircl.features import general_flags
 from restircl.lights import scene_lights
 from restircl.program import build_program
 
+from .bsdf_kernels import SRC as BSDF_SRC
+from .bsdf_kernels import BsdfKernels, Closure, view
 from .helpers import allowed_outliers, batch_stats, below_only_scene, collect, luminance, mean_and_se, run_means
+from .stats import pooled_chi2
 
 SRC = """
 #include "types.h"
@@ -240,3 +243,102 @@ def test_lights_behind_the_surface_stay_exact_zero_with_bsdf_candidates(device):
     for method in ("ris", "restir"):
         samples = collect(below_only_scene(), Settings(method=method, bsdf_sampling="on", seed=3), 8, device)
         assert np.all(samples == 0.0), method
+
+
+# ---- the BSDF strategy's density of a light sample: what the MIS weights assume ------------------------------
+
+PICK_SRC = BSDF_SRC + """
+#include "bvh.h"
+#include "reservoir.h"
+#include "light_hit.h"
+#include "target.h"
+#include "visibility.h"
+#include "bsdf_candidates.h"
+
+/* per host uniform pair: the light sample (u, v) a BSDF direction of the test surface meets on lights[0], z = 1;
+ * z = 0 where it meets nothing */
+__kernel void bsdf_light_pick(const __global float* p, int count, const __global float* tab, float4 wo4,
+                              const __global Light* lights, const __global float2* u, __global float4* out)
+{
+    int i = get_global_id(0);
+    Surface s = test_surface(p, count, tab, wo4.xyz);
+    const __global Light* l = &lights[0];
+    float3 wi;
+    float pdf;
+    bsdf_sample(&s, s.wo, u[i].x, u[i].y, &wi, &pdf);
+    float2 uv = (float2)(0.0f);
+    bool hit = pdf > 0.0f && light_hit(l, light_type(l), s.x, wi, &uv);
+    out[i] = (float4)(uv, hit ? 1.0f : 0.0f, 0.0f);
+}
+
+/* per (u, v): the BSDF strategy's density of that sample as the MIS weights take it (bsdf_pdf_light_measure, in
+ * the light's measure) per unit square of (u, v): divided by light_point_pdf, the light measure's density of a
+ * uniform (u, v) for these lights */
+__kernel void bsdf_light_density(const __global float* p, int count, const __global float* tab, float4 wo4,
+                                 const __global Light* lights, const __global float2* uv, __global float* out)
+{
+    int i = get_global_id(0);
+    Surface s = test_surface(p, count, tab, wo4.xyz);
+    const __global Light* l = &lights[0];
+    LightEval e;
+    float d = 0.0f;
+    if (light_eval(l, uv[i].x, uv[i].y, s.x, s.n, &e))
+        d = bsdf_pdf_light_measure(&s, &e) / light_point_pdf(l, light_type(l), s.x, &e);
+    out[i] = d;
+}
+"""
+
+# lights whose light_sample takes (u, v) uniform (light_point_pdf is then the density of the map), around the mirror
+# direction of the test view (40 degrees from the normal along +x, so reflected towards -x)
+PICK_LIGHTS = {
+    "quad": Light("q", "area", power=10.0, transforms=translation(-0.7, 0.1, 0.9), shape="RECTANGLE", size=0.9,
+                  size_y=0.6),
+    "disk": Light("d", "area", power=10.0, transforms=translation(-0.6, -0.2, 0.8), shape="ELLIPSE", size=0.8,
+                  size_y=0.5),
+    "sun": Light("sun", "sun", power=2.0, transforms=look_at((-0.64, 0.0, 0.77), (0, 0, 0)), angle=0.35),
+}
+PICK_SURFACES = {
+    "glossy": [Closure(base=(0.5, 0.5, 0.5), roughness=0.3)],
+    "metal": [Closure(base=(0.9, 0.7, 0.5), metallic=1.0, roughness=0.2)],
+    "diffuse": [Closure(kind="diffuse", base=(0.7, 0.7, 0.7))],
+}
+PICK_N, PICK_CELLS, PICK_SUB = 1 << 20, 12, 6
+
+
+@pytest.mark.parametrize("surface", list(PICK_SURFACES))
+@pytest.mark.parametrize("name", list(PICK_LIGHTS))
+def test_bsdf_light_pick_has_the_density_the_mis_weights_assume(device, name, surface):
+    """Chi-square of the (u, v) that BSDF directions meet on a light, in 12 x 12 cells plus 'missed', against the
+    cells' probabilities integrated (6 x 6 midpoints each) from the density the MIS weights use: a wrong inverse
+    map (light_hit), a wrong measure conversion (cos_l / d^2) or a pdf that is not bsdf_sample's would fail it."""
+    recs = scene_lights(Scene(lights=[PICK_LIGHTS[name]]), 0).records
+    k = BsdfKernels(device, PICK_SRC)
+    mf = cl.mem_flags
+    ctx, queue = device.context, device.queue
+    lb = cl.Buffer(ctx, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=recs)
+    params, count, wo = k._params(PICK_SURFACES[surface]), np.int32(len(PICK_SURFACES[surface])), view(40.0)
+    u = np.minimum(np.random.default_rng(41).random((PICK_N, 2)), 0.99999994).astype(np.float32)
+    ub = cl.Buffer(ctx, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=u)
+    out = np.empty((PICK_N, 4), np.float32)
+    ob = cl.Buffer(ctx, mf.WRITE_ONLY, out.nbytes)
+    cl.Kernel(k.prog, "bsdf_light_pick")(queue, (PICK_N,), None, params, count, k.tab, clt.make_float4(*wo, 0.0),
+                                         lb, ub, ob)
+    cl.enqueue_copy(queue, out, ob)
+    hit = out[:, 2] > 0
+    cells = np.clip((out[hit, :2] * PICK_CELLS).astype(int), 0, PICK_CELLS - 1)
+    observed = np.bincount(cells[:, 0] * PICK_CELLS + cells[:, 1], minlength=PICK_CELLS**2)
+    g = PICK_CELLS * PICK_SUB
+    c = (np.arange(g) + 0.5) / g
+    grid = np.stack(np.meshgrid(c, c, indexing="ij"), -1).reshape(-1, 2).astype(np.float32)
+    gb = cl.Buffer(ctx, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=grid)
+    dens = np.empty(len(grid), np.float32)
+    db = cl.Buffer(ctx, mf.WRITE_ONLY, dens.nbytes)
+    cl.Kernel(k.prog, "bsdf_light_density")(queue, (len(grid),), None, params, count, k.tab,
+                                            clt.make_float4(*wo, 0.0), lb, gb, db)
+    cl.enqueue_copy(queue, dens, db)
+    prob = dens.astype(np.float64).reshape(PICK_CELLS, PICK_SUB, PICK_CELLS, PICK_SUB).mean(axis=(1, 3))
+    prob = prob.ravel() / PICK_CELLS**2
+    assert 0.02 < prob.sum() < 0.98 and hit.mean() > 0.02, (name, surface, prob.sum(), hit.mean())
+    stat, p, dof = pooled_chi2(np.append(observed, (~hit).sum()), np.append(prob, 1.0 - prob.sum()))
+    print(f"{name} {surface}: hit {hit.mean():.4f} expected {prob.sum():.4f} chi2 {stat:.1f} dof {dof} p {p:.3g}")
+    assert p > 1e-3, (name, surface, stat, dof)
