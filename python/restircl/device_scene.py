@@ -18,7 +18,7 @@ from .light_hit import analytic_light_count, triangle_lights
 from .lights import DeviceLights, scene_lights
 from .material_pack import pack_materials
 from .scene import Scene
-from .texture_pack import PackedTextures, TexturePacker, warn_missing_uv_maps
+from .texture_pack import PackedTextures, TexturePacker, warn_missing_uv_maps, warn_textured_emission
 from .tri_attributes import needs_attributes, object_infos, tri_attributes
 
 
@@ -106,6 +106,7 @@ class DeviceScene:
             return
         packer = TexturePacker(self.scene.materials)
         warn_missing_uv_maps(self.scene.meshes, self.scene.materials)
+        warn_textured_emission(self.scene.meshes, self.scene.materials)
         packed = pack_materials(self.scene.materials, packer.index)
         self._textures = tex = packer.packed()
         self.nonfinite_texels = tex.nonfinite_texels
