@@ -142,22 +142,31 @@ def large_lights_scene(width: int = 16, height: int = 12, glossy: bool = False) 
 
 
 W, H = 16, 12
-FRAMES, BATCHES = 4096, 64
-RUNS, RUN_FRAMES = 48, 64
+BATCHES = 64
+# Frame counts: the default suite runs "quick", a quarter of the frames of "full" (slow-marked, the figures in the
+# docstrings); both judge by the measured standard errors, so quick only has half the resolution for a bias.
+SIZES = {
+    "quick": dict(frames=1024, runs=24, run_frames=32, reference=2048, glossy_reference=1024),
+    "full": dict(frames=4096, runs=48, run_frames=64, reference=8192, glossy_reference=4096),
+}
+SIZE_PARAMS = [pytest.param("full", marks=pytest.mark.slow), "quick"]
 
 
 @pytest.fixture(scope="module")
-def reference(device):
-    ref = collect(large_lights_scene(W, H), Settings(method="reference", seed=17, jitter=False), 8192, device)
-    return batch_stats(luminance(ref), BATCHES)
+def references(device):
+    """reference(glossy, size): batch statistics of the exhaustive sampler (the glossy twin's is noisier on the
+    glossy floor: half the frames), rendered once per module."""
+    cache: dict[tuple[bool, str], tuple[np.ndarray, np.ndarray]] = {}
 
+    def get(glossy: bool, size: str) -> tuple[np.ndarray, np.ndarray]:
+        if (glossy, size) not in cache:
+            frames = SIZES[size]["glossy_reference" if glossy else "reference"]
+            s = Settings(method="reference", seed=19 if glossy else 17, jitter=False)
+            cache[glossy, size] = batch_stats(luminance(collect(large_lights_scene(W, H, glossy), s, frames,
+                                                                device)), BATCHES)
+        return cache[glossy, size]
 
-@pytest.fixture(scope="module")
-def glossy_reference(device):
-    """The glossy twin's reference: the exhaustive sampler is noisier on a glossy floor, 4096 frames."""
-    ref = collect(large_lights_scene(W, H, glossy=True), Settings(method="reference", seed=19, jitter=False), 4096,
-                  device)
-    return batch_stats(luminance(ref), BATCHES)
+    return get
 
 
 def assert_unbiased(mean: np.ndarray, se: np.ndarray, ref: tuple[np.ndarray, np.ndarray], n_stats: int,
@@ -183,12 +192,13 @@ RIS_CASES = {
 }
 
 
+@pytest.mark.parametrize("size", SIZE_PARAMS)
 @pytest.mark.parametrize("case", list(RIS_CASES))
-def test_ris_with_bsdf_candidates_matches_reference(device, request, case):
+def test_ris_with_bsdf_candidates_matches_reference(device, references, case, size):
     glossy = case.startswith("glossy")
-    reference = request.getfixturevalue("glossy_reference" if glossy else "reference")
+    reference = references(glossy, size)
     s = Settings(method="ris", candidates=4, bsdf_sampling="on", seed=23, jitter=False, **RIS_CASES[case])
-    x = collect(large_lights_scene(W, H, glossy), s, FRAMES, device)
+    x = collect(large_lights_scene(W, H, glossy), s, SIZES[size]["frames"], device)
     assert np.all(np.isfinite(x))
     m, se = batch_stats(luminance(x), BATCHES)
     assert_unbiased(m, se, reference, BATCHES, case)
@@ -206,16 +216,18 @@ RESTIR_CASES = {
 }
 
 
+@pytest.mark.parametrize("size", SIZE_PARAMS)
 @pytest.mark.parametrize("case", list(RESTIR_CASES))
-def test_restir_with_bsdf_candidates_matches_reference(device, request, case):
+def test_restir_with_bsdf_candidates_matches_reference(device, references, case, size):
     glossy = case.startswith("glossy")
-    reference = request.getfixturevalue("glossy_reference" if glossy else "reference")
+    reference = references(glossy, size)
+    runs, run_frames = SIZES[size]["runs"], SIZES[size]["run_frames"]
     s = Settings(method="restir", **{"bsdf_sampling": "on", "jitter": False, "taa": False, "seed": 29,
                                      **RESTIR_CASES[case]})
-    runs = luminance(run_means(large_lights_scene(W, H, glossy), s, RUNS, RUN_FRAMES, device))
-    assert np.all(np.isfinite(runs))
-    m, se = mean_and_se(runs)
-    assert_unbiased(m, se, reference, RUNS, case)
+    means = luminance(run_means(large_lights_scene(W, H, glossy), s, runs, run_frames, device))
+    assert np.all(np.isfinite(means))
+    m, se = mean_and_se(means)
+    assert_unbiased(m, se, reference, runs, case)
 
 
 @pytest.mark.parametrize("glossy", [False, True])
