@@ -267,36 +267,31 @@ PICK_SRC = BSDF_SRC + """
 #include "visibility.h"
 #include "bsdf_candidates.h"
 
-/* per host uniform pair: the light sample (u, v) a BSDF direction of the test surface meets on lights[0], z = 1;
- * z = 0 where it meets nothing */
-__kernel void bsdf_light_pick(const __global float* p, int count, const __global float* tab, float4 wo4,
-                              const __global Light* lights, const __global float2* u, __global float4* out)
+/* density = 0, per host uniform pair in[i]: the light sample (u, v) a BSDF direction of the test surface meets on
+ * lights[0], z = 1 (z = 0 where it meets nothing). density = 1, per (u, v) in[i]: in x the BSDF strategy's density
+ * of that sample as the MIS weights take it (bsdf_pdf_light_measure, in the light's measure) per unit square of
+ * (u, v): divided by light_point_pdf, the light measure's density of a uniform (u, v) for these lights. */
+__kernel void bsdf_light(const __global float* p, int count, const __global float* tab, float4 wo4,
+                         const __global Light* lights, int density, const __global float2* in, __global float4* out)
 {
     int i = get_global_id(0);
     Surface s = test_surface(p, count, tab, wo4.xyz);
     const __global Light* l = &lights[0];
+    int type = light_type(l);
+    if (density) {
+        LightEval e;
+        float d = 0.0f;
+        if (light_eval(l, in[i].x, in[i].y, s.x, s.n, &e))
+            d = bsdf_pdf_light_measure(&s, &e) / light_point_pdf(l, type, s.x, &e);
+        out[i] = (float4)(d, 0.0f, 0.0f, 0.0f);
+        return;
+    }
     float3 wi;
     float pdf;
-    bsdf_sample(&s, s.wo, u[i].x, u[i].y, &wi, &pdf);
+    bsdf_sample(&s, s.wo, in[i].x, in[i].y, &wi, &pdf);
     float2 uv = (float2)(0.0f);
-    bool hit = pdf > 0.0f && light_hit(l, light_type(l), s.x, wi, &uv);
+    bool hit = pdf > 0.0f && light_hit(l, type, s.x, wi, &uv);
     out[i] = (float4)(uv, hit ? 1.0f : 0.0f, 0.0f);
-}
-
-/* per (u, v): the BSDF strategy's density of that sample as the MIS weights take it (bsdf_pdf_light_measure, in
- * the light's measure) per unit square of (u, v): divided by light_point_pdf, the light measure's density of a
- * uniform (u, v) for these lights */
-__kernel void bsdf_light_density(const __global float* p, int count, const __global float* tab, float4 wo4,
-                                 const __global Light* lights, const __global float2* uv, __global float* out)
-{
-    int i = get_global_id(0);
-    Surface s = test_surface(p, count, tab, wo4.xyz);
-    const __global Light* l = &lights[0];
-    LightEval e;
-    float d = 0.0f;
-    if (light_eval(l, uv[i].x, uv[i].y, s.x, s.n, &e))
-        d = bsdf_pdf_light_measure(&s, &e) / light_point_pdf(l, light_type(l), s.x, &e);
-    out[i] = d;
 }
 """
 
@@ -326,28 +321,24 @@ def test_bsdf_light_pick_has_the_density_the_mis_weights_assume(device, name, su
     recs = scene_lights(Scene(lights=[PICK_LIGHTS[name]]), 0).records
     k = BsdfKernels(device, PICK_SRC)
     mf = cl.mem_flags
-    ctx, queue = device.context, device.queue
-    lb = cl.Buffer(ctx, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=recs)
+    lb = cl.Buffer(device.context, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=recs)
     params, count, wo = k._params(PICK_SURFACES[surface]), np.int32(len(PICK_SURFACES[surface])), view(40.0)
-    u = np.minimum(np.random.default_rng(41).random((PICK_N, 2)), 0.99999994).astype(np.float32)
-    ub = cl.Buffer(ctx, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=u)
-    out = np.empty((PICK_N, 4), np.float32)
-    ob = cl.Buffer(ctx, mf.WRITE_ONLY, out.nbytes)
-    cl.Kernel(k.prog, "bsdf_light_pick")(queue, (PICK_N,), None, params, count, k.tab, clt.make_float4(*wo, 0.0),
-                                         lb, ub, ob)
-    cl.enqueue_copy(queue, out, ob)
+
+    def run(density: int, points: np.ndarray) -> np.ndarray:
+        ib = cl.Buffer(device.context, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=points.astype(np.float32))
+        out = np.empty((len(points), 4), np.float32)
+        ob = cl.Buffer(device.context, mf.WRITE_ONLY, out.nbytes)
+        cl.Kernel(k.prog, "bsdf_light")(device.queue, (len(points),), None, params, count, k.tab,
+                                        clt.make_float4(*wo, 0.0), lb, np.int32(density), ib, ob)
+        cl.enqueue_copy(device.queue, out, ob)
+        return out
+
+    out = run(0, np.minimum(np.random.default_rng(41).random((PICK_N, 2)), 0.99999994))
     hit = out[:, 2] > 0
     cells = np.clip((out[hit, :2] * PICK_CELLS).astype(int), 0, PICK_CELLS - 1)
     observed = np.bincount(cells[:, 0] * PICK_CELLS + cells[:, 1], minlength=PICK_CELLS**2)
-    g = PICK_CELLS * PICK_SUB
-    c = (np.arange(g) + 0.5) / g
-    grid = np.stack(np.meshgrid(c, c, indexing="ij"), -1).reshape(-1, 2).astype(np.float32)
-    gb = cl.Buffer(ctx, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=grid)
-    dens = np.empty(len(grid), np.float32)
-    db = cl.Buffer(ctx, mf.WRITE_ONLY, dens.nbytes)
-    cl.Kernel(k.prog, "bsdf_light_density")(queue, (len(grid),), None, params, count, k.tab,
-                                            clt.make_float4(*wo, 0.0), lb, gb, db)
-    cl.enqueue_copy(queue, dens, db)
+    c = (np.arange(PICK_CELLS * PICK_SUB) + 0.5) / (PICK_CELLS * PICK_SUB)
+    dens = run(1, np.stack(np.meshgrid(c, c, indexing="ij"), -1).reshape(-1, 2))[:, 0]
     prob = dens.astype(np.float64).reshape(PICK_CELLS, PICK_SUB, PICK_CELLS, PICK_SUB).mean(axis=(1, 3))
     prob = prob.ravel() / PICK_CELLS**2
     assert 0.02 < prob.sum() < 0.98 and hit.mean() > 0.02, (name, surface, prob.sum(), hit.mean())
