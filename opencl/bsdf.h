@@ -15,12 +15,25 @@
 #include "bsdf_ggx.h"
 
 /* f(wo, wi) for wi in the hemisphere of s->n (the caller knows it: a light evaluation with a contribution had
- * cos_x > 0). Lambert's f does not depend on the directions; no branch, as it runs once per RIS candidate. */
+ * cos_x > 0). Lambert's f does not depend on the directions; no branch, as it runs once per RIS candidate. The
+ * lobes are evaluated about their own normal s->nl; the caller's cosine is about s->n, so on a normal-mapped pixel
+ * (where the two differ) their f is rescaled by cos(nl) / cos(n), and every part gets its bump_shadowing. */
 inline float3 bsdf_eval(const Surface* s, float3 wo, float3 wi)
 {
     float3 f = s->mat.albedo * RESTIRCL_INV_PI;
+#ifdef HAS_TEXTURES
+    if (s->bumped) f *= bump_shadowing(s->nb, s->n, wi, true);
+#endif
 #ifdef HAS_GLOSSY
-    for (int k = 0; k < s->mat.lobes; ++k) f += ggx_lobe_eval(&s->mat.lobe[k], s->n, wo, wi);
+    float3 fl = (float3)(0.0f);
+    for (int k = 0; k < s->mat.lobes; ++k) fl += ggx_lobe_eval(&s->mat.lobe[k], s->nl, wo, wi);
+#ifdef HAS_TEXTURES
+    if (s->bumped && s->mat.lobes > 0) {
+        float cn = dot3(s->n, wi);
+        fl *= cn > 0.0f ? bump_shadowing(s->nb, s->nl, wi, false) * fmax_f(dot3(s->nl, wi), 0.0f) / cn : 0.0f;
+    }
+#endif
+    f += fl;
 #else
     (void)wo;
     (void)wi;
@@ -41,7 +54,7 @@ inline float bsdf_diffuse_weight(const Surface* s, float* total)
 }
 
 /* The solid-angle density of bsdf_sample's wi: cos / pi in the hemisphere of s->n, 0 below it, mixed with the lobes'
- * visible-normal densities in glossy builds. */
+ * visible-normal densities about s->nl in glossy builds. */
 inline float bsdf_pdf(const Surface* s, float3 wo, float3 wi)
 {
     float c = dot3(s->n, wi);
@@ -52,7 +65,7 @@ inline float bsdf_pdf(const Surface* s, float3 wo, float3 wi)
         if (!(total > 0.0f)) return pd;
         float p = wd * pd;
         for (int k = 0; k < s->mat.lobes; ++k)
-            p += s->mat.lobe[k].diel_f0.w * ggx_lobe_pdf(&s->mat.lobe[k], s->n, wo, wi);
+            p += s->mat.lobe[k].diel_f0.w * ggx_lobe_pdf(&s->mat.lobe[k], s->nl, wo, wi);
         return p / total;
     }
 #else
@@ -85,7 +98,7 @@ inline float3 bsdf_sample(const Surface* s, float3 wo, float u0, float u1, float
             u0 = fmin_f(x / wd, 0.99999994f);
         }
         if (pick >= 0) {
-            if (!ggx_lobe_sample(&s->mat.lobe[pick], s->n, wo, clamp_f(u0, 0.0f, 0.99999994f), u1, wi)) {
+            if (!ggx_lobe_sample(&s->mat.lobe[pick], s->nl, wo, clamp_f(u0, 0.0f, 0.99999994f), u1, wi)) {
                 *pdf = 0.0f;
                 return (float3)(0.0f);
             }

@@ -92,7 +92,9 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
 #endif
         }
         GlossySample gx;
-        g.albedo.xyz = surface_resolve(cin, count, tp.ns, -d, ggx_tables, &gx);
+        /* the lobes' normal, as surface_load derives it again */
+        float3 nl = tp.bumped ? shading_normal_guard(tp.ns, ng, -d) : tp.ns;
+        g.albedo.xyz = surface_resolve(cin, count, nl, -d, ggx_tables, &gx);
         glossy[i] = gx;
     } else {
         glossy[i].wo = (float4)(-d, as_float(0));
@@ -102,7 +104,7 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
     (void)ggx_tables;
     (void)glossy;
 #endif
-    g.emission = (float4)(emission, 0.0f);
+    g.emission = (float4)(emission, as_float(tp.bumped ? normal_pack(tp.nb) : 0));
     g.motion = (float4)(0.0f, 0.0f, 1.0f, g.pos.w);  /* nothing moves: the previous position is this one */
     float4 vec = (float4)(0.0f);
 #ifdef HAS_MOTION

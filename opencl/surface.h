@@ -4,6 +4,8 @@
 #ifndef RESTIRCL_SURFACE_H
 #define RESTIRCL_SURFACE_H
 
+#include "shading_normal.h"
+
 /* The material parameters of a surface, for the BSDF: the diffuse albedo and, in glossy builds, the GGX lobes the
  * primary pass resolved for this pixel's view (bsdf_principled.h). */
 typedef struct {
@@ -16,8 +18,15 @@ typedef struct {
 
 typedef struct {
     float3 x;       /* world position */
-    float3 n;       /* shading normal facing the camera */
+    float3 n;       /* shading normal facing the camera: the diffuse part's and the lights' cosine */
     float3 ng;      /* geometric normal facing the camera */
+#ifdef HAS_GLOSSY
+    float3 nl;      /* the specular lobes' normal: n, bent on normal-mapped pixels (shading_normal_guard) */
+#endif
+#ifdef HAS_TEXTURES
+    float3 nb;      /* on normal-mapped pixels the smooth normal under the map (bump_shadowing), else n */
+    int bumped;     /* 1: n comes from a normal map */
+#endif
     float3 wo;      /* unit direction towards the viewer. Glossy builds store it per pixel (GlossySample.wo); a
                        diffuse-only build, whose Lambert BSDF ignores it, sets it to n and stores nothing */
     SurfaceMaterial mat;
@@ -38,6 +47,11 @@ inline Surface surface_load(const __global GSample* g, const __global GlossySamp
     s.n = gs.normal.xyz;
     s.ng = gs.gnormal.xyz;
     s.mat.albedo = gs.albedo.xyz;
+#ifdef HAS_TEXTURES
+    int nb = as_int(gs.emission.w);
+    s.bumped = s.valid && nb != 0;
+    s.nb = s.bumped ? normal_unpack(nb) : s.n;
+#endif
 #ifdef HAS_GLOSSY
     const __global GlossySample* q = gx + i;
     float4 wo = q->wo;
@@ -45,11 +59,28 @@ inline Surface surface_load(const __global GSample* g, const __global GlossySamp
     s.mat.lobes = s.valid ? min(as_int(wo.w), MAX_LAYERS) : 0;
     s.mat.lobe[0] = q->lobe0;
     s.mat.lobe[1] = q->lobe1;
+    s.nl = s.n;
+#ifdef HAS_TEXTURES
+    if (s.bumped) s.nl = shading_normal_guard(s.n, s.ng, s.wo);
+#endif
 #else
     (void)gx;
     s.wo = s.n;
 #endif
     return s;
+}
+
+/* A surface built by hand (tests) with normal n everywhere and no normal map. */
+inline void surface_set_normal(Surface* s, float3 n)
+{
+    s->n = s->ng = n;
+#ifdef HAS_GLOSSY
+    s->nl = n;
+#endif
+#ifdef HAS_TEXTURES
+    s->nb = n;
+    s->bumped = 0;
+#endif
 }
 
 /* How far two surfaces' materials may differ for one to reuse the other's light samples (temporal and spatial

@@ -23,7 +23,9 @@ inline void texture_material(const __global Material* m, const __global Closure*
         }
     }
     *albedo = sum;
+    tp->nb = tp->ns;
     tp->ns = ns;
+    tp->bumped = mapped;
 }
 
 #endif

@@ -55,8 +55,9 @@ inline float3 tex_coords(const TexNode* n, const TexPoint* tp, float* lod)
     return (float3)(dot(n->m0, c4), dot(n->m1, c4), dot(n->m2, c4));
 }
 
-/* Blender's Normal Map node in tangent space: color in [0, 1]^3 -> a world-space shading normal facing the camera.
- * Without a UV tangent the surface's own shading normal stays. */
+/* Blender's Normal Map node in tangent space: color in [0, 1]^3 -> a world-space shading normal on the camera's side
+ * of the surface, unbent (shading_normal.h: the specular lobes bend it, the diffuse part does not). Without a UV
+ * tangent the surface's own shading normal stays. */
 inline float3 tex_normal_map(float3 color, float strength, const TexPoint* tp)
 {
     if (dot3(tp->tangent, tp->tangent) == 0.0f) return tp->ns;
@@ -70,7 +71,7 @@ inline float3 tex_normal_map(float3 color, float strength, const TexPoint* tp)
     float l2 = dot3(m, m);
     if (!(l2 > 0.0f) || !finite_f(l2)) return tp->ns;
     m *= 1.0f / sqrt(l2);
-    return shading_normal_guard(tp->backfacing ? -m : m, tp->ng, tp->wi);
+    return tp->backfacing ? -m : m;
 }
 
 /* The value of node `root` at tp: its program (nodes blk.x .. root) evaluated in order into registers. */

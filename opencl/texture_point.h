@@ -5,8 +5,11 @@
 #ifndef RESTIRCL_TEXTURE_POINT_H
 #define RESTIRCL_TEXTURE_POINT_H
 
+#include "shading_normal.h"
+
 typedef struct {
-    float3 ns;        /* shading normal facing the camera */
+    float3 ns;        /* shading normal facing the camera (smooth shading, then a normal map's: texture_material) */
+    float3 nb;        /* under a normal map: the smooth shading normal it perturbs (bump_shadowing) */
     float3 n_front;   /* the same on the mesh's front side (not flipped towards the camera): the normal map's base */
     float3 ng;        /* geometric normal facing the camera */
     float3 wi;        /* unit direction towards the camera */
@@ -19,25 +22,8 @@ typedef struct {
     float lod_obj;    /* the same in object-space units */
     float lod_gen;    /* the same in generated units */
     int backfacing;   /* 1: the camera sees the mesh's back side */
+    int bumped;       /* 1: ns comes from a normal map */
 } TexPoint;
-
-/* Bend a shading normal towards the geometric one until the mirror image of the view direction leaves the
- * surface (smooth normals near a silhouette, strong normal maps): else the view would reflect into the surface.
- * Bisection on the blend factor; the geometric normal itself always passes. */
-inline float3 shading_normal_guard(float3 n, float3 ng, float3 wi)
-{
-    float cos_g = dot3(ng, wi);
-    float eps = fmin_f(0.01f, 0.5f * cos_g);
-    if (2.0f * dot3(n, wi) * dot3(n, ng) - cos_g >= eps) return n;
-    float lo = 0.0f, hi = 1.0f;
-    for (int k = 0; k < 12; ++k) {
-        float mid = 0.5f * (lo + hi);
-        float3 m = norm3(n + mid * (ng - n));
-        if (2.0f * dot3(m, wi) * dot3(m, ng) - cos_g >= eps) hi = mid; else lo = mid;
-    }
-    float3 m = n + hi * (ng - n);
-    return dot3(m, m) > 0.0f ? norm3(m) : ng;
-}
 
 /* The attributes at barycentrics (bu, bv) of triangle prim (leaf order) of object obj, seen along unit d; ng faces
  * the camera, backfacing says whether it was flipped; cone_width is the camera ray cone's width at the hit. */
@@ -45,7 +31,7 @@ inline TexPoint texture_point(const __global TriAttr* attr, const __global Objec
                               float bu, float bv, float3 d, float3 ng, int backfacing, float cone_width)
 {
     TexPoint tp;
-    tp.ns = ng;
+    tp.ns = tp.nb = ng;
     tp.ng = ng;
     tp.n_front = backfacing ? -ng : ng;
     tp.wi = -d;
@@ -54,6 +40,7 @@ inline TexPoint texture_point(const __global TriAttr* attr, const __global Objec
     tp.sign = 1.0f;
     tp.lod_uv = tp.lod_obj = tp.lod_gen = 0.0f;
     tp.backfacing = backfacing;
+    tp.bumped = 0;
     ObjectInfo oi = objects[obj];
     int flags = as_int(oi.gen_mid.w);
     if (!(flags & OBJECT_ATTRIBUTES)) return tp;
@@ -64,7 +51,7 @@ inline TexPoint texture_point(const __global TriAttr* attr, const __global Objec
         float l2 = dot3(n, n);
         if (l2 > 0.0f && finite_f(l2)) {
             tp.n_front = n * (1.0f / sqrt(l2));
-            tp.ns = shading_normal_guard(backfacing ? -tp.n_front : tp.n_front, ng, tp.wi);
+            tp.ns = tp.nb = shading_normal_guard(backfacing ? -tp.n_front : tp.n_front, ng, tp.wi);
         }
     }
     tp.uv = (float3)(dot3(b, a.u.xyz), dot3(b, a.v.xyz), 0.0f);

@@ -38,12 +38,12 @@ def pattern_image(name: str, size: int = 64, non_color: bool = False):
     return img
 
 
-def normal_image(name: str, size: int = 64):
-    """A packed tangent-space normal map of gentle bumps (slopes along u and v up to 15 degrees), Non-Color."""
+def normal_image(name: str, size: int = 64, slope: float = 15.0):
+    """A packed tangent-space normal map of bumps (slopes along u and v up to `slope` degrees), Non-Color."""
     img = bpy.data.images.new(name, size, size, alpha=True)
     y, x = (np.mgrid[0:size, 0:size] + 0.5) / size
     k = 2 * math.pi * 3
-    a = math.tan(math.radians(15)) / k  # the height's amplitude: its steepest slope is tan(15 degrees)
+    a = math.tan(math.radians(slope)) / k  # the height's amplitude: its steepest slope is tan(slope)
     dx, dy = a * k * np.cos(k * x) * np.sin(k * y), a * k * np.sin(k * x) * np.cos(k * y)
     n = np.stack([-dx, -dy, np.ones_like(dx)], axis=-1)
     n /= np.linalg.norm(n, axis=-1, keepdims=True)
@@ -140,7 +140,7 @@ def _feature_material(feature: str):
         return mat, {"textures", "glossy"}
     if kind == "normal_map":
         nm = tree.nodes.new("ShaderNodeNormalMap")
-        img = normal_image("Nrm")
+        img = normal_image("Nrm", slope=float(value or 15.0))
         tree.links.new(_image_node(tree, img).outputs["Color"], nm.inputs["Color"])
         tree.links.new(nm.outputs["Normal"], p.inputs["Normal"])
         return mat, {"textures", "glossy"}
@@ -153,7 +153,7 @@ def _feature_material(feature: str):
 
 
 FEATURES = ("dielectric:0.05", "dielectric:0.3", "dielectric:1.0", "metal:0.05", "metal:0.3", "metal:1.0",
-            "specular:1.0", "mix:0.4", "image_base", "image_roughness", "normal_map", "baked")
+            "specular:1.0", "mix:0.4", "image_base", "image_roughness", "normal_map", "normal_map:48", "baked")
 
 
 def feature_scene(feature: str, width: int, height: int):

@@ -45,7 +45,7 @@ inline Surface test_surface(const __global float* p, int count, const __global f
     }
     Surface s;
     s.x = (float3)(0.0f);
-    s.n = s.ng = (float3)(0.0f, 0.0f, 1.0f);
+    surface_set_normal(&s, (float3)(0.0f, 0.0f, 1.0f));
     s.wo = wo;
     s.depth = 1.0f;
     s.valid = 1;
@@ -108,9 +108,9 @@ def view(theta_deg: float) -> np.ndarray:
 
 
 class BsdfKernels:
-    def __init__(self, device) -> None:
+    def __init__(self, device, source: str = SRC) -> None:
         self.device = device
-        self.prog = build_program(device, general_flags(), source=SRC)
+        self.prog = build_program(device, general_flags(), source=source)
         mf = cl.mem_flags
         self.tab = cl.Buffer(device.context, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=ggx_tables())
 

@@ -42,10 +42,16 @@ IMAGE = np.random.default_rng(12).integers(0, 256, (6, 8, 3), dtype=np.uint8)
 CHECKER = ((0.8, 0.3, 0.1), (0.1, 0.4, 0.7))
 
 
-def normal_map_image(n: int = 16) -> np.ndarray:
-    """A smooth bumpy height field's tangent-space normals, encoded n * 0.5 + 0.5 in 8 bits."""
+# the normal-map cases: (steepest slope of the bumps, Principled BSDF with a specular layer or Diffuse BSDF)
+NORMAL_MAPS = {"normal_map": (31.0, False), "normal_map_48": (48.0, False), "normal_map_48_glossy": (48.0, True)}
+
+
+def normal_map_image(n: int = 16, slope: float = 31.0) -> np.ndarray:
+    """A smooth bumpy height field's tangent-space normals, encoded n * 0.5 + 0.5 in 8 bits; its steepest slope
+    (along u or v) is `slope` degrees."""
     y, x = np.mgrid[0:n, 0:n] * (2 * np.pi / n)
-    dx, dy = 0.6 * np.cos(x) * np.cos(y), -0.6 * np.sin(x) * np.sin(y)
+    a = math.tan(math.radians(slope))
+    dx, dy = a * np.cos(x) * np.cos(y), -a * np.sin(x) * np.sin(y)
     nrm = np.stack([-dx, -dy, np.ones_like(dx)], -1)
     nrm /= np.linalg.norm(nrm, axis=-1, keepdims=True)
     return np.round((nrm * 0.5 + 0.5) * 255).astype(np.uint8)
@@ -56,7 +62,8 @@ def our_material(case: str, png: Path) -> Material:
         return Material("painted", albedo=ImageTexture(str(png), colorspace="sRGB", interpolation=case))
     if case == "checker":
         return Material("painted", albedo=CheckerTexture(*CHECKER, scale=5.0, coords="generated"))
-    return Material("painted", albedo=(0.7, 0.7, 0.7),
+    glossy = NORMAL_MAPS[case][1]
+    return Material("painted", albedo=(0.7, 0.7, 0.7), roughness=0.3, specular=0.5 if glossy else 0.0,
                     normal=NormalMap(ImageTexture(str(png), colorspace="Non-Color"), strength=1.0))
 
 
@@ -77,8 +84,14 @@ def cycles_material(case: str, png: Path) -> None:
     im.colorspace_settings.name = "sRGB" if case in ("Linear", "Closest") else "Non-Color"
     node = tree.nodes.new("ShaderNodeTexImage")
     node.image, node.interpolation, node.extension = im, "Closest" if case == "Closest" else "Linear", "REPEAT"
-    if case == "normal_map":
+    if case in NORMAL_MAPS:
         diffuse.inputs["Color"].default_value = (0.7, 0.7, 0.7, 1.0)
+        if NORMAL_MAPS[case][1]:  # a Principled BSDF at Blender's defaults, but for these two inputs
+            diffuse = tree.nodes.new("ShaderNodeBsdfPrincipled")
+            diffuse.inputs["Base Color"].default_value = (0.7, 0.7, 0.7, 1.0)
+            diffuse.inputs["Roughness"].default_value = 0.3
+            out = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial")
+            tree.links.new(diffuse.outputs[0], out.inputs["Surface"])
         nm = tree.nodes.new("ShaderNodeNormalMap")
         nm.space, nm.uv_map = "TANGENT", "UVMap"
         nm.inputs["Strength"].default_value = 1.0
@@ -105,12 +118,12 @@ def to_cycles(scene: Scene, case: str, png: Path):
     return sc
 
 
-@pytest.mark.parametrize("case", ["Linear", "Closest", "checker", "normal_map"])
+@pytest.mark.parametrize("case", ["Linear", "Closest", "checker", *NORMAL_MAPS])
 def test_textured_plane_agrees_with_cycles(tmp_path, case):
     from PIL import Image
 
     png = tmp_path / "texture.png"  # both renderers read the same file
-    Image.fromarray(normal_map_image() if case == "normal_map" else IMAGE, "RGB").save(png)
+    Image.fromarray(normal_map_image(slope=NORMAL_MAPS[case][0]) if case in NORMAL_MAPS else IMAGE, "RGB").save(png)
     scene = textured_scene(our_material(case, png))
     ours = Renderer(scene, Settings(method="reference")).render_still(0, samples=64).color
     cyc = cycles.render(to_cycles(scene, case, png), samples=256, seed=1, threads=2, workdir=tmp_path).image

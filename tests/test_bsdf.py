@@ -23,8 +23,7 @@ inline Surface test_surface(float4 n4, float4 albedo4)
 {
     Surface s;
     s.x = (float3)(0.0f);
-    s.n = n4.xyz;
-    s.ng = n4.xyz;
+    surface_set_normal(&s, n4.xyz);
     s.wo = n4.xyz;
     s.mat.albedo = albedo4.xyz;
 #ifdef HAS_GLOSSY

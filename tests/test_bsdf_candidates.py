@@ -14,7 +14,10 @@ from restircl.features import general_flags
 from restircl.lights import scene_lights
 from restircl.program import build_program
 
+from .bsdf_kernels import SRC as BSDF_SRC
+from .bsdf_kernels import BsdfKernels, Closure, view
 from .helpers import allowed_outliers, batch_stats, below_only_scene, collect, luminance, mean_and_se, run_means
+from .stats import pooled_chi2
 
 SRC = """
 #include "types.h"
@@ -139,22 +142,31 @@ def large_lights_scene(width: int = 16, height: int = 12, glossy: bool = False) 
 
 
 W, H = 16, 12
-FRAMES, BATCHES = 4096, 64
-RUNS, RUN_FRAMES = 48, 64
+BATCHES = 64
+# Frame counts: the default suite runs "quick", a quarter of the frames of "full" (slow-marked, the figures in the
+# docstrings); both judge by the measured standard errors, so quick only has half the resolution for a bias.
+SIZES = {
+    "quick": dict(frames=1024, runs=24, run_frames=32, reference=2048, glossy_reference=1024),
+    "full": dict(frames=4096, runs=48, run_frames=64, reference=8192, glossy_reference=4096),
+}
+SIZE_PARAMS = [pytest.param("full", marks=pytest.mark.slow), "quick"]
 
 
 @pytest.fixture(scope="module")
-def reference(device):
-    ref = collect(large_lights_scene(W, H), Settings(method="reference", seed=17, jitter=False), 8192, device)
-    return batch_stats(luminance(ref), BATCHES)
+def references(device):
+    """reference(glossy, size): batch statistics of the exhaustive sampler (the glossy twin's is noisier on the
+    glossy floor: half the frames), rendered once per module."""
+    cache: dict[tuple[bool, str], tuple[np.ndarray, np.ndarray]] = {}
 
+    def get(glossy: bool, size: str) -> tuple[np.ndarray, np.ndarray]:
+        if (glossy, size) not in cache:
+            frames = SIZES[size]["glossy_reference" if glossy else "reference"]
+            s = Settings(method="reference", seed=19 if glossy else 17, jitter=False)
+            cache[glossy, size] = batch_stats(luminance(collect(large_lights_scene(W, H, glossy), s, frames,
+                                                                device)), BATCHES)
+        return cache[glossy, size]
 
-@pytest.fixture(scope="module")
-def glossy_reference(device):
-    """The glossy twin's reference: the exhaustive sampler is noisier on a glossy floor, 4096 frames."""
-    ref = collect(large_lights_scene(W, H, glossy=True), Settings(method="reference", seed=19, jitter=False), 4096,
-                  device)
-    return batch_stats(luminance(ref), BATCHES)
+    return get
 
 
 def assert_unbiased(mean: np.ndarray, se: np.ndarray, ref: tuple[np.ndarray, np.ndarray], n_stats: int,
@@ -180,12 +192,13 @@ RIS_CASES = {
 }
 
 
+@pytest.mark.parametrize("size", SIZE_PARAMS)
 @pytest.mark.parametrize("case", list(RIS_CASES))
-def test_ris_with_bsdf_candidates_matches_reference(device, request, case):
+def test_ris_with_bsdf_candidates_matches_reference(device, references, case, size):
     glossy = case.startswith("glossy")
-    reference = request.getfixturevalue("glossy_reference" if glossy else "reference")
+    reference = references(glossy, size)
     s = Settings(method="ris", candidates=4, bsdf_sampling="on", seed=23, jitter=False, **RIS_CASES[case])
-    x = collect(large_lights_scene(W, H, glossy), s, FRAMES, device)
+    x = collect(large_lights_scene(W, H, glossy), s, SIZES[size]["frames"], device)
     assert np.all(np.isfinite(x))
     m, se = batch_stats(luminance(x), BATCHES)
     assert_unbiased(m, se, reference, BATCHES, case)
@@ -203,16 +216,18 @@ RESTIR_CASES = {
 }
 
 
+@pytest.mark.parametrize("size", SIZE_PARAMS)
 @pytest.mark.parametrize("case", list(RESTIR_CASES))
-def test_restir_with_bsdf_candidates_matches_reference(device, request, case):
+def test_restir_with_bsdf_candidates_matches_reference(device, references, case, size):
     glossy = case.startswith("glossy")
-    reference = request.getfixturevalue("glossy_reference" if glossy else "reference")
+    reference = references(glossy, size)
+    runs, run_frames = SIZES[size]["runs"], SIZES[size]["run_frames"]
     s = Settings(method="restir", **{"bsdf_sampling": "on", "jitter": False, "taa": False, "seed": 29,
                                      **RESTIR_CASES[case]})
-    runs = luminance(run_means(large_lights_scene(W, H, glossy), s, RUNS, RUN_FRAMES, device))
-    assert np.all(np.isfinite(runs))
-    m, se = mean_and_se(runs)
-    assert_unbiased(m, se, reference, RUNS, case)
+    means = luminance(run_means(large_lights_scene(W, H, glossy), s, runs, run_frames, device))
+    assert np.all(np.isfinite(means))
+    m, se = mean_and_se(means)
+    assert_unbiased(m, se, reference, runs, case)
 
 
 @pytest.mark.parametrize("glossy", [False, True])
@@ -240,3 +255,93 @@ def test_lights_behind_the_surface_stay_exact_zero_with_bsdf_candidates(device):
     for method in ("ris", "restir"):
         samples = collect(below_only_scene(), Settings(method=method, bsdf_sampling="on", seed=3), 8, device)
         assert np.all(samples == 0.0), method
+
+
+# ---- the BSDF strategy's density of a light sample: what the MIS weights assume ------------------------------
+
+PICK_SRC = BSDF_SRC + """
+#include "bvh.h"
+#include "reservoir.h"
+#include "light_hit.h"
+#include "target.h"
+#include "visibility.h"
+#include "bsdf_candidates.h"
+
+/* density = 0, per host uniform pair in[i]: the light sample (u, v) a BSDF direction of the test surface meets on
+ * lights[0], z = 1 (z = 0 where it meets nothing). density = 1, per (u, v) in[i]: in x the BSDF strategy's density
+ * of that sample as the MIS weights take it (bsdf_pdf_light_measure, in the light's measure) per unit square of
+ * (u, v): divided by light_point_pdf, the light measure's density of a uniform (u, v) for these lights. */
+__kernel void bsdf_light(const __global float* p, int count, const __global float* tab, float4 wo4,
+                         const __global Light* lights, int density, const __global float2* in, __global float4* out)
+{
+    int i = get_global_id(0);
+    Surface s = test_surface(p, count, tab, wo4.xyz);
+    const __global Light* l = &lights[0];
+    int type = light_type(l);
+    if (density) {
+        LightEval e;
+        float d = 0.0f;
+        if (light_eval(l, in[i].x, in[i].y, s.x, s.n, &e))
+            d = bsdf_pdf_light_measure(&s, &e) / light_point_pdf(l, type, s.x, &e);
+        out[i] = (float4)(d, 0.0f, 0.0f, 0.0f);
+        return;
+    }
+    float3 wi;
+    float pdf;
+    bsdf_sample(&s, s.wo, in[i].x, in[i].y, &wi, &pdf);
+    float2 uv = (float2)(0.0f);
+    bool hit = pdf > 0.0f && light_hit(l, type, s.x, wi, &uv);
+    out[i] = (float4)(uv, hit ? 1.0f : 0.0f, 0.0f);
+}
+"""
+
+# lights whose light_sample takes (u, v) uniform (light_point_pdf is then the density of the map), around the mirror
+# direction of the test view (40 degrees from the normal along +x, so reflected towards -x)
+PICK_LIGHTS = {
+    "quad": Light("q", "area", power=10.0, transforms=translation(-0.7, 0.1, 0.9), shape="RECTANGLE", size=0.9,
+                  size_y=0.6),
+    "disk": Light("d", "area", power=10.0, transforms=translation(-0.6, -0.2, 0.8), shape="ELLIPSE", size=0.8,
+                  size_y=0.5),
+    "sun": Light("sun", "sun", power=2.0, transforms=look_at((-0.64, 0.0, 0.77), (0, 0, 0)), angle=0.35),
+}
+PICK_SURFACES = {
+    "glossy": [Closure(base=(0.5, 0.5, 0.5), roughness=0.3)],
+    "metal": [Closure(base=(0.9, 0.7, 0.5), metallic=1.0, roughness=0.2)],
+    "diffuse": [Closure(kind="diffuse", base=(0.7, 0.7, 0.7))],
+}
+PICK_N, PICK_CELLS, PICK_SUB = 1 << 20, 12, 6
+
+
+@pytest.mark.parametrize("surface", list(PICK_SURFACES))
+@pytest.mark.parametrize("name", list(PICK_LIGHTS))
+def test_bsdf_light_pick_has_the_density_the_mis_weights_assume(device, name, surface):
+    """Chi-square of the (u, v) that BSDF directions meet on a light, in 12 x 12 cells plus 'missed', against the
+    cells' probabilities integrated (6 x 6 midpoints each) from the density the MIS weights use: a wrong inverse
+    map (light_hit), a wrong measure conversion (cos_l / d^2) or a pdf that is not bsdf_sample's would fail it."""
+    recs = scene_lights(Scene(lights=[PICK_LIGHTS[name]]), 0).records
+    k = BsdfKernels(device, PICK_SRC)
+    mf = cl.mem_flags
+    lb = cl.Buffer(device.context, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=recs)
+    params, count, wo = k._params(PICK_SURFACES[surface]), np.int32(len(PICK_SURFACES[surface])), view(40.0)
+
+    def run(density: int, points: np.ndarray) -> np.ndarray:
+        ib = cl.Buffer(device.context, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=points.astype(np.float32))
+        out = np.empty((len(points), 4), np.float32)
+        ob = cl.Buffer(device.context, mf.WRITE_ONLY, out.nbytes)
+        cl.Kernel(k.prog, "bsdf_light")(device.queue, (len(points),), None, params, count, k.tab,
+                                        clt.make_float4(*wo, 0.0), lb, np.int32(density), ib, ob)
+        cl.enqueue_copy(device.queue, out, ob)
+        return out
+
+    out = run(0, np.minimum(np.random.default_rng(41).random((PICK_N, 2)), 0.99999994))
+    hit = out[:, 2] > 0
+    cells = np.clip((out[hit, :2] * PICK_CELLS).astype(int), 0, PICK_CELLS - 1)
+    observed = np.bincount(cells[:, 0] * PICK_CELLS + cells[:, 1], minlength=PICK_CELLS**2)
+    c = (np.arange(PICK_CELLS * PICK_SUB) + 0.5) / (PICK_CELLS * PICK_SUB)
+    dens = run(1, np.stack(np.meshgrid(c, c, indexing="ij"), -1).reshape(-1, 2))[:, 0]
+    prob = dens.astype(np.float64).reshape(PICK_CELLS, PICK_SUB, PICK_CELLS, PICK_SUB).mean(axis=(1, 3))
+    prob = prob.ravel() / PICK_CELLS**2
+    assert 0.02 < prob.sum() < 0.98 and hit.mean() > 0.02, (name, surface, prob.sum(), hit.mean())
+    stat, p, dof = pooled_chi2(np.append(observed, (~hit).sum()), np.append(prob, 1.0 - prob.sum()))
+    print(f"{name} {surface}: hit {hit.mean():.4f} expected {prob.sum():.4f} chi2 {stat:.1f} dof {dof} p {p:.3g}")
+    assert p > 1e-3, (name, surface, stat, dof)

@@ -59,7 +59,7 @@ def moving_object() -> Scene:
 
 SCENES = {
     "points_only": (points_only, {"HAS_SPHERE_LIGHTS"}),
-    "meshes_only": (meshes_only, {"HAS_TRIANGLE_LIGHTS"}),
+    "meshes_only": (meshes_only, {"HAS_TRIANGLE_LIGHTS", "HAS_GLOSSY"}),  # many_lights has glossy objects
     "area_sun_spot": (area_sun_spot, {"HAS_QUAD_LIGHTS", "HAS_DISK_LIGHTS", "HAS_SUN_LIGHTS", "HAS_SPOT_LIGHTS"}),
     "still_animation": (still_animation, {"HAS_QUAD_LIGHTS", "HAS_DISK_LIGHTS", "HAS_SUN_LIGHTS",
                                           "HAS_SPOT_LIGHTS"}),

@@ -24,15 +24,29 @@ from .helpers import (
 
 W, H = 16, 12
 RUNS, FRAMES = 48, 96
+# The unbiasedness checks run at two sizes: "quick" in the default suite (half the runs of half the frames, a
+# quarter of the reference), "full" behind the slow marker (the figures in the comments below). Both judge by the
+# measured standard errors; quick has half of full's resolution for a bias.
+SIZES = {"quick": (24, 48, 2048), "full": (RUNS, FRAMES, 8192)}  # runs, frames per run, reference frames
+SIZE_PARAMS = [pytest.param("full", marks=pytest.mark.slow), "quick"]
+SCENES = {"occluders": occluder_scene, "mixed_lights": mixed_lights_scene}
 
 
 @pytest.fixture(scope="module")
 def references(device):
-    out = {}
-    for scene in (occluder_scene(W, H), mixed_lights_scene(W, H)):
-        ref = collect(scene, Settings(method="reference", seed=55, jitter=False), 8192, device)
-        out[scene.name] = batch_stats(luminance(ref), 32)
-    return out
+    """references[name] (full size) or references[name, size]: batch statistics of the exhaustive sampler,
+    rendered once per module."""
+
+    class Cache(dict):
+        def __missing__(self, key):
+            name, size = key if isinstance(key, tuple) else (key, "full")
+            if (name, size) not in self:
+                ref = collect(SCENES[name](W, H), Settings(method="reference", seed=55, jitter=False),
+                              SIZES[size][2], device)
+                dict.__setitem__(self, (name, size), batch_stats(luminance(ref), 32))
+            return dict.__getitem__(self, (name, size))
+
+    return Cache()
 
 
 def assert_matches(runs: np.ndarray, ref: tuple[np.ndarray, np.ndarray], label: str) -> None:
@@ -42,7 +56,7 @@ def assert_matches(runs: np.ndarray, ref: tuple[np.ndarray, np.ndarray], label: 
     sigma = np.sqrt(sa**2 + sb**2)
     live = sigma > 0
     z = np.abs(a - b)[live] / sigma[live]
-    assert (z > 4).sum() <= allowed_outliers(int(live.sum()), RUNS), (label, np.sort(z)[-5:])
+    assert (z > 4).sum() <= allowed_outliers(int(live.sum()), len(runs)), (label, np.sort(z)[-5:])
     img = lum.mean(axis=(1, 2))
     se_img = img.std(ddof=1) / np.sqrt(len(img))
     assert abs(img.mean() - b.mean()) <= 4 * np.hypot(se_img, sb.mean() / np.sqrt(b.size)), (label, img.mean(),
@@ -60,31 +74,34 @@ CONFIGS = {
 }
 
 
+@pytest.mark.parametrize("size", SIZE_PARAMS)
 @pytest.mark.parametrize("scene_name", ["occluders", "mixed_lights"])
 @pytest.mark.parametrize("config", list(CONFIGS))
 @pytest.mark.parametrize("visibility", [True, False])
 @pytest.mark.parametrize("bias_correction", ["pairwise", "z_count"])
-def test_unbiased_mode_matches_reference(device, references, scene_name, config, visibility, bias_correction):
+def test_unbiased_mode_matches_reference(device, references, scene_name, config, visibility, bias_correction,
+                                         size):
     if bias_correction == "z_count" and scene_name == "mixed_lights":
         pytest.skip("1/Z is checked on the occluder scene; the default (pairwise) on both")
     scene = occluder_scene(W, H) if scene_name == "occluders" else mixed_lights_scene(W, H)
     cap = dict(m_cap=4.0) if bias_correction == "z_count" and config == "spatiotemporal" else {}
     s = Settings(method="restir", bias_correction=bias_correction, visibility_reuse=visibility, jitter=False,
                  taa=False, seed=3, **CONFIGS[config], **cap)
-    runs = run_means(scene, s, RUNS, FRAMES, device)
+    runs = run_means(scene, s, SIZES[size][0], SIZES[size][1], device)
     assert np.all(np.isfinite(runs))
-    assert_matches(runs, references[scene_name], f"{scene_name} {config} vis={visibility} {bias_correction}")
+    assert_matches(runs, references[scene_name, size], f"{scene_name} {config} vis={visibility} {bias_correction}")
 
 
-def test_unbiased_mode_with_light_tiles_matches_reference(device, references):
+@pytest.mark.parametrize("size", SIZE_PARAMS)
+def test_unbiased_mode_with_light_tiles_matches_reference(device, references, size):
     """Initial candidates from presampled light tiles (light_tiles.h; small tiles: 4 x 32 draws per frame for the
     16x12 image's 3 pixel strips), then temporal and spatial reuse: still unbiased."""
     scene = mixed_lights_scene(W, H)
     s = Settings(method="restir", jitter=False, taa=False, seed=8, light_tiles="on", light_tile_count=4,
                  light_tile_size=32)
-    runs = run_means(scene, s, RUNS, FRAMES, device)
+    runs = run_means(scene, s, SIZES[size][0], SIZES[size][1], device)
     assert np.all(np.isfinite(runs))
-    assert_matches(runs, references["mixed_lights"], "mixed_lights light tiles")
+    assert_matches(runs, references["mixed_lights", size], "mixed_lights light tiles")
 
 
 @pytest.mark.parametrize("scene_name", ["occluders", "mixed_lights"])
@@ -114,7 +131,7 @@ def test_biased_mode_darkens_by_a_bounded_amount(device, references):
     scene = occluder_scene(W, H)
     s = Settings(method="restir", bias_correction="none", jitter=False, taa=False, seed=5)
     runs = luminance(run_means(scene, s, RUNS, FRAMES, device)).mean(axis=(1, 2))
-    b, sb = references["occluders"]
+    b, sb = references["occluders", "quick"]  # the image mean of 2048 frames: far inside the bounds below
     bias = runs.mean() / b.mean() - 1.0
     se = runs.std(ddof=1) / np.sqrt(len(runs)) / b.mean()
     print(f"biased mode: relative bias of the image mean {bias:+.4f} +- {se:.4f}")

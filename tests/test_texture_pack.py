@@ -260,3 +260,24 @@ def test_uv_textures_on_a_mesh_without_uvs_warn():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         Renderer(scene, Settings(method="light_array"))
+
+
+def test_textured_emission_lights_with_its_white_bound_and_says_so():
+    """What docs/textures.md states: as a light, a textured emission shines with white x Emission Strength (its
+    light records are those of a constant white emission), and the upload warns, naming the material."""
+    from restircl.lights import scene_lights
+    from restircl.texture_pack import warn_textured_emission
+
+    img = np.random.default_rng(4).random((4, 4, 3)).astype(np.float32)
+    textured = facing_square(Material("glow", albedo=(0.0, 0.0, 0.0), emission=ImageTexture(img),
+                                      emission_strength=3.0), 8)
+    white = facing_square(Material("glow", albedo=(0.0, 0.0, 0.0), emission=(1.0, 1.0, 1.0),
+                                   emission_strength=3.0), 8)
+    a, b = scene_lights(textured, 0).records, scene_lights(white, 0).records
+    assert len(a) == len(b) > 1  # the two emissive triangles (and the sun)
+    np.testing.assert_array_equal(a, b)
+    with pytest.warns(UserWarning, match="material 0 'glow' has a textured emission"):
+        warn_textured_emission(textured.meshes, textured.materials)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        warn_textured_emission(white.meshes, white.materials)

@@ -19,7 +19,7 @@ from .light_tree import LightTree, build_light_tree
 from .lights import DeviceLights, scene_lights
 from .material_pack import pack_materials
 from .scene import Scene
-from .texture_pack import PackedTextures, TexturePacker, warn_missing_uv_maps
+from .texture_pack import PackedTextures, TexturePacker, warn_missing_uv_maps, warn_textured_emission
 from .tri_attributes import needs_attributes, object_infos, tri_attributes
 
 
@@ -113,6 +113,7 @@ class DeviceScene:
             return
         packer = TexturePacker(self.scene.materials)
         warn_missing_uv_maps(self.scene.meshes, self.scene.materials)
+        warn_textured_emission(self.scene.meshes, self.scene.materials)
         packed = pack_materials(self.scene.materials, packer.index)
         self._textures = tex = packer.packed()
         self.nonfinite_texels = tex.nonfinite_texels

@@ -92,19 +92,23 @@ def many_lights(
 ) -> Scene:
     """A ground with boxes and spheres lit by `lamps` glowing icosahedra (20 emissive triangles each, strengths
     log-uniform over 0.5..500) and `point_lights` point lights (powers log-uniform over 0.01..1000 W), seen by a
-    camera flying over it for `frames` frames."""
+    camera flying over it for `frames` frames. A quarter of the objects are rough gold metal, a quarter glossy
+    blue plastic (Principled BSDF), as a user's scene would have them."""
     rng = np.random.default_rng(seed)
     extent = 20.0
     materials = [Material("ground", (0.6, 0.6, 0.6)), Material("white", (0.8, 0.8, 0.8)),
-                 Material("red", (0.8, 0.2, 0.15)), Material("blue", (0.15, 0.3, 0.8))]
+                 Material("red", (0.8, 0.2, 0.15)), Material("blue", (0.15, 0.3, 0.8)),
+                 Material("gold", (0.95, 0.7, 0.35), metallic=1.0, roughness=0.3),
+                 Material("plastic", (0.1, 0.25, 0.7), roughness=0.15, specular=0.5)]
     # ground
     gv, gt = quad(2 * extent, 2 * extent)
     meshes = [Mesh("ground", gv, gt, 0)]
     # boxes and spheres
     parts = []
-    for _ in range(objects):
+    for k in range(objects):
         x, y = rng.uniform(-extent * 0.8, extent * 0.8, 2)
         mat = int(rng.integers(1, 4))
+        mat = {1: 4, 3: 5}.get(k % 4, mat)  # the glossy ones, chosen without another draw (the layout stays)
         if rng.random() < 0.5:
             sx, sy, sz = rng.uniform(0.5, 2.5, 3)
             v, t = box((sx, sy, sz))

@@ -251,3 +251,16 @@ def warn_missing_uv_maps(meshes: list, materials: list[Material]) -> None:
             if uses_uv_map(m):
                 warnings.warn(f"mesh {mesh.name!r} has no UV map but material {int(i)} {m.name!r} reads one: its "
                               f"UV textures read (0, 0) there and its normal map does nothing", stacklevel=3)
+
+
+def warn_textured_emission(meshes: list, materials: list[Material]) -> None:
+    """A mesh whose material has a textured emission: camera rays see the texture, but as a light each of its
+    triangles shines with the constant bound, white times Emission Strength (Material.radiance): it lights other
+    surfaces as if it were white (docs/textures.md). Worth a warning naming the material, once each."""
+    used = {int(i) for mesh in meshes for i in np.unique(mesh.material_ids)}
+    for i in sorted(used):
+        m = materials[i]
+        if is_texture(m.emission) and m.emission_strength > 0:
+            warnings.warn(f"material {i} {m.name!r} has a textured emission: the camera sees the texture, but it "
+                          f"lights other surfaces as if it were white, with strength {m.emission_strength:g}",
+                          stacklevel=3)
