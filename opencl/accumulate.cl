@@ -13,15 +13,18 @@ __kernel void accumulate(const __global float4* sample, __global float4* sum, __
 
 /* The still render's running sums of the denoiser's guide images (python/restircl/denoise.py): the surface's
  * albedo and shading normal, summed over the jittered samples as the colour is, so that at edges they mix the two
- * sides in the colour's proportions. The albedo of a glossy surface adds its lobes' reflectance at normal
+ * sides in the colour's proportions; and the emission the camera sees, which the denoiser leaves out (it is no
+ * noise, and a small bright lamp smeared over its dark neighbours is a large error). The albedo of a glossy surface adds its lobes' reflectance at normal
  * incidence (F0 times weight): a metal's diffuse albedo is 0, and a guide of 0 would tell the denoiser the
  * surface is black. */
 __kernel void accumulate_aux(const __global GSample* gbuf, const __global GlossySample* glossy,
-                             __global float4* albedo_sum, __global float4* normal_sum, FrameParams frame_params)
+                             __global float4* albedo_sum, __global float4* normal_sum, __global float4* emission_sum,
+                             FrameParams frame_params)
 {
     int i = get_global_id(0);
     if (i >= frame_params.pixels) return;
     GSample g = gbuf[i];
+    if (finite3_f(g.emission.xyz)) emission_sum[i] += (float4)(g.emission.xyz, 0.0f);
     if (as_int(g.normal.w) < 0) return;  /* a miss: black albedo, zero normal */
     float4 a = (float4)(g.albedo.xyz, 0.0f);
 #ifdef HAS_GLOSSY

@@ -47,15 +47,22 @@ def denoise_image(color: np.ndarray, albedo: np.ndarray | None = None, normal: n
     return np.where(np.isfinite(out), np.maximum(out, 0.0), 0.0).astype(np.float32)
 
 
-def denoise_frame(frame: Frame, albedo: np.ndarray | None, normal: np.ndarray | None) -> bool:
-    """Denoise `frame.color` in place (alpha kept), keeping the input as `frame.noisy_image`. Returns False, with a
-    warning, when pyoidn is missing or fails: the frame is then left as it was."""
+def denoise_frame(frame: Frame, albedo: np.ndarray | None, normal: np.ndarray | None,
+                  emission: np.ndarray | None = None) -> bool:
+    """Denoise `frame.color` in place (alpha kept), keeping the input as `frame.noisy_image`. The emission the
+    camera sees directly (`emission`, (H, W, 3)) is taken out before and added back after: it carries no noise of
+    the light estimate, and the denoiser would smear a small bright lamp over its dark neighbours. Returns False,
+    with a warning, when pyoidn is missing or fails: the frame is then left as it was."""
     if not available():
         warnings.warn(f"denoise: Intel Open Image Denoise is not installed ({INSTALL_HINT}); the image is not "
                       "denoised", stacklevel=2)
         return False
+    em = None if emission is None else np.nan_to_num(np.maximum(np.asarray(emission, np.float32), 0.0))
     try:
-        clean = denoise_image(frame.color, albedo, normal)
+        lit = frame.color[..., :3] if em is None else np.maximum(frame.color[..., :3] - em, 0.0)
+        clean = denoise_image(lit, albedo, normal)
+        if em is not None:
+            clean = clean + em
     except Exception as exc:  # a library error must not lose the render
         warnings.warn(f"denoise: Open Image Denoise failed ({type(exc).__name__}: {exc}); the image is not "
                       "denoised", stacklevel=2)

@@ -156,10 +156,12 @@ class Renderer:
 
     def _denoise(self, out: Frame, gbuf: cl.Buffer) -> None:
         """Denoise an animation frame guided by its own G-buffer's albedo and normal (denoise.py)."""
-        if out.albedo is not None and out.normal is not None:
-            denoise_frame(out, out.albedo, out.normal)
-        else:
-            denoise_frame(out, *surface_images(self._read_gbuffer(gbuf)))
+        g = self._read_gbuffer(gbuf)
+        albedo, normal = surface_images(g)
+        emission = np.where(np.isfinite(g["emission"][..., :3]), g["emission"][..., :3], 0.0).astype(np.float32)
+        # the TAA output's emission is antialiased over frames, this frame's is one jittered sample: at a lamp's
+        # edge the difference is clamped at 0 and goes through the denoiser
+        denoise_frame(out, albedo, normal, emission)
 
     def _render(self, frame: int, still: bool, jitter_px: tuple[float, float] | None = None
                 ) -> tuple[dict[str, float], cl.Buffer, cl.Buffer]:

@@ -51,13 +51,13 @@ class StillAccumulation:
         self.sum = alloc(context, pixels * 16)
         self.sum_half = alloc(context, pixels * 16)
         self.counts = (0, 0)  # (samples accumulated, of which in half buffer 1)
-        self.aux: tuple[cl.Buffer, cl.Buffer] | None = None  # sums of the denoiser's albedo and normal guides
+        self.aux: tuple[cl.Buffer, ...] | None = None  # sums of the denoiser's albedo, normal and emission images
 
     def clear(self, aux: bool = False) -> None:
         """Start a still render; with `aux`, also sum the denoiser's guide images (add_aux)."""
         if aux and self.aux is None:
             context = self.kernels.device.context
-            self.aux = (alloc(context, self.pixels * 16), alloc(context, self.pixels * 16))
+            self.aux = tuple(alloc(context, self.pixels * 16) for _ in range(3))
         for b in (self.sum, self.sum_half, *(self.aux if aux and self.aux else ())):
             cl.enqueue_fill_buffer(self.kernels.device.queue, b, np.float32(0), 0, self.pixels * 16)
         self.counts = (0, 0)
@@ -65,16 +65,18 @@ class StillAccumulation:
     def add_aux(self, gbuf: cl.Buffer, glossy: cl.Buffer, frame_params: np.void) -> None:
         assert self.aux is not None
         self.kernels.launch("accumulate_aux", (self.pixels,), gbuf=gbuf, glossy=glossy, albedo_sum=self.aux[0],
-                            normal_sum=self.aux[1], frame_params=frame_params)
+                            normal_sum=self.aux[1], emission_sum=self.aux[2], frame_params=frame_params)
 
-    def aux_images(self, done: int) -> tuple[np.ndarray, np.ndarray]:
-        """(H, W, 3) mean albedo and mean normal (renormalised; 0 where every sample missed) over `done` samples."""
+    def aux_images(self, done: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(H, W, 3) mean albedo, mean normal (renormalised; 0 where every sample missed) and mean emission seen by
+        the camera over `done` samples."""
         assert self.aux is not None
         albedo = self._read(self.aux[0]).reshape(*self.shape, 4)[..., :3] / max(done, 1)
         n = self._read(self.aux[1]).reshape(*self.shape, 4)[..., :3]
         length = np.linalg.norm(n, axis=-1, keepdims=True)
         normal = np.where(length > 0, n / np.maximum(length, 1e-30), 0.0).astype(np.float32)
-        return albedo.astype(np.float32), normal
+        emission = self._read(self.aux[2]).reshape(*self.shape, 4)[..., :3] / max(done, 1)
+        return albedo.astype(np.float32), normal, emission.astype(np.float32)
 
     def add(self, sample: cl.Buffer, frame_params: np.void, half: int) -> None:
         self.kernels.launch("accumulate", (self.pixels,), sample=sample, sum=self.sum, sum_half=self.sum_half,
@@ -182,7 +184,7 @@ def render_still(
     out.ms = (time.perf_counter() - t0) * 1e3 / done
     out.error_estimate = acc.error_estimate(done, n_half) if done >= 2 else None
     if denoise:
-        albedo, normal = acc.aux_images(done)
-        if denoise_frame(out, albedo, normal):  # the passes show the guides the denoiser saw, as in Cycles
+        albedo, normal, emission = acc.aux_images(done)
+        if denoise_frame(out, albedo, normal, emission):  # the passes show the guides the denoiser saw, as in Cycles
             out.albedo, out.normal = albedo, normal
     return out
