@@ -63,7 +63,8 @@ class Renderer:
 
     def __init__(self, scene: Scene, settings: Settings | None = None, device: Device | str | None = None, *,
                  interactive: bool = False) -> None:
-        """interactive: the view may change every frame (render_view), so motion vectors are always compiled."""
+        """interactive: the view may change every frame (render_view) and objects may be moved by edits
+        (device_scene.edit), so motion vectors and object motion are always compiled."""
         self.scene = scene.validate()
         self.interactive = interactive
         self._prev_view: Camera | None = None  # render_view: the view of the last frame
@@ -103,8 +104,8 @@ class Renderer:
         moving_camera = self.interactive or (s.camera is not None
                                              and bool(np.any(s.camera.transforms != s.camera.transforms[:1])))
         if self.settings.specialise:
-            flags = derive_flags(ds.lights.type_set, moving_camera or ds.moving_objects, ds.moving_objects,
-                                 ds.material_flags)
+            flags = derive_flags(ds.lights.type_set, moving_camera or ds.moving_objects,
+                                 ds.moving_objects or self.interactive, ds.material_flags)
         else:
             flags = general_flags()
         self.flags = flags
@@ -235,7 +236,7 @@ class Renderer:
         else:
             camera_moved = not np.array_equal(Scene.at(cam.transforms, state.prev_frame),
                                               Scene.at(cam.transforms, state.frame))
-        return camera_moved or ds.moving_lights or ds.moving_objects
+        return camera_moved or ds.moving_lights or ds.moving_objects or ds.edited
 
     def _use_light_tiles(self, method: str, light_count: int) -> bool:
         """RIS candidates from presampled tiles: only for the RIS-based methods, and ("auto") only where the light
