@@ -27,6 +27,12 @@ class EngineSettings:
     warmup_frames: int = setting(0, "Warm-up Frames", "Frames before the first frame of an animation render that are "
                                  "rendered (with their motion) and discarded, to fill the ReSTIR and TAA history",
                                  range=Range(int, 0, 256), panel="sampling")
+    viewport_samples: int = setting(128, "Viewport Samples", "Rendered viewport: frames averaged while the view "
+                                    "stays still, after which the viewport stops rendering until something changes",
+                                    range=Range(int, 1, 1 << 20), panel="viewport", soft_max=4096)
+    viewport_pixel_size: int = setting(2, "Pixel Size", "Rendered viewport: render one pixel per this many screen "
+                                       "pixels in each direction (as Cycles' Pixel Size; 2 renders a quarter of "
+                                       "them)", range=Range(int, 1, 16), panel="viewport", soft_max=8)
     device: str = setting("", "Device", "OpenCL device: 'P:D' (platform:device index) or part of its name; empty = "
                           "$RESTIRCL_DEVICE or the default choice", panel="device")
 
