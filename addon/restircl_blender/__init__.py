@@ -8,8 +8,8 @@ as a plain package in any bpy process:
     restircl_blender.register()
     bpy.context.scene.render.engine = "RESTIRCL"
 
-The engine class is thin; the work is in engine.py (render), viewport.py (the Rendered viewport), export/ (depsgraph -> restircl.Scene),
-properties.py (settings) and ui.py (panels).
+The engine class is thin; the work is in engine.py (render), viewport.py (the Rendered viewport), export/
+(depsgraph -> restircl.Scene), properties.py (settings) and ui.py (panels).
 """
 
 from __future__ import annotations
