@@ -137,7 +137,7 @@ class Renderer:
         """A frame of an interactive view (the viewport): frame 0 of the scene seen by `camera`, which may differ
         from the last call's view in transform, lens, shift or kind (of the renderer's size). The history is
         reprojected from the last call's view as in an animation, or dropped when `cut`; calls with an unchanged
-        view accumulate as a still camera's animation frames do."""
+        view accumulate as a still camera's animation frames do. The renderer's scene takes `camera` as its camera."""
         if (int(camera.width), int(camera.height)) != (self.width, self.height):
             raise SceneError(f"camera: the view is {camera.width}x{camera.height}, the renderer "
                              f"{self.width}x{self.height}; make a new Renderer for another size")
