@@ -226,19 +226,21 @@ class ViewportSession:
         if r is None or (r.width, r.height) != (int(view.width), int(view.height)):
             self.build(view)
             cut = True
+        edited = False
         for e in edits:
             outcome = apply_edit(self, e, view)
             self.stats.edits[outcome] = self.stats.edits.get(outcome, 0) + 1
             cut |= outcome in ("reset", "rebuilt")
+            edited |= outcome != "none"
         r = self.renderer
         assert r is not None
         changed = self._shown is None or views_differ(self._shown, view)
         if changed and self._shown is not None and not cut:
             cut = is_jump(self._shown, view, self._scene_size, self.jump_angle, self.jump_move)
-        if changed or edits or cut:
+        if changed or edited or cut:
             self._samples = 0
         # a still view averages its frames (a = 1/n); a moving one keeps TAA's floor
-        self.settings.alpha_min = self._alpha_min if (changed or edits) else 0.0
+        self.settings.alpha_min = self._alpha_min if (changed or edited) else 0.0
         frame = r.render_view(view, cut=cut)
         self._shown = view
         self._samples += 1

@@ -59,7 +59,8 @@ KERNELS = ("primary", "light_tiles_fill", "shade_direct", "shade_reference", "ac
 
 class Renderer:
     """Renders a Scene frame by frame on one OpenCL device, keeping ReSTIR and TAA history between frames. The scene
-    (with all its frames of animation) is taken as it is at construction: for an edited scene, make a new Renderer."""
+    (with all its frames of animation) is taken as it is at construction: for an edited scene, make a new Renderer,
+    or (an interactive session) edit it in place and say what changed with device_scene.edit."""
 
     def __init__(self, scene: Scene, settings: Settings | None = None, device: Device | str | None = None, *,
                  interactive: bool = False) -> None:
