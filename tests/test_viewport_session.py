@@ -12,22 +12,19 @@ import time
 import numpy as np
 import pytest
 
-pytest.importorskip("bpy")  # the add-on package imports bpy (this module itself does not use it)
+pytest.importorskip("bpy")  # the add-on package imports bpy (the session module itself does not use it)
+
+from .test_blender_support import ensure_registered  # noqa: E402  (puts addon/ on sys.path)
+
+ensure_registered()
 
 from restircl import Settings, look_at, scenes  # noqa: E402
 from restircl.layouts import float_bits_to_int  # noqa: E402
 from restircl_blender.viewport_edit import SceneEdit  # noqa: E402
 from restircl_blender.viewport_session import ViewportSession, scaled_size, view_camera  # noqa: E402
 
-from .test_blender_support import ensure_registered  # noqa: E402
-
 W, H = 40, 30
 TARGET = np.array([0.0, 0.0, 0.3])
-
-
-@pytest.fixture(autouse=True, scope="module")
-def _addon():
-    ensure_registered()
 
 
 def perspective(tan_x: float, shift=(0.0, 0.0), near=0.1, far=100.0) -> np.ndarray:
@@ -107,6 +104,28 @@ def test_views_land_where_their_matrices_project(kind):
     ys, xs = np.mgrid[0:H, 0:W]
     err = np.abs(px - np.stack([xs + 0.5, ys + 0.5], -1))[hit]
     assert err.max() < 2e-3, err.max()
+
+
+def test_an_orthographic_view_starts_its_rays_at_the_scene():
+    """Blender's orthographic view sees behind its origin (clip_end / 2 back); the session moves the rays' start
+    forward to the scene's bounding box: the same hits, depths measured from near the scene."""
+    view, proj = orbit_view(10), orthographic(2.5)
+    gbufs = []
+    for back in (50.0, 500.0):
+        sess = session(settings={"method": "light_array", "jitter": False})
+        try:
+            sess.set_view(view_camera(view, proj, W, H, ortho_back=back))
+            assert sess.wait(1) is not None and sess.error is None, sess.error
+            r = sess.renderer
+            gbufs.append(r._read_gbuffer(r.gbuf[1 - r._cur]))
+        finally:
+            assert sess.stop()
+    hit = float_bits_to_int(gbufs[0]["normal"][..., 3]) >= 0
+    assert hit.mean() > 0.5
+    assert np.array_equal(hit, float_bits_to_int(gbufs[1]["normal"][..., 3]) >= 0)
+    np.testing.assert_allclose(gbufs[0]["pos"][..., :3][hit], gbufs[1]["pos"][..., :3][hit], atol=1e-3)
+    np.testing.assert_allclose(gbufs[0]["pos"][..., 3][hit], gbufs[1]["pos"][..., 3][hit], atol=1e-3)
+    assert gbufs[1]["pos"][..., 3][hit].max() < 20.0  # the scene is 12 m across, not 500 m away
 
 
 def test_an_orbit_keeps_history_and_a_jump_resets_it():

@@ -66,13 +66,30 @@ def is_jump(a: Camera, b: Camera, scene_size: float, max_angle: float = 30.0, ma
     return math.degrees(math.acos(cos)) > max_angle or moved > max_move * max(scene_size, 1e-6)
 
 
-def scene_size(scene: Scene) -> float:
-    """The diagonal of the scene's bounding box at frame 0 (1 for an empty scene)."""
+def scene_bounds(scene: Scene) -> np.ndarray | None:
+    """(2, 3) corners of the bounding box of the scene's triangles at frame 0 (None for an empty scene)."""
     tris = scene.world_triangles(0)
     if len(tris) == 0:
-        return 1.0
+        return None
     pts = np.concatenate([tris.v0, tris.v1, tris.v2])
-    return float(np.linalg.norm(pts.max(0) - pts.min(0))) or 1.0
+    return np.stack([pts.min(0), pts.max(0)])
+
+
+def fit_ortho(camera: Camera, bounds: np.ndarray | None) -> Camera:
+    """An orthographic view whose rays start just before the scene's bounding box instead of far behind it (never
+    further forward than that): the same image, but view depths measured from near the scene, so that the
+    relative depth test of reprojection keeps its meaning."""
+    if camera.type != "ORTHO" or bounds is None:
+        return camera
+    m = np.array(camera.transforms[0])
+    forward = -m[:3, 2] / np.linalg.norm(m[:3, 2])
+    corners = np.array([[bounds[i, 0], bounds[j, 1], bounds[k, 2]] for i in (0, 1) for j in (0, 1) for k in (0, 1)])
+    ahead = float(((corners - m[:3, 3]) @ forward).min())
+    margin = 1e-3 * float(np.linalg.norm(bounds[1] - bounds[0])) + 1e-3
+    if ahead - margin <= 0.0:
+        return camera
+    m[:3, 3] += forward * (ahead - margin)
+    return replace(camera, transforms=m)
 
 
 @dataclass
@@ -115,6 +132,7 @@ class ViewportSession:
         self.device_label = ""
         self.stats = SessionStats()
         self.error: str | None = None
+        self._bounds: np.ndarray | None = None
         self._scene_size = 1.0
         self._view: Camera | None = None
         self._shown: Camera | None = None
@@ -216,8 +234,12 @@ class ViewportSession:
         self.scene.camera = view
         self.renderer = Renderer(self.scene, self.settings, self.device, interactive=True)
         self.device_label = getattr(self.renderer.device, "label", "")
-        self._scene_size = scene_size(self.scene)
+        self._measure_scene()
         self.stats.rebuilds += 1
+
+    def _measure_scene(self) -> None:
+        self._bounds = scene_bounds(self.scene)
+        self._scene_size = 1.0 if self._bounds is None else float(np.linalg.norm(self._bounds[1] - self._bounds[0]))
 
     def _frame(self, view: Camera, edits: list[SceneEdit]) -> None:
         t0 = time.perf_counter()
@@ -232,6 +254,8 @@ class ViewportSession:
             self.stats.edits[outcome] = self.stats.edits.get(outcome, 0) + 1
             cut |= outcome in ("reset", "rebuilt")
             edited |= outcome != "none"
+        if edited:
+            self._measure_scene()
         r = self.renderer
         assert r is not None
         changed = self._shown is None or views_differ(self._shown, view)
@@ -241,7 +265,7 @@ class ViewportSession:
             self._samples = 0
         # a still view averages its frames (a = 1/n); a moving one keeps TAA's floor
         self.settings.alpha_min = self._alpha_min if (changed or edited) else 0.0
-        frame = r.render_view(view, cut=cut)
+        frame = r.render_view(fit_ortho(view, self._bounds), cut=cut)
         self._shown = view
         self._samples += 1
         rgba = np.ascontiguousarray(frame.color[::-1], dtype=np.float32)
