@@ -10,20 +10,10 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from .test_blender_support import (  # noqa: E402
-    ensure_registered,
-    needs_renderer,
-    read_exr_passes,
-    render_to,
-    scenes,
-)
+from .test_blender_support import ensure_registered, needs_renderer, read_exr_passes, render_to, scenes  # noqa: E402
 
 pytestmark = pytest.mark.blender
-
-
-@pytest.fixture(autouse=True)
-def _addon():
-    ensure_registered()
+ensure_registered()
 
 
 @pytest.mark.parametrize(("res", "fit", "shift"), [

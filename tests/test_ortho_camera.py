@@ -55,6 +55,20 @@ def gbuffer(r: Renderer) -> np.ndarray:
     return r._read_gbuffer(r.gbuf[1 - r._cur])
 
 
+def two_views(scene, device, prev: Camera, cur: Camera):
+    """Render view `prev`, then `cur`: (renderer, G-buffer, hit mask, hit positions, previous pixel positions
+    that the motion vectors give)."""
+    scene.camera = prev
+    r = Renderer(scene, Settings(method="light_array", jitter=False), device, interactive=True)
+    r.render_view(prev)
+    r.render_view(cur)
+    g = gbuffer(r)
+    hit = float_bits_to_int(g["normal"][..., 3]) >= 0
+    ys, xs = np.mgrid[0:H, 0:W]
+    got = np.stack([xs + 0.5, ys + 0.5], -1) + g["motion"][..., :2]
+    return r, g, hit, g["pos"][..., :3].astype(np.float64), got
+
+
 @pytest.fixture(scope="module")
 def scene():
     return scenes.moving_box(W, H, frames=1)
@@ -87,16 +101,7 @@ def test_orthographic_rays_land_where_blender_projects(device, scene, fit, shift
 def test_motion_between_orthographic_views_is_exact(device, scene):
     a = ortho_camera(eye=(0.3, -4.0, 1.0), scale=5.0)
     b = ortho_camera(eye=(0.5, -4.1, 1.1), scale=4.6, shift=(0.03, 0.0))
-    scene.camera = a
-    r = Renderer(scene, Settings(method="light_array", jitter=False), device, interactive=True)
-    r.render_view(a)
-    r.render_view(b)
-    g = gbuffer(r)
-    hit = float_bits_to_int(g["normal"][..., 3]) >= 0
-    pos = g["pos"][..., :3].astype(np.float64)
-    ys, xs = np.mgrid[0:H, 0:W]
-    centres = np.stack([xs + 0.5, ys + 0.5], -1)
-    got = centres + g["motion"][..., :2]
+    r, g, hit, pos, got = two_views(scene, device, a, b)
     o, _, _, fwd = axes(a.transforms[0])
     seen = (pos - o) @ fwd > 0  # in front of the previous view's plane: it has a previous position
     assert np.all((g["motion"][..., 2] == 1.0)[hit] == seen[hit]) and (hit & seen).sum() > 0.8 * hit.sum()
@@ -114,15 +119,7 @@ def test_motion_from_perspective_to_orthographic_view(device, scene):
     """The viewport's numpad-5 toggle: the previous frame was perspective, this one orthographic."""
     persp = Camera(look_at((0.3, -4.0, 1.0), (0.0, 0.0, 0.3)), W, H, lens=30.0, shift_x=0.05)
     ortho = ortho_camera(eye=(0.3, -4.0, 1.0), scale=5.0)
-    scene.camera = persp
-    r = Renderer(scene, Settings(method="light_array", jitter=False), device, interactive=True)
-    r.render_view(persp)
-    r.render_view(ortho)
-    g = gbuffer(r)
-    hit = float_bits_to_int(g["normal"][..., 3]) >= 0
-    pos = g["pos"][..., :3].astype(np.float64)
-    ys, xs = np.mgrid[0:H, 0:W]
-    got = np.stack([xs + 0.5, ys + 0.5], -1) + g["motion"][..., :2]
+    r, g, hit, pos, got = two_views(scene, device, persp, ortho)
     ok = hit & (g["motion"][..., 2] == 1.0)
     assert ok.sum() > 0.8 * hit.sum()
     assert np.abs(got - blender_persp_pixels(persp, pos))[ok].max() < 2e-3
