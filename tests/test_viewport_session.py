@@ -137,10 +137,15 @@ def test_an_orbit_keeps_history_and_a_jump_resets_it():
         assert lengths[-1] > 6.0, lengths  # most pixels kept their history through 22 degrees of orbit
         jumped = step(sess, orbit_view(22.0 + 90.0), perspective(0.5), 13)  # a numpad view: 90 degrees at once
         assert jumped.cut and jumped.history == 1.0 and sess.stats.cuts == 2
-        # orthographic from here (numpad 5): reprojected, not a cut
-        ortho = step(sess, orbit_view(112.0), orthographic(2.5), 14)
+        # orthographic from here (numpad 5): reprojected, not a cut, and an orthographic orbit (whose view origin
+        # Blender puts clip_end / 2 behind) keeps its history too
+        sess.set_view(view_camera(orbit_view(112.0), orthographic(2.5), W, H, ortho_back=500.0))
+        ortho = sess.wait(14)
         assert not ortho.cut and ortho.history > 1.2
-        assert np.all(np.isfinite(ortho.rgba))
+        sess.set_view(view_camera(orbit_view(114.0), orthographic(2.5), W, H, ortho_back=500.0))
+        orbit = sess.wait(15)
+        assert not orbit.cut and orbit.history > ortho.history
+        assert np.all(np.isfinite(ortho.rgba)) and np.all(np.isfinite(orbit.rgba))
     finally:
         assert sess.stop()
 

@@ -135,7 +135,8 @@ class ViewportSession:
         self._bounds: np.ndarray | None = None
         self._scene_size = 1.0
         self._view: Camera | None = None
-        self._shown: Camera | None = None
+        self._shown: Camera | None = None  # the last rendered view as it was asked for
+        self._shown_fitted: Camera | None = None  # ... and as it was rendered (fit_ortho)
         self._edits: list[SceneEdit] = []
         self._samples = 0
         self._latest: ViewFrame | None = None
@@ -259,14 +260,15 @@ class ViewportSession:
         r = self.renderer
         assert r is not None
         changed = self._shown is None or views_differ(self._shown, view)
-        if changed and self._shown is not None and not cut:
-            cut = is_jump(self._shown, view, self._scene_size, self.jump_angle, self.jump_move)
+        fitted = fit_ortho(view, self._bounds)  # an orthographic view's origin is far behind: measure from here
+        if changed and self._shown_fitted is not None and not cut:
+            cut = is_jump(self._shown_fitted, fitted, self._scene_size, self.jump_angle, self.jump_move)
         if changed or edited or cut:
             self._samples = 0
         # a still view averages its frames (a = 1/n); a moving one keeps TAA's floor
         self.settings.alpha_min = self._alpha_min if (changed or edited) else 0.0
-        frame = r.render_view(fit_ortho(view, self._bounds), cut=cut)
-        self._shown = view
+        frame = r.render_view(fitted, cut=cut)
+        self._shown, self._shown_fitted = view, fitted
         self._samples += 1
         rgba = np.ascontiguousarray(frame.color[::-1], dtype=np.float32)
         rgba[..., 3] = 1.0
