@@ -23,8 +23,9 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
     int w = cam->width, h = cam->height;
     if (x >= w || y >= h) return;
     int i = y * w + x;
-    float3 o = cam->origin.xyz;
-    float3 d = norm3(camera_direction(cam, (float)x + 0.5f + cam->jitter.x, (float)y + 0.5f + cam->jitter.y));
+    float2 ray_px = (float2)((float)x + 0.5f + cam->jitter.x, (float)y + 0.5f + cam->jitter.y);
+    float3 o, d;
+    camera_ray(cam, ray_px.x, ray_px.y, &o, &d);
     Hit hit = trace_closest(nodes, tris, o, d, INFINITY);
     GSample g;
     g.motion = (float4)(0.0f);
@@ -42,13 +43,12 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
         g.motion = (float4)(0.0f, 0.0f, 1.0f, INFINITY);  /* the background: reprojected by direction */
         float4 vec = (float4)(0.0f);
 #ifdef HAS_MOTION
-        float2 cur_px, prev_px, next_px;
-        if (camera_project_dir(cam, d, &cur_px) && camera_project_dir(prev_cam, d, &prev_px))
-            g.motion.xy = vec.xy = prev_px - cur_px;
+        float2 delta;
+        if (camera_dir_motion(cam, prev_cam, d, ray_px, &delta))
+            g.motion.xy = vec.xy = delta;
         else
             g.motion.z = 0.0f;
-        if (camera_project_dir(cam, d, &cur_px) && camera_project_dir(next_cam, d, &next_px))
-            vec.zw = next_px - cur_px;
+        if (camera_dir_motion(cam, next_cam, d, ray_px, &delta)) vec.zw = delta;
 #endif
         gbuf[i] = g;
         vector[i] = vec;
@@ -65,11 +65,9 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
     int mat = as_int(t.v0.w);
     int obj = as_int(t.e2.w);
     Material m = materials[mat];
-    /* smooth shading and texture coordinates; the ray cone spreads by one pixel, 2 tan(fov_y / 2) / height on the
-     * axis and cos^2 of the angle to it off the axis (so a plane facing the camera gets its true pixel footprint) */
-    float cf = dot3(d, cam->forward.xyz);
+    /* smooth shading and texture coordinates, filtered over the pixel's ray cone */
     TexPoint tp = texture_point(tri_attr, objects, hit.prim, obj, hit.u, hit.v, d, ng, backfacing,
-                                hit.t * cf * cf * 2.0f * cam->lens.y / (float)h);
+                                camera_footprint(cam, d, hit.t));
     float3 albedo = m.albedo.xyz, emission = m.emission.xyz;
 #ifdef HAS_TEXTURES
     texture_material(materials + mat, closures, tex_nodes, tex_images, texels, &tp, &albedo, &emission);

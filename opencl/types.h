@@ -160,18 +160,23 @@ typedef struct {
 
 /* ---- camera ----------------------------------------------------------------------------------- */
 
-/* A pinhole camera. The ray through normalised device coordinates (nx, ny) in [-1, 1]^2 has direction
- * forward + (nx * lens.x + lens.z) * right + (ny * lens.y + lens.w) * up. */
+#define CAMERA_PERSP 0  /* python/restircl/layouts.py CAMERA_KINDS */
+#define CAMERA_ORTHO 1
+
+/* A pinhole (kind CAMERA_PERSP) or orthographic (CAMERA_ORTHO) camera. With a = nx * lens.x + lens.z and
+ * b = ny * lens.y + lens.w at normalised device coordinates (nx, ny) in [-1, 1]^2, the perspective ray leaves the
+ * origin along forward + a right + b up; the orthographic one leaves origin + a right + b up along forward. */
 typedef struct {
     float4 origin;    /* xyz: position */
     float4 right;     /* xyz: unit right */
     float4 up;        /* xyz: unit up */
     float4 forward;   /* xyz: unit view direction */
-    float4 lens;      /* x, y: tan of half the field of view (horizontal, vertical); z, w: shift (tan units) */
+    float4 lens;      /* x, y: half the view plane (tan of the half field of view, or world units when orthographic);
+                       * z, w: shift in the same units */
     float4 jitter;    /* xy: sub-pixel jitter in pixels applied to this frame's rays; zw: unused */
     int width;
     int height;
-    int pad0;
+    int kind;         /* CAMERA_PERSP or CAMERA_ORTHO */
     int pad1;
 } Camera;             /* 112 bytes */
 

@@ -249,13 +249,6 @@ def test_negative_light_power_reports():
     assert "restircl:" in msg and "power" in msg
 
 
-def test_orthographic_camera_reports():
-    sc = small_scene()
-    sc.camera.data.type = "ORTHO"
-    msg = render_error(sc)
-    assert "orthographic" in msg
-
-
 def test_no_camera_reports():
     sc = small_scene()
     sc.camera = None

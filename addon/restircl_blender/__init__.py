@@ -8,8 +8,8 @@ as a plain package in any bpy process:
     restircl_blender.register()
     bpy.context.scene.render.engine = "RESTIRCL"
 
-The engine class is thin; the work is in engine.py (render), export/ (depsgraph -> restircl.Scene),
-properties.py (settings) and ui.py (panels).
+The engine class is thin; the work is in engine.py (render), viewport.py (the Rendered viewport), export/
+(depsgraph -> restircl.Scene), properties.py (settings) and ui.py (panels).
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from __future__ import annotations
 import bpy
 from bpy.app.handlers import persistent
 
-from . import engine, properties, ui
+from . import engine, properties, ui, viewport
 
 bl_info = {  # for installing the folder as a legacy add-on; the extension uses blender_manifest.toml
     "name": "restircl",
@@ -33,11 +33,24 @@ class RestirclRenderEngine(bpy.types.RenderEngine):
     bl_label = "restircl"
     bl_use_preview = False
     bl_use_postprocess = True
-    bl_use_eevee_viewport = True  # material preview and solid/rendered viewport shading use EEVEE
+    bl_use_eevee_viewport = True  # the Material Preview shading mode uses EEVEE; Rendered uses view_draw
     bl_use_shading_nodes_custom = False  # materials use Blender's shader nodes
 
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)
+        self.viewport = None  # viewport.Viewport of a Rendered 3D view
+
+    def __del__(self):
+        self.free()
+
+    def free(self):
+        viewport.free(self)
+
+    def view_update(self, context, depsgraph):
+        viewport.view_update(self, context, depsgraph)
+
+    def view_draw(self, context, depsgraph):
+        viewport.view_draw(self, context, depsgraph)
 
     def update_render_passes(self, scene=None, renderlayer=None):
         engine.register_passes(self, scene, renderlayer)

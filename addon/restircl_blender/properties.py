@@ -24,6 +24,12 @@ class EngineSettings:
     target_error: float = setting(0.0, "Target Error", "Still render: stop before Samples once the estimated relMSE "
                                   "of the image (from two half buffers, no reference) reaches this; 0 = off",
                                   range=Range(float, 0, finite=True), panel="sampling", soft_max=0.1, precision=4)
+    viewport_samples: int = setting(128, "Viewport Samples", "Rendered viewport: frames averaged while the view "
+                                    "stays still, after which the viewport stops rendering until something changes",
+                                    range=Range(int, 1, 1 << 20), panel="viewport", soft_max=4096)
+    viewport_pixel_size: int = setting(2, "Pixel Size", "Rendered viewport: render one pixel per this many screen "
+                                       "pixels in each direction (as Cycles' Pixel Size; 2 renders a quarter of "
+                                       "them)", range=Range(int, 1, 16), panel="viewport", soft_max=8)
     device: str = setting("", "Device", "OpenCL device: 'P:D' (platform:device index) or part of its name; empty = "
                           "$RESTIRCL_DEVICE or the default choice", panel="device")
 

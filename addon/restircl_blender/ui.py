@@ -77,6 +77,12 @@ class RESTIRCL_PT_taa(RestirclPanel, bpy.types.Panel):
     header = "taa"
 
 
+class RESTIRCL_PT_viewport(RestirclPanel, bpy.types.Panel):
+    bl_label = "Viewport"
+    bl_parent_id = "RESTIRCL_PT_sampling"
+    settings_panel = "viewport"
+
+
 class RESTIRCL_PT_device(RestirclPanel, bpy.types.Panel):
     bl_label = "Device"
     bl_options = {"DEFAULT_CLOSED"}
@@ -111,8 +117,8 @@ class RESTIRCL_PT_passes(RestirclPanel, bpy.types.Panel):
                     col.prop(owner, name)
 
 
-CLASSES = (RESTIRCL_PT_sampling, RESTIRCL_PT_lights, RESTIRCL_PT_reuse, RESTIRCL_PT_taa, RESTIRCL_PT_device,
-           RESTIRCL_PT_passes)
+CLASSES = (RESTIRCL_PT_sampling, RESTIRCL_PT_viewport, RESTIRCL_PT_lights, RESTIRCL_PT_reuse, RESTIRCL_PT_taa,
+           RESTIRCL_PT_device, RESTIRCL_PT_passes)
 
 
 def register() -> None:

@@ -35,8 +35,14 @@ def camera_record(cam: Camera, frame: int, jitter_px: tuple[float, float] = (0.0
     rec["right"][0, :3] = right
     rec["up"][0, :3] = up
     rec["forward"][0, :3] = fwd
-    rec["lens"][0] = cam.tan_half_fov()
+    rec["lens"][0] = cam.view_plane()
+    rec["kind"] = L.CAMERA_KINDS.index(cam.type)
     rec["jitter"][0, :2] = jitter_px
     rec["width"] = cam.width
     rec["height"] = cam.height
     return rec
+
+
+def views_differ(a: Camera, b: Camera, frame: int = 0) -> bool:
+    """Whether two cameras see the scene differently at `frame` (transform, lens, shift, kind or size)."""
+    return camera_record(a, frame).tobytes() != camera_record(b, frame).tobytes()

@@ -65,12 +65,18 @@ class DeviceScene:
         self.lights_changed = True  # this frame's light records differ from (or may differ from) the last frame's
         self.light_indices_changed = False  # the light count changed: old reservoirs point at other lights
         self.lights_switched = False  # a light switched on or off, or its power jumped (light_change_ratio)
+        self.edited = False  # this frame shows an interactive edit (edit()): something moved since the last
+        self._pending_edit = False
+        self._edit_motion: dict[int, np.ndarray] | None = None  # mesh index -> its transform before the edit
+        self._edit_rows_on_device = False  # the motion rows on the device are an edit's, not identities
+        self.uploads: dict[str, int] = {"geometry": 0, "lights": 0, "materials": 0}  # counts, for tests and tools
 
     def upload(self, frame: int, last_frame: int | None) -> None:
         """Upload geometry and lights for `frame` when they differ from what the device holds; `last_frame` is the
         frame rendered before (the motion rows reproject to it)."""
         scene = self.scene
         self.light_indices_changed = self.lights_switched = False
+        self.edited, self._pending_edit = self._pending_edit, False
         geo_key = frame if self.moving_objects else 0
         world = None
         if self._geometry_key != geo_key:
@@ -89,10 +95,34 @@ class DeviceScene:
             self.tri_light_buf = upload(self.context, triangle_lights(self._leaf_order, self.lights))
             self.analytic_lights = analytic_light_count(self.lights)
             self.triangle_lights = bool(np.any(self.lights.source < 0))
-        if self.moving_objects or self.motion_buf is None:
-            self.motion_buf = upload(self.context, self._motion_rows(frame, last_frame))
+        edit_rows = self._edit_motion is not None
+        if self.moving_objects or self.motion_buf is None or edit_rows or self._edit_rows_on_device:
+            self.motion_buf = upload(self.context, self._motion_rows(frame, last_frame, self._edit_motion))
+            self._edit_rows_on_device, self._edit_motion = edit_rows, None
+
+    def edit(self, *, geometry: bool = False, lights: bool = False, materials: bool = False,
+             moved: dict[int, np.ndarray] | None = None) -> None:
+        """The Scene was edited in place (an interactive session): the next upload() re-uploads what changed and
+        only that. geometry: some mesh's vertices or triangles; lights: some light's record; materials: some
+        material; moved: mesh index -> its transform before the edit, so that the next frame's motion rows
+        reproject the moved objects' history (compiled in by Renderer(interactive=True))."""
+        if materials:
+            self._textures = None
+            self._upload_materials()
+        if geometry or moved:
+            self._geometry_key = None
+        emissive = {i for i, m in enumerate(self.scene.materials) if m.is_emissive}
+        if geometry or any(emissive.intersection(np.unique(self.scene.meshes[k].material_ids).tolist())
+                           for k in moved or {}):
+            self._lights_key = None  # emissive triangles are lights
+        if lights:
+            self._lights_key = None
+        if moved:
+            self._edit_motion = dict(moved)
+        self._pending_edit = True
 
     def _upload_geometry(self, world) -> None:
+        self.uploads["geometry"] += 1
         t0 = time.perf_counter()
         bvh = build_bvh(world.v0, world.v1, world.v2)
         self._leaf_order = bvh.order
@@ -115,6 +145,7 @@ class DeviceScene:
         warn_missing_uv_maps(self.scene.meshes, self.scene.materials)
         warn_textured_emission(self.scene.meshes, self.scene.materials)
         packed = pack_materials(self.scene.materials, packer.index)
+        self.uploads["materials"] += 1
         self._textures = tex = packer.packed()
         self.nonfinite_texels = tex.nonfinite_texels
         self.material_flags = {"HAS_GLOSSY": packed.glossy, "HAS_TEXTURES": packed.textured}
@@ -132,6 +163,7 @@ class DeviceScene:
             self.ggx_tables_buf = upload(self.context, ggx_tables())
 
     def _upload_lights(self, lights: DeviceLights) -> None:
+        self.uploads["lights"] += 1
         old = getattr(self, "lights", None)
         if old is not None and len(old) != len(lights):
             self.light_indices_changed = True
@@ -162,9 +194,10 @@ class DeviceScene:
                           "tree_info": upload(self.context, tree.light_info),
                           "tree_distant": upload(self.context, tree.distant)}
 
-    def _motion_rows(self, frame: int, last_frame: int | None) -> np.ndarray:
+    def _motion_rows(self, frame: int, last_frame: int | None, moved: dict[int, np.ndarray] | None = None
+                     ) -> np.ndarray:
         """Per object: rows of M_prev M_cur^-1 (reprojection), then of M_next M_cur^-1 (the Vector pass);
-        identities (uploaded once) when nothing moves."""
+        identities (uploaded once) when nothing moves. `moved` gives M_prev of objects an edit moved."""
         scene = self.scene
         motion = np.zeros((max(len(scene.meshes), 1), 2, 3, 4), np.float32)
         motion[:, :, :, :3] = np.eye(3)
@@ -175,6 +208,8 @@ class DeviceScene:
                 inv = np.linalg.inv(Scene.at(mesh.transforms, frame))
                 motion[k, 0] = (Scene.at(mesh.transforms, prev_f) @ inv)[:3, :]
                 motion[k, 1] = (Scene.at(mesh.transforms, next_f) @ inv)[:3, :]
+        for k, prev in (moved or {}).items():
+            motion[k, 0] = (prev @ np.linalg.inv(Scene.at(scene.meshes[k].transforms, frame)))[:3, :]
         return motion
 
     @property

@@ -33,10 +33,11 @@ CAMERA = np.dtype(
         ("jitter", F4),
         ("width", np.int32),
         ("height", np.int32),
-        ("pad0", np.int32),
+        ("kind", np.int32),
         ("pad1", np.int32),
     ]
 )
+CAMERA_KINDS = ("PERSP", "ORTHO")  # Camera.kind: the index (types.h CAMERA_PERSP, CAMERA_ORTHO)
 GSAMPLE = np.dtype(
     [("pos", F4), ("normal", F4), ("gnormal", F4), ("albedo", F4), ("emission", F4), ("motion", F4)]
 )

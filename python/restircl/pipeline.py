@@ -24,7 +24,7 @@ import pyopencl as cl
 
 from . import layouts as L
 from .buffers import FrameBuffers, alloc
-from .camera import jitter
+from .camera import jitter, views_differ
 from .denoise import denoise_frame
 from .device import Device, get_device
 from .device_scene import DeviceScene
@@ -36,7 +36,7 @@ from .light_array import LightArray
 from .light_tree import tree_proposal
 from .lights import DeviceLights
 from .program import build_program
-from .scene import Scene
+from .scene import Camera, Scene, SceneError
 from .settings import (  # noqa: F401  (restircl.pipeline.Settings etc. are public)
     BIAS_CORRECTIONS,
     BSDF_ANALYTIC_MAX,
@@ -74,10 +74,16 @@ KERNELS = ("primary", "light_tiles_fill", "shade_direct", "shade_reference", "ac
 
 class Renderer:
     """Renders a Scene frame by frame on one OpenCL device, keeping ReSTIR and TAA history between frames. The scene
-    (with all its frames of animation) is taken as it is at construction: for an edited scene, make a new Renderer."""
+    (with all its frames of animation) is taken as it is at construction: for an edited scene, make a new Renderer,
+    or (an interactive session) edit it in place and say what changed with device_scene.edit."""
 
-    def __init__(self, scene: Scene, settings: Settings | None = None, device: Device | str | None = None) -> None:
+    def __init__(self, scene: Scene, settings: Settings | None = None, device: Device | str | None = None, *,
+                 interactive: bool = False) -> None:
+        """interactive: the view may change every frame (render_view) and objects may be moved by edits
+        (device_scene.edit), so motion vectors and object motion are always compiled."""
         self.scene = scene.validate()
+        self.interactive = interactive
+        self._prev_view: Camera | None = None  # render_view: the view of the last frame
         self.settings = s = (settings or Settings()).validate()
         self.device = device if isinstance(device, Device) else get_device(device)
         cam = scene.camera
@@ -113,13 +119,14 @@ class Renderer:
     def _build(self) -> None:
         s, ds = self.scene, self.device_scene
         # a camera animation whose transforms are all equal does not move: no motion vectors to compile
-        moving_camera = s.camera is not None and bool(np.any(s.camera.transforms != s.camera.transforms[:1]))
+        moving_camera = self.interactive or (s.camera is not None
+                                             and bool(np.any(s.camera.transforms != s.camera.transforms[:1])))
         self.uses_light_tree = tree_proposal(self.settings.method, self.settings.light_proposal, ds.lights.types)
         if self.uses_light_tree:
             ds.use_light_tree()
         if self.settings.specialise:
-            flags = derive_flags(ds.lights.type_set, moving_camera or ds.moving_objects, ds.moving_objects,
-                                 ds.material_flags, self.uses_light_tree)
+            flags = derive_flags(ds.lights.type_set, moving_camera or ds.moving_objects,
+                                 ds.moving_objects or self.interactive, ds.material_flags, self.uses_light_tree)
         else:
             flags = general_flags()
         self.flags = flags
@@ -163,6 +170,20 @@ class Renderer:
         # edge the difference is clamped at 0 and goes through the denoiser
         denoise_frame(out, albedo, normal, emission)
 
+    def render_view(self, camera: Camera, *, cut: bool = False, aovs: bool = False) -> Frame:
+        """A frame of an interactive view (the viewport): frame 0 of the scene seen by `camera`, which may differ
+        from the last call's view in transform, lens, shift or kind (of the renderer's size). The history is
+        reprojected from the last call's view as in an animation, or dropped when `cut`; calls with an unchanged
+        view accumulate as a still camera's animation frames do. The renderer's scene takes `camera` as its camera."""
+        if (int(camera.width), int(camera.height)) != (self.width, self.height):
+            raise SceneError(f"camera: the view is {camera.width}x{camera.height}, the renderer "
+                             f"{self.width}x{self.height}; make a new Renderer for another size")
+        if cut or self._prev_view is None:
+            self.reset()
+        self._prev_view = self.scene.camera if self._last_frame is not None else camera
+        self.scene.camera = camera
+        return self.render_frame(0, aovs=aovs)
+
     def _render(self, frame: int, still: bool, jitter_px: tuple[float, float] | None = None
                 ) -> tuple[dict[str, float], cl.Buffer, cl.Buffer]:
         """Run the stages of one frame (DESIGN section 2); returns the stage times (ms), the colour buffer and the
@@ -171,7 +192,7 @@ class Renderer:
         timer = StageTimer(self.device.queue)
         state = self._begin_frame(frame, jitter_px)
         timer.mark("upload")
-        self.primary.run(state, self.scene.camera)  # 1 camera rays -> G-buffer
+        self.primary.run(state, self.scene.camera, self._prev_view)  # 1 camera rays -> G-buffer
         timer.mark("primary")
         if state.tiles:  # presampled light tiles (many lights): this frame's RIS candidates
             self.light_tiles.run(state)
@@ -258,9 +279,12 @@ class Renderer:
         out 0.7% (ReSTIR) to 16% (light_array) too dark."""
         cam, ds = self.scene.camera, self.device_scene
         assert cam is not None
-        camera_moved = not np.array_equal(Scene.at(cam.transforms, state.prev_frame),
-                                          Scene.at(cam.transforms, state.frame))
-        return camera_moved or ds.moving_lights or ds.moving_objects
+        if self._prev_view is not None:  # render_view: the last frame's view against this one
+            camera_moved = state.history and views_differ(self._prev_view, cam)
+        else:
+            camera_moved = not np.array_equal(Scene.at(cam.transforms, state.prev_frame),
+                                              Scene.at(cam.transforms, state.frame))
+        return camera_moved or ds.moving_lights or ds.moving_objects or ds.edited
 
     def _use_light_tiles(self, method: str, light_count: int) -> bool:
         """RIS candidates from presampled tiles: only for the RIS-based methods, and ("auto") only where the light

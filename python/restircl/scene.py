@@ -23,6 +23,7 @@ MAX_RESOLUTION = 16384
 LIGHT_TYPES = ("point", "spot", "sun", "area")
 AREA_SHAPES = ("SQUARE", "RECTANGLE", "DISK", "ELLIPSE")
 SENSOR_FITS = ("AUTO", "HORIZONTAL", "VERTICAL")
+CAMERA_TYPES = ("PERSP", "ORTHO")  # layouts.CAMERA_KINDS
 
 
 class SceneError(ValueError):
@@ -135,6 +136,8 @@ class Camera:
     shift_x: float = 0.0
     shift_y: float = 0.0
     cuts: tuple[int, ...] = ()  # frames at which the camera cuts (history is reset)
+    type: str = "PERSP"  # Blender's camera type: PERSP or ORTHO
+    ortho_scale: float = 6.0  # ORTHO: the view's extent (world units) along the fitted axis, as in Blender
 
     def __post_init__(self) -> None:
         self.transforms = _as_transforms(self.transforms, "camera")
@@ -150,7 +153,13 @@ class Camera:
             self.lens = self.sensor_height / (2.0 * math.tan(fov / 2.0))
 
     def tan_half_fov(self) -> tuple[float, float, float, float]:
-        """(tan half horizontal fov, tan half vertical fov, shift x, shift y in tan units), Blender's rules."""
+        """(tan half horizontal fov, tan half vertical fov, shift x, shift y in tan units), Blender's rules; an
+        orthographic camera's view plane instead (view_plane)."""
+        return self.view_plane()
+
+    def view_plane(self) -> tuple[float, float, float, float]:
+        """Half the view plane (x, y) and its shift (x, y), Blender's rules: in tan units at unit distance for a
+        perspective camera, in world units for an orthographic one."""
         w, h = float(self.width), float(self.height)
         fit = self.sensor_fit
         if fit == "AUTO":
@@ -158,7 +167,8 @@ class Camera:
             sensor = self.sensor_width
         else:
             sensor = self.sensor_width if fit == "HORIZONTAL" else self.sensor_height
-        half = 0.5 * sensor / self.lens  # tan of half the fitted dimension's fov
+        # half the fitted dimension: the tan of half its fov, or half the orthographic scale
+        half = 0.5 * self.ortho_scale if self.type == "ORTHO" else 0.5 * sensor / self.lens
         if fit == "HORIZONTAL":
             tx, ty = half, half * h / w
         else:
@@ -230,6 +240,10 @@ class Scene:
                 raise SceneError(f"camera: {what} must be finite and positive, got {v!r}")
         if not (math.isfinite(cam.shift_x) and math.isfinite(cam.shift_y)):
             raise SceneError("camera: shift is not finite")
+        if cam.type not in CAMERA_TYPES:
+            raise SceneError(f"camera: type must be one of {CAMERA_TYPES}, got {cam.type!r}")
+        if cam.type == "ORTHO" and not (math.isfinite(cam.ortho_scale) and cam.ortho_scale > 0):
+            raise SceneError(f"camera: ortho_scale must be finite and positive, got {cam.ortho_scale!r}")
         if cam.sensor_fit not in SENSOR_FITS:
             raise SceneError(f"camera: sensor_fit must be one of {SENSOR_FITS}, got {cam.sensor_fit!r}")
         _check_basis(cam.transforms, "camera")

@@ -60,7 +60,8 @@ def save_scene(scene: Scene, path: str | Path) -> None:
     if scene.camera is not None:
         c = scene.camera
         meta["camera"] = {k: getattr(c, k) for k in ("width", "height", "lens", "sensor_width", "sensor_height",
-                                                     "sensor_fit", "shift_x", "shift_y")}
+                                                     "sensor_fit", "shift_x", "shift_y", "type",
+                                                     "ortho_scale")}
         meta["camera"]["cuts"] = list(c.cuts)
         meta["camera"]["width"] = int(c.width)
         meta["camera"]["height"] = int(c.height)

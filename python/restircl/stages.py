@@ -90,10 +90,11 @@ class Stage:
 class Primary(Stage):
     """1: camera rays -> this frame's G-buffer and the Vector pass."""
 
-    def run(self, state: FrameState, camera: Camera) -> None:
+    def run(self, state: FrameState, camera: Camera, prev_camera: Camera | None = None) -> None:
+        """prev_camera: the previous frame's camera where it is another one (an interactive view)."""
         q, b, h = self.kernels.device.queue, self.buffers, self.history
         cl.enqueue_copy(q, b.cameras[0], camera_record(camera, state.frame, state.jitter))
-        cl.enqueue_copy(q, b.cameras[1], camera_record(camera, state.prev_frame))
+        cl.enqueue_copy(q, b.cameras[1], camera_record(prev_camera or camera, state.prev_frame))
         cl.enqueue_copy(q, b.cameras[2], camera_record(camera, state.next_frame))
         self.kernels.launch("primary", image_size(state), cam=b.cameras[0],
                             prev_cam=b.cameras[1], next_cam=b.cameras[2], **self.scene.geometry,

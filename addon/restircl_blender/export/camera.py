@@ -1,5 +1,5 @@
-"""The Blender camera -> restircl.Camera: a perspective projection with Blender's sensor fit and shift, its
-motion per sampled frame, and cuts where timeline markers switch to another camera."""
+"""The Blender camera -> restircl.Camera: a perspective or orthographic projection with Blender's sensor fit and
+shift, its motion per sampled frame, and cuts where timeline markers switch to another camera."""
 
 from __future__ import annotations
 
@@ -64,12 +64,10 @@ def _orthonormal(m: np.ndarray) -> np.ndarray:
 
 def _camera_params(cam_obj, scene, warn: Callable[[str], None]) -> dict:
     cd = cam_obj.data
-    if cd.type == "ORTHO":
-        raise ExportError(f"camera {cam_obj.name!r}: orthographic cameras are not supported; "
-                          "use a perspective camera")
-    if cd.type != "PERSP":
+    if cd.type not in ("PERSP", "ORTHO"):
         kind = {"PANO": "panoramic"}.get(cd.type, cd.type.lower())
-        raise ExportError(f"camera {cam_obj.name!r}: {kind} cameras are not supported; use a perspective camera")
+        raise ExportError(f"camera {cam_obj.name!r}: {kind} cameras are not supported; use a perspective or "
+                          "orthographic camera")
     w, h = render_resolution(scene)
     r = scene.render
     if abs(r.pixel_aspect_x - r.pixel_aspect_y) > 1e-6:
@@ -79,5 +77,6 @@ def _camera_params(cam_obj, scene, warn: Callable[[str], None]) -> dict:
     return {
         "width": w, "height": h, "lens": float(cd.lens), "sensor_width": float(cd.sensor_width),
         "sensor_height": float(cd.sensor_height), "sensor_fit": cd.sensor_fit,
-        "shift_x": float(cd.shift_x), "shift_y": float(cd.shift_y),
+        "shift_x": float(cd.shift_x), "shift_y": float(cd.shift_y), "type": cd.type,
+        "ortho_scale": float(cd.ortho_scale),
     }

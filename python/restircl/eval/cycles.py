@@ -149,6 +149,7 @@ def to_bpy(scene: Scene, frame: int = 0):
     cd.sensor_width, cd.sensor_height = float(cam.sensor_width), float(cam.sensor_height)
     cd.sensor_fit = cam.sensor_fit
     cd.shift_x, cd.shift_y = float(cam.shift_x), float(cam.shift_y)
+    cd.type, cd.ortho_scale = cam.type, float(cam.ortho_scale)
     cd.clip_start, cd.clip_end = 1e-3, 1e5
     ob = bpy.data.objects.new("Camera", cd)
     sc.collection.objects.link(ob)

@@ -1,0 +1,164 @@
+"""RenderEngine.view_update / view_draw: the Rendered shading mode of the 3D view, on a ViewportSession.
+
+Both run on Blender's main thread and are the only places here that touch bpy: view_update exports the scene
+(the first time, or again when a setting changed) and turns depsgraph updates into scene edits; view_draw reads
+the view from region_data, hands it to the session and draws the newest frame. The worker thread never sees bpy.
+Nothing lets an exception escape into Blender: failures go to the header's status text.
+"""
+
+from __future__ import annotations
+
+import traceback
+from dataclasses import dataclass
+
+from . import export
+from .export.convert import matrix
+from .viewport_edit import SceneEdit
+from .viewport_session import ViewportSession, scaled_size, view_camera
+
+
+@dataclass
+class Viewport:
+    """What a RenderEngine instance keeps for its 3D view."""
+
+    session: ViewportSession | None
+    settings_key: tuple
+    mesh_names: frozenset  # mesh objects exported once each: their transform edits need no re-export
+    message: str = ""  # why there is no session
+    texture: object | None = None  # the GPU texture of frame `texture_index`
+    texture_index: int = -1
+
+
+def free(engine) -> None:
+    """Stop the worker (RenderEngine.free / __del__, and before a new session)."""
+    try:
+        vp = getattr(engine, "viewport", None)
+        engine.viewport = None
+    except ReferenceError:  # __del__ of an engine whose Blender data is gone
+        return
+    if vp is not None and vp.session is not None:
+        vp.session.stop()
+
+
+def _settings_key(props) -> tuple:
+    return (tuple(sorted(props.settings_kwargs().items())), props.device.strip(), int(props.viewport_samples))
+
+
+def view_update(engine, context, depsgraph) -> None:
+    """RenderEngine.view_update: never raises."""
+    try:
+        _view_update(engine, depsgraph)
+    except Exception as exc:  # a bug of ours: show it, never crash Blender
+        traceback.print_exc()
+        free(engine)
+        engine.viewport = Viewport(None, (), frozenset(), f"unexpected {type(exc).__name__}: {exc}")
+
+
+def _view_update(engine, depsgraph) -> None:
+    import restircl
+
+    from .engine import make_settings
+
+    props = depsgraph.scene.restircl
+    key = _settings_key(props)
+    vp = getattr(engine, "viewport", None)
+    if vp is not None and vp.session is not None and vp.settings_key == key and vp.session.error is None:
+        edit = scene_edit(depsgraph, vp.mesh_names)
+        if edit is not None:
+            vp.session.edit(edit)
+        return
+    free(engine)
+    known = (restircl.SceneError, restircl.SettingError, restircl.DeviceError, export.ExportError)
+    try:
+        exp = export.export_scene(depsgraph, None)
+        exp.scene.validate()
+        settings = make_settings(restircl, props)
+    except known as exc:
+        engine.viewport = Viewport(None, key, frozenset(), str(exc))
+        return
+    session = ViewportSession(exp.scene, settings, device=props.device.strip() or None,
+                              samples=int(props.viewport_samples))
+    engine.viewport = Viewport(session.start(), key, unique_mesh_names(exp.scene))
+
+
+def unique_mesh_names(scene) -> frozenset:
+    names = [m.name for m in scene.meshes]
+    return frozenset(n for n in names if names.count(n) == 1)
+
+
+def scene_edit(depsgraph, mesh_names: frozenset) -> SceneEdit | None:
+    """The scene edit that depsgraph.updates describe: a moved mesh object by its new matrix alone; anything else
+    (geometry, a light, a material, the world, objects added or removed) by a re-export that the session
+    compares with its scene. None when nothing that is rendered changed (the camera's own updates: the view
+    comes from the 3D view)."""
+    import bpy
+
+    transforms = {}
+    full = False
+    for u in depsgraph.updates:
+        idb = u.id
+        if isinstance(idb, bpy.types.Object):
+            if idb.type == "CAMERA":
+                continue
+            if idb.type == "MESH" and idb.name in mesh_names and not u.is_updated_geometry:
+                if u.is_updated_transform:
+                    transforms[idb.name] = matrix(idb.matrix_world)
+                continue
+            full = True
+        elif isinstance(idb, bpy.types.Camera | bpy.types.Screen | bpy.types.WorkSpace):
+            continue
+        else:
+            full = True
+    if not transforms and not full:
+        return None
+    return SceneEdit(transforms=transforms, scene=export.export_scene(depsgraph, None).scene if full else None)
+
+
+def view_draw(engine, context, depsgraph) -> None:
+    """RenderEngine.view_draw: never raises."""
+    try:
+        _view_draw(engine, context, depsgraph)
+    except Exception as exc:
+        traceback.print_exc()
+        engine.update_stats("", f"restircl: unexpected {type(exc).__name__}: {exc}")
+
+
+def region_camera(context, pixel_size: int):
+    """The restircl.Camera of the 3D view in `context` at the render size of its region."""
+    region, rv3d = context.region, context.region_data
+    w, h = scaled_size(region.width, region.height, pixel_size)
+    ortho_view = not rv3d.is_perspective and rv3d.view_perspective != "CAMERA"
+    back = 0.5 * float(context.space_data.clip_end) if ortho_view else 0.0
+    return view_camera(matrix(rv3d.view_matrix), matrix(rv3d.window_matrix), w, h, back)
+
+
+def _view_draw(engine, context, depsgraph) -> None:
+    vp = getattr(engine, "viewport", None)
+    if vp is None or vp.session is None:
+        engine.update_stats("", f"restircl: {vp.message if vp is not None else 'no scene'}")
+        return
+    session = vp.session
+    session.set_view(region_camera(context, depsgraph.scene.restircl.viewport_pixel_size))
+    frame = session.latest()
+    if frame is not None:
+        draw_frame(engine, depsgraph.scene, vp, frame, context.region.width, context.region.height)
+    engine.update_stats("", session.status_text())
+    if session.error is None and (frame is None or frame.samples < session.sample_limit):
+        engine.tag_redraw()  # poll for the next frame
+
+
+def draw_frame(engine, scene, vp: Viewport, frame, width: int, height: int) -> None:
+    """The frame, stretched over the region, through Blender's display colour management (needs a GPU
+    context: not run in background mode)."""
+    import gpu
+    from gpu_extras.presets import draw_texture_2d
+
+    if vp.texture_index != frame.index:
+        h, w = frame.rgba.shape[:2]
+        data = gpu.types.Buffer("FLOAT", w * h * 4, frame.rgba.ravel())
+        vp.texture, vp.texture_index = gpu.types.GPUTexture((w, h), format="RGBA16F", data=data), frame.index
+    gpu.state.blend_set("ALPHA_PREMULT")
+    engine.bind_display_space_shader(scene)
+    draw_texture_2d(vp.texture, (0, 0), width, height)
+    engine.unbind_display_space_shader()
+    gpu.state.blend_set("NONE")

@@ -1,0 +1,108 @@
+"""Scene edits while the viewport runs: what changed in the depsgraph, applied to the viewport session's scene so
+that only what changed is uploaded (DeviceScene.edit), and the history is dropped only where the change demands.
+
+- a moved object (its transform only): its geometry is not read again; the motion rows of the next frame take
+  its history along (M_before M_after^-1), as an animated object's;
+- a light's power, colour or size, a material's inputs: their records are uploaded again; the history stays,
+  except where a light switched or its power jumped (DeviceScene decides, as for animated lights);
+- another geometry (topology), a light added or removed: uploaded again and the history is dropped;
+- what the compiled kernels cannot show (a new light type, a material that becomes glossy, textured or
+  emissive, another world, objects added or removed): a new renderer.
+No bpy here: the add-on fills SceneEdit from depsgraph.updates (engine.py), tests fill it by hand."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+from restircl import Camera, Scene
+
+from .export.fingerprint import fingerprint
+
+if TYPE_CHECKING:
+    from .viewport_session import ViewportSession
+
+
+@dataclass
+class SceneEdit:
+    """transforms: new object-to-world matrices by object name (meshes and lights), read without re-exporting
+    anything else; scene: a whole re-export to compare with the session's scene (lights, materials, geometry)."""
+
+    transforms: dict[str, np.ndarray] = field(default_factory=dict)
+    scene: Scene | None = None
+
+
+def _same(a, b) -> bool:
+    return fingerprint(x=a) == fingerprint(x=b)
+
+
+def _geometry(mesh) -> tuple:
+    return (mesh.name, mesh.vertices, mesh.triangles, mesh.material_ids, mesh.uvs, mesh.normals)
+
+
+def _kernel_needs(scene: Scene) -> tuple:
+    """What of a scene decides the compiled kernels beyond the light array (features.py): the light types and
+    which materials are glossy, textured or emissive, the world."""
+    from restircl.material_pack import uses_glossy, uses_textures
+
+    return (sorted({lt.type for lt in scene.lights}), [uses_glossy(m) for m in scene.materials],
+            [uses_textures(m) for m in scene.materials], [m.is_emissive for m in scene.materials],
+            fingerprint(env=scene.environment))
+
+
+def _move(objects, name: str, matrix: np.ndarray) -> tuple[int, np.ndarray] | None:
+    """Give the one object called `name` the transform `matrix`; (its index, its old transform) when it moved."""
+    hits = [i for i, o in enumerate(objects) if o.name == name]
+    if len(hits) != 1:
+        return None
+    obj = objects[hits[0]]
+    old = np.array(obj.transforms[0])
+    new = np.asarray(matrix, np.float64).reshape(1, 4, 4)
+    if np.array_equal(old, new[0]):
+        return None
+    obj.transforms = new
+    return hits[0], old
+
+
+def apply_edit(session: ViewportSession, edit: SceneEdit, view: Camera) -> str:
+    """Apply `edit` to the session's scene and renderer: 'none' (nothing changed), 'kept' (uploaded, history
+    kept), 'reset' (uploaded, history dropped) or 'rebuilt' (a new renderer)."""
+    sc, r = session.scene, session.renderer
+    assert r is not None
+    moved: dict[int, np.ndarray] = {}
+    lights = geometry = materials = False
+    for name, m in edit.transforms.items():
+        hit = _move(sc.meshes, name, m)
+        if hit is not None:
+            moved[hit[0]] = hit[1]
+        lights |= _move(sc.lights, name, m) is not None
+    new = edit.scene
+    if new is not None:
+        if (len(new.meshes) != len(sc.meshes) or len(new.materials) != len(sc.materials)
+                or _kernel_needs(new) != _kernel_needs(sc)):
+            new.camera = view
+            session.scene = new
+            session.build(view)
+            return "rebuilt"
+        for i, (a, b) in enumerate(zip(sc.meshes, new.meshes, strict=True)):
+            if not _same(_geometry(a), _geometry(b)):
+                geometry = True
+                sc.meshes[i] = b
+            elif not np.array_equal(a.transforms, b.transforms):
+                moved[i] = np.array(a.transforms[0])
+                a.transforms = b.transforms
+        if not _same(sc.lights, new.lights):
+            lights = True
+            sc.lights = new.lights
+        if not _same(sc.materials, new.materials):
+            materials = True
+            sc.materials = new.materials
+            lights |= any(m.is_emissive for m in new.materials)  # emissive triangles are lights
+    if not (moved or lights or geometry or materials):
+        return "none"
+    r.device_scene.edit(geometry=geometry, lights=lights, materials=materials, moved=moved or None)
+    if geometry:
+        r.reset()
+        return "reset"
+    return "kept"
