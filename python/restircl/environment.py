@@ -26,7 +26,7 @@ class WorldError(ValueError):
 @dataclass
 class Environment:
     name: str = "World"
-    color: tuple[float, float, float] = (0.05, 0.05, 0.05)  # linear RGB; multiplies the image when there is one
+    color: tuple[float, float, float] = (0.05, 0.05, 0.05)  # linear RGB without an image (an image replaces it)
     strength: float = 1.0  # Background strength (radiance = color * image * strength)
     image: np.ndarray | None = None  # (H, W, 3) or (H, W, 4) linear RGB(A), equirectangular, row 0 = zenith
     path: str | None = None  # an image file (EXR, HDR, PNG, ...) read instead of `image` when image is None

@@ -1,5 +1,5 @@
 """The environment's texels on the host: its image (an array, or a file read by image_load.py; Radiance .hdr files
-by the reader here) as (H, W, 3) float32 linear RGB, row 0 at the zenith, tinted by the world's colour, with
+by the reader here) as (H, W, 3) float32 linear RGB, row 0 at the zenith, with
 NaN, Inf and negative texels zeroed and counted (one warning naming the world, never a failed render)."""
 
 from __future__ import annotations
@@ -14,7 +14,8 @@ from .image_load import ImageReadError, read_image_file, to_linear_rgba
 
 
 def environment_texels(env: Environment) -> tuple[np.ndarray, int]:
-    """(H, W, 3) float32 radiance per unit strength (colour x image), and how many texels were zeroed."""
+    """(H, W, 3) float32 radiance per unit strength (the image, or the colour where there is none, as a texture
+    linked to the Background's Color replaces it in Blender), and how many texels were zeroed."""
     color = np.asarray(env.color, np.float32)
     if env.image is None and env.path is None:
         return color.reshape(1, 1, 3).copy(), 0
@@ -26,7 +27,7 @@ def environment_texels(env: Environment) -> tuple[np.ndarray, int]:
         rgb[bad] = 0.0
         warnings.warn(f"world {env.name!r}: {count} texel(s) of its image are NaN, Inf or negative; they are black",
                       stacklevel=3)
-    return np.ascontiguousarray(rgb * color, np.float32), count
+    return np.ascontiguousarray(rgb, np.float32), count
 
 
 def _image_rgb(env: Environment) -> np.ndarray:
