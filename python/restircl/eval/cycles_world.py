@@ -1,5 +1,5 @@
 """restircl's Environment written as a Cycles World (the Cycles bridge, cycles.to_bpy): a Background of the
-world's colour and strength, or, with an image, an Environment Texture of the same texels (the image, or the colour without one; the NaN
+world's colour and strength, or, with an image, an Environment Texture of the same texels (the NaN
 and negative ones zeroed as restircl zeroes them) with Closest interpolation (restircl reads a map texel by
 texel), fed by the Generated direction through a Mapping node of the world's rotation."""
 

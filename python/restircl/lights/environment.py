@@ -1,10 +1,9 @@
 """The environment light (opencl/lights/environment.h): the scene's world as one light of solid-angle measure.
 
 Its record goes first in the light buffer (primary.cl finds what camera rays see there) and its map and sampling
-table after every record, where the record's offsets point. Texels are the image, or the colour without one
-(per unit strength), so the
-tables sample the luminance of the radiance itself; the strength (animated by strength_per_frame) is the record's
-radiance scale and does not rebuild them.
+table after every record, where the record's offsets point. Texels are the image, or the colour without one (per
+unit strength), so the tables sample the luminance of the radiance itself; the strength (animated by
+strength_per_frame) is the record's radiance scale and does not rebuild them.
 
 Power, by which the light array weighs it against the other lights (as the sun's, docs/units.md): what a disk of
 the scene's radius R facing a uniform world of the map's mean radiance L receives, pi L x pi R^2."""
