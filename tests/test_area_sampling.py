@@ -19,7 +19,10 @@ from restircl.program import build_program
 
 from .helpers import batch_stats, collect, luminance, mean_and_se, run_means
 from .stats import pooled_chi2
-from .test_bsdf_candidates import BATCHES, FRAMES, RUN_FRAMES, RUNS, H, W, assert_unbiased, large_lights_scene
+from .test_bsdf_candidates import BATCHES, SIZES, H, W, assert_unbiased, large_lights_scene
+
+# the quick sizes of test_bsdf_candidates (its full ones are slow-marked there); bounds from the measured errors
+FRAMES, RUNS, RUN_FRAMES, REFERENCE_FRAMES = (SIZES["quick"][k] for k in ("frames", "runs", "run_frames", "reference"))
 
 SRC = """
 #include "types.h"
@@ -238,7 +241,7 @@ SCENES = {"large": large_lights_scene, "powers": lambda w, h: spread_powers(larg
 @pytest.fixture(scope="module")
 def references(device):
     return {name: batch_stats(luminance(collect(make(W, H), Settings(method="reference", seed=17, jitter=False),
-                                                8192, device)), BATCHES) for name, make in SCENES.items()}
+                                                REFERENCE_FRAMES, device)), BATCHES) for name, make in SCENES.items()}
 
 
 UNBIASED_CASES = {
