@@ -17,6 +17,7 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
                       const __global Closure* closures, const __global TexNode* tex_nodes,
                       const __global TexImage* tex_images, const __global float4* texels,
                       const __global float* ggx_tables,
+                      const __global Light* lights, const __global float4* camera_lights,
                       __global GSample* gbuf, __global GlossySample* glossy, __global float4* vector)
 {
     int x = get_global_id(0), y = get_global_id(1);
@@ -26,6 +27,15 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
     float3 o = cam->origin.xyz;
     float3 d = norm3(camera_direction(cam, (float)x + 0.5f + cam->jitter.x, (float)y + 0.5f + cam->jitter.y));
     Hit hit = trace_closest(nodes, tris, o, d, INFINITY);
+    float3 sun_seen = (float3)(0.0f);  /* the suns a ray that misses sees (camera_lights.h) */
+#ifdef HAS_CAMERA_LIGHTS
+    if (camera_light_pixel(lights, camera_lights, cam, prev_cam, next_cam, o, d, hit.t,
+                           gbuf + i, glossy + i, vector + i, &sun_seen))
+        return;
+#else
+    (void)lights;
+    (void)camera_lights;
+#endif
     GSample g;
     g.motion = (float4)(0.0f);
     if (hit.prim < 0) {
@@ -33,7 +43,7 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
         g.normal = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
         g.gnormal = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
         g.albedo = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
-        g.emission = (float4)(0.0f);
+        g.emission = (float4)(sun_seen, 0.0f);
         g.motion = (float4)(0.0f, 0.0f, 1.0f, INFINITY);  /* the background: reprojected by direction */
         float4 vec = (float4)(0.0f);
 #ifdef HAS_MOTION

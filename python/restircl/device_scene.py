@@ -12,6 +12,7 @@ import pyopencl as cl
 from . import layouts as L
 from .buffers import upload
 from .bvh import build_bvh, make_tris
+from .camera_lights import camera_light_indices, camera_light_table
 from .ggx_tables import ggx_tables
 from .light_array import LightArray, build_light_array
 from .light_hit import analytic_light_count, triangle_lights
@@ -52,6 +53,8 @@ class DeviceScene:
         self.lights: DeviceLights
         self.light_array: LightArray
         self.motion_buf: cl.Buffer | None = None
+        self.camera_lights = camera_light_indices(scene)  # the lights camera rays test (scene light indices)
+        self.camera_lights_buf: cl.Buffer | None = None
         self.ggx_tables_buf: cl.Buffer | None = None  # glossy builds only (upload_ggx_tables)
         self._textures: PackedTextures | None = None  # packed once: materials do not animate
         self._frame = 0  # the frame of the geometry on the device
@@ -84,6 +87,10 @@ class DeviceScene:
             self.triangle_lights = bool(np.any(self.lights.source < 0))
         if self.moving_objects or self.motion_buf is None:
             self.motion_buf = upload(self.context, self._motion_rows(frame, last_frame))
+        if self.moving_lights or self.camera_lights_buf is None:
+            prev_f = last_frame if last_frame is not None else frame
+            table = camera_light_table(scene, self.camera_lights, frame, prev_f, min(frame + 1, self.frame_count - 1))
+            self.camera_lights_buf = upload(self.context, table)
 
     def _upload_geometry(self, world) -> None:
         t0 = time.perf_counter()

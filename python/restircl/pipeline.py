@@ -98,8 +98,10 @@ class Renderer:
         # a camera animation whose transforms are all equal does not move: no motion vectors to compile
         moving_camera = s.camera is not None and bool(np.any(s.camera.transforms != s.camera.transforms[:1]))
         if self.settings.specialise:
-            flags = derive_flags(ds.lights.type_set, moving_camera or ds.moving_objects, ds.moving_objects,
-                                 ds.material_flags)
+            # a light the camera sees that moves needs motion vectors of its own
+            moving = moving_camera or ds.moving_objects or (ds.moving_lights and bool(ds.camera_lights))
+            flags = derive_flags(ds.lights.type_set, moving, ds.moving_objects, ds.material_flags,
+                                 camera_lights=bool(ds.camera_lights))
         else:
             flags = general_flags()
         self.flags = flags
