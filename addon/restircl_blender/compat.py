@@ -31,6 +31,13 @@ def visible_camera(ob) -> bool:
     return bool(getattr(legacy, "camera", True))
 
 
+def world_visible_camera(world) -> bool:
+    """World > Ray Visibility > Camera: `world.visibility.camera`? No: Blender keeps it in Cycles' settings of
+    the world (`world.cycles_visibility.camera`) on every supported release; True where it is missing."""
+    vis = getattr(world, "cycles_visibility", None)
+    return bool(getattr(vis, "camera", True))
+
+
 # The first release known to pick an extension's wheels by Python version (tools/build_extension.py).
 PER_PYTHON_WHEELS = (4, 2, 13)
 
