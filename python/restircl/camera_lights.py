@@ -33,9 +33,12 @@ def camera_light_indices(scene: Scene) -> list[int]:
     return seen
 
 
-def camera_light_table(scene: Scene, indices: list[int], frame: int, prev_frame: int, next_frame: int) -> np.ndarray:
-    """(1 + 7 len(indices), 4) float32: the count, then per light its index and the rows of M_prev M_cur^-1 and
-    M_next M_cur^-1 (its own motion between the frames)."""
+def camera_light_table(scene: Scene, indices: list[int], source: np.ndarray, frame: int, prev_frame: int,
+                       next_frame: int) -> np.ndarray:
+    """(1 + 7 len(indices), 4) float32: the count, then per light its device record index (the record whose
+    `source`, DeviceLights.source, is its scene index) and the rows of M_prev M_cur^-1 and M_next M_cur^-1 (its own
+    motion between the frames)."""
+    record_of = {int(s): k for k, s in enumerate(np.asarray(source)) if 0 <= s < len(scene.lights)}
     table = np.zeros((1 + ROWS * len(indices), 4), np.float32)
     ints = table.view(np.int32)
     ints[0, 0] = len(indices)
@@ -44,7 +47,7 @@ def camera_light_table(scene: Scene, indices: list[int], frame: int, prev_frame:
         cur = Scene.at(tr, frame)
         inv = np.linalg.inv(cur)
         base = 1 + ROWS * k
-        ints[base, 0] = i
+        ints[base, 0] = record_of[i]
         table[base + 1:base + 4] = (Scene.at(tr, prev_frame) @ inv)[:3]
         table[base + 4:base + 7] = (Scene.at(tr, next_frame) @ inv)[:3]
     return table

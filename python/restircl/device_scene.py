@@ -89,7 +89,8 @@ class DeviceScene:
             self.motion_buf = upload(self.context, self._motion_rows(frame, last_frame))
         if self.moving_lights or self.camera_lights_buf is None:
             prev_f = last_frame if last_frame is not None else frame
-            table = camera_light_table(scene, self.camera_lights, frame, prev_f, min(frame + 1, self.frame_count - 1))
+            table = camera_light_table(scene, self.camera_lights, self.lights.source, frame, prev_f,
+                                       min(frame + 1, self.frame_count - 1))
             self.camera_lights_buf = upload(self.context, table)
 
     def _upload_geometry(self, world) -> None:
