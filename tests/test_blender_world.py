@@ -253,3 +253,26 @@ def test_sky_texture_is_baked_with_a_warning():
     sky_half, ground_half = env.image[:8].mean(), env.image[8:].mean()
     assert sky_half > ground_half  # the zenith is row 0
     env.validate()
+
+
+def test_sky_world_bakes_during_f12(tmp_path):
+    """The bake runs inside the render in progress (a scratch scene of its own) and the render completes."""
+    from .test_blender_support import needs_renderer, read_exr_passes, render_to
+
+    if needs_renderer.args and needs_renderer.args[0]:
+        pytest.skip("restircl.Renderer is not available")
+    sc, tree = world_scene()
+    scenes.light("SUN", "Sun", (0, 0, 5), energy=2.0)
+    sc.render.engine = "RESTIRCL"
+    sc.restircl.samples = 2
+    sc.restircl.bake_resolution = 16
+    sky = tree.nodes.new("ShaderNodeTexSky")
+    tree.links.new(sky.outputs["Color"], tree.nodes["Background"].inputs["Color"])
+    tree.nodes["Background"].inputs["Strength"].default_value = 1.0
+    render_to(sc, tmp_path / "sky.exr")
+    rgba = read_exr_passes(tmp_path / "sky.exr")["Combined"]
+    assert np.all(np.isfinite(rgba)) and rgba[..., :3].max() > 0
+    assert not any(s.name.startswith("restircl-world-bake") for s in bpy.data.scenes)
+    exp = ensure_registered().engine._SESSIONS[(sc.name, sc.view_layers[0].name)].export
+    assert exp.scene.environment is not None and exp.scene.environment.image.shape == (16, 32, 3)
+    assert any("baked" in w for w in exp.warnings) and not any("failed" in w for w in exp.warnings)
