@@ -35,6 +35,15 @@ def world_scene():
     return sc, sc.world.node_tree
 
 
+def sky_world():
+    """world_scene with a Sky Texture (a node the native reader does not take) on the Background's Color."""
+    sc, tree = world_scene()
+    sky = tree.nodes.new("ShaderNodeTexSky")
+    tree.links.new(sky.outputs["Color"], tree.nodes["Background"].inputs["Color"])
+    tree.nodes["Background"].inputs["Strength"].default_value = 1.0
+    return sc, tree
+
+
 def test_background_colour_and_strength():
     sc, tree = world_scene()
     bg = tree.nodes["Background"]
@@ -178,10 +187,7 @@ def test_negative_world_strength_warns():
 
 
 def test_baking_off_warns():
-    sc, tree = world_scene()
-    sky = tree.nodes.new("ShaderNodeTexSky")
-    tree.links.new(sky.outputs["Color"], tree.nodes["Background"].inputs["Color"])
-    tree.nodes["Background"].inputs["Strength"].default_value = 1.0
+    sc, tree = sky_world()
     exp = export(bake_resolution=0)
     assert exp.scene.environment is None and any("baking is off" in w for w in exp.warnings)
 
@@ -241,10 +247,7 @@ def test_baked_environment_texture_matches_the_rotation_sense_of_cycles():
 
 
 def test_sky_texture_is_baked_with_a_warning():
-    sc, tree = world_scene()
-    sky = tree.nodes.new("ShaderNodeTexSky")
-    tree.links.new(sky.outputs["Color"], tree.nodes["Background"].inputs["Color"])
-    tree.nodes["Background"].inputs["Strength"].default_value = 1.0
+    sc, tree = sky_world()
     exp = export(bake_resolution=16)
     env = exp.scene.environment
     assert env is not None and env.image.shape == (16, 32, 3)
@@ -261,14 +264,11 @@ def test_sky_world_bakes_during_f12(tmp_path):
 
     if needs_renderer.args and needs_renderer.args[0]:
         pytest.skip("restircl.Renderer is not available")
-    sc, tree = world_scene()
+    sc, tree = sky_world()
     scenes.light("SUN", "Sun", (0, 0, 5), energy=2.0)
     sc.render.engine = "RESTIRCL"
     sc.restircl.samples = 2
     sc.restircl.bake_resolution = 16
-    sky = tree.nodes.new("ShaderNodeTexSky")
-    tree.links.new(sky.outputs["Color"], tree.nodes["Background"].inputs["Color"])
-    tree.nodes["Background"].inputs["Strength"].default_value = 1.0
     render_to(sc, tmp_path / "sky.exr")
     rgba = read_exr_passes(tmp_path / "sky.exr")["Combined"]
     assert np.all(np.isfinite(rgba)) and rgba[..., :3].max() > 0
