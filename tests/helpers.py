@@ -88,9 +88,11 @@ def collect(scene: Scene, settings: Settings, frames: int, device=None, warmup: 
 
 
 def batch_stats(samples: np.ndarray, batches: int = 16) -> tuple[np.ndarray, np.ndarray]:
-    """Mean and standard error from batch means (robust to heavy-tailed per-frame samples)."""
+    """Mean and standard error from batch means (robust to heavy-tailed per-frame samples). In float64: a pixel
+    that never varies (a light seen by the camera) then has batch means exactly equal, and a standard error of 0,
+    where float32 sums would differ by rounding and make a t-statistic of noise."""
     n = samples.shape[0] // batches * batches
-    b = samples[:n].reshape(batches, n // batches, *samples.shape[1:]).mean(axis=1)
+    b = np.asarray(samples[:n], np.float64).reshape(batches, n // batches, *samples.shape[1:]).mean(axis=1)
     return b.mean(axis=0), b.std(axis=0, ddof=1) / math.sqrt(batches)
 
 
