@@ -25,6 +25,9 @@ inline bool light_hit(const __global Light* l, int type, float3 x, float3 wi, fl
 #ifdef HAS_SUN_LIGHTS
     case LIGHT_SUN: return sun_hit(l, x, wi, uv);
 #endif
+#ifdef HAS_ENVIRONMENT
+    case LIGHT_ENVIRONMENT: return environment_hit(l, x, wi, uv);
+#endif
     default: break;
     }
     return false;
@@ -40,6 +43,9 @@ inline float light_point_pdf(const __global Light* l, int type, float3 x, const 
     case LIGHT_SPHERE:
     case LIGHT_SPOT: return sphere_point_pdf(l, x, e);
     case LIGHT_SUN: { float pdf; sun_sample(l, x, 0.0f, 0.0f, &pdf); return pdf; }
+#ifdef HAS_ENVIRONMENT
+    case LIGHT_ENVIRONMENT: return environment_point_pdf(l, e);
+#endif
     default: break;
     }
     return 0.0f;
@@ -54,6 +60,7 @@ inline bool light_hittable(const __global Light* l, int type, int index, int ana
     if (index >= analytic) return false;
     if (type == LIGHT_SPHERE || type == LIGHT_SPOT) return sphere_light(l).radius > 0.0f;
     if (type == LIGHT_SUN) return sun_light(l).omc > 0.0f;
+    if (type == LIGHT_ENVIRONMENT) return environment_emits(l);
     return true;
 }
 

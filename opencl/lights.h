@@ -1,6 +1,6 @@
 /* Lights: a sample y = (light, u, v) maps to a point on the light (a direction for the sun) that does not depend on
  * the shading point, so a sample can be re-evaluated at any pixel (ReSTIR reuse). Each light type has one measure:
- * area for triangle, quad, disk and sphere lights, solid angle for the sun, a delta for points (radius 0) and a
+ * area for triangle, quad, disk and sphere lights, solid angle for the sun and the environment, a delta for points (radius 0) and a
  * sun of angle 0. light_sample() draws (u, v) at a shading point with its pdf in that measure; light_eval() gives
  * the unshadowed contribution Le * cos_x * G in the same measure (the BRDF is applied by the caller).
  * This header only dispatches on the record's type: each type's code and the meaning of its record lanes are in
@@ -10,6 +10,7 @@
 #define RESTIRCL_LIGHTS_H
 
 #include "lights/disk.h"
+#include "lights/environment.h"
 #include "lights/quad.h"
 #include "lights/sphere.h"
 #include "lights/spot.h"
@@ -39,6 +40,9 @@ inline bool light_eval(const __global Light* l, float u, float v, float3 x, floa
 #ifdef HAS_SUN_LIGHTS
     case LIGHT_SUN: return sun_eval(l, u, v, x, n, e);
 #endif
+#ifdef HAS_ENVIRONMENT
+    case LIGHT_ENVIRONMENT: return environment_eval(l, u, v, x, n, e);
+#endif
     default: break;  /* a type this build leaves out: the scene has none */
     }
     return false;
@@ -66,6 +70,9 @@ inline float2 light_sample_typed(const __global Light* l, int type, float3 x, fl
 #endif
 #ifdef HAS_SUN_LIGHTS
     case LIGHT_SUN: return sun_sample(l, x, r0, r1, pdf);
+#endif
+#ifdef HAS_ENVIRONMENT
+    case LIGHT_ENVIRONMENT: return environment_sample(l, x, r0, r1, pdf);
 #endif
     default: break;
     }

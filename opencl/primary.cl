@@ -43,7 +43,10 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
         g.normal = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
         g.gnormal = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
         g.albedo = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
-        g.emission = (float4)(sun_seen, 0.0f);
+        g.emission = (float4)(sun_seen, 0.0f);  /* a sun the ray sees is in front of the world */
+#ifdef HAS_ENVIRONMENT
+        g.emission.xyz += environment_seen(lights, d);
+#endif
         g.motion = (float4)(0.0f, 0.0f, 1.0f, INFINITY);  /* the background: reprojected by direction */
         float4 vec = (float4)(0.0f);
 #ifdef HAS_MOTION

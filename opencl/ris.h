@@ -66,6 +66,10 @@ inline void ris_candidates(const Surface* s, const __global Light* lights, const
             for (int k = 0; k < n; ++k) rec[k] = &lights[light[k]];
         }
         for (int k = 0; k < n; ++k) type[k] = light_type(rec[k]);  /* read here: the record's line on its way early */
+#ifdef HAS_ENVIRONMENT
+        /* the environment's map follows the records of the light buffer, not a tile's copy (lights/environment.h) */
+        for (int k = 0; k < n; ++k) if (type[k] == LIGHT_ENVIRONMENT) rec[k] = &lights[light[k]];
+#endif
         for (int k = 0; k < n; ++k) {
             float py;
             float2 uv = light_sample_typed(rec[k], type[k], s->x, r0[k], r1[k], &py);

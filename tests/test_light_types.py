@@ -8,7 +8,7 @@ import re
 import numpy as np
 import pyopencl as cl
 import pytest
-from restircl import Light, layouts
+from restircl import Environment, Light, layouts
 from restircl.features import ALL_FLAGS, general_flags
 from restircl.lights import FLAG_SOFT_FALLOFF, FLAG_TWO_SIDED, SCENE_LIGHT_TYPES, TYPES, scene_lights, type_of
 from restircl.program import build_program, opencl_dir
@@ -36,7 +36,9 @@ def test_each_type_has_its_header_code_and_flag():
     for t in TYPES:
         header = (opencl_dir() / "lights" / f"{t.name}.h").read_text()
         assert f"#define LIGHT_{t.name.upper()} {t.code}" in header, t.name
-        assert t.flag == f"HAS_{t.name.upper()}_LIGHTS" and t.flag in ALL_FLAGS
+        # the world is one light, not a kind of lights: its flag is HAS_ENVIRONMENT
+        flag = "HAS_ENVIRONMENT" if t.name == "environment" else f"HAS_{t.name.upper()}_LIGHTS"
+        assert t.flag == flag and t.flag in ALL_FLAGS
         assert f"#ifdef {t.flag}" in (opencl_dir() / "lights.h").read_text()
     # the host's older names for the codes read the same registry
     assert (layouts.LIGHT_TRIANGLE, layouts.LIGHT_QUAD, layouts.LIGHT_DISK, layouts.LIGHT_SPHERE, layouts.LIGHT_SPOT,
@@ -84,10 +86,11 @@ __kernel void eval_all(const __global Light* lights, int n, const __global float
 """
 
 
-def _eval_all(device, flags, recs, pts) -> np.ndarray:
+def _eval_all(device, flags, lights, pts) -> np.ndarray:
     prog = build_program(device, flags, source=EVAL_SRC)
     mf = cl.mem_flags
-    lb = cl.Buffer(device.context, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=recs)
+    recs = lights.records
+    lb = cl.Buffer(device.context, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=lights.device_array())
     pb = cl.Buffer(device.context, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=pts)
     out = np.zeros((len(pts), len(recs), 3, 4), np.float32)
     ob = cl.Buffer(device.context, mf.WRITE_ONLY, out.nbytes)
@@ -99,15 +102,17 @@ def _eval_all(device, flags, recs, pts) -> np.ndarray:
 def test_dispatch_compiles_each_type_behind_its_flag(device):
     """A build with one type's flag evaluates that type bit for bit as the general build does, and samples nothing
     of the types it leaves out."""
-    lights = scene_lights(mixed_lights_scene(), 0)
+    scene = mixed_lights_scene()
+    scene.environment = Environment("sky", color=(1, 1, 1), image=np.linspace(0.1, 1, 96).reshape(4, 8, 3))
+    lights = scene_lights(scene, 0)
     assert lights.type_set == {t.code for t in TYPES}
     rng = np.random.default_rng(2)
     pts = np.zeros((64, 4), np.float32)
     pts[:, :3] = rng.uniform((-1.5, -1.5, 0.0), (1.5, 1.5, 0.3), (64, 3))
-    general = _eval_all(device, general_flags(), lights.records, pts)
+    general = _eval_all(device, general_flags(), lights, pts)
     for t in TYPES:
         flags = dict.fromkeys(ALL_FLAGS, False) | {t.flag: True}
-        one = _eval_all(device, flags, lights.records, pts)
+        one = _eval_all(device, flags, lights, pts)
         mine = lights.types == t.code
         assert general[:, mine, 0, 3].any(), t.name  # the type lights some point
         assert np.array_equal(one[:, mine].view(np.uint32), general[:, mine].view(np.uint32)), t.name

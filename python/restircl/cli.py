@@ -335,7 +335,8 @@ def build_parser() -> argparse.ArgumentParser:
     rp.set_defaults(func=cmd_report)
 
     c = sub.add_parser("compare", help="ours against Cycles at equal wall time on the held-out scenes (needs bpy)",
-                       description="Render the held-out scenes (studio, neon, garden) with Cycles (direct light "
+                       description="Render the held-out scenes (studio, neon, garden; sky, an HDRI world, with "
+                                   "--kinds) with Cycles (direct light "
                                    "only), our F12 default and RIS for each wall-time budget, and compare their "
                                    "relMSE against a cached 2 x N-spp Cycles image: tables, CSV/JSON, plot.")
     c.add_argument("--kinds", default="studio,neon,garden")

@@ -139,7 +139,7 @@ class DeviceScene:
             self.lights_switched = lights_switched(old.power, lights.power, self.light_change_ratio)
         self.lights = lights
         self.light_array = build_light_array(lights.power, self.slots_per_light)
-        self.lights_buf = upload(self.context, lights.records)
+        self.lights_buf = upload(self.context, lights.device_array())
         self.slots_buf = upload(self.context, self.light_array.slots)
         self.light_pdf_buf = upload(self.context, self.light_array.pdf)
 

@@ -186,8 +186,10 @@ class Renderer:
         history = self.history.valid and consecutive and not cut
         light_count = ds.sampled_light_count
         method = s.method
-        if method == "ris" and light_count == 1:
-            method = "light_array"  # RIS over one light picks that light: leave the loop out
+        if method == "ris" and light_count == 1 and ds.lights.environment is None:
+            # RIS over one light picks that light: leave the loop out (not for the environment, whose candidates
+            # are directions that RIS and the BSDF candidates choose between)
+            method = "light_array"
         tiles = self._use_light_tiles(method, light_count)
         self.light_tiles_used = tiles
         bsdf = self._bsdf_candidates(method, light_count)

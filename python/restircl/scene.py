@@ -201,7 +201,7 @@ class Scene:
             (lt.transforms.shape[0] > 1 and not np.allclose(lt.transforms, lt.transforms[:1]))
             or lt.power_per_frame is not None
             for lt in self.lights
-        )
+        ) or (self.environment is not None and self.environment.strength_per_frame is not None)
 
     @staticmethod
     def at(transforms: np.ndarray, frame: int) -> np.ndarray:

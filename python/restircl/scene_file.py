@@ -11,13 +11,15 @@ from pathlib import Path
 
 import numpy as np
 
+from .environment_file import read_environment, write_environment
 from .material_file import MaterialReader, MaterialWriter
 from .scene import Camera, Light, Mesh, Scene, SceneError, SceneFileError
 
 SCENE_FILE_MAGIC = "restircl-scene"
 # 2: every Material field, texture nodes (a node table; images as arrays or paths), Mesh.uvs and Mesh.normals
-SCENE_FILE_VERSION = 2
-READABLE_VERSIONS = (1, 2)
+# 3: the world (Scene.environment, environment_file.py)
+SCENE_FILE_VERSION = 3
+READABLE_VERSIONS = (1, 2, 3)
 
 
 def save_scene(scene: Scene, path: str | Path) -> None:
@@ -35,6 +37,7 @@ def save_scene(scene: Scene, path: str | Path) -> None:
         "meshes": [],
         "lights": [],
         "camera": None,
+        "environment": write_environment(scene.environment, arrays),
     }
     for i, mesh in enumerate(scene.meshes):
         meta["meshes"].append({"name": mesh.name})
@@ -103,6 +106,7 @@ def load_scene(path: str | Path, cls: type[Scene] = Scene) -> Scene:
             c = dict(meta["camera"])
             c["cuts"] = tuple(c.get("cuts", ()))
             scene.camera = Camera(transforms=data["camera_transforms"], **c)
+        scene.environment = read_environment(meta.get("environment"), data)
     except SceneError:
         raise
     except Exception as exc:

@@ -7,6 +7,7 @@
     moving_box    a box sliding over a floor under a panning camera (reprojection, disocclusion, TAA)
     material_balls  glossy and metallic spheres (Principled, Glossy, Mix) on a diffuse floor under point lights
     textured_room image, checker, mix and normal-map textures and smooth shading (scenes_textured.py)
+    sky           a floor, a box and spheres lit by a generated HDRI sky with a small bright sun (scenes_sky.py)
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ import math
 import numpy as np
 
 from .scene import Camera, Light, Material, Mesh, Scene, look_at, translation
+from .scenes_sky import sky
 from .scenes_textured import textured_room
 
 # ---- geometry helpers -----------------------------------------------------------------------------
@@ -265,7 +267,7 @@ def material_balls(width: int = 320, height: int = 180, frames: int = 1, diffuse
 
 
 BUILTIN = {"many_lights": many_lights, "cornell_box": cornell_box, "moving_box": moving_box,
-           "material_balls": material_balls, "textured_room": textured_room}
+           "material_balls": material_balls, "textured_room": textured_room, "sky": sky}
 
 
 def builtin(name: str, **kwargs) -> Scene:

@@ -3,8 +3,9 @@ restircl Scene (through the add-on's exporter), and time-limited Cycles renders 
 
 Needs the `bpy` module (pip install bpy, Blender as a Python module); `available()` says whether it imports.
 Cycles is set up as in the Blender agreement tests (tests/test_blender_cycles.py, docs/units.md): every bounce
-limit 0, light threshold 0, no adaptive sampling, no denoising, no clamping, box pixel filter of width 1, black
-world, light objects seen by camera rays as each Light.visible_camera says (restircl draws them as Cycles does).
+limit 0, light threshold 0, no adaptive sampling, no denoising, no clamping, box pixel filter of width 1, the
+scene's Environment as the world (cycles_world.py; black without one), light objects seen by camera rays as each
+Light.visible_camera says (restircl draws them as Cycles does).
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ import numpy as np
 
 from ..scene import Scene
 from .cycles_materials import is_plain_diffuse, material_to_bpy
+from .cycles_world import world_to_bpy
 
 
 def available() -> bool:
@@ -105,6 +107,8 @@ def to_bpy(scene: Scene, frame: int = 0):
     sc.render.resolution_x, sc.render.resolution_y = int(cam.width), int(cam.height)
     sc.render.resolution_percentage = 100
     black_world(bpy, sc)
+    if scene.environment is not None:
+        world_to_bpy(bpy, sc, scene.environment)
     mats = [_material(bpy, m) if is_plain_diffuse(m) else material_to_bpy(bpy, m, node_material)
             for m in scene.materials]
     for mesh in scene.meshes:

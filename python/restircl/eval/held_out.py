@@ -8,6 +8,8 @@ them, so a lever that helps here helps scenes it was not fitted to.
     neon    thousands of light triangles: an emissive torus, emissive strips (thin tubes) and a small emissive
             sphere in a closed diffuse room with a few blocks
     garden  300 small point lights of powers over 4 decades (0.1..1000 W) spread over 24 x 24 m, among boxes
+    sky     no lights but the world: a generated HDRI (sky, ground, a sun disk of 1.6 degrees' radius ~1e3 above
+            the sky) over a lumpy mesh, a ball and blocks on a floor
 
 Materials are diffuse, the light types and units those of docs/units.md, so a converged render agrees with Cycles.
 """
@@ -18,10 +20,12 @@ import math
 
 import numpy as np
 
+from ..environment import Environment
 from ..scene import Camera, Light, Material, Mesh, Scene, look_at, translation
 from ..scenes import _merge, box, icosphere, quad
+from ..scenes_sky import sky_map
 
-KINDS = ("studio", "neon", "garden")
+KINDS = ("studio", "neon", "garden", "sky")
 WIDTH, HEIGHT = 192, 108
 
 
@@ -161,11 +165,26 @@ def garden(width: int = WIDTH, height: int = HEIGHT, lights: int = 300, seed: in
     return Scene([Mesh("garden", v, t, m)], materials, lts, cam, name="garden")
 
 
-BUILDERS = {"studio": studio, "neon": neon, "garden": garden}
+def sky(width: int = WIDTH, height: int = HEIGHT) -> Scene:
+    """An HDRI with a small bright sun and nothing else: where the environment's importance sampling matters."""
+    materials = [Material("floor", (0.55, 0.55, 0.5)), Material("lump", (0.7, 0.5, 0.35)),
+                 Material("ball", (0.35, 0.55, 0.7)), Material("block", (0.6, 0.6, 0.65))]
+    parts = [_placed(quad(14, 14), np.eye(4), 0), _placed(blob(4, 0.7, seed=5), translation(-0.9, 0.4, 0.7), 1),
+             _placed(icosphere(3, 0.5), translation(0.9, -0.4, 0.5), 2),
+             _placed(box((0.8, 0.8, 1.6)), translation(2.2, 1.2, 0.8) @ _rot_z(30), 3),
+             _placed(box((2.5, 0.3, 0.9)), translation(-0.5, 2.0, 0.45), 3)]
+    v, t, m = _merge(parts)
+    sun = np.array([-0.55, 0.45, 0.45])
+    world = Environment("held_out_sky", color=(1.0, 1.0, 1.0), strength=1.0, image=sky_map(256, 512, sun=sun))
+    cam = Camera(look_at((0.8, -6.5, 2.0), (0.2, 0.3, 0.6)), width, height, lens=32.0)
+    return Scene([Mesh("sky", v, t, m)], materials, [], cam, name="sky", environment=world)
+
+
+BUILDERS = {"studio": studio, "neon": neon, "garden": garden, "sky": sky}
 
 
 def held_out(kind: str, width: int = WIDTH, height: int = HEIGHT) -> Scene:
-    """The held-out scene of `kind` (studio, neon, garden) at width x height."""
+    """The held-out scene of `kind` (studio, neon, garden, sky) at width x height."""
     if kind not in BUILDERS:
         raise ValueError(f"no held-out scene {kind!r}; kinds: {', '.join(KINDS)}")
     return BUILDERS[kind](width, height).validate()

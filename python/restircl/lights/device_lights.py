@@ -1,17 +1,19 @@
 """Scene lights and emissive triangles -> packed device Light records (opencl/types.h), with Blender's units.
 
-Each type's conversion is in its module (sphere, spot, sun, quad, disk, triangle; measured against Cycles,
-docs/units.md); this gathers them in the order the device sees: the scene's lights first, then emissive triangles.
+Each type's conversion is in its module (sphere, spot, sun, quad, disk, triangle, environment; measured against
+Cycles, docs/units.md); this gathers them in the order the device sees: the world (environment) first when the scene
+has one, then the scene's lights, then emissive triangles; the environment's map and table after every record.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from .. import layouts as L
 from ..scene import Scene
+from . import environment as env_light
 from .light_type import PlacedLight
 from .record import LANES
 from .registry import type_of
@@ -24,7 +26,17 @@ class DeviceLights:
     records: np.ndarray  # layouts.LIGHT
     power: np.ndarray  # (N,) coarse importance of each light (luminance-weighted power, W)
     types: np.ndarray  # (N,) LIGHT_* codes
-    source: np.ndarray  # (N,) index into scene.lights, or -1 - triangle index for emissive triangles
+    source: np.ndarray  # (N,) index into scene.lights, len(scene.lights) for the world, -1 - triangle index for
+    # emissive triangles
+    data: np.ndarray = field(default_factory=lambda: np.zeros(0, np.float32))  # floats after the records (the
+    # environment's map and table, lights/environment.py)
+    environment: env_light.PackedMap | None = None
+
+    def device_array(self) -> np.ndarray:
+        """What the light buffer holds: the records, then `data`."""
+        if len(self.data) == 0:
+            return self.records
+        return np.concatenate([self.records.view(np.float32).reshape(-1), self.data])
 
     def __len__(self) -> int:
         return len(self.records)
@@ -42,6 +54,14 @@ def scene_lights(scene: Scene, frame: int, world=None) -> DeviceLights:
     power: list[float] = []
     types: list[int] = []
     radius = _scene_radius(world)
+    sources: list[int] = []
+    packed = None
+    if scene.environment is not None:
+        packed = env_light.packed_map(scene.environment)
+        recs.append(env_light.record(scene.environment, packed, frame))
+        power.append(env_light.power(scene.environment, packed, frame, radius))
+        types.append(env_light.TYPE.code)
+        sources.append(len(scene.lights))
     for lt in scene.lights:
         rgb_power = np.asarray(lt.color, dtype=np.float64) * lt.power_at(frame)
         placed = PlacedLight(lt, Scene.at(lt.transforms, frame), rgb_power, radius)
@@ -49,16 +69,22 @@ def scene_lights(scene: Scene, frame: int, world=None) -> DeviceLights:
         recs.append(kind.record(placed))
         power.append(kind.power(placed))
         types.append(kind.code)
+        sources.append(len(sources) - (packed is not None))
     rad = np.array([m.radiance for m in scene.materials]).reshape(-1, 3) if scene.materials else np.zeros((0, 3))
     tri_recs, tri_power, tri_src = emissive_triangles(world, rad)
     all_recs = np.concatenate([np.array(recs, np.float32).reshape(-1, LANES), tri_recs]) if recs else tri_recs
     records = np.zeros(len(all_recs), L.LIGHT)
-    records.view(np.float32).reshape(-1, LANES)[:] = all_recs
+    flat = records.view(np.float32).reshape(-1, LANES)
+    flat[:] = all_recs
+    if packed is not None:
+        env_light.place_data(flat, 0, packed)
     return DeviceLights(
         records,
         np.concatenate([np.array(power, np.float64), tri_power]),
         np.concatenate([np.array(types, np.int64), np.full(len(tri_recs), TRIANGLE.code, np.int64)]),
-        np.concatenate([np.arange(len(recs), dtype=np.int64), tri_src]),
+        np.concatenate([np.array(sources, np.int64), tri_src]),
+        env_light.data(packed) if packed is not None else np.zeros(0, np.float32),
+        packed,
     )
 
 

@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 from ..scene import Light, SceneError
-from . import disk, quad, sphere, spot, sun, triangle
+from . import disk, environment, quad, sphere, spot, sun, triangle
 from .light_type import LightType, SceneLightType
 
 SCENE_LIGHT_TYPES: tuple[SceneLightType, ...] = (quad.TYPE, disk.TYPE, sphere.TYPE, spot.TYPE, sun.TYPE)
-TYPES: tuple[LightType, ...] = tuple(sorted((triangle.TYPE, *SCENE_LIGHT_TYPES), key=lambda t: t.code))
+TYPES: tuple[LightType, ...] = tuple(
+    sorted((triangle.TYPE, environment.TYPE, *SCENE_LIGHT_TYPES), key=lambda t: t.code))
 TYPE_NAMES: dict[int, str] = {t.code: t.name for t in TYPES}
 FEATURE_FLAGS: dict[int, str] = {t.code: t.flag for t in TYPES}
 
