@@ -16,7 +16,8 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
                       const __global TriAttr* tri_attr, const __global ObjectInfo* objects,
                       const __global Closure* closures, const __global TexNode* tex_nodes,
                       const __global TexImage* tex_images, const __global float4* texels,
-                      const __global float* ggx_tables, const __global Light* lights,
+                      const __global float* ggx_tables,
+                      const __global Light* lights, const __global float4* camera_lights,
                       __global GSample* gbuf, __global GlossySample* glossy, __global float4* vector)
 {
     int x = get_global_id(0), y = get_global_id(1);
@@ -27,6 +28,15 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
     float3 o, d;
     camera_ray(cam, ray_px.x, ray_px.y, &o, &d);
     Hit hit = trace_closest(nodes, tris, o, d, INFINITY);
+    float3 sun_seen = (float3)(0.0f);  /* the suns a ray that misses sees (camera_lights.h) */
+#ifdef HAS_CAMERA_LIGHTS
+    if (camera_light_pixel(lights, camera_lights, cam, prev_cam, next_cam, o, d, hit.t,
+                           gbuf + i, glossy + i, vector + i, &sun_seen))
+        return;
+#else
+    (void)lights;
+    (void)camera_lights;
+#endif
     GSample g;
     g.motion = (float4)(0.0f);
     if (hit.prim < 0) {
@@ -34,11 +44,9 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
         g.normal = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
         g.gnormal = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
         g.albedo = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
-        g.emission = (float4)(0.0f);
+        g.emission = (float4)(sun_seen, 0.0f);  /* a sun the ray sees is in front of the world */
 #ifdef HAS_ENVIRONMENT
-        g.emission.xyz = environment_seen(lights, d);
-#else
-        (void)lights;
+        g.emission.xyz += environment_seen(lights, d);
 #endif
         g.motion = (float4)(0.0f, 0.0f, 1.0f, INFINITY);  /* the background: reprojected by direction */
         float4 vec = (float4)(0.0f);

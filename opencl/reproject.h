@@ -14,11 +14,13 @@ inline bool reproject_position(const __global GSample* gbuf, int x, int y, int w
     return finite_f(prev->x) && finite_f(prev->y);
 }
 
-/* Is previous-frame G-sample `prev` the same surface as current G-sample `cur`? Misses match misses. */
+/* Is previous-frame G-sample `prev` the same surface as current G-sample `cur`? Misses (prim -1) match misses;
+ * lights the camera sees (prim below -1, camera_lights.h) are tested like surfaces. */
 inline bool reproject_same_surface(const GSample* cur, const GSample* prev, float depth_tol, float normal_cos)
 {
-    bool cur_hit = as_int(cur->normal.w) >= 0, prev_hit = as_int(prev->normal.w) >= 0;
-    if (cur_hit != prev_hit) return false;
+    int cur_prim = as_int(cur->normal.w), prev_prim = as_int(prev->normal.w);
+    bool cur_hit = cur_prim != -1, prev_hit = prev_prim != -1;
+    if (cur_hit != prev_hit || (cur_prim < -1) != (prev_prim < -1)) return false;  /* a light is no surface */
     if (!cur_hit) return true;
     float expected = cur->motion.w;  /* depth of the surface point in the previous camera */
     if (!(abs_f(prev->pos.w - expected) <= depth_tol * abs_f(expected))) return false;

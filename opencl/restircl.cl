@@ -7,6 +7,7 @@
 #include "camera.h"
 #include "lights.h"
 #include "light_hit.h"
+#include "camera_lights.h"
 #include "light_array.h"
 #include "light_tiles.h"
 #include "light_tree.h"

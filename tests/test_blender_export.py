@@ -397,14 +397,16 @@ def test_nan_transform_fails_validation():
         exp.scene.validate()
 
 
-def test_negative_light_power_fails_validation():
+def test_negative_light_power_is_left_out_with_a_warning():
     basic_scene()
     lamp = scenes.light("POINT", "Negative", (0, 0, 2))
     lamp.data.energy = -5.0
     if lamp.data.energy >= 0:
         pytest.skip("this Blender clamps light power at 0")
-    with pytest.raises(restircl.SceneError, match="Negative"):
-        export().scene.validate()
+    exp = export()
+    exp.scene.validate()
+    assert [lt.name for lt in exp.scene.lights] == ["Sun"]
+    assert any("Negative" in w and "negative strength" in w for w in exp.warnings)
 
 
 def test_empty_scene_warns():
@@ -416,11 +418,13 @@ def test_empty_scene_warns():
     assert any("empty" in w for w in exp.warnings)
 
 
-def test_world_lighting_warns():
+def test_world_lighting_is_exported():
     sc = basic_scene()
     sc.world.node_tree.nodes["Background"].inputs["Strength"].default_value = 1.0
     sc.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.5, 0.5, 0.5, 1.0)
-    assert any("world" in w for w in export().warnings)
+    exp = export()
+    assert exp.scene.environment.color == pytest.approx((0.5, 0.5, 0.5))  # tests/test_blender_world.py: the rest
+    assert not any("world" in w for w in exp.warnings)
 
 
 # ---- the fingerprint the engine compares to reuse a renderer --------------------------------------------

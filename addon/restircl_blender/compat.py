@@ -22,6 +22,22 @@ def uses_nodes(id_block) -> bool:
     return bool(id_block.use_nodes)
 
 
+def visible_camera(ob) -> bool:
+    """Object > Visibility > Ray Visibility > Camera. Every supported release (4.2 on) has it on the object, for
+    lights too (Blender 2.9x kept it in `ob.cycles_visibility.camera`, read where the attribute is missing)."""
+    if hasattr(ob, "visible_camera"):
+        return bool(ob.visible_camera)
+    legacy = getattr(ob, "cycles_visibility", None)
+    return bool(getattr(legacy, "camera", True))
+
+
+def world_visible_camera(world) -> bool:
+    """World > Ray Visibility > Camera: `world.visibility.camera`? No: Blender keeps it in Cycles' settings of
+    the world (`world.cycles_visibility.camera`) on every supported release; True where it is missing."""
+    vis = getattr(world, "cycles_visibility", None)
+    return bool(getattr(vis, "camera", True))
+
+
 # The first release known to pick an extension's wheels by Python version (tools/build_extension.py).
 PER_PYTHON_WHEELS = (4, 2, 13)
 

@@ -12,6 +12,7 @@ import pyopencl as cl
 from . import layouts as L
 from .buffers import upload
 from .bvh import build_bvh, make_tris
+from .camera_lights import camera_light_indices, camera_light_table
 from .ggx_tables import ggx_tables
 from .light_array import LightArray, build_light_array
 from .light_hit import analytic_light_count, triangle_lights
@@ -59,6 +60,8 @@ class DeviceScene:
         self.tree_seconds = 0.0  # the last tree build's time
         self._no_tree: cl.Buffer | None = None  # the placeholder of the tree arguments without a tree
         self.motion_buf: cl.Buffer | None = None
+        self.camera_lights = camera_light_indices(scene)  # the lights camera rays test (scene light indices)
+        self.camera_lights_buf: cl.Buffer | None = None
         self.ggx_tables_buf: cl.Buffer | None = None  # glossy builds only (upload_ggx_tables)
         self._textures: PackedTextures | None = None  # packed once: materials do not animate
         self._frame = 0  # the frame of the geometry on the device
@@ -99,6 +102,11 @@ class DeviceScene:
         if self.moving_objects or self.motion_buf is None or edit_rows or self._edit_rows_on_device:
             self.motion_buf = upload(self.context, self._motion_rows(frame, last_frame, self._edit_motion))
             self._edit_rows_on_device, self._edit_motion = edit_rows, None
+        if self.moving_lights or self.camera_lights_buf is None:
+            prev_f = last_frame if last_frame is not None else frame
+            table = camera_light_table(scene, self.camera_lights, self.lights.source, frame, prev_f,
+                                       min(frame + 1, self.frame_count - 1))
+            self.camera_lights_buf = upload(self.context, table)
 
     def edit(self, *, geometry: bool = False, lights: bool = False, materials: bool = False,
              moved: dict[int, np.ndarray] | None = None) -> None:
@@ -117,6 +125,7 @@ class DeviceScene:
             self._lights_key = None  # emissive triangles are lights
         if lights:
             self._lights_key = None
+            self.camera_lights_buf = None  # what the camera sees of the lights moves with them
         if moved:
             self._edit_motion = dict(moved)
         self._pending_edit = True

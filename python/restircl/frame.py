@@ -86,7 +86,7 @@ def read_aovs(queue: cl.CommandQueue, out: Frame, gbuf: cl.Buffer, vector_buf: c
     """Fill the depth, normal, vector and albedo passes of `out` from a G-buffer and the Vector buffer."""
     shape = out.color.shape[:2]
     g = read_gbuffer(queue, gbuf, shape)
-    hit = L.float_bits_to_int(g["normal"][..., 3]) >= 0
+    hit = L.float_bits_to_int(g["normal"][..., 3]) != -1  # -1: a miss; below: a light seen (camera_lights.h)
     out.albedo, out.normal = surface_images(g)
     vector = read_image(queue, vector_buf, shape)
     vector[..., 1] *= -1.0  # Blender's pixel y points up

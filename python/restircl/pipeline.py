@@ -125,8 +125,10 @@ class Renderer:
         if self.uses_light_tree:
             ds.use_light_tree()
         if self.settings.specialise:
-            flags = derive_flags(ds.lights.type_set, moving_camera or ds.moving_objects,
-                                 ds.moving_objects or self.interactive, ds.material_flags, self.uses_light_tree)
+            # a light the camera sees that moves needs motion vectors of its own
+            moving = moving_camera or ds.moving_objects or (ds.moving_lights and bool(ds.camera_lights))
+            flags = derive_flags(ds.lights.type_set, moving, ds.moving_objects or self.interactive,
+                                 ds.material_flags, self.uses_light_tree, camera_lights=bool(ds.camera_lights))
         else:
             flags = general_flags()
         self.flags = flags

@@ -99,8 +99,8 @@ class Primary(Stage):
         self.kernels.launch("primary", image_size(state), cam=b.cameras[0],
                             prev_cam=b.cameras[1], next_cam=b.cameras[2], **self.scene.geometry,
                             **self.scene.surface, ggx_tables=self.scene.ggx_tables_buf or b.none,
-                            lights=self.scene.lights_buf,
-                            object_motion=self.scene.motion_buf, gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
+                            object_motion=self.scene.motion_buf, lights=self.scene.lights_buf,
+                            camera_lights=self.scene.camera_lights_buf, gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
                             vector=b.vector)
 
 

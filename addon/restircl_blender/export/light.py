@@ -9,7 +9,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..compat import uses_nodes
+from ..compat import uses_nodes, visible_camera
 from .convert import matrix, rgb
 from .motion import Frames, fill_gaps, instance_key, transforms
 from .report import ExportError
@@ -32,6 +32,7 @@ class LightReader:
         ob = inst.object
         m = matrix(inst.matrix_world)
         params = light_params(ob.data, np.linalg.norm(m[:3, :3], axis=0), self.warn, ob.name)
+        params["visible_camera"] = visible_camera(ob)
         self._by_key[instance_key(inst)] = len(self._params)
         self._params.append(params)
         self._tracks.append(self.frames.track(m))
@@ -55,6 +56,7 @@ class LightReader:
 
         light_fields = set(getattr(restircl.Light, "__dataclass_fields__", {}))
         soft_lights = []
+        negative: list[str] = []
         lights = []
         for params, track, powers in zip(self._params, self._tracks, self._powers, strict=True):
             fill_gaps(track)
@@ -64,12 +66,24 @@ class LightReader:
                 params["soft_falloff"] = soft
             elif soft:
                 soft_lights.append(params["name"])
+            if "visible_camera" not in light_fields:  # a restircl from before lights were seen
+                params.pop("visible_camera")
             p = np.asarray(powers, dtype=np.float64)
+            if np.any(p < 0):
+                # Cycles subtracts such light; a RIS target is a luminance >= 0, so it cannot be resampled
+                negative.append(params["name"])
+                p = np.maximum(p, 0.0)
+                if not np.any(p > 0):
+                    continue
+                params["power"] = max(float(params["power"]), 0.0)
             if len(p) > 1 and not np.all(p == p[0]):
                 peak = float(np.max(np.abs(p)))
                 params["power"] = peak
                 params["power_per_frame"] = p / peak if peak > 0 else np.zeros_like(p)
             lights.append(restircl.Light(transforms=transforms(track), **params))
+        if negative:
+            self.warn(f"light(s) {', '.join(repr(n) for n in negative[:5])}: negative strength (subtracted "
+                      "light) is not rendered; left out where negative")
         if soft_lights:
             self.warn(f"light(s) {', '.join(repr(n) for n in soft_lights[:5])}: 'Soft Falloff' is rendered as a "
                       "physical sphere light (turn Soft Falloff off to match Cycles near the light)")

@@ -12,7 +12,7 @@ from .material import MaterialTable, scene_bake_resolution
 from .mesh import GEOMETRY_TYPES, MeshReader
 from .motion import Frames
 from .report import Warnings
-from .world import world_warning
+from .world import read_world
 
 
 @dataclass
@@ -82,14 +82,14 @@ def export_scene(depsgraph, frames: Sequence[int] | None = None,
         warnings.add(f"object(s) {', '.join(repr(n) for n in meshes.deforming[:5])} deform during the animation: "
                      "the geometry is exported again each frame and the reuse history starts over")
     sc.camera = cameras.build()
-    world_warning(scene, warnings.add)
+    sc.environment = read_world(scene, warnings.add, bake)
     stats = {
         "objects": meshes.count, "instances": meshes.instances, "triangles": sc.triangle_count,
         "lights": len(sc.lights), "materials": len(sc.materials), "emissive_materials": materials.emissive_count,
     }
     if not sc.meshes and not sc.lights:
         warnings.add("the scene is empty: nothing to render")
-    elif not sc.lights and not stats["emissive_materials"]:
+    elif not sc.lights and not stats["emissive_materials"] and sc.environment is None:
         warnings.add("the scene has no lights and no emissive materials: the image is black")
     return Export(scene=sc, frames=sampled.numbers, warnings=list(warnings), stats=stats,
                   deforming=meshes.deforming)

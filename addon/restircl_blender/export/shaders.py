@@ -79,6 +79,9 @@ class ShaderReader:
             return self._mix(node, src.stack, w, depth)
         if kind == "ShaderNodeEmission":
             strength = self.inputs.constant(find_input(node, ("Strength",)), src.stack, f"{label} Strength")
+            if strength < 0:
+                self.notes.note(f"{label}: negative emission strength (subtracted light) is left out")
+                return []
             return [Term(w, label, emission=self.inputs.color(find_input(node, ("Color",)), src.stack),
                          strength=strength)]
         if kind == "ShaderNodeBsdfPrincipled":
@@ -148,6 +151,8 @@ class ShaderReader:
         terms = [Term(w, label, closure=closure)]
         strength_in = find_input(node, ("Emission Strength",))
         strength = inp.constant(strength_in, stack, f"{label} Emission Strength") if strength_in else 0.0
+        if strength < 0:
+            self.notes.note(f"{label}: negative emission strength (subtracted light) is left out")
         if strength > 0:
             colour = inp.color(find_input(node, ("Emission Color", "Emission")), stack)
             if not isinstance(colour, tuple) or max(colour) > 0:

@@ -4,8 +4,8 @@ restircl Scene (through the add-on's exporter), and time-limited Cycles renders 
 Needs the `bpy` module (pip install bpy, Blender as a Python module); `available()` says whether it imports.
 Cycles is set up as in the Blender agreement tests (tests/test_blender_cycles.py, docs/units.md): every bounce
 limit 0, light threshold 0, no adaptive sampling, no denoising, no clamping, box pixel filter of width 1, the
-scene's Environment as the world (cycles_world.py; black without one), light objects hidden from camera rays
-(restircl does not draw lights; emissive meshes it does).
+scene's Environment as the world (cycles_world.py; black without one), light objects seen by camera rays as each
+Light.visible_camera says (restircl draws them as Cycles does).
 """
 
 from __future__ import annotations
@@ -143,7 +143,7 @@ def to_bpy(scene: Scene, frame: int = 0):
         ob = bpy.data.objects.new(lt.name, ld)
         sc.collection.objects.link(ob)
         ob.matrix_world = _matrix(Scene.at(lt.transforms, frame))
-        ob.visible_camera = False
+        ob.visible_camera = bool(lt.visible_camera)
     cd = bpy.data.cameras.new("Camera")
     cd.lens = float(cam.lens)
     cd.sensor_width, cd.sensor_height = float(cam.sensor_width), float(cam.sensor_height)
@@ -188,9 +188,6 @@ def load_blend(path: str | Path, width: int | None = None, height: int | None = 
     exp = export.export_scene(depsgraph, frames, frame_set=sc.frame_set)
     out = exp.scene
     out.name = Path(path).stem
-    for ob in sc.objects:  # as in to_bpy: restircl does not draw light objects
-        if ob.type == "LIGHT":
-            ob.visible_camera = False
     return out, sc, list(exp.warnings)
 
 
