@@ -23,6 +23,10 @@ def test_stress_case(device, name):
     for r in results:
         assert r.nonfinite == 0, (r.case, r.method, r.notes)
         assert r.passed, (r.case, r.method, r.notes)
+        # the long animation also reports its temporal stability (eval/flicker.py), the other kinds do not
+        assert math.isfinite(r.flicker) == (name == "long_animation"), (r.case, r.method, r.flicker)
+        if name == "long_animation":
+            assert r.flicker >= 0 and r.boiling >= 0
 
 
 def _record(kind: int, p, a=(0, 0, 0), b=(0, 0, 0), radiance=(1, 1, 1), radius: float = 0.0) -> list:

@@ -61,8 +61,11 @@ def test_depsgraph_updates_become_scene_edits():
 
     before = export.export_scene(bpy.context.evaluated_depsgraph_get(), None).scene.lights[0].power
     [power] = edits_after(lambda: setattr(bpy.data.objects["Point"].data, "energy", 90.0))
-    assert power.scene is not None and not power.transforms
-    assert power.scene.lights[0].power == pytest.approx(before * 90.0 / 60.0)
+    assert power.scene is None and not power.transforms  # the lights alone are read again
+    assert power.lights[0].power == pytest.approx(before * 90.0 / 60.0)
+    point = bpy.data.objects["Point"]
+    [light_moved] = edits_after(lambda: setattr(point.location, "z", point.location.z + 0.5))
+    assert light_moved.scene is None and light_moved.lights[0].transforms[0][2, 3] == pytest.approx(2.0)
     bsdf = next(n for n in bpy.data.materials["Red"].node_tree.nodes if n.type == "BSDF_DIFFUSE")
     [colour] = edits_after(lambda: setattr(bsdf.inputs["Color"], "default_value", (0.1, 0.9, 0.1, 1.0)))
     assert colour.scene is not None

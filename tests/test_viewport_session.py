@@ -5,6 +5,7 @@ jump resets it; an edit of one object uploads only what it changed; the worker s
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import threading
 import time
@@ -182,26 +183,37 @@ def test_an_edit_of_one_object_uploads_only_what_changed():
         sess.edit(SceneEdit(scene=edited))
         frame = sess.wait(6)
         assert ds.uploads == {**base, "lights": base["lights"] + 1} and not frame.cut
+        # the same through the lights alone (what view_update sends for a light edit): its power
+        lights = [dataclasses.replace(lt) for lt in edited.lights]
+        lights[1].power *= 1.5
+        base = dict(ds.uploads)
+        sess.edit(SceneEdit(lights=lights))
+        frame = sess.wait(7)
+        assert ds.uploads == {**base, "lights": base["lights"] + 1} and not frame.cut
+        assert sess.scene.lights[1].power == lights[1].power
+        edited.lights = lights
         # a material's colour: the materials only
         edited2 = scenes.moving_box(W, H, frames=1)
         edited2.meshes[1].transforms = np.asarray(moved)[None]
         edited2.lights[1].color = (0.2, 0.4, 1.0)
+        edited2.lights[1].power = lights[1].power
         edited2.materials[1].albedo = (0.1, 0.8, 0.1)
         base = dict(ds.uploads)
         sess.edit(SceneEdit(scene=edited2))
-        frame = sess.wait(7)
+        frame = sess.wait(8)
         assert ds.uploads == {**base, "materials": base["materials"] + 1} and not frame.cut
         assert frame.rgba[..., 1].max() > frame.rgba[..., 0].max() * 0.5
         # another topology: uploaded, and the history dropped
         edited3 = scenes.moving_box(W, H, frames=1)
         edited3.meshes[1].transforms = np.asarray(moved)[None]
         edited3.lights[1].color = (0.2, 0.4, 1.0)
+        edited3.lights[1].power = lights[1].power
         edited3.materials[1].albedo = (0.1, 0.8, 0.1)
         edited3.meshes[1].vertices = edited3.meshes[1].vertices * 0.5
         sess.edit(SceneEdit(scene=edited3))
-        frame = sess.wait(8)
+        frame = sess.wait(9)
         assert frame.cut and frame.history == 1.0
-        assert sess.stats.edits == {"kept": 3, "reset": 1}
+        assert sess.stats.edits == {"kept": 4, "reset": 1}
     finally:
         assert sess.stop()
 

@@ -87,14 +87,14 @@ def unique_mesh_names(scene) -> frozenset:
 
 
 def scene_edit(depsgraph, mesh_names: frozenset) -> SceneEdit | None:
-    """The scene edit that depsgraph.updates describe: a moved mesh object by its new matrix alone; anything else
-    (geometry, a light, a material, the world, objects added or removed) by a re-export that the session
-    compares with its scene. None when nothing that is rendered changed (the camera's own updates: the view
-    comes from the 3D view)."""
+    """The scene edit that depsgraph.updates describe: a moved mesh object by its new matrix alone; lights (a
+    light object or its data) by re-reading the lights alone; anything else (geometry, a material, the world,
+    objects added or removed) by a re-export that the session compares with its scene. None when nothing that is
+    rendered changed (the camera's own updates: the view comes from the 3D view)."""
     import bpy
 
     transforms = {}
-    full = False
+    full = lights = False
     for u in depsgraph.updates:
         idb = u.id
         if isinstance(idb, bpy.types.Object):
@@ -104,14 +104,21 @@ def scene_edit(depsgraph, mesh_names: frozenset) -> SceneEdit | None:
                 if u.is_updated_transform:
                     transforms[idb.name] = matrix(idb.matrix_world)
                 continue
+            if idb.type == "LIGHT":
+                lights = True
+                continue
             full = True
-        elif isinstance(idb, bpy.types.Camera | bpy.types.Screen | bpy.types.WorkSpace):
-            continue
+        elif isinstance(idb, bpy.types.Light):
+            lights = True
+        elif isinstance(idb, bpy.types.Camera | bpy.types.Screen | bpy.types.WorkSpace | bpy.types.Scene):
+            continue  # a Scene update comes with every edit; what changed in it arrives as its own update
         else:
             full = True
-    if not transforms and not full:
+    if not (transforms or full or lights):
         return None
-    return SceneEdit(transforms=transforms, scene=export.export_scene(depsgraph, None).scene if full else None)
+    if full:
+        return SceneEdit(transforms=transforms, scene=export.export_scene(depsgraph, None).scene)
+    return SceneEdit(transforms=transforms, lights=export.export_lights(depsgraph)[0] if lights else None)
 
 
 def view_draw(engine, context, depsgraph) -> None:

@@ -12,11 +12,12 @@ No bpy here: the add-on fills SceneEdit from depsgraph.updates (engine.py), test
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
-from restircl import Camera, Scene
+from restircl import Camera, Light, Scene
 
 from .export.fingerprint import fingerprint
 
@@ -27,10 +28,12 @@ if TYPE_CHECKING:
 @dataclass
 class SceneEdit:
     """transforms: new object-to-world matrices by object name (meshes and lights), read without re-exporting
-    anything else; scene: a whole re-export to compare with the session's scene (lights, materials, geometry)."""
+    anything else; lights: the lights re-read alone (an edit that touched only lights); scene: a whole re-export to
+    compare with the session's scene (lights, materials, geometry)."""
 
     transforms: dict[str, np.ndarray] = field(default_factory=dict)
     scene: Scene | None = None
+    lights: list[Light] | None = None
 
 
 def _same(a, b) -> bool:
@@ -44,9 +47,13 @@ def _geometry(mesh) -> tuple:
 def _kernel_needs(scene: Scene) -> tuple:
     """What of a scene decides the compiled kernels beyond the light array (features.py): the light types and
     which materials are glossy, textured or emissive, the world."""
+    from restircl.camera_lights import camera_light_indices
+    from restircl.lights.registry import type_of
     from restircl.material_pack import uses_glossy, uses_textures
 
-    return (sorted({lt.type for lt in scene.lights}), [uses_glossy(m) for m in scene.materials],
+    # the device light types (a square and a disk area light are two) and whether the camera sees any light
+    light_types = sorted({type_of(lt).code for lt in scene.lights})
+    return (light_types, bool(camera_light_indices(scene)), [uses_glossy(m) for m in scene.materials],
             [uses_textures(m) for m in scene.materials], [m.is_emissive for m in scene.materials],
             fingerprint(env=scene.environment))
 
@@ -78,6 +85,9 @@ def apply_edit(session: ViewportSession, edit: SceneEdit, view: Camera) -> str:
             moved[hit[0]] = hit[1]
         lights |= _move(sc.lights, name, m) is not None
     new = edit.scene
+    if new is None and edit.lights is not None:  # the lights alone: the rest of the scene is the session's
+        new = copy.copy(sc)
+        new.lights = edit.lights
     if new is not None:
         if (len(new.meshes) != len(sc.meshes) or len(new.materials) != len(sc.materials)
                 or _kernel_needs(new) != _kernel_needs(sc)):

@@ -36,6 +36,17 @@ class Export:
         return fingerprint(scene=self.scene, frames=self.frames)
 
 
+def export_lights(depsgraph) -> tuple[list, list[str]]:
+    """The lights alone at the current frame (a viewport edit that touched only lights), and the warnings."""
+    scene = depsgraph.scene
+    warnings = Warnings()
+    lights = LightReader(Frames.choose(None, int(scene.frame_current), False), warnings.add)
+    for inst in depsgraph.object_instances:
+        if inst.object.type == "LIGHT":
+            lights.read(inst)
+    return lights.build(), list(warnings)
+
+
 def export_scene(depsgraph, frames: Sequence[int] | None = None,
                  frame_set: Callable[[int], None] | None = None, camera=None,
                  bake_resolution: int | None = None) -> Export:

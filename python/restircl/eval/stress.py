@@ -24,7 +24,8 @@ Kinds of case: `still` (runs of a still camera, render_still), `sequence` (per r
 under test; its 1-sample image is the run's value, the mean of 8 samples of that frame for methods without
 history) and `long` (one very long animation with TAA and ReSTIR,
 compared by batch means over its second part; the ReSTIR M and the TAA history length are checked to stay
-capped).
+capped; its last 16 outputs also give the flicker and boiling figures of eval/flicker.py, columns `flicker` and
+`boil px`).
 """
 
 from __future__ import annotations

@@ -16,6 +16,7 @@ import pyopencl as cl
 
 from .. import layouts as L
 from ..pipeline import Frame, Renderer, Settings
+from .flicker import stats as flicker_stats
 from .stress_cases import Case
 from .stress_references import Reference, luminance
 
@@ -62,6 +63,9 @@ class Result:
     notes: list[str] = field(default_factory=list)
     seconds: float = 0.0
     samples: int = 0  # frames rendered for the statistics
+    # long animations: temporal stability of the last FLICKER_FRAMES outputs (eval/flicker.py), else NaN
+    flicker: float = math.nan
+    boiling: float = math.nan
 
     def row(self) -> list[str]:
         def g(v: float) -> str:
@@ -69,11 +73,13 @@ class Result:
 
         return [self.case, self.method, str(self.nonfinite), g(self.max_value), g(self.rel_mse),
                 g(self.expected_rel_mse), f"{self.outliers}/{self.allowed}", g(self.z_image), g(self.rel_bias),
-                "pass" if self.passed else "FAIL", f"{self.seconds:.1f}", "; ".join(self.notes)]
+                "pass" if self.passed else "FAIL", f"{self.seconds:.1f}", g(self.flicker), g(self.boiling),
+                "; ".join(self.notes)]
 
 
 HEADER = ["case", "method", "NaN/Inf", "max", "relMSE", "expected", "z>4 px", "z image", "bias", "result", "s",
-          "notes"]
+          "flicker", "boil px", "notes"]
+FLICKER_FRAMES = 16  # long animations: consecutive outputs the flicker statistics are taken over
 
 
 def _nonfinite(frame: Frame) -> int:
@@ -235,12 +241,15 @@ def run_method(case: Case, method: str, ref: Reference, device=None, seed: int =
         start = case.frames - n_batches * b
         m_bound = _m_bound(r.settings)
         acc = np.zeros((r.height, r.width, 3))
+        last: list[np.ndarray] = []
         max_m = 0.0
         max_n = 0.0
         for fr in range(case.frames):
             f = r.render_frame(fr)
             seen(f)
             samples += 1
+            if fr >= case.frames - FLICKER_FRAMES:
+                last.append(f.color[..., :3].copy())
             if fr >= start:
                 acc += f.color[..., :3]
                 if (fr - start + 1) % b == 0:
@@ -262,6 +271,9 @@ def run_method(case: Case, method: str, ref: Reference, device=None, seed: int =
     nonfinite += sum(r.guard_totals.values())
     res = _judge(case, method, np.stack(values), ref, nonfinite, max_value, time.perf_counter() - t0, samples,
                  notes, dof)
+    if case.kind == "long" and last:
+        st = flicker_stats(method, "still", last, [ref.mean] * len(last))
+        res.flicker, res.boiling = st.flicker, st.boiling
     bad = [n for n in notes if not n.startswith("max ")]
     if bad and res.passed:
         res.passed = False
