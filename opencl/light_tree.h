@@ -14,6 +14,8 @@
 #ifndef RESTIRCL_LIGHT_TREE_H
 #define RESTIRCL_LIGHT_TREE_H
 
+#include "light_array.h"  /* light_pick_lights falls back to the array (and picks the distant lights by it) */
+
 #define LIGHT_TREE_FLOOR 0.1f       /* light_tree.py FLOOR */
 #define LIGHT_TREE_TWO_SIDED 1      /* LightTreeNode.meta.y: a light below emits on both sides */
 #define LIGHT_TREE_MIN_BRANCH (1.0f / 4096.0f)  /* light_tree.py MIN_BRANCH */

@@ -274,6 +274,7 @@ PICK_SRC = BSDF_SRC + """
 #include "light_hit.h"
 #include "target.h"
 #include "visibility.h"
+#include "light_tree.h"
 #include "bsdf_candidates.h"
 
 /* density = 0, per host uniform pair in[i]: the light sample (u, v) a BSDF direction of the test surface meets on

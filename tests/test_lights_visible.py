@@ -41,7 +41,8 @@ SUN_DIR = np.array([1.5, 5.0, -0.8]) / np.linalg.norm([1.5, 5.0, -0.8])  # from 
 
 
 def shapes() -> list[Light]:
-    return [
+    """One light of each shape the camera can see, each visible to camera rays (Blender makes a light hidden)."""
+    lights = [
         Light("square", "area", power=10, transforms=facing((-1.5, 0, 0.8)), size=0.5),
         Light("square_back", "area", power=10, transforms=facing((-0.5, 0, 0.8), False), size=0.5),
         Light("sphere_soft", "point", power=10, transforms=translation(0.5, 0, 0.8), radius=0.2),
@@ -51,6 +52,9 @@ def shapes() -> list[Light]:
         Light("disk", "area", power=10, shape="DISK", transforms=facing((0.5, 0, -0.8)), size=0.5),
         Light("sun", "sun", power=3, angle=math.radians(10), transforms=look_at((0, 0, 0), tuple(-SUN_DIR))),
     ]
+    for lt in lights:
+        lt.visible_camera = True
+    return lights
 
 
 EXPECTED = {
@@ -100,9 +104,10 @@ def _wall(y: float) -> Mesh:
 def test_the_nearer_of_light_and_geometry_wins(device):
     cam = camera()
     grey = [Material(name="grey", albedo=(0.5, 0.5, 0.5))]
-    lights = [Light("behind", "area", power=10, transforms=facing((-1.5, 1.0, 0.8)), size=0.5),
-              Light("front", "area", power=10, transforms=facing((1.5, -1.0, 0.8)), size=0.5),
-              Light("sun", "sun", power=3, angle=math.radians(10), transforms=look_at((0, 0, 0), tuple(-SUN_DIR)))]
+    lights = [Light("behind", "area", power=10, transforms=facing((-1.5, 1.0, 0.8)), size=0.5, visible_camera=True),
+              Light("front", "area", power=10, transforms=facing((1.5, -1.0, 0.8)), size=0.5, visible_camera=True),
+              Light("sun", "sun", power=3, angle=math.radians(10), transforms=look_at((0, 0, 0), tuple(-SUN_DIR)),
+                    visible_camera=True)]
     img = render(Scene(meshes=[_wall(0.0)], materials=grey, lights=lights, camera=cam))
     behind = img.color[pixel(cam, (-1.5, 1.0, 0.8))][:3]
     front = img.color[pixel(cam, (1.5, -1.0, 0.8))][:3]
@@ -114,7 +119,7 @@ def test_the_nearer_of_light_and_geometry_wins(device):
 def test_a_moving_light_has_its_own_motion_vector(device):
     frames = 3
     step = 0.1
-    lt = Light("moving", "area", power=10, size=0.5,
+    lt = Light("moving", "area", power=10, size=0.5, visible_camera=True,
                transforms=np.stack([facing((step * f, 0, 0)) for f in range(frames)]))
     cam = camera(frames)
     r = Renderer(Scene(lights=[lt], camera=cam), Settings(method="reference", seed=1))
@@ -134,7 +139,7 @@ def test_taa_leaves_no_trail_behind_a_moving_light(device):
     (the light's radiance) is rejected, and the black background shows at once, also next to the light's edge
     (where clipping to the neighbourhood alone would keep some of it)."""
     frames, step = 6, 0.25
-    lt = Light("moving", "area", power=10, size=0.5,
+    lt = Light("moving", "area", power=10, size=0.5, visible_camera=True,
                transforms=np.stack([facing((step * f - 0.5, 0, 0)) for f in range(frames)]))
     cam = camera(frames)
     r = Renderer(Scene(lights=[lt], camera=cam), Settings(method="restir", seed=1, jitter=False))

@@ -111,7 +111,7 @@ class Light:
     size: float = 1.0  # area: size along local X
     size_y: float = 1.0  # area: size along local Y (RECTANGLE, ELLIPSE)
     power_per_frame: np.ndarray | None = None  # optional (F,) multiplier of power, e.g. to switch a light off
-    visible_camera: bool = True  # Cycles' Ray Visibility > Camera: camera rays see the light's shape
+    visible_camera: bool = False  # Ray Visibility > Camera: the camera sees its shape (off: Blender's default)
 
     def __post_init__(self) -> None:
         self.transforms = _as_transforms(self.transforms, f"light {self.name!r}")
