@@ -22,8 +22,9 @@ image; `expected` is what the measured variances alone predict for it (a ratio n
 
 Kinds of case: `still` (runs of a still camera, render_still), `sequence` (per run: a few frames, then the frame
 under test; its 1-sample image is the run's value, the mean of 8 samples of that frame for methods without
-history) and `long` (one very long animation with TAA and ReSTIR,
-compared by batch means over its second part; the ReSTIR M and the TAA history length are checked to stay
+history) and `long` (one very long animation with TAA and ReSTIR, compared by batch means of its 1-sample
+estimates over its second part: TAA's output of a still camera averages over up to max_history frames, more than
+a batch, so its batch means are not independent; the ReSTIR M and the TAA history length are checked to stay
 capped; its last 16 outputs also give the flicker and boiling figures of eval/flicker.py, columns `flicker` and
 `boil px`).
 """

@@ -250,8 +250,8 @@ def run_method(case: Case, method: str, ref: Reference, device=None, seed: int =
             samples += 1
             if fr >= case.frames - FLICKER_FRAMES:
                 last.append(f.color[..., :3].copy())
-            if fr >= start:
-                acc += f.color[..., :3]
+            if fr >= start:  # ReSTIR's estimate: TAA's 1/n blend of a still camera spans more than a batch
+                acc += f.noisy
                 if (fr - start + 1) % b == 0:
                     values.append(acc / b)
                     acc = np.zeros_like(acc)
