@@ -23,6 +23,20 @@ class WorldError(ValueError):
     """The environment is unusable; the message names the world. Scene.validate raises it as a SceneError."""
 
 
+def emitter_problem(color, strength: float, per_frame: np.ndarray | None, strength_name: str,
+                    per_frame_name: str) -> str | None:
+    """What is wrong with an emitter's colour, strength and per-frame multipliers (a light's or the world's), or
+    None: the checks Scene.validate and Environment.validate share."""
+    col = np.asarray(color, dtype=np.float64)
+    if col.shape != (3,) or not np.all(np.isfinite(col)) or np.any(col < 0):
+        return f"color must be 3 finite numbers >= 0, got {color!r}"
+    if not math.isfinite(strength) or strength < 0:
+        return f"{strength_name} must be finite and >= 0, got {strength!r}"
+    if per_frame is not None and (not np.all(np.isfinite(per_frame)) or np.any(per_frame < 0)):
+        return f"{per_frame_name} must be finite and >= 0"
+    return None
+
+
 @dataclass
 class Environment:
     name: str = "World"
@@ -49,15 +63,10 @@ class Environment:
         Texel values (NaN, Inf, negative) are not checked here: the packer counts and zeroes them with a warning,
         so one bad texel never fails a render."""
         label = f"world {self.name!r}"
-        col = np.asarray(self.color, dtype=np.float64)
-        if col.shape != (3,) or not np.all(np.isfinite(col)) or np.any(col < 0):
-            raise WorldError(f"{label}: color must be 3 finite numbers >= 0, got {self.color!r}")
-        if not math.isfinite(self.strength) or self.strength < 0:
-            raise WorldError(f"{label}: strength must be finite and >= 0, got {self.strength!r}")
-        if self.strength_per_frame is not None and (
-            not np.all(np.isfinite(self.strength_per_frame)) or np.any(self.strength_per_frame < 0)
-        ):
-            raise WorldError(f"{label}: strength_per_frame must be finite and >= 0")
+        problem = emitter_problem(self.color, self.strength, self.strength_per_frame, "strength",
+                                  "strength_per_frame")
+        if problem:
+            raise WorldError(f"{label}: {problem}")
         if self.image is not None:
             shape = np.shape(self.image)
             if len(shape) != 3 or shape[2] not in (3, 4) or shape[0] < 1 or shape[1] < 1:

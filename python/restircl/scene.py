@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .environment import Environment, WorldError
+from .environment import Environment, WorldError, emitter_problem
 from .material import Material
 from .material_check import MaterialError, check_material
 
@@ -277,15 +277,9 @@ class Scene:
             if not np.all(np.isfinite(lt.transforms)):
                 raise SceneError(f"{label}: transform contains NaN or Inf")
             _check_basis(lt.transforms, label)
-            col = np.asarray(lt.color, dtype=np.float64)
-            if col.shape != (3,) or not np.all(np.isfinite(col)) or np.any(col < 0):
-                raise SceneError(f"{label}: color must be 3 finite numbers >= 0, got {lt.color!r}")
-            if not math.isfinite(lt.power) or lt.power < 0:
-                raise SceneError(f"{label}: power/strength must be finite and >= 0, got {lt.power!r}")
-            if lt.power_per_frame is not None and (
-                not np.all(np.isfinite(lt.power_per_frame)) or np.any(lt.power_per_frame < 0)
-            ):
-                raise SceneError(f"{label}: power_per_frame must be finite and >= 0")
+            problem = emitter_problem(lt.color, lt.power, lt.power_per_frame, "power/strength", "power_per_frame")
+            if problem:
+                raise SceneError(f"{label}: {problem}")
             for what in ("radius", "angle", "size", "size_y", "spot_blend"):
                 v = getattr(lt, what)
                 if not math.isfinite(v) or v < 0:
