@@ -15,14 +15,50 @@ def test_choice_is_deterministic_and_prefers_gpu():
     assert info == (gpus[0] if gpus else next(i for i, _ in devices if i.device_type == "CPU"))
 
 
+def test_a_device_that_cannot_build_is_skipped_with_a_warning(monkeypatch):
+    """The pyopencl wheel's PoCL (LLVM 14) cannot build for CPUs newer than its LLVM; the default choice then takes
+    the next device that builds and says which one it skipped; if none builds, the error names each and why."""
+    from restircl import device as device_mod
+
+    devices = list_devices()
+    first = choose_device()[0]
+    broken = {first.label}
+    real = device_mod.build_problem
+    monkeypatch.setattr(device_mod, "build_problem",
+                        lambda dev: "cannot build kernels: test" if _label_of(devices, dev) in broken else real(dev))
+    others = [i for i, d in devices if i != first and real(d) is None]
+    if others:
+        with pytest.warns(RuntimeWarning, match="skipped OpenCL device .*cannot build kernels: test"):
+            assert choose_device()[0] != first
+    broken.update(i.label for i, _ in devices)
+    with pytest.raises(DeviceError, match="no OpenCL device can build kernels"):
+        choose_device()
+    spec = f"{first.platform_index}:{first.device_index}"
+    assert choose_device(spec)[0] == first  # an explicit choice is taken as it is
+
+
+def _label_of(devices, dev):
+    return next(i.label for i, d in devices if d == dev)
+
+
+def test_the_probe_names_a_failed_build():
+    from restircl import device as device_mod
+
+    info, dev = choose_device()
+    assert device_mod.build_problem(dev) is None
+    assert device_mod._probe(dev) is None
+
+
 def test_override_by_argument_and_environment(monkeypatch):
     info, _ = list_devices()[-1]
     spec = f"{info.platform_index}:{info.device_index}"
     assert choose_device(spec)[0] == info
     monkeypatch.setenv("RESTIRCL_DEVICE", spec)
     assert choose_device()[0] == info
-    monkeypatch.setenv("RESTIRCL_DEVICE", info.device_name[:6])
-    assert choose_device()[0].device_name == info.device_name
+    needle = info.device_name[:6]
+    monkeypatch.setenv("RESTIRCL_DEVICE", needle)
+    first_match = next(i for i, _ in list_devices() if needle.lower() in f"{i.platform_name} / {i.device_name}".lower())
+    assert choose_device()[0] == first_match  # the first device in order whose name holds the substring
     monkeypatch.setenv("RESTIRCL_DEVICE", "9:9")
     with pytest.raises(DeviceError, match="no OpenCL device matches '9:9'"):
         choose_device()

@@ -9,7 +9,7 @@ import time
 from pathlib import Path
 
 from . import scenes
-from .device import DeviceError, get_device, list_devices
+from .device import DeviceError, build_problem, get_device, list_devices
 from .farm_chunks import parse_frames
 from .pipeline import Renderer
 from .program import KernelBuildError
@@ -160,8 +160,9 @@ def cmd_render(a: argparse.Namespace) -> int:
 
 
 def cmd_devices(a: argparse.Namespace) -> int:
-    for info, _ in list_devices():
-        print(info.label)
+    for info, dev in list_devices():
+        problem = build_problem(dev)
+        print(info.label if problem is None else f"{info.label}: {problem}")
     dev = get_device(a.device)
     print(f"chosen: {dev.label}")
     return 0
