@@ -33,6 +33,21 @@ def small_scene():
     return sc
 
 
+def on_updates(change, handler) -> None:
+    """Make `change()` with `handler(depsgraph)` called for its depsgraph updates, as Blender calls view_update."""
+    bpy.context.view_layer.update()
+
+    def post(_scene, depsgraph):
+        handler(depsgraph)
+
+    bpy.app.handlers.depsgraph_update_post.append(post)
+    try:
+        change()
+        bpy.context.view_layer.update()
+    finally:
+        bpy.app.handlers.depsgraph_update_post.remove(post)
+
+
 def edits_after(change) -> list:
     """The SceneEdits that view_update would make of the depsgraph updates `change()` causes."""
     from restircl_blender import export, viewport
@@ -41,16 +56,7 @@ def edits_after(change) -> list:
     exp = export.export_scene(bpy.context.evaluated_depsgraph_get(), None)
     vp = viewport.Viewport(None, (), viewport.unique_mesh_names(exp.scene), material_reads=exp.material_reads)
     out = []
-
-    def handler(_scene, depsgraph):
-        out.append(viewport.scene_edit(depsgraph, vp))
-
-    bpy.app.handlers.depsgraph_update_post.append(handler)
-    try:
-        change()
-        bpy.context.view_layer.update()
-    finally:
-        bpy.app.handlers.depsgraph_update_post.remove(handler)
+    on_updates(change, lambda depsgraph: out.append(viewport.scene_edit(depsgraph, vp)))
     return [e for e in out if e is not None]
 
 
@@ -142,23 +148,6 @@ def test_view_update_and_draw_run_a_session(monkeypatch):
     assert engine.viewport is None and not session.running
 
 
-def update_after(engine, change) -> None:
-    """Make `change()` and hand its depsgraph updates to view_update, as Blender does while the viewport runs."""
-    from restircl_blender import viewport
-
-    bpy.context.view_layer.update()
-
-    def handler(_scene, depsgraph):
-        viewport.view_update(engine, None, depsgraph)
-
-    bpy.app.handlers.depsgraph_update_post.append(handler)
-    try:
-        change()
-        bpy.context.view_layer.update()
-    finally:
-        bpy.app.handlers.depsgraph_update_post.remove(handler)
-
-
 def object_mask(session, name: str) -> np.ndarray:
     """Pixels of the session's last frame (rows bottom first, as ViewFrame.rgba) that show mesh `name`."""
     from restircl.layouts import float_bits_to_int
@@ -221,7 +210,7 @@ def test_a_material_edit_uploads_only_the_materials():
         frames = {}
         for k, (what, change, uploaded) in enumerate(steps):
             before = dict(ds.uploads)
-            update_after(engine, change)
+            on_updates(change, lambda depsgraph: viewport.view_update(engine, None, depsgraph))
             frame = session.wait(2 + k)
             assert session.error is None, session.error
             assert frame.index == 2 + k and not frame.cut, what
