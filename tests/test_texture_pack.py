@@ -3,6 +3,7 @@
 round trip of textured, mixed materials (scene_file.py, material_file.py)."""
 
 import math
+import os
 import warnings
 
 import numpy as np
@@ -44,6 +45,32 @@ def test_a_program_is_its_graph_in_post_order_and_shared_nodes_are_packed_once()
     assert tuple(nodes["in"][2, :3]) == (0, 1, -1) and nodes["p"][2, 0] == np.float32(0.25)
     assert tuple(nodes["in"][1, :2]) == (0, -1) and tuple(nodes["b"][1, :3]) == pytest.approx((0.1, 0.2, 0.3))
     assert len(packer.packed().images) == 1  # one image, used twice
+
+
+def test_a_packing_takes_the_images_an_earlier_one_loaded(tmp_path, monkeypatch):
+    """An interactive edit packs the materials again: an image whose content (an array) or file (path, size, time)
+    is unchanged is taken from the earlier packing, not read again, and its key says so; another image is read."""
+    from PIL import Image
+    from restircl import texture_pack
+
+    pixels = np.full((2, 2, 3), 0.25, np.float32)
+    path = tmp_path / "t.png"
+    Image.fromarray(np.full((2, 2, 3), 64, np.uint8)).save(path)
+    first = TexturePacker([Material("a", albedo=ImageTexture(pixels), roughness=ImageTexture(str(path)))])
+    reads = []
+    monkeypatch.setattr(texture_pack, "read_image_file", lambda p: reads.append(p) or read_image_file(p))
+    same = TexturePacker([Material("a", albedo=ImageTexture(pixels.copy()), roughness=ImageTexture(str(path)))],
+                         first.images)
+    assert same.image_keys == first.image_keys and not reads
+    assert all(same.images[k] is first.images[k] for k in first.image_keys)
+    np.testing.assert_array_equal(same.packed(texels=False).images, first.packed().images)
+    assert len(same.packed(texels=False).texels) == 0
+    pixels[0, 0, 0] = 0.5  # painted
+    os.utime(path, ns=(1, 1))  # the file saved again
+    other = TexturePacker([Material("a", albedo=ImageTexture(pixels), roughness=ImageTexture(str(path)))],
+                          first.images)
+    assert [a != b for a, b in zip(other.image_keys, first.image_keys, strict=True)] == [True, True]
+    assert reads == [str(path)]
 
 
 def test_a_node_loop_is_refused_naming_the_material():

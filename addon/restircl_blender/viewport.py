@@ -9,7 +9,7 @@ Nothing lets an exception escape into Blender: failures go to the header's statu
 from __future__ import annotations
 
 import traceback
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from . import export
 from .export.convert import matrix
@@ -25,6 +25,7 @@ class Viewport:
     settings_key: tuple
     mesh_names: frozenset  # mesh objects exported once each: their transform edits need no re-export
     message: str = ""  # why there is no session
+    material_reads: list = field(default_factory=list)  # the last export's: materials re-read alone in this order
     texture: object | None = None  # the GPU texture of frame `texture_index`
     texture_index: int = -1
 
@@ -63,7 +64,7 @@ def _view_update(engine, depsgraph) -> None:
     key = _settings_key(props)
     vp = getattr(engine, "viewport", None)
     if vp is not None and vp.session is not None and vp.settings_key == key and vp.session.error is None:
-        edit = scene_edit(depsgraph, vp.mesh_names)
+        edit = scene_edit(depsgraph, vp)
         if edit is not None:
             vp.session.edit(edit)
         return
@@ -78,7 +79,8 @@ def _view_update(engine, depsgraph) -> None:
         return
     session = ViewportSession(exp.scene, settings, device=props.device.strip() or None,
                               samples=int(props.viewport_samples))
-    engine.viewport = Viewport(session.start(), key, unique_mesh_names(exp.scene))
+    engine.viewport = Viewport(session.start(), key, unique_mesh_names(exp.scene),
+                               material_reads=exp.material_reads)
 
 
 def unique_mesh_names(scene) -> frozenset:
@@ -86,39 +88,80 @@ def unique_mesh_names(scene) -> frozenset:
     return frozenset(n for n in names if names.count(n) == 1)
 
 
-def scene_edit(depsgraph, mesh_names: frozenset) -> SceneEdit | None:
+def scene_edit(depsgraph, vp: Viewport) -> SceneEdit | None:
     """The scene edit that depsgraph.updates describe: a moved mesh object by its new matrix alone; lights (a
-    light object or its data) by re-reading the lights alone; anything else (geometry, a material, the world,
-    objects added or removed) by a re-export that the session compares with its scene. None when nothing that is
-    rendered changed (the camera's own updates: the view comes from the 3D view)."""
+    light object or its data) by re-reading the lights alone; materials (a material, a node group, an image) by
+    re-reading the materials alone; anything else (geometry, the world, objects added or removed) by a re-export
+    that the session compares with its scene (and that `vp` takes its mesh names and material order from). None
+    when nothing that is rendered changed (the camera's own updates: the view comes from the 3D view)."""
     import bpy
 
     transforms = {}
-    full = lights = False
+    full = lights = materials = False
+    shading = trees = False  # an object's shading or a node tree changed: a material edit's echo, or something else
+    mats = None
     for u in depsgraph.updates:
         idb = u.id
         if isinstance(idb, bpy.types.Object):
             if idb.type == "CAMERA":
                 continue
-            if idb.type == "MESH" and idb.name in mesh_names and not u.is_updated_geometry:
-                if u.is_updated_transform:
-                    transforms[idb.name] = matrix(idb.matrix_world)
-                continue
             if idb.type == "LIGHT":
                 lights = True
+                continue
+            if u.is_updated_shading and not (u.is_updated_geometry or u.is_updated_transform):
+                shading = True  # one of its materials changed (whose own update comes with it), or its shading
+                continue
+            if idb.type == "MESH" and idb.name in vp.mesh_names and not u.is_updated_geometry:
+                if u.is_updated_transform:
+                    transforms[idb.name] = matrix(idb.matrix_world)
                 continue
             full = True
         elif isinstance(idb, bpy.types.Light):
             lights = True
+        elif isinstance(idb, bpy.types.Material):
+            materials = True
+        elif isinstance(idb, bpy.types.Image):
+            materials = True  # images are read through the materials' texture nodes
+            full |= _world_uses_image(depsgraph.scene, idb)
+        elif isinstance(idb, bpy.types.ShaderNodeTree):
+            trees = True  # a material's, light's or world's tree: its owner's update comes with it
+        elif isinstance(idb, bpy.types.Mesh) and not u.is_updated_geometry:
+            shading = True  # a material of the mesh changed (its Material update comes with it)
         elif isinstance(idb, bpy.types.Camera | bpy.types.Screen | bpy.types.WorkSpace | bpy.types.Scene):
             continue  # a Scene update comes with every edit; what changed in it arrives as its own update
         else:
             full = True
-    if not (transforms or full or lights):
+    # a node tree or a mesh's shading changed without a material, light or world update saying why: re-export
+    full |= (trees or shading) and not (materials or lights)
+    if not (transforms or full or lights or materials):
         return None
+    if not full and materials:
+        mats = export.export_materials(depsgraph, vp.material_reads)[0]
+        full = mats is None  # the meshes' export depends on what changed (UV maps, baking)
     if full:
-        return SceneEdit(transforms=transforms, scene=export.export_scene(depsgraph, None).scene)
-    return SceneEdit(transforms=transforms, lights=export.export_lights(depsgraph)[0] if lights else None)
+        exp = export.export_scene(depsgraph, None)
+        vp.mesh_names, vp.material_reads = unique_mesh_names(exp.scene), exp.material_reads
+        return SceneEdit(transforms=transforms, scene=exp.scene)
+    return SceneEdit(transforms=transforms, lights=export.export_lights(depsgraph)[0] if lights else None,
+                     materials=mats)
+
+
+def _world_uses_image(scene, image) -> bool:
+    """Does the scene's world read `image` (an environment texture, also inside node groups): then an edit of the
+    image is a world edit, which re-exports the scene."""
+    world = scene.world
+    name = (image.original or image).name
+    trees, seen = [getattr(world, "node_tree", None)] if world is not None else [], set()
+    while trees:
+        tree = trees.pop()
+        if tree is None or tree.name in seen:
+            continue
+        seen.add(tree.name)
+        for n in tree.nodes:
+            if getattr(getattr(n, "image", None), "name", None) == name:
+                return True
+            trees.append(getattr(n, "node_tree", None))
+    return False
 
 
 def view_draw(engine, context, depsgraph) -> None:
@@ -155,8 +198,10 @@ def _view_draw(engine, context, depsgraph) -> None:
 
 
 def draw_frame(engine, scene, vp: Viewport, frame, width: int, height: int) -> None:
-    """The frame, stretched over the region, through Blender's display colour management (needs a GPU
-    context: not run in background mode)."""
+    """The frame, stretched over the region (bilinear), uploaded once per frame. bind_display_space_shader binds
+    Blender's image shader (Blender 5.0; the scene is not used): the frame's scene-linear values go into the 3D
+    view's colour buffer as they are, and Blender applies the view transform to that buffer afterwards, as for
+    Cycles. Needs a GPU context: tests/test_viewport_draw.py draws into an offscreen of background bpy."""
     import gpu
     from gpu_extras.presets import draw_texture_2d
 

@@ -3,12 +3,13 @@ that only what changed is uploaded (DeviceScene.edit), and the history is droppe
 
 - a moved object (its transform only): its geometry is not read again; the motion rows of the next frame take
   its history along (M_before M_after^-1), as an animated object's;
-- a light's power, colour or size, a material's inputs: their records are uploaded again; the history stays,
-  except where a light switched or its power jumped (DeviceScene decides, as for animated lights);
+- a light's power, colour or size, a material's inputs: their records are uploaded again (a material's texels only
+  when an image changed); the history stays, except where a light switched or its power jumped (DeviceScene
+  decides, as for animated lights);
 - another geometry (topology), a light added or removed: uploaded again and the history is dropped;
 - what the compiled kernels cannot show (a new light type, a material that becomes glossy, textured or
   emissive, another world, objects added or removed): a new renderer.
-No bpy here: the add-on fills SceneEdit from depsgraph.updates (engine.py), tests fill it by hand."""
+No bpy here: the add-on fills SceneEdit from depsgraph.updates (viewport.py), tests fill it by hand."""
 
 from __future__ import annotations
 
@@ -17,7 +18,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
-from restircl import Camera, Light, Scene
+from restircl import Camera, Light, Material, Scene
 
 from .export.fingerprint import fingerprint
 
@@ -28,12 +29,14 @@ if TYPE_CHECKING:
 @dataclass
 class SceneEdit:
     """transforms: new object-to-world matrices by object name (meshes and lights), read without re-exporting
-    anything else; lights: the lights re-read alone (an edit that touched only lights); scene: a whole re-export to
-    compare with the session's scene (lights, materials, geometry)."""
+    anything else; lights, materials: the lights or the materials re-read alone (in the session's order), for an
+    edit that touched only them; scene: a whole re-export to compare with the session's scene (lights, materials,
+    geometry)."""
 
     transforms: dict[str, np.ndarray] = field(default_factory=dict)
     scene: Scene | None = None
     lights: list[Light] | None = None
+    materials: list[Material] | None = None
 
 
 def _same(a, b) -> bool:
@@ -85,9 +88,11 @@ def apply_edit(session: ViewportSession, edit: SceneEdit, view: Camera) -> str:
             moved[hit[0]] = hit[1]
         lights |= _move(sc.lights, name, m) is not None
     new = edit.scene
-    if new is None and edit.lights is not None:  # the lights alone: the rest of the scene is the session's
-        new = copy.copy(sc)
-        new.lights = edit.lights
+    if new is None and (edit.lights is not None or edit.materials is not None):
+        new = copy.copy(sc)  # the lights or the materials alone: the rest of the scene is the session's
+        new.meshes = list(sc.meshes)
+        new.lights = sc.lights if edit.lights is None else edit.lights
+        new.materials = sc.materials if edit.materials is None else edit.materials
     if new is not None:
         if (len(new.meshes) != len(sc.meshes) or len(new.materials) != len(sc.materials)
                 or _kernel_needs(new) != _kernel_needs(sc)):
@@ -96,19 +101,24 @@ def apply_edit(session: ViewportSession, edit: SceneEdit, view: Camera) -> str:
             session.build(view)
             return "rebuilt"
         for i, (a, b) in enumerate(zip(sc.meshes, new.meshes, strict=True)):
+            if a is b:  # not re-exported
+                continue
             if not _same(_geometry(a), _geometry(b)):
                 geometry = True
                 sc.meshes[i] = b
             elif not np.array_equal(a.transforms, b.transforms):
                 moved[i] = np.array(a.transforms[0])
                 a.transforms = b.transforms
-        if not _same(sc.lights, new.lights):
+        if new.lights is not sc.lights and not _same(sc.lights, new.lights):
             lights = True
             sc.lights = new.lights
-        if not _same(sc.materials, new.materials):
-            materials = True
-            sc.materials = new.materials
-            lights |= any(m.is_emissive for m in new.materials)  # emissive triangles are lights
+        if new.materials is not sc.materials:
+            changed = [not _same(a, b) for a, b in zip(sc.materials, new.materials, strict=True)]
+            if any(changed):
+                materials = True
+                # emissive triangles are lights: their records change with an emissive material only
+                lights |= any(c and m.is_emissive for c, m in zip(changed, new.materials, strict=True))
+                sc.materials = new.materials
     if not (moved or lights or geometry or materials):
         return "none"
     r.device_scene.edit(geometry=geometry, lights=lights, materials=materials, moved=moved or None)

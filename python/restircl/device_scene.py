@@ -5,6 +5,7 @@ of how the lights changed (what the ReSTIR history may keep)."""
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 
 import numpy as np
 import pyopencl as cl
@@ -20,7 +21,7 @@ from .light_tree import LightTree, build_light_tree
 from .lights import DeviceLights, scene_lights
 from .material_pack import pack_materials
 from .scene import Scene
-from .texture_pack import PackedTextures, TexturePacker, warn_missing_uv_maps, warn_textured_emission
+from .texture_pack import LoadedImage, PackedTextures, TexturePacker, warn_missing_uv_maps, warn_textured_emission
 from .tri_attributes import needs_attributes, object_infos, tri_attributes
 
 
@@ -63,7 +64,9 @@ class DeviceScene:
         self.camera_lights = camera_light_indices(scene)  # the lights camera rays test (scene light indices)
         self.camera_lights_buf: cl.Buffer | None = None
         self.ggx_tables_buf: cl.Buffer | None = None  # glossy builds only (upload_ggx_tables)
-        self._textures: PackedTextures | None = None  # packed once: materials do not animate
+        self._textures: PackedTextures | None = None  # packed once: materials do not animate (texels not kept)
+        self._images: dict[tuple, LoadedImage] = {}  # the images on the device by image_key (their mip chains)
+        self.textures: dict[str, cl.Buffer] = {}  # the texture programs, image table and texels by parameter name
         self._frame = 0  # the frame of the geometry on the device
         self.lights_changed = True  # this frame's light records differ from (or may differ from) the last frame's
         self.light_indices_changed = False  # the light count changed: old reservoirs point at other lights
@@ -72,7 +75,8 @@ class DeviceScene:
         self._pending_edit = False
         self._edit_motion: dict[int, np.ndarray] | None = None  # mesh index -> its transform before the edit
         self._edit_rows_on_device = False  # the motion rows on the device are an edit's, not identities
-        self.uploads: dict[str, int] = {"geometry": 0, "lights": 0, "materials": 0}  # counts, for tests and tools
+        # counts, for tests and tools; "textures" is the image table and its texels
+        self.uploads: dict[str, int] = {"geometry": 0, "lights": 0, "materials": 0, "textures": 0}
 
     def upload(self, frame: int, last_frame: int | None) -> None:
         """Upload geometry and lights for `frame` when they differ from what the device holds; `last_frame` is the
@@ -112,8 +116,9 @@ class DeviceScene:
              moved: dict[int, np.ndarray] | None = None) -> None:
         """The Scene was edited in place (an interactive session): the next upload() re-uploads what changed and
         only that. geometry: some mesh's vertices or triangles; lights: some light's record; materials: some
-        material; moved: mesh index -> its transform before the edit, so that the next frame's motion rows
-        reproject the moved objects' history (compiled in by Renderer(interactive=True))."""
+        material (its records and texture programs go up again, the texels only when an image differs); moved:
+        mesh index -> its transform before the edit, so that the next frame's motion rows reproject the moved
+        objects' history (compiled in by Renderer(interactive=True))."""
         if materials:
             self._textures = None
             self._upload_materials()
@@ -150,18 +155,26 @@ class DeviceScene:
     def _upload_materials(self) -> None:
         if self._textures is not None:
             return
-        packer = TexturePacker(self.scene.materials)
+        # images the device holds are not read again, and their texels go up only when the image table differs
+        packer = TexturePacker(self.scene.materials, self._images)
         warn_missing_uv_maps(self.scene.meshes, self.scene.materials)
         warn_textured_emission(self.scene.meshes, self.scene.materials)
         packed = pack_materials(self.scene.materials, packer.index)
         self.uploads["materials"] += 1
-        self._textures = tex = packer.packed()
+        same_images = bool(self.textures) and packer.image_keys == list(self._images)
+        tex = packer.packed(texels=not same_images)
         self.nonfinite_texels = tex.nonfinite_texels
         self.material_flags = {"HAS_GLOSSY": packed.glossy, "HAS_TEXTURES": packed.textured}
         self.materials_buf = upload(self.context, packed.materials)
         self.closures_buf = upload(self.context, packed.closures)
-        self.textures = {"tex_nodes": upload(self.context, tex.nodes), "tex_images": upload(self.context, tex.images),
-                         "texels": upload(self.context, tex.texels)}
+        if same_images:
+            self.textures["tex_nodes"] = upload(self.context, tex.nodes)
+        else:
+            self.uploads["textures"] += 1
+            self.textures = {"tex_nodes": upload(self.context, tex.nodes),
+                             "tex_images": upload(self.context, tex.images), "texels": upload(self.context, tex.texels)}
+        self._images = packer.images
+        self._textures = replace(tex, texels=tex.texels[:0])  # the device has them; the mip chains are in _images
         if packed.glossy:
             self.upload_ggx_tables()
 

@@ -11,7 +11,9 @@ naming the material and the image; NaN/Inf texels are counted, zeroed and warned
 
 from __future__ import annotations
 
+import hashlib
 import math
+import os
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -60,6 +62,35 @@ def node_inputs(node: object) -> list[object]:
     return []
 
 
+@dataclass
+class LoadedImage:
+    """An image as the texel buffer holds it: its mip chain, and whether its texels are still sRGB-encoded."""
+
+    levels: list[np.ndarray]
+    encoded: bool
+    nonfinite: int = 0  # NaN/Inf texels zeroed when it was read
+
+
+def image_key(node: ImageTexture) -> tuple:
+    """What identifies an image's texels from one packing to the next (an interactive edit packs the materials
+    again): a file by its path, size and modification time, an array by its content; and the colour space."""
+    src = node.image
+    if isinstance(src, str | Path):
+        path = str(Path(src).resolve())
+        try:
+            st = os.stat(path)
+            stamp: tuple = (st.st_size, st.st_mtime_ns)
+        except OSError:  # missing: magenta, with the warning of _load
+            stamp = ()
+        return ("path", path, *stamp, node.colorspace)
+    try:
+        arr = np.ascontiguousarray(src)
+        digest = hashlib.blake2b(arr.view(np.uint8).reshape(-1), digest_size=16).hexdigest()
+    except (TypeError, ValueError):  # not a numeric array: _load says why; this object only
+        return ("object", id(src), node.colorspace)
+    return ("array", arr.dtype.str, arr.shape, digest, node.colorspace)
+
+
 def image_label(node: ImageTexture) -> str:
     if node.name:
         return repr(node.name)
@@ -69,16 +100,18 @@ def image_label(node: ImageTexture) -> str:
 
 
 class TexturePacker:
-    """The texture programs of a scene's materials, built once; index(node) is material_pack's texture_index."""
+    """The texture programs of a scene's materials, built once; index(node) is material_pack's texture_index.
+    `loaded`: images a packing before loaded (its `images`), by image_key, taken as they are instead of being
+    read again."""
 
-    def __init__(self, materials: list[Material]) -> None:
+    def __init__(self, materials: list[Material], loaded: dict[tuple, LoadedImage] | None = None) -> None:
         self._roots: dict[int, int] = {}  # id(node) -> index of the last node of its program
         self._alive: list[object] = []  # the nodes indexed by id, kept alive so ids stay unique
         self._nodes: list[np.void] = []
-        self._levels: list[list[np.ndarray]] = []
-        self._image_keys: dict[tuple, int] = {}
-        self._encoded: list[bool] = []  # per image: texels kept sRGB-encoded, decoded after filtering
-        self.nonfinite_texels = 0
+        self._loaded = loaded or {}
+        self.images: dict[tuple, LoadedImage] = {}  # this packing's images by image_key, in image-table order
+        self._slot: dict[tuple, int] = {}  # image_key -> index in the image table
+        self._by_id: dict[tuple, tuple] = {}  # (id of the source, colour space) -> image_key: each array hashed once
         for i, m in enumerate(materials):
             label = f"material {i} {m.name!r}"
             for value in material_inputs(m):
@@ -88,21 +121,33 @@ class TexturePacker:
     def index(self, node: object) -> int:
         return self._roots[id(node)]
 
-    def packed(self) -> PackedTextures:
+    @property
+    def nonfinite_texels(self) -> int:
+        return sum(img.nonfinite for img in self.images.values())
+
+    @property
+    def image_keys(self) -> list[tuple]:
+        """The image_key of each image of the image table: equal lists mean equal image tables and texels."""
+        return list(self.images)
+
+    def packed(self, texels: bool = True) -> PackedTextures:
+        """The packed tables; texels=False leaves the texel buffer empty (the caller keeps the one it has)."""
         nodes = np.zeros(max(len(self._nodes), 1), L.TEX_NODE)
         for k, r in enumerate(self._nodes):
             nodes[k] = r
-        images = np.zeros(max(len(self._levels), 1), L.TEX_IMAGE)
+        images = np.zeros(max(len(self.images), 1), L.TEX_IMAGE)
         chunks, offset = [], 0
-        for k, levels in enumerate(self._levels):
+        for k, img in enumerate(self.images.values()):
+            levels = img.levels
             images[k] = (offset, levels[0].shape[1], levels[0].shape[0], len(levels))
             for lv in levels:
-                chunks.append(lv.reshape(-1, 4))
+                if texels:
+                    chunks.append(lv.reshape(-1, 4))
                 offset += lv.shape[0] * lv.shape[1]
         if offset > MAX_TEXELS:
             raise SceneError(f"textures: {offset} texels with their mip chains exceed the device limit {MAX_TEXELS}")
-        texels = np.concatenate(chunks) if chunks else np.zeros((1, 4), np.float32)
-        return PackedTextures(nodes, images, np.ascontiguousarray(texels, np.float32), self.nonfinite_texels)
+        buf = np.concatenate(chunks) if chunks else np.zeros((1 if texels else 0, 4), np.float32)
+        return PackedTextures(nodes, images, np.ascontiguousarray(buf, np.float32), self.nonfinite_texels)
 
     # ---- programs ------------------------------------------------------------------------------------
 
@@ -139,8 +184,8 @@ class TexturePacker:
         if isinstance(node, ImageTexture):
             r["op"][1] = INTERPOLATIONS.index(node.interpolation)
             r["op"][2] = EXTENSIONS.index(node.extension)
-            r["in"][3] = self._image(node, label)
-            r["blk"][2] = int(self._encoded[r["in"][3]])
+            r["in"][3], encoded = self._image(node, label)
+            r["blk"][2] = int(encoded)
         elif isinstance(node, CheckerTexture):
             r["p"][0] = float(node.scale)
         elif isinstance(node, MixColor):
@@ -164,31 +209,35 @@ class TexturePacker:
 
     # ---- images --------------------------------------------------------------------------------------
 
-    def _image(self, node: ImageTexture, label: str) -> int:
+    def _image(self, node: ImageTexture, label: str) -> tuple[int, bool]:
+        """(index in the image table, texels kept sRGB-encoded) of the node's image, loaded once per packing."""
         src = node.image
-        key = (("path", str(Path(src).resolve())) if isinstance(src, str | Path) else ("array", id(src)),
-               node.colorspace)
-        if key in self._image_keys:
-            return self._image_keys[key]
-        self._alive.append(src)
-        texels, encoded = self._load(node, label)
-        self._image_keys[key] = len(self._levels)
-        self._levels.append(mip_chain(texels))
-        self._encoded.append(encoded)
-        return self._image_keys[key]
+        by_id = (id(src), node.colorspace)
+        key = self._by_id.get(by_id)
+        if key is None:
+            key = self._by_id[by_id] = image_key(node)
+            self._alive.append(src)
+        if key not in self.images:
+            img = self._loaded.get(key)
+            if img is None:
+                texels, encoded, nonfinite = self._load(node, label)
+                img = LoadedImage(mip_chain(texels), encoded, nonfinite)
+            self._slot[key] = len(self.images)
+            self.images[key] = img
+        return self._slot[key], self.images[key].encoded
 
-    def _load(self, node: ImageTexture, label: str) -> tuple[np.ndarray, bool]:
-        """Linear RGBA texels, bottom row first, and whether they are still sRGB-encoded: an 8-bit sRGB image is
-        filtered (bilinear, mips) in its encoding and decoded after, as Cycles does with byte images (measured on
-        the plane of tests/test_blender_textures.py, random 8-bit texels magnified, Linear, 64x48: decoded first,
-        relMSE 5.8 % against Cycles and 21 % brighter; decoded after, 0.02 %); other images are decoded on
-        upload."""
+    def _load(self, node: ImageTexture, label: str) -> tuple[np.ndarray, bool, int]:
+        """Linear RGBA texels, bottom row first, whether they are still sRGB-encoded, and how many texels held NaN
+        or Inf (zeroed, with a warning). An 8-bit sRGB image is filtered (bilinear, mips) in its encoding and
+        decoded after, as Cycles does with byte images (measured on the plane of tests/test_blender_textures.py,
+        random 8-bit texels magnified, Linear, 64x48: decoded first, relMSE 5.8 % against Cycles and 21 % brighter;
+        decoded after, 0.02 %); other images are decoded on upload."""
         name = image_label(node)
         magenta = np.array(MAGENTA, np.float32).reshape(1, 1, 4)
         if node.colorspace != "sRGB" and node.colorspace not in LINEAR_COLORSPACES:
             warnings.warn(f"{label}: image {name}: colour space {node.colorspace!r} is not supported (sRGB, "
                           f"{', '.join(LINEAR_COLORSPACES)}); it renders magenta", stacklevel=4)
-            return magenta, False
+            return magenta, False, 0
         try:
             pixels = read_image_file(node.image) if isinstance(node.image, str | Path) else np.asarray(node.image)
             if pixels.ndim < 2 or pixels.shape[0] == 0 or pixels.shape[1] == 0:
@@ -198,14 +247,14 @@ class TexturePacker:
             texels = to_linear_rgba(pixels, "Non-Color" if encoded else node.colorspace)
         except ImageReadError as exc:
             warnings.warn(f"{label}: image {name}: {exc}; it renders magenta", stacklevel=4)
-            return magenta, False
+            return magenta, False, 0
         bad = ~np.isfinite(texels)
+        n = 0
         if bad.any():
             n = int(bad.any(axis=2).sum())
-            self.nonfinite_texels += n
             texels[bad] = 0.0
             warnings.warn(f"{label}: image {name}: {n} texels hold NaN or Inf; they are set to 0", stacklevel=4)
-        return texels, encoded
+        return texels, encoded, n
 
 
 def _post_order(node: object, out: list[object], done: set[int], path: list[object], label: str) -> None:

@@ -20,6 +20,6 @@ Everything that cannot be represented becomes a warning in `Export.warnings` (th
 
 from .camera import render_resolution
 from .report import ExportError
-from .scene import Export, export_lights, export_scene
+from .scene import Export, export_lights, export_materials, export_scene
 
-__all__ = ["Export", "ExportError", "export_lights", "export_scene", "render_resolution"]
+__all__ = ["Export", "ExportError", "export_lights", "export_materials", "export_scene", "render_resolution"]

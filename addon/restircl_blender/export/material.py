@@ -39,6 +39,7 @@ class MaterialTable:
         self.materials: list = []  # restircl.Material
         self.uses_uv: list[bool] = []  # per material: some texture reads the UV map
         self.uv_maps: list[set[str]] = []  # per material: UV maps its nodes name
+        self._reads: list[tuple[str | None, bool, str | None]] = []  # per material: id_of's (name, has_uv, object)
 
     def id_of(self, mat, ob=None, has_uv: bool = True) -> int:
         """The restircl material index of a Blender material (None: the default surface) on object `ob`."""
@@ -55,7 +56,25 @@ class MaterialTable:
             self.materials.append(m)
             self.uses_uv.append(inputs is not None and inputs.uses_uv)
             self.uv_maps.append(inputs.uv_maps if inputs is not None else set())
+            self._reads.append((name, has_uv, ob.name if ob is not None else None))
         return self._index[key]
+
+    @property
+    def reads(self) -> list[tuple]:
+        """Per material: (Blender material name, the object has a UV map, the object it was read for, it reads the
+        UV map, the UV maps it names): what read_again needs, and what the meshes' export depends on."""
+        return [(*r, uses, frozenset(maps)) for r, uses, maps in zip(self._reads, self.uses_uv, self.uv_maps,
+                                                                       strict=True)]
+
+    def read_again(self, reads: list[tuple], materials: dict, objects: dict) -> bool:
+        """Read the materials of an earlier table's `reads` again, in its order (a viewport edit of materials
+        alone): `materials` and `objects` by name. False when that table's layout no longer holds (a material is
+        gone, starts or stops reading the UV map or baking): the meshes must be exported again."""
+        for name, has_uv, ob_name, _uses, _maps in reads:
+            if (name is not None and name not in materials) or (ob_name is not None and ob_name not in objects):
+                return False
+            self.id_of(materials.get(name), objects.get(ob_name), has_uv)
+        return self.reads == reads
 
     @property
     def emissive_count(self) -> int:

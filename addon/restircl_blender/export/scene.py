@@ -22,6 +22,7 @@ class Export:
     warnings: list[str] = field(default_factory=list)
     stats: dict = field(default_factory=dict)
     deforming: list[str] = field(default_factory=list)  # objects whose geometry changes between frames
+    material_reads: list[tuple] = field(default_factory=list)  # MaterialTable.reads: export_materials reads again
 
     def index_of(self, frame: int) -> int:
         """Scene frame index of a Blender frame (the last sampled frame at or before it)."""
@@ -45,6 +46,22 @@ def export_lights(depsgraph) -> tuple[list, list[str]]:
         if inst.object.type == "LIGHT":
             lights.read(inst)
     return lights.build(), list(warnings)
+
+
+def export_materials(depsgraph, reads: list[tuple]) -> tuple[list | None, list[str]]:
+    """The materials alone, read again in the order of an export's `material_reads` (a viewport edit that touched
+    only materials, their node trees or images), and the warnings; None instead of the materials when the edit
+    changed what the meshes' export depends on (a material gone, reading the UV map or baking now): then the scene
+    is exported again."""
+    import bpy
+
+    scene = depsgraph.scene
+    warnings = Warnings()
+    table = MaterialTable(warnings.add, scene_bake_resolution(scene))
+    materials = {(m.original or m).name: m for m in depsgraph.ids if isinstance(m, bpy.types.Material)}
+    if not table.read_again(reads, materials, bpy.data.objects):
+        return None, list(warnings)
+    return table.materials, list(warnings)
 
 
 def export_scene(depsgraph, frames: Sequence[int] | None = None,
@@ -103,4 +120,4 @@ def export_scene(depsgraph, frames: Sequence[int] | None = None,
     elif not sc.lights and not stats["emissive_materials"] and sc.environment is None:
         warnings.add("the scene has no lights and no emissive materials: the image is black")
     return Export(scene=sc, frames=sampled.numbers, warnings=list(warnings), stats=stats,
-                  deforming=meshes.deforming)
+                  deforming=meshes.deforming, material_reads=materials.reads)

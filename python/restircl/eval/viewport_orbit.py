@@ -59,11 +59,14 @@ def view_at(scene: Scene, k: int) -> Camera:
     return Camera(cam.transforms[k], cam.width, cam.height, lens=cam.lens)
 
 
-def policy_rows(scene: Scene, policy: str, seed: int, budget_ms: float | None = None) -> list[dict]:
-    """'reprojected': one frame per view, the history kept. 'restart': the history dropped at every view change,
-    then frames of that view accumulated while they fit in `budget_ms` (at least one)."""
+def policy_rows(scene: Scene, policy: str, seed: int, budget_ms: float | None = None,
+                settings: Settings | None = None) -> list[dict]:
+    """'reprojected': one frame per view, the history kept. 'restart': the history dropped at every view change.
+    Either renders more frames of a view while they fit in `budget_ms` (at least one). `settings`: other than the
+    defaults (its seed is replaced by `seed`)."""
     views = [view_at(scene, k) for k in range(scene.frames)]
-    r = Renderer(replace(scene), Settings(seed=seed), interactive=True)  # render_view sets its scene's camera
+    s = replace(settings or Settings(), seed=seed)
+    r = Renderer(replace(scene), s, interactive=True)  # render_view sets its scene's camera
     r.render_view(views[0], cut=True)  # kernels compile at their first launch: keep that out of the times
     r.render_view(views[1])
     rows = []
