@@ -39,6 +39,7 @@ from ..pipeline import Renderer, Settings
 from ..scene import Scene
 from ..still_method import still_settings
 from . import cycles
+from .cycles_world import set_world_map
 from .held_out import HEIGHT, KINDS, WIDTH, held_out
 from .metrics import rel_mse
 from .report_reference import default_cache_dir, get_reference, scene_digest
@@ -201,16 +202,18 @@ def time_ours(scene: Scene, settings: Settings, budget: float, device=None) -> t
 
 def run_kind(kind: str, budgets=BUDGETS, reps: int = 3, methods=METHODS, width: int | None = None,
              height: int | None = None, reference_spp: int = REFERENCE_SPP, threads: int = 2, device=None,
-             cache_dir: Path | None = None, agreement_seconds: float = 60.0,
+             cache_dir: Path | None = None, agreement_seconds: float = 60.0, cycles_world_map: int = 0,
              log: Callable[[str], None] = print) -> KindResult:
     """Every method at every budget, `reps` times (in turn: rep 0 of every method and budget, then rep 1, ...,
-    so a change of the machine's load spreads over all of them)."""
+    so a change of the machine's load spreads over all of them). cycles_world_map: the timed Cycles renders' world
+    importance map (cycles_world.set_world_map: 0 = Blender's default; the reference keeps the default)."""
     scene = held_out(kind, width or WIDTH, height or HEIGHT)
     sc = cycles.to_bpy(scene)
     ref = cycles_reference(kind, scene, sc, reference_spp, threads, cache_dir, log)
     agree = agreement(scene, ref, device, agreement_seconds, cache_dir, log)
     log(f"{kind}: ours converged against Cycles: relMSE {agree['rel_mse']:.2e}, sum ratio {agree['sum_ratio']:.4f}")
     result = KindResult(kind, ref, agree)
+    set_world_map(sc, cycles_world_map)
     if "cycles" in methods:
         result.cycles_calibration = calibrate_cycles(sc, threads)
     settings = {m: ours_settings(m, scene) for m in methods if m in OURS}

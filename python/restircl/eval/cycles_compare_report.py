@@ -175,12 +175,13 @@ def main(a) -> int:
     load = os.getloadavg()
     results = run(kinds, budgets=tuple(a.budgets), reps=a.reps, methods=tuple(methods), width=a.width,
                   height=a.height, reference_spp=a.reference_spp, threads=a.threads, device=a.device,
-                  cache_dir=Path(a.cache_dir) if a.cache_dir else None, agreement_seconds=a.agreement_seconds)
+                  cache_dir=Path(a.cache_dir) if a.cache_dir else None, agreement_seconds=a.agreement_seconds,
+                  cycles_world_map=a.cycles_world_map)
     from ..device import get_device
 
     meta = {"width": a.width, "height": a.height, "budgets": list(a.budgets), "reps": a.reps, "threads": a.threads,
             "device": get_device(a.device).label, "cpu": platform.processor() or platform.machine(),
-            "load_before": load, "load_after": os.getloadavg(), "ours": OURS}
+            "load_before": load, "load_after": os.getloadavg(), "ours": OURS, "cycles_world_map": a.cycles_world_map}
     print(f"load average before {load[0]:.2f}, after {meta['load_after'][0]:.2f}")
     print(agreement_table(results))
     print(error_table(results))
