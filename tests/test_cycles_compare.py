@@ -122,3 +122,14 @@ def test_a_fixed_cost_above_the_budget_renders_one_sample(monkeypatch):
     assert calls == [(None, 1)] and spp == 1 and secs == 3.1
     _, _, spp = C.time_cycles(None, 16.0, cal, seed=1)
     assert calls[-1] == (13.0, None) and spp == round(13.0 / 0.02)
+
+
+def test_world_map_setting_reaches_cycles():
+    """--cycles-world-map N sets the World's importance map to Manual at N; 0 leaves Blender's Automatic."""
+    from restircl.eval.cycles_world import set_world_map
+
+    sc = cycles.to_bpy(H.held_out("sky", 48, 27))
+    set_world_map(sc, 0)
+    assert sc.world.cycles.sampling_method == "AUTOMATIC"
+    set_world_map(sc, 256)
+    assert (sc.world.cycles.sampling_method, sc.world.cycles.sample_map_resolution) == ("MANUAL", 256)
