@@ -105,3 +105,31 @@ def test_comparison_runs_on_a_tiny_budget(tmp_path, device):
     s = record["kinds"]["garden"]["summary"]
     assert set(s) == set(C.METHODS) and "ratio" in s["ris"]["0.3"] and "ratio" not in s["cycles"]["0.3"]
     assert "| garden |" in CR.ratio_table([res]) and "| garden | cycles |" in CR.error_table([res])
+
+
+def test_a_fixed_cost_above_the_budget_renders_one_sample(monkeypatch):
+    """Where Cycles' fixed cost of a call leaves no time for a sample, it renders one sample (not a time limit
+    clamped to nothing, which gave every budget the same image); otherwise the time limit is the budget less it."""
+    calls = []
+
+    def fake(sc, seconds=None, samples=None, seed=0, threads=0):
+        calls.append((seconds, samples))
+        return cycles.CyclesResult(np.ones((2, 2, 3), np.float32), 0.02 if samples else seconds, 3.1, samples)
+
+    monkeypatch.setattr(cycles, "render", fake)
+    cal = {"seconds_per_sample": 0.02, "fixed_seconds": 3.0}
+    _, secs, spp = C.time_cycles(None, 1.0, cal, seed=1)
+    assert calls == [(None, 1)] and spp == 1 and secs == 3.1
+    _, _, spp = C.time_cycles(None, 16.0, cal, seed=1)
+    assert calls[-1] == (13.0, None) and spp == round(13.0 / 0.02)
+
+
+def test_world_map_setting_reaches_cycles():
+    """--cycles-world-map N sets the World's importance map to Manual at N; 0 leaves Blender's Automatic."""
+    from restircl.eval.cycles_world import set_world_map
+
+    sc = cycles.to_bpy(H.held_out("sky", 48, 27))
+    set_world_map(sc, 0)
+    assert sc.world.cycles.sampling_method == "AUTOMATIC"
+    set_world_map(sc, 256)
+    assert (sc.world.cycles.sampling_method, sc.world.cycles.sample_map_resolution) == ("MANUAL", 256)

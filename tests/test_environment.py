@@ -54,19 +54,21 @@ N = 200_000
 UP = np.array([0.0, 0.0, 1.0])
 
 
-def env_buffer(env: Environment, kind: str) -> np.ndarray:
-    old = environment.TABLE_KIND
-    environment.TABLE_KIND = kind
+def env_buffer(env: Environment, kind: str, fmt: str = "auto") -> np.ndarray:
+    old = environment.TABLE_KIND, environment.TEXEL_FORMAT
+    environment.TABLE_KIND, environment.TEXEL_FORMAT = kind, fmt
     try:
-        return scene_lights(Scene(environment=env), 0).device_array()
+        lights = scene_lights(Scene(environment=env), 0)
+        assert lights.environment is not None and lights.environment.stored.fmt == ("half" if fmt == "auto" else fmt)
+        return lights.device_array()
     finally:
-        environment.TABLE_KIND = old
+        environment.TABLE_KIND, environment.TEXEL_FORMAT = old
 
 
-def sample(device, env: Environment, kind: str, n=UP, seed: int = 1, count: int = N):
+def sample(device, env: Environment, kind: str, n=UP, seed: int = 1, count: int = N, fmt: str = "auto"):
     prog = build_program(device, general_flags(), source=SRC)
     mf = cl.mem_flags
-    data = env_buffer(env, kind)
+    data = env_buffer(env, kind, fmt)
     lb = cl.Buffer(device.context, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=data)
     out = np.empty((count, 3, 4), np.float32)
     ob = cl.Buffer(device.context, mf.WRITE_ONLY, out.nbytes)
@@ -180,15 +182,18 @@ def quadrature_irradiance(img: np.ndarray, n: np.ndarray, sub: int = 16) -> np.n
     return np.einsum("hw,hwc->c", weight, img.astype(np.float64))
 
 
+@pytest.mark.parametrize("fmt", ["half", "float"])
 @pytest.mark.parametrize("kind", TABLE_KINDS)
 @pytest.mark.parametrize("normal", [(0, 0, 1), (0.6, -0.3, 0.74), (0, 1, 0)])
-def test_estimate_integrates_to_the_irradiance(device, kind, normal):
+def test_estimate_integrates_to_the_irradiance(device, kind, normal, fmt):
+    """Both texel formats (half floats scaled by a power of two, float32) against the float64 quadrature: half's
+    rounding (2^-11 of a texel at most) is inside the 1e-3 allowance."""
     img = sky_map(16, 32, sun_scale=0.05)
     rot = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])  # a quarter turn about Z
     env = Environment(color=(1, 1, 1), strength=2.0, image=img, rotation=rot)
     n = np.asarray(normal, np.float64)
     n /= np.linalg.norm(n)
-    out = sample(device, env, kind, n=n)
+    out = sample(device, env, kind, n=n, fmt=fmt)
     contrib, ok, pdf = out[:, 1, :3], out[:, 1, 3] > 0, out[:, 0, 2]
     est = np.where(ok[:, None], contrib / np.where(pdf > 0, pdf, 1.0)[:, None], 0.0)
     mean, se = est.mean(axis=0), est.std(axis=0, ddof=1) / math.sqrt(len(est))

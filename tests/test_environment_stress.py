@@ -129,11 +129,15 @@ def test_scene_file_keeps_the_environment(tmp_path):
 
 
 def test_map_memory_is_what_the_layout_says():
-    """The device bytes of a map: 12 per texel (RGB float32) plus the table (alias: 8 per texel, cdf: 4)."""
+    """The device bytes of a map: 6 per texel (RGB half) or 12 (RGB float32), plus the table (alias: 8 per texel,
+    cdf: 4)."""
     env = Environment(color=(1, 1, 1), image=sky_map(16, 32))
     lights = scene_lights(scene_with(env), 0)
-    assert lights.data.nbytes == environment.data_bytes(16, 32, environment.TABLE_KIND)
-    assert environment.data_bytes(8192, 16384, "alias") == 4 * (3 + 2) * 8192 * 16384 + 4 * 2 * 8192
+    assert lights.environment is not None and lights.environment.stored.fmt == "half"
+    assert lights.data.nbytes == environment.data_bytes(16, 32, environment.TABLE_KIND, "half")
+    assert environment.data_bytes(8192, 16384, "alias", "float") == 4 * (3 + 2) * 8192 * 16384 + 4 * 2 * 8192
+    assert environment.data_bytes(8192, 16384, "cdf", "half") == 4 * (1.5 + 1) * 8192 * 16384 + 4 * (2 * 8192 + 1)
+    assert environment.data_bytes(1, 1, "cdf", "half") == 4 * (2 + 2 + 2)  # 3 halves take 2 floats, the cdf 2 + 2
 
 
 @pytest.mark.slow

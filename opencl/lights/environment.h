@@ -25,20 +25,24 @@
 #define ENV_FLAG_CAMERA 2
 /* the sampling table is the pair of cumulative distributions (else the alias tables) */
 #define ENV_FLAG_CDF 4
+/* the texels are RGB half floats (else float32): radiance / 2^k, the record's radiance holds the 2^k
+ * (python/restircl/environment_pack.py) */
+#define ENV_FLAG_HALF 8
 
 typedef struct {
-    const __global float* texels;  /* p.x: offset in floats from the record; W x H RGB float triples, row 0 up */
+    const __global float* texels;  /* p.x: offset in floats from the record; W x H RGB triples, row 0 up */
     const __global float* table;   /* a.w: offset of the sampling table (environment_table.py) */
     int width, height;             /* p.y, p.z */
     float3 r0, r1, r2;             /* a.xyz, b.xyz: rows of the lookup rotation; r2 = r0 x r1 */
     float norm;                    /* b.w: 1 / sum(luminance x solid angle): the alias tables' pdf per luminance */
     int cdf;                       /* the table is cumulative distributions */
+    int half_texels;               /* the texels are half floats (vload_half3), else float32 */
 } EnvLight;
 
 inline EnvLight environment_light(const __global Light* l)
 {
     const __global float* base = (const __global float*)l;
-    EnvLight env = {base + as_int(l->p.x), base + as_int(l->a.w), as_int(l->p.y), as_int(l->p.z), l->a.xyz, l->b.xyz, cross3(l->a.xyz, l->b.xyz), l->b.w, (light_flags(l) & ENV_FLAG_CDF) != 0};
+    EnvLight env = {base + as_int(l->p.x), base + as_int(l->a.w), as_int(l->p.y), as_int(l->p.z), l->a.xyz, l->b.xyz, cross3(l->a.xyz, l->b.xyz), l->b.w, (light_flags(l) & ENV_FLAG_CDF) != 0, (light_flags(l) & ENV_FLAG_HALF) != 0};
     return env;
 }
 
@@ -69,9 +73,13 @@ inline int2 environment_texel(const EnvLight* env, float u, float v)
     return (int2)(col, row);
 }
 
+/* The stored texel (times the record's radiance: radiance). Half floats are read with vload_half3, core in
+ * OpenCL 1.2: a half pointer needs no cl_khr_fp16 when it is only loaded from. */
 inline float3 environment_texel_rgb(const EnvLight* env, int2 t)
 {
-    return vload3(t.y * env->width + t.x, env->texels);
+    int i = t.y * env->width + t.x;
+    if (env->half_texels) return vload_half3(i, (const __global half*)env->texels);
+    return vload3(i, env->texels);
 }
 
 /* Radiance arriving from world direction d (unit): what a camera ray that misses sees. */

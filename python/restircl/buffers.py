@@ -21,6 +21,22 @@ def upload(context: cl.Context, array: np.ndarray) -> cl.Buffer:
     return cl.Buffer(context, cl.mem_flags.READ_ONLY | cl.mem_flags.COPY_HOST_PTR, hostbuf=data)
 
 
+def upload_parts(context: cl.Context, parts: list[np.ndarray]) -> cl.Buffer:
+    """A read-only buffer holding `parts` one after the other, written part by part: no host copy of the whole
+    (the light buffer with a huge environment map behind its records)."""
+    arrays = [np.ascontiguousarray(p) for p in parts if p.nbytes]
+    if len(arrays) <= 1:
+        return upload(context, arrays[0] if arrays else np.zeros(0, np.uint8))
+    buf = cl.Buffer(context, cl.mem_flags.READ_ONLY, sum(a.nbytes for a in arrays))
+    queue = cl.CommandQueue(context, context.devices[0])
+    at = 0
+    for a in arrays:
+        cl.enqueue_copy(queue, buf, a, dst_offset=at)
+        at += a.nbytes
+    queue.finish()
+    return buf
+
+
 class FrameBuffers:
     """What one frame's stages write and read, beside the ping-ponged history (history.py)."""
 

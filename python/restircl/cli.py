@@ -391,6 +391,9 @@ def build_parser() -> argparse.ArgumentParser:
     c.add_argument("--reference-spp", type=COUNT, default=1024, help="samples of each of the two reference halves")
     c.add_argument("--agreement-seconds", type=SECONDS, default=60.0, help="time for our converged image")
     c.add_argument("--threads", type=COUNT, default=2, help="Cycles' render threads (%(default)s)")
+    c.add_argument("--cycles-world-map", type=int, default=0, metavar="N",
+                   help="the timed Cycles renders' world importance map: Manual at N (default 0: Blender's "
+                        "Automatic, built in every render call)")
     c.add_argument("--cache-dir", default=None, help="reference cache (default: ~/.cache/restircl)")
     c.add_argument("--out", default="out", help="writes OUT/data/compare_cycles_WxH.* and OUT/img/...png")
     c.add_argument("--device", default=None)

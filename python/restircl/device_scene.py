@@ -11,7 +11,7 @@ import numpy as np
 import pyopencl as cl
 
 from . import layouts as L
-from .buffers import upload
+from .buffers import upload, upload_parts
 from .bvh import build_bvh, make_tris
 from .camera_lights import camera_light_indices, camera_light_table
 from .ggx_tables import ggx_tables
@@ -193,7 +193,7 @@ class DeviceScene:
             self.lights_switched = lights_switched(old.power, lights.power, self.light_change_ratio)
         self.lights = lights
         self.light_array = build_light_array(lights.power, self.slots_per_light)
-        self.lights_buf = upload(self.context, lights.device_array())
+        self.lights_buf = upload_parts(self.context, lights.device_parts())
         self.slots_buf = upload(self.context, self.light_array.slots)
         self.light_pdf_buf = upload(self.context, self.light_array.pdf)
         self.light_tree = None

@@ -19,7 +19,7 @@ def environment_texels(env: Environment) -> tuple[np.ndarray, int]:
     color = np.asarray(env.color, np.float32)
     if env.image is None and env.path is None:
         return color.reshape(1, 1, 3).copy(), 0
-    rgb = _image_rgb(env)
+    rgb = environment_rgb(env)
     bad = ~np.all(np.isfinite(rgb), axis=2) | np.any(rgb < 0, axis=2)
     count = int(np.count_nonzero(bad))
     if count:
@@ -30,11 +30,12 @@ def environment_texels(env: Environment) -> tuple[np.ndarray, int]:
     return np.ascontiguousarray(rgb, np.float32), count
 
 
-def _image_rgb(env: Environment) -> np.ndarray:
+def environment_rgb(env: Environment) -> np.ndarray:
+    """(H, W, 3) float32 of the world's image or file as they are (not cleaned; a view of a float32 RGB array)."""
     if env.image is not None:
         a = np.asarray(env.image)
-        if a.dtype.kind in "ui":
-            a = a.astype(np.float64) / float(np.iinfo(a.dtype).max)
+        if a.dtype.kind in "ui":  # float32 holds 8- and 16-bit values exactly; no float64 copy of a huge map
+            return a[..., :3].astype(np.float32) * np.float32(1.0 / np.iinfo(a.dtype).max)
         return np.asarray(a[..., :3], np.float32)
     path = Path(str(env.path))
     try:

@@ -7,13 +7,20 @@ Two kinds of table, measured against each other on PoCL (docs/benchmarks.md):
 - "cdf": the marginal and the conditional cumulative distributions, searched by bisection (log2 H + log2 W reads);
 - "alias": Walker's alias tables for the marginal and each row (two reads each, whatever the size).
 
-Both are flat float32 arrays the device reads from the light buffer (environment.py places them there)."""
+Both are flat float32 arrays the device reads from the light buffer (environment.py places them there), built
+in bands of rows into the light buffer's own array (fill_table), so that a huge map needs no float64 copy of itself."""
 
 from __future__ import annotations
+
+from typing import Protocol
 
 import numpy as np
 
 TABLE_KINDS = ("alias", "cdf")
+#: texels per band of rows in the cdf build (float64 only for a band at a time)
+CHUNK_TEXELS = 1 << 21
+#: texels per band of the alias build: its lock step costs a numpy call per column of a band, so bands are large
+ALIAS_BAND_TEXELS = 1 << 22
 
 
 def row_solid_angles(height: int, width: int) -> np.ndarray:
@@ -79,37 +86,86 @@ def alias_probabilities(prob: np.ndarray, alias: np.ndarray) -> np.ndarray:
     return p
 
 
-def _cdf(weights: np.ndarray) -> np.ndarray:
-    """(R, N) weights -> (R, N + 1) cumulative distributions from 0 to 1 (uniform for a row of zeros)."""
+def _cdf(weights: np.ndarray, total: np.ndarray | None = None) -> np.ndarray:
+    """(R, N) weights -> (R, N + 1) cumulative distributions from 0 to 1 (uniform for a row of zeros), float64."""
     w = np.asarray(weights, np.float64)
-    c = np.concatenate([np.zeros((w.shape[0], 1)), np.cumsum(w, axis=1)], axis=1)
-    total = c[:, -1:]
-    uniform = np.linspace(0.0, 1.0, w.shape[1] + 1)[None, :]
-    c = np.where(total > 0, c / np.where(total > 0, total, 1.0), uniform)
+    c = np.empty((w.shape[0], w.shape[1] + 1))
+    c[:, 0] = 0.0
+    np.cumsum(w, axis=1, out=c[:, 1:])
+    total = c[:, -1:].copy() if total is None else total.reshape(-1, 1)
+    empty = total[:, 0] <= 0
+    c /= np.where(empty[:, None], 1.0, total)
+    if np.any(empty):
+        c[empty] = np.linspace(0.0, 1.0, w.shape[1] + 1)
     c[:, -1] = 1.0
     return c
 
 
-def build_table(luminance: np.ndarray, kind: str) -> np.ndarray:
+class LuminanceRows(Protocol):
+    """What the tables are built from: an (H, W) luminance map, read a band of rows at a time (a numpy array is
+    one; lights/environment.py passes the stored texels' own luminance, so the tables sample what is stored)."""
+
+    @property
+    def shape(self) -> tuple[int, ...]: ...
+
+    def __getitem__(self, rows: slice, /) -> np.ndarray: ...
+
+
+def table_floats(height: int, width: int, kind: str) -> int:
+    """The length of the flat table of an H x W map (layout in build_table)."""
+    if kind == "alias":
+        return 2 * height + 2 * height * width
+    if kind == "cdf":
+        return height + 1 + height * (width + 1)
+    raise ValueError(f"environment table kind must be one of {TABLE_KINDS}, got {kind!r}")
+
+
+def fill_table(luminance: LuminanceRows, kind: str, out: np.ndarray) -> float:
+    """Write the table of an (H, W) luminance map into `out` (float32, table_floats long; layout in build_table)
+    and return the sum of luminance x solid angle over the texels (float64).
+
+    The rows are read in bands of about CHUNK_TEXELS texels and only a band is ever in float64, so a 16384 x 8192
+    map's cdf costs its float32 output and some 100 MB more (the alias tables are built in lock step over the rows
+    of a band; maps above ALIAS_MAX_TEXELS get the cdf, lights/environment.py)."""
+    h, w = luminance.shape
+    if out.dtype != np.float32 or out.shape != (table_floats(h, w, kind),):
+        raise ValueError(f"out must be float32 of {table_floats(h, w, kind)} entries")
+    band = max(1, CHUNK_TEXELS // w)
+    solid = row_solid_angles(h, w)
+    rows = np.empty(h)
+    if kind == "alias":
+        pairs = out.reshape(-1, 2)
+        cond = pairs[h:].reshape(h, w, 2)
+        band = max(1, ALIAS_BAND_TEXELS // w)  # lock step: fewer, larger bands are faster
+    else:
+        cond = out[h + 1:].reshape(h, w + 1)
+    for a in range(0, h, band):
+        b = min(a + band, h)
+        weights = np.asarray(luminance[a:b], np.float64) * solid[a:b, None]
+        rows[a:b] = weights.sum(axis=1)
+        if kind == "alias":
+            cp, ca = alias_rows(weights)
+            cond[a:b, :, 0] = cp
+            cond[a:b, :, 1] = ca.astype(np.int32).view(np.float32)
+        else:
+            cond[a:b] = _cdf(weights, rows[a:b])
+    if kind == "alias":
+        mp, ma = alias_rows(rows[None, :])
+        pairs[:h, 0] = mp[0]
+        pairs[:h, 1] = ma[0].astype(np.int32).view(np.float32)
+    else:
+        out[:h + 1] = _cdf(rows[None, :])[0]
+    return float(rows.sum())
+
+
+def build_table(luminance: LuminanceRows, kind: str) -> np.ndarray:
     """The flat float32 table of an (H, W) luminance map (layout in opencl/lights/environment.h):
     alias: H (prob, alias bits) pairs of the rows, then H x W pairs of the rows' columns;
     cdf: H + 1 entries of the rows' cumulative distribution, then H rows of W + 1 of the columns'."""
-    weights = texel_weights(luminance)
-    h, w = weights.shape
-    rows = weights.sum(axis=1)
-    if kind == "alias":
-        out = np.empty(2 * h + 2 * h * w, np.float32)
-        mp, ma = alias_rows(rows[None, :])
-        cp, ca = alias_rows(weights)
-        pairs = out.reshape(-1, 2)
-        pairs[:h, 0] = mp[0]
-        pairs[:h, 1] = ma[0].astype(np.int32).view(np.float32)
-        pairs[h:, 0] = cp.reshape(-1)
-        pairs[h:, 1] = ca.reshape(-1).astype(np.int32).view(np.float32)
-        return out
-    if kind == "cdf":
-        return np.concatenate([_cdf(rows[None, :]).reshape(-1), _cdf(weights).reshape(-1)]).astype(np.float32)
-    raise ValueError(f"environment table kind must be one of {TABLE_KINDS}, got {kind!r}")
+    h, w = luminance.shape
+    out = np.empty(table_floats(h, w, kind), np.float32)
+    fill_table(luminance, kind, out)
+    return out
 
 
 def table_texel_probabilities(table: np.ndarray, height: int, width: int, kind: str) -> np.ndarray:

@@ -19,8 +19,9 @@ def _series(rows: list[Row], method: str, budget: float) -> list[Row]:
 
 
 def summary(result: KindResult) -> dict:
-    """{method: {budget: {median, min, max, seconds, samples, ratio, ratio_min, ratio_max}}}; the ratios (ours /
-    Cycles, paired by repetition) only where Cycles ran."""
+    """{method: {budget: {median, min, max, seconds, samples, over_budget, ratio, ratio_min, ratio_max}}}; the
+    ratios (ours / Cycles, paired by repetition) only where Cycles ran; over_budget counts the repetitions that took
+    more than OVER_BUDGET x the budget (for Cycles: its ratios are not at equal time)."""
     out: dict[str, dict[str, dict]] = {}
     budgets = sorted({r.budget_s for r in result.rows})
     for m in ALL_METHODS:
@@ -31,7 +32,8 @@ def summary(result: KindResult) -> dict:
             errs = [r.rel_mse for r in rows]
             cell = {"median": statistics.median(errs), "min": min(errs), "max": max(errs),
                     "seconds": statistics.median(r.seconds for r in rows),
-                    "samples": statistics.median(r.samples for r in rows), "reps": len(rows)}
+                    "samples": statistics.median(r.samples for r in rows), "reps": len(rows),
+                    "over_budget": sum(r.over_budget for r in rows)}
             cyc = {r.rep: r.rel_mse for r in _series(result.rows, "cycles", b)}
             ratios = [r.rel_mse / cyc[r.rep] for r in rows if r.rep in cyc and cyc[r.rep] > 0]
             if m != "cycles" and ratios:
@@ -41,7 +43,8 @@ def summary(result: KindResult) -> dict:
 
 
 def ratio_table(results: list[KindResult]) -> str:
-    """Markdown: per kind, our relMSE / Cycles' at each budget (median of the paired repetitions, range)."""
+    """Markdown: per kind, our relMSE / Cycles' at each budget (median of the paired repetitions, range); where
+    Cycles took longer than OVER_BUDGET x the budget, its median seconds follow with a '>' (not equal time)."""
     ran = {r.method for res in results for r in res.rows}
     ours = [m for m in ALL_METHODS if m != "cycles" and m in ran]
     budgets = sorted({r.budget_s for res in results for r in res.rows})
@@ -55,8 +58,10 @@ def ratio_table(results: list[KindResult]) -> str:
             parts = []
             for b in budgets:
                 c = s.get(m, {}).get(f"{b:g}")
+                cyc = s.get("cycles", {}).get(f"{b:g}")
+                late = f" [Cycles > {cyc['seconds']:.1f} s]" if cyc and cyc["over_budget"] else ""
                 parts.append("-" if c is None or "ratio" not in c else
-                             f"{c['ratio']:.2g} ({c['ratio_min']:.2g}..{c['ratio_max']:.2g})")
+                             f"{c['ratio']:.2g} ({c['ratio_min']:.2g}..{c['ratio_max']:.2g}){late}")
             cells.append(" / ".join(parts))
         lines.append(f"| {res.kind} | " + " | ".join(cells) + " |")
     return "\n".join(lines)
@@ -170,12 +175,13 @@ def main(a) -> int:
     load = os.getloadavg()
     results = run(kinds, budgets=tuple(a.budgets), reps=a.reps, methods=tuple(methods), width=a.width,
                   height=a.height, reference_spp=a.reference_spp, threads=a.threads, device=a.device,
-                  cache_dir=Path(a.cache_dir) if a.cache_dir else None, agreement_seconds=a.agreement_seconds)
+                  cache_dir=Path(a.cache_dir) if a.cache_dir else None, agreement_seconds=a.agreement_seconds,
+                  cycles_world_map=a.cycles_world_map)
     from ..device import get_device
 
     meta = {"width": a.width, "height": a.height, "budgets": list(a.budgets), "reps": a.reps, "threads": a.threads,
             "device": get_device(a.device).label, "cpu": platform.processor() or platform.machine(),
-            "load_before": load, "load_after": os.getloadavg(), "ours": OURS}
+            "load_before": load, "load_after": os.getloadavg(), "ours": OURS, "cycles_world_map": a.cycles_world_map}
     print(f"load average before {load[0]:.2f}, after {meta['load_after'][0]:.2f}")
     print(agreement_table(results))
     print(error_table(results))

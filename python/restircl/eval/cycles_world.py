@@ -45,3 +45,12 @@ def world_to_bpy(bpy, sc, env: Environment) -> None:
     vis = getattr(world, "cycles_visibility", None)
     if vis is not None:
         vis.camera = bool(env.visible_camera)
+
+
+def set_world_map(sc, resolution: int) -> None:
+    """Cycles' importance map of scene sc's world: 0 leaves Blender's default (Automatic, which Cycles builds in
+    every render call's synchronisation: seconds for the held-out sky on 2 cores, docs/error-vs-time.md), else
+    Manual at `resolution` (the map's width)."""
+    if resolution and sc.world is not None:
+        sc.world.cycles.sampling_method = "MANUAL"
+        sc.world.cycles.sample_map_resolution = int(resolution)

@@ -33,8 +33,12 @@ class DeviceLights:
     # environment's map and table, lights/environment.py)
     environment: env_light.PackedMap | None = None
 
+    def device_parts(self) -> list[np.ndarray]:
+        """What the light buffer holds, in order: the records, then `data` (buffers.upload_parts)."""
+        return [self.records, self.data] if len(self.data) else [self.records]
+
     def device_array(self) -> np.ndarray:
-        """What the light buffer holds: the records, then `data`."""
+        """What the light buffer holds as one array (a copy when there is `data`)."""
         if len(self.data) == 0:
             return self.records
         return np.concatenate([self.records.view(np.float32).reshape(-1), self.data])

@@ -11,52 +11,93 @@ the scene's radius R facing a uniform world of the map's mean radiance L receive
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..environment import Environment
-from ..environment_image import environment_texels
-from ..environment_table import build_table, texel_weights
+from ..environment_pack import (
+    StoredLuminance,
+    StoredTexels,
+    choose_format,
+    map_source,
+    map_stats,
+    store_texels,
+    texel_floats,
+)
+from ..environment_table import fill_table, table_floats
 from .light_type import LightType
 from .record import LUMINANCE, lanes
 
 TYPE = LightType("environment", code=6, flag="HAS_ENVIRONMENT")
 FLAG_CAMERA = 2  # ENV_FLAG_CAMERA
 FLAG_CDF = 4  # ENV_FLAG_CDF
+FLAG_HALF = 8  # ENV_FLAG_HALF
 #: the sampling table of new scenes: "alias" or "cdf" (environment_table.py; measured in docs/benchmarks.md)
 TABLE_KIND = "alias"
 #: maps above this many texels get the cdf table whatever TABLE_KIND says: the host builds alias tables row by row
 #: in lock step, 23 s for 4096 x 2048 against 3.3 s for the cdf (docs/benchmarks.md), minutes for 16384 x 8192
 ALIAS_MAX_TEXELS = 1 << 22
+#: how the texels are stored on the device: "auto" (half floats unless the map's range needs float32), "half" or
+#: "float" (environment_pack.py; the error half floats add is measured in docs/design.md, "The environment light")
+TEXEL_FORMAT = "auto"
 
 
 @dataclass
 class PackedMap:
-    """What does not change with the strength: the texels, their sampling table and its normalisation."""
+    """What does not change with the strength: the texels and their sampling table, in the one float32 array that
+    follows the light records on the device (`data`: the stored texels, then the table)."""
 
     key: tuple
-    texels: np.ndarray  # (H, W, 3) float32
-    table: np.ndarray  # flat float32 (environment_table.build_table)
+    data: np.ndarray  # flat float32: texel_floats of the stored texels, then the table (table_floats)
+    stored: StoredTexels  # the texels' format and scale; a view of the front of `data`
     kind: str
-    weight_sum: float  # sum of luminance x solid angle over the texels
+    weight_sum: float  # sum of luminance x solid angle over the stored texels (times stored.scale: radiance's)
     zeroed: int  # texels that were NaN, Inf or negative
 
+    @property
+    def shape(self) -> tuple[int, int]:
+        return self.stored.height, self.stored.width
 
-def packed_map(env: Environment, kind: str | None = None) -> PackedMap:
-    """The world's map and table, built once per image and table kind (kept on the Environment; an image changed in
-    place is not seen: assign a new array)."""
+    @property
+    def texel_floats(self) -> int:
+        return len(self.stored.out)
+
+    @property
+    def table(self) -> np.ndarray:
+        return self.data[self.texel_floats:]
+
+    @property
+    def texels(self) -> np.ndarray:
+        """(H, W, 3) float32 radiance per unit strength as the device reads it (decoded: for tests and tools)."""
+        return self.stored.texels()
+
+
+def packed_map(env: Environment, kind: str | None = None, texel_format: str | None = None) -> PackedMap:
+    """The world's map and table, built once per image, table kind and texel format (kept on the Environment; an
+    image changed in place is not seen: assign a new array). Built band by band straight into `data`: besides the
+    source image, a map costs its device bytes (data_bytes) and a band's worth of scratch."""
     rot = None if env.rotation is None else np.asarray(env.rotation).tobytes()
-    key = (id(env.image), env.path, tuple(env.color), kind or TABLE_KIND, rot)
+    key = (id(env.image), env.path, tuple(env.color), kind or TABLE_KIND, texel_format or TEXEL_FORMAT, rot)
     cached = getattr(env, "_packed_map", None)
     if cached is not None and cached.key == key:
         return cached
-    texels, zeroed = environment_texels(env)
+    rgb = map_source(env)
+    stats = map_stats(rgb)
+    if stats.zeroed:
+        warnings.warn(f"world {env.name!r}: {stats.zeroed} texel(s) of its image are NaN, Inf or negative; they "
+                      "are black", stacklevel=3)
+    h, w = stats.height, stats.width
+    fmt = choose_format(stats, texel_format or TEXEL_FORMAT)
     if kind is None:
-        kind = TABLE_KIND if texels.shape[0] * texels.shape[1] <= ALIAS_MAX_TEXELS else "cdf"
-    lum = texels.astype(np.float64) @ LUMINANCE
-    table = build_table(lum, kind)
-    packed = PackedMap(key, texels, table, kind, float(texel_weights(lum).sum()), zeroed)
+        kind = TABLE_KIND if h * w <= ALIAS_MAX_TEXELS else "cdf"
+    n_tex = texel_floats(h, w, fmt)
+    data = np.empty(n_tex + table_floats(h, w, kind), np.float32)
+    stored = store_texels(rgb, stats, fmt, data[:n_tex])
+    del rgb
+    weight_sum = fill_table(StoredLuminance(stored, LUMINANCE), kind, data[n_tex:])
+    packed = PackedMap(key, data, stored, kind, weight_sum, stats.zeroed)
     object.__setattr__(env, "_packed_map", packed)
     return packed
 
@@ -65,32 +106,34 @@ def record(env: Environment, packed: PackedMap, frame: int) -> np.ndarray:
     """The (16,) float32 record; its texel and table offsets are set by place_data once the records are counted."""
     strength = env.strength_at(frame)
     rot = np.eye(3) if env.rotation is None else np.asarray(env.rotation, np.float64)
-    h, w = packed.texels.shape[:2]
+    h, w = packed.shape
     norm = 1.0 / packed.weight_sum if packed.weight_sum > 0 and strength > 0 else 0.0
-    flags = (FLAG_CAMERA if env.visible_camera else 0) | (FLAG_CDF if packed.kind == "cdf" else 0)
-    rec = lanes(TYPE.code, a=rot[0], b=rot[1], b_w=norm, radiance=(strength,) * 3, flags=flags)
+    flags = ((FLAG_CAMERA if env.visible_camera else 0) | (FLAG_CDF if packed.kind == "cdf" else 0)
+             | (FLAG_HALF if packed.stored.fmt == "half" else 0))
+    # the stored texels are radiance / scale (a power of two): the record's radiance multiplies it back
+    rec = lanes(TYPE.code, a=rot[0], b=rot[1], b_w=norm, radiance=(strength * packed.stored.scale,) * 3,
+                flags=flags)
     rec[1:3] = np.array([w, h], np.int32).view(np.float32)
     return rec
 
 
 def power(env: Environment, packed: PackedMap, frame: int, scene_radius: float) -> float:
-    mean = packed.weight_sum / (4.0 * math.pi)
+    mean = packed.weight_sum * packed.stored.scale / (4.0 * math.pi)
     return env.strength_at(frame) * math.pi * mean * math.pi * scene_radius * scene_radius
 
 
 def data(packed: PackedMap) -> np.ndarray:
-    """The floats that follow the records: the texels, then the table."""
-    return np.concatenate([packed.texels.reshape(-1), packed.table])
+    """The floats that follow the records: the stored texels, then the table (not a copy)."""
+    return packed.data
 
 
 def place_data(records: np.ndarray, index: int, packed: PackedMap) -> None:
     """Point record `index` of the (N, 16) float32 records at its data, which follows all N of them."""
     tex = (len(records) - index) * 16
     records[index, 0] = np.int32(tex).view(np.float32)
-    records[index, 7] = np.int32(tex + packed.texels.size).view(np.float32)
+    records[index, 7] = np.int32(tex + packed.texel_floats).view(np.float32)
 
 
-def data_bytes(height: int, width: int, kind: str) -> int:
-    """Device bytes of a map of this size (texels and table)."""
-    table = 2 * height + 2 * height * width if kind == "alias" else height + 1 + height * (width + 1)
-    return 4 * (3 * height * width + table)
+def data_bytes(height: int, width: int, kind: str, fmt: str = "half") -> int:
+    """Device bytes of a map of this size (texels in format `fmt`, "half" or "float", and the table)."""
+    return 4 * (texel_floats(height, width, fmt) + table_floats(height, width, kind))
