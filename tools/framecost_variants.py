@@ -6,12 +6,15 @@
 `timing`: the median wall ms and CPU ms (all threads) per frame of each variant on many_lights, the variants
 interleaved round by round so that a change of the shared machine's load hits them all.
 
-`error`: equal-cost error on a moving camera. Each variant renders the animation in order with s = 1, 2, 3
-samples per frame (the extra samples of a frame reuse its history and go into TAA, as in `restircl report
---moving`); the error of frames 5, 10 and 15 is taken against a converged reference of that frame.
-The cost of a sample is the variant's CPU ms per sample measured in the same run (steadier than wall time on a
-loaded machine). Each variant's relMSE is interpolated (log-log in cost between its sample counts) at the cost of
-one and of two samples of the default, and printed beside the default's own.
+`error`: equal-time error on a moving camera, as in a viewport: a faster frame means more frames along the same
+camera path in the same time. Each variant renders the path in 16, 31 and 46 frames (its points 1/3, 2/3 and 1 are
+frames 5, 10, 15 of the 16), and its relMSE there is taken against converged references of those points. (Extra
+samples of one frame, as `restircl report --moving` renders them, are blended by TAA as a still camera's, with
+n growing from frame to frame: the image lags behind the camera, 10x the error at 2 samples per frame.) The time
+of a path is the variant's CPU ms per frame measured in the same run (steadier than wall time on a loaded machine)
+times its frames. The mean and the median relMSE over the points and seeds (the mean is dominated by the rare
+firefly that TAA carries along) are interpolated, log-log in time between the frame counts, at the time of the
+default's 16 and 31 frames, and printed beside the default's own.
 """
 
 from __future__ import annotations
@@ -66,17 +69,26 @@ def timing(width: int, height: int, rounds: int, variants: dict[str, dict]) -> N
 
 
 def moving_garden(width: int, height: int, frames: int = 16) -> Scene:
-    """The held-out garden with its camera dollying sideways and in (about 0.35 m a frame)."""
+    """The held-out garden with its camera dollying sideways and in along one path (6 m), in `frames` frames."""
     scene = held_out("garden", width, height)
-    cams = [look_at((-3.0 + 0.4 * f, -17.0 + 0.2 * f, 7.5 - 0.1 * f), (0.4 * f - 3.0, 0.0, 0.0))
-            for f in range(frames)]
+    cams = []
+    for f in range(frames):
+        t = f / (frames - 1)
+        cams.append(look_at((-3.0 + 6.0 * t, -17.0 + 3.0 * t, 7.5 - 1.5 * t), (6.0 * t - 3.0, 0.0, 0.0)))
     scene.camera.transforms = np.stack(cams).astype(np.float32)
     return scene.validate()
 
 
-def run_variant(scene: Scene, kw: dict, samples: int, evaluated: list[int], refs: dict[int, np.ndarray],
-                seed: int) -> tuple[float, float]:
-    """Mean relMSE over the evaluated frames and CPU ms per sample, `samples` samples per frame."""
+def path_scene(name: str, width: int, height: int, frames: int) -> Scene:
+    """The moving-camera scene with its camera path cut into `frames` frames."""
+    if name == "many_lights":
+        return many_lights(width=width, height=height, frames=frames)
+    return moving_garden(width, height, frames)
+
+
+def run_variant(scene: Scene, kw: dict, evaluated: list[int], refs: list[np.ndarray],
+                seed: int) -> tuple[list[float], float]:
+    """relMSE of the evaluated frames (against refs, in order) and CPU ms per frame, every frame in order."""
     r = Renderer(scene, Settings(**kw, seed=seed))
     for _ in range(2):  # kernels compile at their first launch
         r._render(0, still=False)
@@ -86,14 +98,13 @@ def run_variant(scene: Scene, kw: dict, samples: int, evaluated: list[int], refs
     img = np.empty((r.height, r.width, 4), np.float32)
     for f in range(scene.frames):
         c0 = time.process_time()
-        for _ in range(samples):
-            _, color_buf, _ = r._render(f, still=False)
+        _, color_buf, _ = r._render(f, still=False)
         r.device.queue.finish()
         cpu += time.process_time() - c0
-        if f in refs:
+        if f in evaluated:
             cl.enqueue_copy(r.device.queue, img, color_buf)
-            errs.append(rel_mse(img[..., :3], refs[f]))
-    return float(np.mean(errs)), cpu * 1e3 / (scene.frames * samples)
+            errs.append(rel_mse(img[..., :3], refs[evaluated.index(f)]))
+    return errs, cpu * 1e3 / scene.frames
 
 
 def at_cost(points: list[tuple[float, float]], cost: float) -> float:
@@ -111,28 +122,38 @@ def at_cost(points: list[tuple[float, float]], cost: float) -> float:
 
 def error(scene_name: str, width: int, height: int, variants: dict[str, dict], seeds: list[int],
           ref_frames: int, cache: str) -> None:
-    scene = many_lights(width=width, height=height, frames=16) if scene_name == "many_lights" \
-        else moving_garden(width, height)
-    evaluated = list(range(5, scene.frames, 5))
-    refs = {f: get_reference(scene, f, frames=ref_frames, cache_dir=cache).image for f in evaluated}
-    print(f"{scene_name} {width}x{height}, moving camera, {scene.frames} frames, relMSE of frames {evaluated}; "
-          f"seeds {seeds}; load {load()}")
-    table: dict[str, list[tuple[float, float]]] = {}
+    base = path_scene(scene_name, width, height, 16)
+    evaluated = [5, 10, 15]
+    refs = [get_reference(base, f, frames=ref_frames, cache_dir=cache).image for f in evaluated]
+    print(f"{scene_name} {width}x{height}, moving camera: one path in 16, 31 and 46 frames (speed 1, 1/2, 1/3), "
+          f"relMSE at its points 1/3, 2/3 and 1; seeds {seeds}; load {load()}")
+    # per variant and statistic (mean, median over the evaluated points and seeds): (CPU ms for the path, relMSE)
+    table: dict[str, dict[str, list[tuple[float, float]]]] = {}
     for name, kw in variants.items():
-        pts = []
-        for s in (1, 2, 3):
-            e = [run_variant(scene, kw, s, evaluated, refs, seed) for seed in seeds]
-            pts.append((float(np.mean([c for _, c in e])) * s, float(np.mean([x for x, _ in e]))))
+        pts: dict[str, list[tuple[float, float]]] = {"mean": [], "median": []}
+        for k in (1, 2, 3):
+            scene = path_scene(scene_name, width, height, 15 * k + 1)
+            runs = [run_variant(scene, kw, [k * f for f in evaluated], refs, seed) for seed in seeds]
+            cost = float(np.mean([c for _, c in runs])) * scene.frames
+            errs = [e for run, _ in runs for e in run]
+            pts["mean"].append((cost, float(np.mean(errs))))
+            pts["median"].append((cost, float(np.median(errs))))
         table[name] = pts
-        print(f"  {name:<30} " + "  ".join(f"s={s}: {c:6.1f} CPU ms, relMSE {x:.3e}" for s, (c, x) in
-                                          zip((1, 2, 3), pts, strict=True)), flush=True)
+        print(f"  {name:<14} " + "  ".join(f"{15 * k + 1} frames: {c / (15 * k + 1):5.1f} CPU ms/frame, relMSE mean "
+                                          f"{x:.3e} median {m:.3e}"
+                                          for k, (c, x), (_, m) in zip((1, 2, 3), pts["mean"], pts["median"],
+                                                                       strict=True)), flush=True)
     print(f"load {load()}")
-    c1 = table["default"][0][0]
-    print("  equal CPU cost: relMSE at the cost of 1 and 2 default samples per frame (ratio to the default's)")
+    c1 = table["default"]["mean"][0][0]
+    print("  equal CPU time for the path: relMSE (mean, median) at the time of the default's 16 and 31 frames "
+          "(interpolated), and its ratio to the default's")
     for name, pts in table.items():
-        e1, e2 = at_cost(pts, c1), at_cost(pts, 2 * c1)
-        d1, d2 = at_cost(table["default"], c1), at_cost(table["default"], 2 * c1)
-        print(f"  {name:<30} {e1:.3e} ({e1 / d1:4.2f})   {e2:.3e} ({e2 / d2:4.2f})")
+        cells = []
+        for budget in (c1, table["default"]["mean"][1][0]):
+            for stat in ("mean", "median"):
+                e, d = at_cost(pts[stat], budget), at_cost(table["default"][stat], budget)
+                cells.append(f"{stat} {e:.3e} ({e / d:4.2f})")
+        print(f"  {name:<14} 16: {cells[0]}, {cells[1]}   31: {cells[2]}, {cells[3]}")
 
 
 def main() -> int:
@@ -142,7 +163,7 @@ def main() -> int:
     ap.add_argument("--width", type=int)
     ap.add_argument("--height", type=int)
     ap.add_argument("--rounds", type=int, default=2)
-    ap.add_argument("--seeds", default="1,2")
+    ap.add_argument("--seeds", default="1,2,3,4")
     ap.add_argument("--variants", default=",".join(VARIANTS), help="comma-separated names of VARIANTS")
     ap.add_argument("--reference-frames", type=int, default=1024)
     ap.add_argument("--cache", default="out/framecost_refs")
