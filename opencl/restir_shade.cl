@@ -1,5 +1,6 @@
-/* ReSTIR pass 6: one shadow ray to the pixel's final sample (restir_shade.h). Runs where no spatial pass does:
- * the last spatial pass shades as it goes. */
+/* ReSTIR pass 6: one shadow ray to the pixel's final sample: f * Le * G * V * W, plus emission seen directly.
+ * visible_known: the reuse passes already kept W = 0 for samples occluded at this pixel (unbiased mode with
+ * visibility reuse), so the shadow ray is left out. */
 
 __kernel void restir_shade(const __global GSample* gbuf, const __global GlossySample* glossy, const __global BVHNode* nodes, const __global Tri* tris,
                            const __global Light* lights, const __global Reservoir* res,
@@ -7,9 +8,15 @@ __kernel void restir_shade(const __global GSample* gbuf, const __global GlossySa
                            ShadeParams params)
 {
     const int pixel_count = frame_params.pixels;
+    const int visible_known = params.visible_known;
     int i = get_global_id(0);
     if (i >= pixel_count) return;
     Surface s = surface_load(gbuf, glossy, i);
+    float3 c = gbuf[i].emission.xyz;
     Reservoir r = res[i];
-    out[i] = restir_shade_pixel(gbuf, &s, &r, i, nodes, tris, lights, params.visible_known, guards);
+    LightEval e;
+    if (s.valid && r.light >= 0 && r.W > 0.0f && target_of(&s, lights, r.light, r.u, r.v, &e) > 0.0f
+        && (visible_known || visible(nodes, tris, &s, &e)))
+        c += unshadowed_contrib(&s, &e) * r.W;
+    out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), 1.0f);
 }

@@ -1,7 +1,6 @@
 /* ReSTIR pass 5: merge up to `spatial_neighbours` (or `boost_neighbours`) reservoirs of random pixels within `spatial_radius` whose
  * surface is similar (view depth, normal and material: surface_material_similar) with the pixel's own
- * (restir_reuse.h). The last pass also does pass 6, the shading (restir_shade.h), while it holds the pixel's
- * surface and final reservoir. */
+ * (restir_reuse.h). */
 
 /* the table's limit (settings.py) arrives as -DMAX_NEIGHBOURS; this fallback serves builds outside program.py */
 #ifndef MAX_NEIGHBOURS
@@ -23,20 +22,20 @@ inline float2 disk_offset(float r, uint* rng)
     return (float2)(0.0f, 0.0f);
 }
 
-/* The spatial reuse of pixel (x, y) = i: its input reservoir c merged with the similar neighbours' (or c itself
- * where none is similar). */
-inline Reservoir spatial_reuse(const __global GSample* gbuf, const __global GlossySample* glossy,
-                               const __global BVHNode* nodes, const __global Tri* tris, const __global Light* lights,
-                               const __global Reservoir* input, const Surface* s_in, Reservoir c, int x, int y,
-                               FrameParams frame_params, const SpatialParams* params)
+__kernel void restir_spatial(const __global GSample* gbuf, const __global GlossySample* glossy, const __global BVHNode* nodes, const __global Tri* tris,
+                             const __global Light* lights, const __global Reservoir* input, __global Reservoir* out,
+                             FrameParams frame_params, SpatialParams params)
 {
-    const SpatialParams p = *params;
-    const Surface s = *s_in;
+    const SpatialParams p = params;
     const int width = frame_params.width, height = frame_params.height;
     const int bias_correction = p.bias_correction, visibility_reuse = p.visibility_reuse;
     const int pass = p.pass_index;
+    int x = get_global_id(0), y = get_global_id(1);
+    if (x >= width || y >= height) return;
     int i = y * width + x;
-    if (!s.valid) return c;
+    Reservoir c = input[i];
+    Surface s = surface_load(gbuf, glossy, i);
+    if (!s.valid) { out[i] = c; return; }
     uint rng = rng_seed((uint)i, frame_params.sample, frame_params.seed, 5u + (uint)pass);
     /* the neighbours: random pixels in the disk that show a similar surface */
     int used[MAX_NEIGHBOURS];
@@ -69,27 +68,11 @@ inline Reservoir spatial_reuse(const __global GSample* gbuf, const __global Glos
         }
         if (similar) used[n_used++] = used[k];
     }
-    if (n_used == 0) return c;
+    if (n_used == 0) { out[i] = c; return; }
     Reservoir qs[MAX_NEIGHBOURS];  /* their reservoirs, read before any is used (the same overlap) */
     for (int k = 0; k < n_used; ++k) qs[k] = input[used[k]];
 
     Reservoir r;
     reuse_combine(&s, &c, qs, n_used, gbuf, glossy, used, nodes, tris, lights, bias_correction, visibility_reuse, &rng, &r);
-    return r;
-}
-
-/* shade_out: where the last pass (params.shade) writes the shaded pixel (restir_shade.h); shade 2: the sample is
- * known visible (visibility reuse), 1: it is shadow-tested */
-__kernel void restir_spatial(const __global GSample* gbuf, const __global GlossySample* glossy, const __global BVHNode* nodes, const __global Tri* tris,
-                             const __global Light* lights, const __global Reservoir* input, __global Reservoir* out,
-                             volatile __global int* guards, __global float4* shade_out,
-                             FrameParams frame_params, SpatialParams params)
-{
-    int x = get_global_id(0), y = get_global_id(1);
-    if (x >= frame_params.width || y >= frame_params.height) return;
-    int i = y * frame_params.width + x;
-    Surface s = surface_load(gbuf, glossy, i);
-    Reservoir r = spatial_reuse(gbuf, glossy, nodes, tris, lights, input, &s, input[i], x, y, frame_params, &params);
     out[i] = r;
-    if (params.shade) shade_out[i] = restir_shade_pixel(gbuf, &s, &r, i, nodes, tris, lights, params.shade == 2, guards);
 }

@@ -30,7 +30,6 @@
 #include "view_dependence.h"
 #include "restir_pairwise.h"
 #include "restir_reuse.h"
-#include "restir_shade.h"
 
 #include "primary.cl"
 #include "light_tiles.cl"

@@ -297,7 +297,7 @@ typedef struct {
     int pass_index;        /* index of this spatial pass: its own random numbers */
     int boost_neighbours;  /* neighbours of a pixel whose reservoir has no history (M <= fresh_m); 0: no boost */
     float fresh_m;         /* the M of a reservoir of this frame's candidates alone */
-    int shade;             /* this pass also shades (restir_shade.h): 0 no, 1 with a shadow ray, 2 sample known visible */
+    int pad0;
 } SpatialParams;           /* 48 bytes */
 
 /* Pass 6: restir_shade, and the samplers without reuse (direct.cl). */

@@ -5,8 +5,7 @@
     3 visibility shadow ray for the initial sample, inside restir_initial        (restir, visibility_reuse)
     4 temporal   merge with last frame's reservoir found by reprojection        (restir, temporal, history)
     5 spatial    merge neighbours' reservoirs, `spatial_passes` times           (restir, spatial)
-    6 shade      one shadow ray to the chosen sample -> noisy direct light s_n  (every method; restir: inside
-                 the last spatial pass where one runs)
+    6 shade      one shadow ray to the chosen sample -> noisy direct light s_n  (every method)
     7 taa        f_n = a s_n + (1 - a) clip(history)                            (taa, animation frames)
     8 output     numpy arrays: colour and AOVs (frame.py)
 
@@ -210,13 +209,11 @@ class Renderer:
             if s.boiling_filter > 0 and not still:  # 4b biased: the animation path only
                 self.boiling.run(state, res)
                 timer.mark("boiling")
-            shaded = s.spatial and s.spatial_neighbours > 0 and s.spatial_passes > 0
-            if shaded:  # 5 merge the neighbours' (and 6: the last pass shades)
+            if s.spatial and s.spatial_neighbours > 0:  # 5 merge the neighbours'
                 res = self.spatial.run(state, res)
                 timer.mark("spatial")
             h.keep_reservoirs(self.device.queue, res)
-            if not shaded:
-                self.shade.restir(state)  # 6 one shadow ray to the final sample
+            self.shade.restir(state)  # 6 one shadow ray to the final sample
         elif state.method == "reference":
             self.shade.reference(state)
         else:

@@ -69,12 +69,6 @@ class StageTimer:
         self.t = t1
 
 
-def visible_known(settings: Settings) -> bool:
-    """Whether the final ReSTIR sample is known visible (the unbiased reuse with visibility reuse keeps W = 0 for
-    occluded samples): its shading then needs no shadow ray."""
-    return settings.visibility_reuse and settings.bias_correction != "none"
-
-
 class Stage:
     """The device-side state every stage reaches: kernels, the scene's buffers, the frame's and the history's."""
 
@@ -213,23 +207,19 @@ class Spatial(Stage):
         self.bias_code = bias_code
 
     def run(self, state: FrameState, res: cl.Buffer) -> cl.Buffer:
-        """The last pass also shades (stage 6, restir_shade.h) into the frame's sample buffer: Shade.restir is then
-        not run (Renderer._render)."""
         s, h, b = self.settings, self.history, self.buffers
         bufs = [h.reservoirs(h.cur), b.res_temp if res is not b.res_temp else b.res_initial]
         for p in range(s.spatial_passes):
             dst = bufs[p % 2]
-            last = p == s.spatial_passes - 1
             params = L.pack(L.SPATIAL_PARAMS, spatial_neighbours=s.spatial_neighbours,
                             spatial_radius=s.spatial_radius, similar=self._similarity(), bias_correction=self.bias_code,
                             visibility_reuse=int(s.visibility_reuse), pass_index=p,
                             boost_neighbours=s.disocclusion_boost,
-                            fresh_m=s.candidates + int(state.sampler["bsdf_candidates"]),
-                            shade=(2 if visible_known(s) else 1) if last else 0)
+                            fresh_m=s.candidates + int(state.sampler["bsdf_candidates"]))
             self.kernels.launch("restir_spatial", image_size(state), gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
                                 **self.scene.geometry,
-                                lights=self.scene.lights_buf, input=res, out=dst, guards=b.guards,
-                                shade_out=b.sample, frame_params=state.frame_params, params=params)
+                                lights=self.scene.lights_buf, input=res, out=dst,
+                                frame_params=state.frame_params, params=params)
             res = dst
         return res
 
@@ -251,7 +241,8 @@ class Shade(Stage):
     def restir(self, state: FrameState) -> None:
         """Shade the reservoir this frame leaves as history."""
         s, h = self.settings, self.history
-        params = L.pack(L.SHADE_PARAMS, sampler=state.sampler, visible_known=int(visible_known(s)))
+        known = s.visibility_reuse and s.bias_correction != "none"
+        params = L.pack(L.SHADE_PARAMS, sampler=state.sampler, visible_known=int(known))
         self.kernels.launch("restir_shade", pixel_count(state), **self._common(state), res=h.reservoirs(h.cur),
                             params=params)
 
