@@ -36,11 +36,13 @@ from restircl.scene import Scene, look_at
 from restircl.scenes import many_lights
 
 VARIANTS: dict[str, dict] = {
-    "default": {},  # 8 candidates, visibility reuse, 3 spatial neighbours, pairwise MIS
+    "default": {},  # Settings(): 8 candidates, visibility reuse, 2 spatial neighbours, pairwise MIS
     "novis": dict(visibility_reuse=False),
     "c4_novis": dict(candidates=4, visibility_reuse=False),
     "c4": dict(candidates=4),
     "n2": dict(spatial_neighbours=2),
+    "n1": dict(spatial_neighbours=1),
+    "n3": dict(spatial_neighbours=3),
     "novis_n2": dict(visibility_reuse=False, spatial_neighbours=2),
     "c4_novis_n2": dict(candidates=4, visibility_reuse=False, spatial_neighbours=2),
 }
