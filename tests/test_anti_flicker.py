@@ -91,7 +91,8 @@ def test_disocclusion_boost_is_taken_only_without_history():
     sc = scenes.cornell_box(32, 24)
 
     def frame(boost: int) -> np.ndarray:
-        return Renderer(sc, Settings(seed=2, temporal=False, disocclusion_boost=boost)).render_frame(0).color
+        return Renderer(sc, Settings(seed=2, temporal=False, spatial_neighbours=3,
+                                     disocclusion_boost=boost)).render_frame(0).color
 
     base = frame(0)
     assert not np.array_equal(frame(8), base)

@@ -21,7 +21,7 @@ from restircl.settings import BIAS_CORRECTIONS, JOINT_LIMITS, METHODS, kernel_de
 # the fields, defaults and order of Settings before the table (scripts pass them by keyword and by position); new
 # fields come last
 BEFORE = (
-    ("method", "restir"), ("candidates", 8), ("temporal", True), ("spatial", True), ("spatial_neighbours", 3),
+    ("method", "restir"), ("candidates", 8), ("temporal", True), ("spatial", True), ("spatial_neighbours", 2),
     ("spatial_radius", 30.0), ("spatial_passes", 1), ("bias_correction", "pairwise"), ("m_cap", 20.0),
     ("visibility_reuse", True), ("taa", True), ("alpha_min", 0.1), ("gamma", 1.0), ("max_history", 256),
     ("depth_tolerance", 0.1), ("normal_angle", 25.0), ("slots_per_light", 4.0), ("light_tiles", "auto"),

@@ -106,7 +106,7 @@ class Settings:
                              flag="--no-temporal", panel="reuse", applies_when=_RESTIR)
     spatial: bool = setting(True, "Spatial Reuse", "ReSTIR: merge neighbouring reservoirs", flag="--no-spatial",
                             panel="reuse", applies_when=_RESTIR)
-    spatial_neighbours: int = setting(3, "Neighbours", "Neighbour reservoirs merged per spatial pass",
+    spatial_neighbours: int = setting(2, "Neighbours", "Neighbour reservoirs merged per spatial pass",
                                       flag="--neighbours", range=Range(int, 0, 16), panel="reuse",
                                       applies_when=_SPATIAL, kernel_limit="MAX_NEIGHBOURS")
     spatial_radius: float = setting(30.0, "Radius", "Radius of the spatial neighbourhood in pixels", flag="--radius",
