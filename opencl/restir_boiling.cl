@@ -9,8 +9,12 @@
 
 #define BOIL_TILE 8
 
+/* What the filter compares (BoilingParams.measure): 0 the weight W (RTXDI's), 1 the contribution target x W, the
+ * luminance the reservoir's sample adds to its pixel before the shadow ray. */
+inline float boil_measure(const Reservoir* r, int measure) { return measure ? r->W * r->target : r->W; }
+
 __kernel void boiling_tiles(const __global Reservoir* res, __global float2* tile_stats, FrameParams frame_params,
-                            int tiles_x)
+                            int tiles_x, int measure)
 {
     int t = get_global_id(0);
     int tiles_y = (frame_params.height + BOIL_TILE - 1) / BOIL_TILE;
@@ -21,7 +25,7 @@ __kernel void boiling_tiles(const __global Reservoir* res, __global float2* tile
         for (int x = x0; x < min(x0 + BOIL_TILE, frame_params.width); ++x) {
             Reservoir r = res[y * frame_params.width + x];
             if (r.light >= 0 && r.W > 0.0f && finite_f(r.W)) {
-                sum += r.W;
+                sum += boil_measure(&r, measure);
                 n += 1.0f;
             }
         }
@@ -30,7 +34,7 @@ __kernel void boiling_tiles(const __global Reservoir* res, __global float2* tile
 }
 
 __kernel void boiling_filter(__global Reservoir* res, const __global float2* tile_stats, FrameParams frame_params,
-                             int tiles_x, float threshold)
+                             int tiles_x, float threshold, int measure)
 {
     int x = get_global_id(0), y = get_global_id(1);
     if (x >= frame_params.width || y >= frame_params.height) return;
@@ -40,8 +44,9 @@ __kernel void boiling_filter(__global Reservoir* res, const __global float2* til
     float2 st = tile_stats[(y / BOIL_TILE) * tiles_x + x / BOIL_TILE];
     float others = st.y - 1.0f;
     if (others < 1.0f) return;  /* alone in its tile: nothing to compare with */
-    float mean_others = (st.x - r.W) / others;
-    if (r.W > threshold * mean_others) {
+    float m = boil_measure(&r, measure);
+    float mean_others = (st.x - m) / others;
+    if (m > threshold * mean_others) {
         res_init(&r);
         res[i] = r;
     }

@@ -43,6 +43,13 @@ TAA_FILTER_CHOICES = (
            "(bilinear where a tap shows another surface)", 1),
 )
 TAA_FILTERS = tuple(c.id for c in TAA_FILTER_CHOICES)
+# in the order of restir_boiling.cl's measure codes (index = code)
+BOILING_MEASURE_CHOICES = (
+    Choice("weight", "Weight", "Compare the reservoir's weight W with its tile's (RTXDI's)", 0),
+    Choice("contribution", "Contribution", "Compare what the reservoir adds to its pixel (target x W) with its "
+           "tile's", 1),
+)
+BOILING_MEASURES = tuple(c.id for c in BOILING_MEASURE_CHOICES)
 
 LIGHT_PROPOSAL_CHOICES = (
     Choice("auto", "Auto", "The light tree where it measured better than the light array at equal time (so far "
@@ -175,8 +182,9 @@ class Settings:
                                  "fill the ReSTIR and TAA history", flag="--warmup-frames", range=Range(int, 0, 256),
                                  panel="sampling")
     boiling_filter: float = setting(0.0, "Boiling Filter", "ReSTIR, animation and viewport frames: empty a reservoir "
-                                    "whose weight stands far above the others of its 8x8 tile (RTXDI's filter: "
-                                    "strength 0-1, 1 the strongest, 0 off; biased, so still renders never use it)",
+                                    "whose weight (or, by Boiling Measure, contribution) stands far above the others "
+                                    "of its 8x8 tile (RTXDI's filter: strength 0-1, 1 the strongest, 0 off; biased, "
+                                    "so still renders never use it)",
                                     flag="--boiling-filter", range=Range(float, 0, 1), panel="reuse",
                                     applies_when=_RESTIR, subtype="FACTOR")
     temporal_permutation: bool = setting(False, "Permutation Sampling", "ReSTIR temporal reuse takes the history of "
@@ -213,6 +221,9 @@ class Settings:
     light_proposal: str = setting("auto", "Light Proposal", "RIS and ReSTIR: where the light candidates come from",
                                   flag="--light-proposal", choices=LIGHT_PROPOSAL_CHOICES, panel="lights",
                                   applies_when=_RIS)
+    boiling_measure: str = setting("weight", "Boiling Measure", "What the boiling filter compares with the other "
+                                   "reservoirs of its tile", flag="--boiling-measure",
+                                   choices=BOILING_MEASURE_CHOICES, panel="reuse", applies_when=_RESTIR)
 
     def validate(self) -> Settings:
         check(self)

@@ -22,7 +22,7 @@ from .device_scene import DeviceScene
 from .history import History
 from .kernels import Kernels
 from .scene import Camera
-from .settings import TAA_FILTERS
+from .settings import BOILING_MEASURES, TAA_FILTERS
 
 if TYPE_CHECKING:
     from .settings import Settings
@@ -191,11 +191,12 @@ class BoilingFilter(Stage):
         if self._stats is None:
             self._stats = alloc(self.kernels.device.context, tiles * 8)
         strength = min(max(float(self.settings.boiling_filter), 1e-6), 1.0)
+        measure = np.int32(BOILING_MEASURES.index(self.settings.boiling_measure))
         self.kernels.launch("boiling_tiles", (tiles,), res=res, tile_stats=self._stats,
-                            frame_params=state.frame_params, tiles_x=np.int32(tiles_x))
+                            frame_params=state.frame_params, tiles_x=np.int32(tiles_x), measure=measure)
         self.kernels.launch("boiling_filter", image_size(state), res=res, tile_stats=self._stats,
                             frame_params=state.frame_params, tiles_x=np.int32(tiles_x),
-                            threshold=np.float32(10.0 / strength - 9.0))
+                            threshold=np.float32(10.0 / strength - 9.0), measure=measure)
 
 
 class Spatial(Stage):
