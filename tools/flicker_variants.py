@@ -1,6 +1,6 @@
 """Flicker statistics (eval/flicker.py) of ReSTIR with and without each anti-flicker option, on many_lights
 (160x90, still and slowed moving camera), the cornell box (96x96, still) and material_balls (glossy, 160x90, still):
-docs/temporal-stability.md.
+docs/temporal-stability.md. The variants include the boiling filter's two measures and lower history caps (m_cap).
 
     python tools/flicker_variants.py [--scenes many_lights_still,many_lights_moving,cornell_box,material_balls]
 """
@@ -15,6 +15,8 @@ VARIANTS = {"restir": Settings(), "restir boiling 0.2": Settings(boiling_filter=
             "restir boiling contribution 0.5": Settings(boiling_filter=0.5, boiling_measure="contribution"),
             "restir boiling contribution 0.7": Settings(boiling_filter=0.7, boiling_measure="contribution"),
             "restir boiling contribution 0.8": Settings(boiling_filter=0.8, boiling_measure="contribution"),
+            "restir history cap 10": Settings(m_cap=10.0), "restir history cap 5": Settings(m_cap=5.0),
+            "restir history cap 2": Settings(m_cap=2.0),
             "restir permutation": Settings(temporal_permutation=True),
             "restir contribution 0.7 + permutation": Settings(boiling_filter=0.7, boiling_measure="contribution",
                                                               temporal_permutation=True),
