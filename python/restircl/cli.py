@@ -168,9 +168,12 @@ def cmd_devices(a: argparse.Namespace) -> int:
 
 
 def cmd_bench(a: argparse.Namespace) -> int:
-    from .eval import bench
+    from .eval import bench, bench_filter
 
-    return bench.main(a)
+    rc = bench.main(a) if a.what != "filter" else 0
+    if a.what in ("filter", "all"):
+        rc = rc or bench_filter.main(a)
+    return rc
 
 
 def _report_flicker(a: argparse.Namespace, methods: list[str], cache: Path | None) -> int:

@@ -4,7 +4,8 @@
     frame      ms per frame and per stage for every method on many_lights at 640x360
     lights     ReSTIR frame time against the number of lights, 1e2 .. 1e6 emissive triangles
     taa        relMSE against frame number with TAA on and off (still and moving camera), TAA pass ms
-    filter     the real-time filter's ms per frame at 1..5 iterations against the frame without it (bench_filter.py)
+    filter     the real-time filter's ms per frame at 1..5 iterations against the frame without it (bench_filter.py,
+               which the command line calls after this module's main: it imports time_frames from here)
 """
 
 from __future__ import annotations
@@ -197,8 +198,4 @@ def main(a: argparse.Namespace) -> int:
         bench_lights(a.width, a.height, device=dev, kind="points")
     if a.what in ("taa", "all"):
         bench_taa(160, 120, device=dev, plot="taa_error.png")
-    if a.what in ("filter", "all"):
-        from .bench_filter import bench_filter
-
-        bench_filter(a.width, a.height, dev)
     return 0

@@ -7,6 +7,8 @@ frame's ms less the unfiltered frame's."""
 
 from __future__ import annotations
 
+import argparse
+
 import numpy as np
 
 from ..pipeline import Renderer, Settings
@@ -42,3 +44,12 @@ def bench_filter(width: int, height: int, device=None, rounds: int = 3, frames: 
         out[name] = {"frame_ms": m, "filter_ms": f, "extra_ms": m - base}
         print_fn(f"  {name:<14} {m:9.1f} {f:10.1f} {m - base:12.1f}")
     return out
+
+
+def main(a: argparse.Namespace) -> int:
+    from ..device import get_device
+
+    dev = get_device(a.device)
+    print(f"device: {dev.label}")
+    bench_filter(a.width, a.height, dev)
+    return 0
