@@ -35,7 +35,7 @@ BEFORE = (
     ("still_method", "auto"),
     ("area_sampling", "area"),
     ("light_proposal", "auto"),
-    ("boiling_measure", "weight"),
+    ("boiling_mode", "weight"),
 )
 NUMBERS = [d for d in declared(Settings) if d.spec.range is not None]
 

@@ -130,7 +130,7 @@ def main() -> None:
     ap.add_argument("--frames", type=int, default=16)
     ap.add_argument("--npz", default=None)
     ap.add_argument("--boiling-filter", type=float, default=0.0)
-    ap.add_argument("--boiling-measure", default="weight")
+    ap.add_argument("--boiling-mode", default="weight")
     a = ap.parse_args()
     sc = scenes.many_lights(160, 90, frames=8) if a.scene == "many_lights" else scenes.cornell_box(96, 96)
     n = a.warmup + a.frames
@@ -144,7 +144,7 @@ def main() -> None:
             for f in sorted(set(frames[kept]))]
     if not a.moving:
         refs = refs * a.frames
-    r = Renderer(sc, Settings(seed=4242, boiling_filter=a.boiling_filter, boiling_measure=a.boiling_measure))
+    r = Renderer(sc, Settings(seed=4242, boiling_filter=a.boiling_filter, boiling_mode=a.boiling_mode))
     rec = record(r, frames)
     rows = describe(rec, refs, kept)
     if a.npz:
