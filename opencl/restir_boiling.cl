@@ -5,18 +5,18 @@
  * (boiling_tiles, one work-item per tile: the kernels use no local memory); then a reservoir whose measure exceeds
  * `threshold` times the mean of the others in its tile is emptied or forgotten (boiling_filter).
  * threshold = 10 / strength - 9, as RTXDI's: strength 1 drops anything above the mean, 0.2 what is 41 times above
- * it. The filter is biased (it removes rare, correct samples), so only the animation path runs it; still renders
- * and the unbiased estimator tests do not. */
+ * it. The filter is biased (it removes or down-weights rare, correct samples), so only the animation path runs it;
+ * still renders and the unbiased estimator tests do not. */
 
 #define BOIL_TILE 8
 
 /* What the filter compares and does (Settings.boiling_mode, `mode`): 0 the weight W (RTXDI's), emptying an outlier;
  * 1 the contribution target x W, the luminance the reservoir's sample adds to its pixel before the shadow ray,
  * emptying an outlier; 2 the contribution, an outlier keeping its sample and W but its M set to 1, so that the
- * spatial merge after this pass and the next frames' temporal merges weigh it as one candidate and let it go. Our scenes' blotches are samples of a light
- * close to the pixel that a lucky candidate found and the pixel's temporal chain then held for ~20 frames: their W
- * is ordinary (the target is large), their contribution is not. Emptying removes their energy (a darker image);
- * forgetting only shortens how long they last. */
+ * spatial merge after this pass and the next frames' temporal merges weigh it as one candidate and let it go.
+ * Our scenes' blotches are samples of a light close to the pixel that a lucky candidate found and the pixel's
+ * temporal chain then held for ~20 frames: their W is ordinary (the target is large), their contribution is not.
+ * Emptying removes their energy (a darker image); forgetting mostly shortens how long they last. */
 inline float boil_measure(const Reservoir* r, int mode) { return mode ? r->W * r->target : r->W; }
 
 __kernel void boiling_tiles(const __global Reservoir* res, __global float2* tile_stats, FrameParams frame_params,
