@@ -1,16 +1,26 @@
 /* ReSTIR's boiling filter (RTXDI's, run after the temporal pass): a light sample that was very unlikely to be
  * drawn but lights a large area spreads through spatial and temporal reuse as a bright blotch that grows and
- * fades ("boiling"). Such a sample stands out by its contribution weight W, far above its neighbours'. Each 8x8
- * tile's mean W over its non-empty reservoirs is found first (boiling_tiles, one work-item per tile: the kernels
- * use no local memory); then a reservoir whose W exceeds `threshold` times the mean of the others in its tile is
- * emptied (boiling_filter). threshold = 10 / strength - 9, as RTXDI's: strength 1 drops anything above the mean,
- * 0.2 what is 41 times above it. The filter is biased (it removes rare, correct samples), so only the animation
- * path runs it; still renders and the unbiased estimator tests do not. */
+ * fades ("boiling"). RTXDI finds such a sample by its contribution weight W, far above its neighbours'; the modes
+ * below also compare the contribution. Each 8x8 tile's mean measure over its non-empty reservoirs is found first
+ * (boiling_tiles, one work-item per tile: the kernels use no local memory); then a reservoir whose measure exceeds
+ * `threshold` times the mean of the others in its tile is emptied or forgotten (boiling_filter).
+ * threshold = 10 / strength - 9, as RTXDI's: strength 1 drops anything above the mean, 0.2 what is 41 times above
+ * it. The filter is biased (it removes or down-weights rare, correct samples), so only the animation path runs it;
+ * still renders and the unbiased estimator tests do not. */
 
 #define BOIL_TILE 8
 
+/* What the filter compares and does (Settings.boiling_mode, `mode`): 0 the weight W (RTXDI's), emptying an outlier;
+ * 1 the contribution target x W, the luminance the reservoir's sample adds to its pixel before the shadow ray,
+ * emptying an outlier; 2 the contribution, an outlier keeping its sample and W but its M set to 1, so that the
+ * spatial merge after this pass and the next frames' temporal merges weigh it as one candidate and let it go.
+ * Our scenes' blotches are samples of a light close to the pixel that a lucky candidate found and the pixel's
+ * temporal chain then held for ~20 frames: their W is ordinary (the target is large), their contribution is not.
+ * Emptying removes their energy (a darker image); forgetting mostly shortens how long they last. */
+inline float boil_measure(const Reservoir* r, int mode) { return mode ? r->W * r->target : r->W; }
+
 __kernel void boiling_tiles(const __global Reservoir* res, __global float2* tile_stats, FrameParams frame_params,
-                            int tiles_x)
+                            int tiles_x, int mode)
 {
     int t = get_global_id(0);
     int tiles_y = (frame_params.height + BOIL_TILE - 1) / BOIL_TILE;
@@ -21,7 +31,7 @@ __kernel void boiling_tiles(const __global Reservoir* res, __global float2* tile
         for (int x = x0; x < min(x0 + BOIL_TILE, frame_params.width); ++x) {
             Reservoir r = res[y * frame_params.width + x];
             if (r.light >= 0 && r.W > 0.0f && finite_f(r.W)) {
-                sum += r.W;
+                sum += boil_measure(&r, mode);
                 n += 1.0f;
             }
         }
@@ -30,7 +40,7 @@ __kernel void boiling_tiles(const __global Reservoir* res, __global float2* tile
 }
 
 __kernel void boiling_filter(__global Reservoir* res, const __global float2* tile_stats, FrameParams frame_params,
-                             int tiles_x, float threshold)
+                             int tiles_x, float threshold, int mode)
 {
     int x = get_global_id(0), y = get_global_id(1);
     if (x >= frame_params.width || y >= frame_params.height) return;
@@ -40,9 +50,13 @@ __kernel void boiling_filter(__global Reservoir* res, const __global float2* til
     float2 st = tile_stats[(y / BOIL_TILE) * tiles_x + x / BOIL_TILE];
     float others = st.y - 1.0f;
     if (others < 1.0f) return;  /* alone in its tile: nothing to compare with */
-    float mean_others = (st.x - r.W) / others;
-    if (r.W > threshold * mean_others) {
-        res_init(&r);
+    float m = boil_measure(&r, mode);
+    float mean_others = (st.x - m) / others;
+    if (m > threshold * mean_others) {
+        if (mode == 2)
+            r.M = fmin_f(r.M, 1.0f);
+        else
+            res_init(&r);
         res[i] = r;
     }
 }

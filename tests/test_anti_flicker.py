@@ -10,9 +10,9 @@ from restircl import Renderer, Settings, scenes
 from restircl import layouts as L
 
 
-def _filtered(res: np.ndarray, strength: float) -> np.ndarray:
+def _filtered(res: np.ndarray, strength: float, mode: str = "weight") -> np.ndarray:
     h, w = res.shape
-    r = Renderer(scenes.cornell_box(w, h), Settings(boiling_filter=strength))
+    r = Renderer(scenes.cornell_box(w, h), Settings(boiling_filter=strength, boiling_mode=mode))
     ctx, q = r.device.context, r.device.queue
     buf = cl.Buffer(ctx, cl.mem_flags.READ_WRITE | cl.mem_flags.COPY_HOST_PTR, hostbuf=res)
     state = type("State", (), {"frame_params": r.frame_params()})()
@@ -57,6 +57,41 @@ def test_strength_sets_the_threshold():
     res["W"][11, 20] = 1.5
     out = _filtered(res, 1.0)
     assert out["light"][11, 20] == -1 and np.sum(out["light"] == -1) == 1
+
+
+def test_the_contribution_mode_removes_a_held_bright_sample_of_ordinary_weight():
+    """The blotches of many_lights' still camera (tools/boiling_probe.py): a sample of a light close to the pixel,
+    found by a lucky candidate and then held in the pixel's temporal chain for ~20 frames. Its target is large and
+    its W below its tile's mean (median W / mean 0.05), so RTXDI's weight test keeps it; what stands out is what it
+    adds to its pixel, target x W (median 2.4x the neighbourhood's median while held, p90 20x). The contribution
+    mode at strength 0.7 (threshold 10 / 0.7 - 9 = 5.3) empties it; an ordinary pixel, and one whose W alone
+    is high but whose contribution is not, stay."""
+    res = _reservoirs()
+    res["target"][3, 4], res["W"][3, 4] = 60.0, 0.5  # contribution 30 against ~1 around it, W below the mean
+    res["target"][11, 20], res["W"][11, 20] = 0.02, 50.0  # W 50x the mean, contribution 1: ordinary
+    res["target"][5, 9], res["W"][5, 9] = 4.0, 1.0  # a brighter pixel, contribution ~4 (< 5.3 x the mean): kept
+    by_weight = _filtered(res, 0.7, "weight")
+    assert by_weight["light"][3, 4] == 0  # the weight test does not see it ...
+    assert by_weight["light"][11, 20] == -1  # ... and takes the ordinary one
+    out = _filtered(res, 0.7, "contribution")
+    assert out["light"][3, 4] == -1 and out["W"][3, 4] == 0 and out["M"][3, 4] == 0
+    keep = np.ones(res.shape, bool)
+    keep[3, 4] = False
+    np.testing.assert_array_equal(out[keep], res[keep])
+
+
+def test_forget_keeps_the_held_sample_but_drops_its_history_weight():
+    """Mode forget: the same outlier keeps its sample and W (its energy stays in this frame) and its M drops to 1,
+    so that the temporal chain lets go of it; every other reservoir is left as it is."""
+    res = _reservoirs()
+    res["target"][3, 4], res["W"][3, 4], res["M"][3, 4] = 60.0, 0.5, 160.0
+    out = _filtered(res, 0.7, "forget")
+    assert out["M"][3, 4] == 1.0
+    for k in ("light", "u", "v", "W", "target", "w_sum"):
+        assert out[k][3, 4] == res[k][3, 4], k
+    keep = np.ones(res.shape, bool)
+    keep[3, 4] = False
+    np.testing.assert_array_equal(out[keep], res[keep])
 
 
 @pytest.mark.parametrize("strength", [0.0, 0.2])

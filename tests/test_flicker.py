@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from restircl import scenes
 from restircl.cli import main
 from restircl.eval import flicker as fl
@@ -24,6 +25,13 @@ def test_white_noise_is_all_flicker_and_an_offset_is_none():
     steady = [ref + 0.05] * 64
     t = fl.stats("o", "still", steady, [ref] * 64)
     assert t.flicker < 1e-12 and t.error > 0.03 and t.ratio < 1e-9
+
+
+def test_level_is_the_mean_luminance_over_the_references():
+    """level: 1 for the reference itself, 0.8 for an image 20 % too dark."""
+    ref = _ref()
+    assert fl.stats("r", "still", [ref] * 4, [ref] * 4).level == pytest.approx(1.0)
+    assert fl.stats("d", "still", [ref * 0.8] * 4, [ref] * 4).level == pytest.approx(0.8)
 
 
 def test_a_blotch_boils_and_a_highlight_of_the_reference_does_not():

@@ -35,6 +35,7 @@ BEFORE = (
     ("still_method", "auto"),
     ("area_sampling", "area"),
     ("light_proposal", "auto"),
+    ("boiling_mode", "weight"),
 )
 NUMBERS = [d for d in declared(Settings) if d.spec.range is not None]
 

@@ -1,20 +1,46 @@
 """Flicker statistics (eval/flicker.py) of ReSTIR with and without each anti-flicker option, on many_lights
-(160x90, still and slowed moving camera) and the cornell box (96x96, still): docs/temporal-stability.md."""
+(160x90, still and slowed moving camera), the cornell box (96x96, still) and material_balls (glossy, 160x90, still):
+docs/temporal-stability.md. The variants include the boiling filter's two measures and lower history caps (m_cap).
+
+    python tools/flicker_variants.py [--scenes many_lights_still,many_lights_moving,cornell_box,material_balls]
+"""
+
+import argparse
 
 from restircl import Settings, scenes
 from restircl.eval import flicker as fl
 
 VARIANTS = {"restir": Settings(), "restir boiling 0.2": Settings(boiling_filter=0.2),
+            "restir boiling 0.7": Settings(boiling_filter=0.7),
+            "restir boiling contribution 0.5": Settings(boiling_filter=0.5, boiling_mode="contribution"),
+            "restir boiling contribution 0.7": Settings(boiling_filter=0.7, boiling_mode="contribution"),
+            "restir boiling contribution 0.8": Settings(boiling_filter=0.8, boiling_mode="contribution"),
+            "restir boiling forget 0.5": Settings(boiling_filter=0.5, boiling_mode="forget"),
+            "restir boiling forget 0.7": Settings(boiling_filter=0.7, boiling_mode="forget"),
+            "restir boiling forget 0.9": Settings(boiling_filter=0.9, boiling_mode="forget"),
+            "restir history cap 10": Settings(m_cap=10.0), "restir history cap 5": Settings(m_cap=5.0),
+            "restir history cap 2": Settings(m_cap=2.0),
             "restir permutation": Settings(temporal_permutation=True),
-            "restir boiling+permutation": Settings(boiling_filter=0.2, temporal_permutation=True),
-            "restir real-time filter": Settings(realtime_filter=True)}
+            "restir contribution 0.7 + permutation": Settings(boiling_filter=0.7, boiling_mode="contribution",
+                                                              temporal_permutation=True),
+            "restir real-time filter": Settings(realtime_filter=True),
+            "restir contribution 0.7 + real-time filter": Settings(boiling_filter=0.7,
+                                                                   boiling_mode="contribution",
+                                                                   realtime_filter=True)}
+CASES = {"many_lights_still": ("many_lights", lambda: scenes.many_lights(160, 90, frames=8), False),
+         "many_lights_moving": ("many_lights", lambda: scenes.many_lights(160, 90, frames=8), True),
+         "cornell_box": ("cornell_box", lambda: scenes.cornell_box(96, 96), False),
+         "material_balls": ("material_balls", lambda: scenes.material_balls(160, 90), False)}
 
 
 def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--scenes", default=",".join(CASES))
+    a = ap.parse_args()
     print(fl.HEADER)
-    for name, sc, moving in (("many_lights", scenes.many_lights(160, 90, frames=8), False),
-                             ("many_lights", scenes.many_lights(160, 90, frames=8), True),
-                             ("cornell_box", scenes.cornell_box(96, 96), False)):
+    for case in a.scenes.split(","):
+        name, make, moving = CASES[case]
+        sc = make()
         for label, base in VARIANTS.items():
             res = fl.run_flicker(sc, ["restir"], frames=16, warmup=16, moving=moving, steps=8, cache_dir="out/refs",
                                  reference_seconds=10.0, base=base, log=lambda s: None)[0]

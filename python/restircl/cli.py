@@ -169,9 +169,12 @@ def cmd_devices(a: argparse.Namespace) -> int:
 
 
 def cmd_bench(a: argparse.Namespace) -> int:
-    from .eval import bench
+    from .eval import bench, bench_filter
 
-    return bench.main(a)
+    rc = bench.main(a) if a.what != "filter" else 0
+    if a.what in ("filter", "all"):
+        rc = rc or bench_filter.main(a)
+    return rc
 
 
 def _report_flicker(a: argparse.Namespace, methods: list[str], cache: Path | None) -> int:
@@ -332,9 +335,11 @@ def build_parser() -> argparse.ArgumentParser:
 
     b = sub.add_parser("bench", help="benchmarks: traversal vs Embree, frame times, light-count scaling",
                        description="Print benchmark figures (not timed tests).")
-    b.add_argument("what", nargs="?", choices=("traversal", "frame", "lights", "taa", "all"), default="all",
+    b.add_argument("what", nargs="?", choices=("traversal", "frame", "lights", "taa", "filter", "all"),
+                   default="all",
                    help="traversal: ours vs Embree; frame: ms per stage and method; lights: frame time against "
-                        "the light count; taa: error against frame number (default: all)")
+                        "the light count; taa: error against frame number; filter: the real-time filter's ms "
+                        "at 1..5 iterations (default: all)")
     b.add_argument("--triangles", type=COUNT, default=1_000_000)
     b.add_argument("--width", type=COUNT, default=640)
     b.add_argument("--height", type=COUNT, default=360)

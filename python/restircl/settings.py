@@ -43,6 +43,16 @@ TAA_FILTER_CHOICES = (
            "(bilinear where a tap shows another surface)", 1),
 )
 TAA_FILTERS = tuple(c.id for c in TAA_FILTER_CHOICES)
+# in the order of restir_boiling.cl's mode codes (index = code)
+BOILING_MODE_CHOICES = (
+    Choice("weight", "Weight", "Empty a reservoir whose weight W stands far above its tile's (RTXDI's)", 0),
+    Choice("contribution", "Contribution", "Empty a reservoir whose contribution (target x W, what it adds to its "
+           "pixel) stands far above its tile's", 1),
+    Choice("forget", "Forget", "A reservoir whose contribution stands far above its tile's keeps its sample and "
+           "weight but its M drops to 1, so that spatial and temporal reuse weigh it as one candidate and let it go",
+           2),
+)
+BOILING_MODES = tuple(c.id for c in BOILING_MODE_CHOICES)
 
 LIGHT_PROPOSAL_CHOICES = (
     Choice("auto", "Auto", "The light tree where it measured better than the light array at equal time (so far "
@@ -175,8 +185,9 @@ class Settings:
                                  "fill the ReSTIR and TAA history", flag="--warmup-frames", range=Range(int, 0, 256),
                                  panel="sampling")
     boiling_filter: float = setting(0.0, "Boiling Filter", "ReSTIR, animation and viewport frames: empty a reservoir "
-                                    "whose weight stands far above the others of its 8x8 tile (RTXDI's filter: "
-                                    "strength 0-1, 1 the strongest, 0 off; biased, so still renders never use it)",
+                                    "whose weight (or, by Boiling Mode, contribution) stands far above the others "
+                                    "of its 8x8 tile (RTXDI's filter: strength 0-1, 1 the strongest, 0 off; biased, "
+                                    "so still renders never use it)",
                                     flag="--boiling-filter", range=Range(float, 0, 1), panel="reuse",
                                     applies_when=_RESTIR, subtype="FACTOR")
     temporal_permutation: bool = setting(False, "Permutation Sampling", "ReSTIR temporal reuse takes the history of "
@@ -213,6 +224,9 @@ class Settings:
     light_proposal: str = setting("auto", "Light Proposal", "RIS and ReSTIR: where the light candidates come from",
                                   flag="--light-proposal", choices=LIGHT_PROPOSAL_CHOICES, panel="lights",
                                   applies_when=_RIS)
+    boiling_mode: str = setting("weight", "Boiling Mode", "What the boiling filter compares with the other "
+                                "reservoirs of its tile, and what it does to an outlier", flag="--boiling-mode",
+                                choices=BOILING_MODE_CHOICES, panel="reuse", applies_when=_RESTIR)
 
     def validate(self) -> Settings:
         check(self)

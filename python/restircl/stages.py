@@ -22,7 +22,7 @@ from .device_scene import DeviceScene
 from .history import History
 from .kernels import Kernels
 from .scene import Camera
-from .settings import TAA_FILTERS
+from .settings import BOILING_MODES, TAA_FILTERS
 
 if TYPE_CHECKING:
     from .settings import Settings
@@ -176,7 +176,8 @@ class Temporal(Stage):
 
 
 class BoilingFilter(Stage):
-    """4b (animation path): empty the reservoirs whose weight stands far above their tile's (restir_boiling.cl)."""
+    """4b (animation path): empty (or make the history forget) the reservoirs whose weight or contribution stands far
+    above their tile's (restir_boiling.cl, Settings.boiling_mode)."""
 
     TILE = 8
 
@@ -191,11 +192,12 @@ class BoilingFilter(Stage):
         if self._stats is None:
             self._stats = alloc(self.kernels.device.context, tiles * 8)
         strength = min(max(float(self.settings.boiling_filter), 1e-6), 1.0)
+        mode = np.int32(BOILING_MODES.index(self.settings.boiling_mode))
         self.kernels.launch("boiling_tiles", (tiles,), res=res, tile_stats=self._stats,
-                            frame_params=state.frame_params, tiles_x=np.int32(tiles_x))
+                            frame_params=state.frame_params, tiles_x=np.int32(tiles_x), mode=mode)
         self.kernels.launch("boiling_filter", image_size(state), res=res, tile_stats=self._stats,
                             frame_params=state.frame_params, tiles_x=np.int32(tiles_x),
-                            threshold=np.float32(10.0 / strength - 9.0))
+                            threshold=np.float32(10.0 / strength - 9.0), mode=mode)
 
 
 class Spatial(Stage):

@@ -4,6 +4,8 @@
     frame      ms per frame and per stage for every method on many_lights at 640x360
     lights     ReSTIR frame time against the number of lights, 1e2 .. 1e6 emissive triangles
     taa        relMSE against frame number with TAA on and off (still and moving camera), TAA pass ms
+    filter     the real-time filter's ms per frame at 1..5 iterations against the frame without it (bench_filter.py,
+               which the command line calls after this module's main: it imports time_frames from here)
 """
 
 from __future__ import annotations
@@ -69,7 +71,6 @@ def bench_frame(width: int, height: int, device=None, print_fn=print) -> dict:
         stages = ", ".join(f"{k} {v:.1f}" for k, v in st.items() if k not in ("upload", "cpu"))
         print_fn(f"  {name:<36} {ms:8.1f} ms  (CPU {st['cpu']:7.1f} ms)   [{stages}]")
     return out
-
 
 
 def bench_floor(width: int, height: int, device=None, frames: int = 12, print_fn=print) -> dict:

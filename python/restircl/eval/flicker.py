@@ -10,6 +10,8 @@ converged reference of frame t (one image for a still camera), per pixel and ove
 - ratio     mean flicker / mean error: 1 means the error is all frame-to-frame noise (what a denoiser or TAA can
             average away); near 0, a steady error (bias, ghosting); an estimator whose reuse correlates frames
             lowers it at equal error.
+- level     mean output luminance over the kept frames / the reference's: below 1, the method darkens (a biased
+            filter that removes bright samples shows it here first).
 - boiling   pixels per kept frame (mean) that are a blotch: brighter than BOIL_K times the mean of their 8
             neighbours in x_t while not so in r_t (a small light seen directly is such a pixel in the reference
             too, and is not counted), and brighter than the reference by BOIL_K times the reference's
@@ -45,13 +47,15 @@ class Flicker:
     ratio: float
     boiling: float  # boiling pixels per frame
     boiling_reference: float  # the same count in the reference (steady highlights excluded): 0 by construction
+    level: float = 1.0  # mean output luminance / the reference's
 
     def row(self) -> str:
         return (f"| {self.method} | {self.camera} | {self.flicker:.4f} | {self.error:.4f} | {self.ratio:.2f} | "
-                f"{self.boiling:.1f} |")
+                f"{self.boiling:.1f} | {self.level:.3f} |")
 
 
-HEADER = "| method | camera | flicker | error | flicker / error | boiling px / frame |\n|---|---|---|---|---|---|"
+HEADER = ("| method | camera | flicker | error | flicker / error | boiling px / frame | level |\n"
+          "|---|---|---|---|---|---|---|")
 
 
 def _lum(img: np.ndarray) -> np.ndarray:
@@ -85,7 +89,8 @@ def stats(method: str, camera: str, outputs: list[np.ndarray], refs: list[np.nda
     rms = float(np.mean(np.sqrt(np.mean(err * err, axis=0))))
     boil = float(np.mean([boiling_mask(o, rf).sum() for o, rf in zip(outputs, refs, strict=True)]))
     boil_ref = float(np.mean([boiling_mask(rf, rf).sum() for rf in refs]))
-    return Flicker(method, camera, len(outputs), flick, rms, flick / rms if rms > 0 else 0.0, boil, boil_ref)
+    level = float(x.mean() / r.mean()) if r.mean() > 0 else 1.0
+    return Flicker(method, camera, len(outputs), flick, rms, flick / rms if rms > 0 else 0.0, boil, boil_ref, level)
 
 
 def slowed(scene: Scene, steps: int) -> Scene:
