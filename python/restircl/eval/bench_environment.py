@@ -81,16 +81,22 @@ def bench_frames(repeats: int, frames: int = 8, width: int = 320, height: int = 
             _with_kind(kind)
             renderers[kind] = Renderer(sky(width, height), Settings(method=method, seed=1))
             renderers[kind].render_frame(0, still=True)  # build and upload
-        times: dict[str, list[float]] = {"alias": [], "cdf": []}
-        for _ in range(repeats):
-            for kind, r in renderers.items():
-                t0 = time.perf_counter()
-                for _ in range(frames):
-                    r.render_frame(0, still=True)
-                times[kind].append((time.perf_counter() - t0) / frames)
-        for kind, v in times.items():
-            out[f"{method}_{kind}_ms_per_frame"] = 1e3 * float(np.median(v))
+        for kind, ms in interleaved_still_ms(renderers, repeats, frames).items():
+            out[f"{method}_{kind}_ms_per_frame"] = ms
     return out
+
+
+def interleaved_still_ms(renderers: dict, repeats: int, frames: int) -> dict[str, float]:
+    """Median ms per still frame of each renderer, the renderers taking turns (`frames` frames each, `repeats`
+    rounds) so that a change of the machine's load falls on all of them alike."""
+    times: dict[str, list[float]] = {k: [] for k in renderers}
+    for _ in range(repeats):
+        for k, r in renderers.items():
+            t0 = time.perf_counter()
+            for _ in range(frames):
+                r.render_frame(0, still=True)
+            times[k].append((time.perf_counter() - t0) / frames)
+    return {k: 1e3 * float(np.median(v)) for k, v in times.items()}
 
 
 def main(argv: list[str] | None = None) -> None:

@@ -21,6 +21,8 @@ import time
 
 import numpy as np
 
+from .bench_environment import interleaved_still_ms
+
 FORMATS = ("half", "float")
 
 
@@ -127,15 +129,8 @@ def frame_times(repeats: int, frames: int, width: int, height: int) -> dict[str,
     out = {}
     for method in ("ris", "restir"):
         rs = {fmt: _renderer(fmt, width, height, 1, method) for fmt in FORMATS}
-        times: dict[str, list[float]] = {fmt: [] for fmt in FORMATS}
-        for _ in range(repeats):
-            for fmt, r in rs.items():
-                t0 = time.perf_counter()
-                for _ in range(frames):
-                    r.render_frame(0, still=True)
-                times[fmt].append((time.perf_counter() - t0) / frames)
-        for fmt, v in times.items():
-            out[f"{method}_{fmt}_ms_per_frame"] = 1e3 * float(np.median(v))
+        for fmt, ms in interleaved_still_ms(rs, repeats, frames).items():
+            out[f"{method}_{fmt}_ms_per_frame"] = ms
         out[f"{method}_half_over_float"] = out[f"{method}_half_ms_per_frame"] / out[f"{method}_float_ms_per_frame"]
     return out
 
