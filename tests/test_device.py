@@ -41,7 +41,7 @@ def _label_of(devices, dev):
     return next(i.label for i, d in devices if d == dev)
 
 
-def test_the_probe_names_a_failed_build():
+def test_the_chosen_device_passes_the_probe():
     from restircl import device as device_mod
 
     info, dev = choose_device()
