@@ -217,6 +217,9 @@ def test_moving_report(tmp_path, device):
     # the budget is the slower method's frame time: the faster one renders at least as many samples per frame
     mean = {m: np.mean([r.samples for r in rep.rows if r.method == m]) for m in ("light_array", "restir")}
     assert mean["light_array"] >= mean["restir"]
+    # with TAA a faster method renders k frames along the path per animation frame, the same k all along
+    ks = {m: {r.samples for r in rep.rows if r.method == m and r.mode == "taa"} for m in ("light_array", "restir")}
+    assert all(len(k) == 1 for k in ks.values()) and ks["restir"] == {1}
     paths = rep.write(tmp_path / "out")
     assert paths[0].name == "report_moving_many_lights_32x18.csv"
     meta = json.loads(paths[1].read_text())

@@ -1,8 +1,12 @@
 """Error per frame for a moving camera (`restircl report --moving`).
 
-Every method renders the animation in order with the same wall time per frame (a method faster than the budget
-renders extra samples of that frame: more TAA history, or a longer per-frame mean), and the error of each evaluated
-frame is taken against a converged reference of that frame (report_reference.py).
+Every method renders the animation in order with the same wall time per frame, and the error of each evaluated
+frame is taken against a converged reference of that frame (report_reference.py). A method faster than the budget
+spends the spare time as a real-time renderer would:
+- mode `taa` (the TAA output): at a higher frame rate, k frames along the same camera path for each frame of the
+  animation (scene_retime.py), k its frame time's share of the budget; re-rendering the same frame instead would
+  look to TAA like a still camera and let its history lag behind the motion;
+- mode `frame` (no TAA): more samples of that frame, averaged.
 """
 
 from __future__ import annotations
@@ -17,6 +21,7 @@ import pyopencl as cl
 
 from ..pipeline import Renderer, Settings
 from ..scene import Scene
+from ..scene_retime import retime
 from .metrics import rel_mse, rmse
 from .report_files import ReportBase, plot_lines, write_files
 from .report_methods import METHODS, method_settings
@@ -30,7 +35,7 @@ class FrameRow:
     frame: int
     budget_ms: float
     ms: float  # wall time spent on this frame
-    samples: int  # samples (sub-frames) rendered for this frame
+    samples: int  # taa: frames rendered along the path per animation frame; frame: samples of this frame
     rel_mse: float
     rmse: float
 
@@ -58,9 +63,10 @@ class MovingReport(ReportBase):
         return out
 
     def table(self) -> str:
+        """relMSE per evaluated frame; k: taa rows' frames along the path per animation frame, frame rows' samples."""
         frames = sorted({r.frame for r in self.rows})
         lines = [f"{'relMSE':<24} {'mode':<6} " + " ".join(f"{'f' + str(f):>9}" for f in frames)
-                 + f" {'mean':>9} {'ms/frame':>9} {'spp':>5}"]
+                 + f" {'mean':>9} {'ms/frame':>9} {'k':>5}"]
         summ = self.summary()
         for method, mode in self.keys():
             rows = {r.frame: r for r in self.series(method, mode)}
@@ -117,8 +123,11 @@ def run_moving(scene: Scene, methods: list[str], budget_ms: float | None = None,
     assert cam is not None
     n = scene.frames
     evaluated = sorted({*range(0, n, max(every, 1)), n - 1})
+    frame_ms: dict[str, float] = {}
+    if budget_ms is None or "taa" in modes:
+        frame_ms = {m: frame_time_ms(scene, m, device, base=base) for m in methods}
     if budget_ms is None:
-        budget_ms = max(frame_time_ms(scene, m, device, base=base) for m in methods)
+        budget_ms = max(frame_ms.values())
         log(f"budget: {budget_ms:.0f} ms per frame (the slowest method's frame time)")
     rep = MovingReport(scene.name, "", cam.width, cam.height, float(budget_ms))
     refs: dict[int, np.ndarray] = dict(references or {})
@@ -132,36 +141,67 @@ def run_moving(scene: Scene, methods: list[str], budget_ms: float | None = None,
         for mode in modes:
             if mode not in ("taa", "frame"):
                 raise ValueError(f"unknown mode {mode!r} (taa, frame)")
-            r = Renderer(scene, method_settings(name, base, seed), device)
-            rep.device = r.device.label
-            for _ in range(2):  # warm-up (kernels compile at their first launch); then start without history
-                r._render(0, still=mode == "frame")
-            r.reset()
-            still = mode == "frame"
-            per_sample = None
-            for f in range(n):
-                t0 = time.perf_counter()
-                k = 0
-                acc = None
-                while True:
-                    t1 = time.perf_counter()
-                    _, color_buf, _ = r._render(f, still=still)
-                    if still:
-                        s = _read_rgb(r, r.sample_buf)
-                        acc = s.astype(np.float64) if acc is None else acc + s
-                    k += 1
-                    dt = time.perf_counter() - t1
-                    per_sample = dt if per_sample is None else 0.8 * per_sample + 0.2 * dt
-                    # another sample if it ends nearer the budget than stopping now does
-                    if time.perf_counter() - t0 + 0.5 * per_sample >= budget:
-                        break
-                img = acc / k if still else _read_rgb(r, color_buf)
-                ms = (time.perf_counter() - t0) * 1e3
-                if f in refs:
-                    rep.rows.append(FrameRow(name, mode, f, float(budget_ms), ms, k, rel_mse(img, refs[f]),
-                                             rmse(img, refs[f])))
+            if mode == "taa":
+                k = max(1, int(budget_ms / frame_ms[name] + 0.5))
+                _taa_rows(rep, scene, name, k, refs, device, base, seed)
+            else:
+                _frame_rows(rep, scene, name, budget, refs, device, base, seed)
             rows = rep.series(name, mode)
+            unit = "frames along the path" if mode == "taa" else "samples"
             log(f"{name:<24} {mode:<6} mean relMSE {np.mean([x.rel_mse for x in rows]):.3e}, "
-                f"{np.mean([x.samples for x in rows]):.1f} samples and {np.mean([x.ms for x in rows]):.0f} ms "
+                f"{np.mean([x.samples for x in rows]):.1f} {unit} and {np.mean([x.ms for x in rows]):.0f} ms "
                 "per frame")
     return rep
+
+
+def _warm_renderer(scene: Scene, name: str, device, base: Settings | None, seed: int, still: bool) -> Renderer:
+    r = Renderer(scene, method_settings(name, base, seed), device)
+    for _ in range(2):  # warm-up (kernels compile at their first launch); then start without history
+        r._render(0, still=still)
+    r.reset()
+    return r
+
+
+def _taa_rows(rep: MovingReport, scene: Scene, name: str, k: int, refs: dict[int, np.ndarray], device,
+              base: Settings | None, seed: int) -> None:
+    """The path in k frames per animation frame, one sample each, in order; frame f*k is animation frame f."""
+    r = _warm_renderer(retime(scene, k), name, device, base, seed, still=False)
+    rep.device = r.device.label
+    t0 = time.perf_counter()
+    for j in range(r.scene.frames):
+        _, color_buf, _ = r._render(j, still=False)
+        f, rest = divmod(j, k)
+        if rest:
+            continue
+        img = _read_rgb(r, color_buf)
+        ms = (time.perf_counter() - t0) * 1e3
+        if f in refs:
+            rep.rows.append(FrameRow(name, "taa", f, rep.budget_ms, ms, k, rel_mse(img, refs[f]), rmse(img, refs[f])))
+        t0 = time.perf_counter()
+
+
+def _frame_rows(rep: MovingReport, scene: Scene, name: str, budget: float, refs: dict[int, np.ndarray], device,
+                base: Settings | None, seed: int) -> None:
+    """Each animation frame's own samples (no TAA), as many as fit the budget, averaged."""
+    r = _warm_renderer(scene, name, device, base, seed, still=True)
+    rep.device = r.device.label
+    per_sample = None
+    for f in range(scene.frames):
+        t0 = time.perf_counter()
+        k = 0
+        acc = None
+        while True:
+            t1 = time.perf_counter()
+            r._render(f, still=True)
+            s = _read_rgb(r, r.sample_buf).astype(np.float64)
+            acc = s if acc is None else acc + s
+            k += 1
+            dt = time.perf_counter() - t1
+            per_sample = dt if per_sample is None else 0.8 * per_sample + 0.2 * dt
+            # another sample if it ends nearer the budget than stopping now does
+            if time.perf_counter() - t0 + 0.5 * per_sample >= budget:
+                break
+        img = acc / k
+        ms = (time.perf_counter() - t0) * 1e3
+        if f in refs:
+            rep.rows.append(FrameRow(name, "frame", f, rep.budget_ms, ms, k, rel_mse(img, refs[f]), rmse(img, refs[f])))
