@@ -4,7 +4,6 @@ import math
 
 import numpy as np
 import pytest
-
 from restircl import scenes
 from restircl.scene_retime import interpolate_transform, retime
 

@@ -351,9 +351,9 @@ def build_parser() -> argparse.ArgumentParser:
                         description="Render a still camera with each method (and Cycles, direct light only, when "
                                     "bpy imports) for a series of wall-clock budgets and record relMSE and RMSE "
                                     "(FLIP with flip-evaluator) against a converged, cached reference. With "
-                                    "--moving: every frame of the animation with the same time per frame (a faster method "
-                                    "renders more frames along the same camera path with TAA, more samples of each "
-                                    "frame without it), and the error of every --every-th frame against that "
+                                    "--moving: every frame of the animation with the same time per frame (a faster "
+                                    "method renders more frames along the same camera path with TAA, more samples "
+                                    "of each frame without it), and the error of every --every-th frame against that "
                                     "frame's reference.")
     rp.add_argument("scene", nargs="?", help="built-in scene, scene file (.npz) or .blend (needs bpy)")
     rp.add_argument("--width", type=COUNT, default=None)
