@@ -99,17 +99,20 @@ def _read_rgb(r: Renderer, buf) -> np.ndarray:
     return img[..., :3]
 
 
-def frame_time_ms(scene: Scene, name: str, device=None, frames: int = 4, base: Settings | None = None) -> float:
-    """Median wall time (ms) of one animation frame of `name` (after a warm-up frame)."""
+def frame_time_ms(scene: Scene, name: str, device=None, frames: int = 6, base: Settings | None = None
+                  ) -> tuple[float, float]:
+    """Median wall and CPU time (ms) of one animation frame of `name` (after two warm-up frames)."""
     r = Renderer(scene, method_settings(name, base, 1), device)
     r.render_frame(0, aovs=False)
     r.render_frame(1 % scene.frames, aovs=False)
-    ms = []
+    wall, cpu = [], []
     for f in range(1, frames + 1):
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         r._render(min(f, scene.frames - 1), still=False)
-        ms.append((time.perf_counter() - t0) * 1e3)
-    return float(np.median(ms))
+        r.device.queue.finish()
+        wall.append((time.perf_counter() - t0) * 1e3)
+        cpu.append((time.process_time() - c0) * 1e3)
+    return float(np.median(wall)), float(np.median(cpu))
 
 
 def run_moving(scene: Scene, methods: list[str], budget_ms: float | None = None, every: int = 4,
@@ -118,16 +121,26 @@ def run_moving(scene: Scene, methods: list[str], budget_ms: float | None = None,
                references: dict[int, np.ndarray] | None = None) -> MovingReport:
     """Each method renders every frame of the animation in order, with `budget_ms` of wall time per frame (default:
     the slowest method's frame time, so that each renders at least one sample per frame and the faster ones
-    render more); the error of every `every`-th frame (and the last) is taken against that frame's reference."""
+    render more); the error of every `every`-th frame (and the last) is taken against that frame's reference.
+
+    With TAA the number k of frames along the path is fixed before the path is rendered: with the default budget
+    it is the ratio of the slowest method's CPU time per frame to this one's (CPU time, because the wall time of
+    a shared machine drifts between the measurement and the render), with a given budget that budget over the
+    method's wall time per frame."""
     cam = scene.camera
     assert cam is not None
     n = scene.frames
     evaluated = sorted({*range(0, n, max(every, 1)), n - 1})
-    frame_ms: dict[str, float] = {}
+    times: dict[str, tuple[float, float]] = {}
     if budget_ms is None or "taa" in modes:
-        frame_ms = {m: frame_time_ms(scene, m, device, base=base) for m in methods}
+        times = {m: frame_time_ms(scene, m, device, base=base) for m in methods}
+    share: dict[str, float] = {}
     if budget_ms is None:
-        budget_ms = max(frame_ms.values())
+        budget_ms = max(w for w, _ in times.values())
+        slowest_cpu = max(c for _, c in times.values())
+        share = {m: slowest_cpu / max(c, 1e-6) for m, (_, c) in times.items()}
+    else:
+        share = {m: budget_ms / max(w, 1e-6) for m, (w, _) in times.items()}
         log(f"budget: {budget_ms:.0f} ms per frame (the slowest method's frame time)")
     rep = MovingReport(scene.name, "", cam.width, cam.height, float(budget_ms))
     refs: dict[int, np.ndarray] = dict(references or {})
@@ -142,7 +155,7 @@ def run_moving(scene: Scene, methods: list[str], budget_ms: float | None = None,
             if mode not in ("taa", "frame"):
                 raise ValueError(f"unknown mode {mode!r} (taa, frame)")
             if mode == "taa":
-                k = max(1, int(budget_ms / frame_ms[name] + 0.5))
+                k = max(1, int(share[name] + 0.5))
                 _taa_rows(rep, scene, name, k, refs, device, base, seed)
             else:
                 _frame_rows(rep, scene, name, budget, refs, device, base, seed)
