@@ -216,9 +216,9 @@ def test_moving_report(tmp_path, device):
     assert all(r.samples >= 1 and math.isfinite(r.rel_mse) and r.rel_mse > 0 for r in rep.rows)
     assert sum("reference: saved" in m for m in logs) == len(frames)
     # with TAA a faster method renders k frames along the path per animation frame, the same k all along; the
-    # budget is the slower method's frame time, so the faster one's k (from CPU-time ratios) is at least its 1
+    # budget is the slowest method's frame time, whose k is 1
     ks = {m: {r.samples for r in rep.rows if r.method == m and r.mode == "taa"} for m in ("light_array", "restir")}
-    assert all(len(k) == 1 for k in ks.values()) and ks["restir"] == {1} and min(ks["light_array"]) >= 1
+    assert all(len(k) == 1 for k in ks.values()) and ks["restir"] == {1}
     paths = rep.write(tmp_path / "out")
     assert paths[0].name == "report_moving_many_lights_32x18.csv"
     meta = json.loads(paths[1].read_text())
