@@ -25,13 +25,11 @@ inline float3 clip_to_box(float3 h, float3 centre, float3 extent)
     return m > 1.0f ? centre + d / m : h;
 }
 
-#define TAA_CLIP_LINEAR 0
-#define TAA_CLIP_TONEMAPPED 1
-
-/* The tonemap of the tonemapped clip (Karis' c / (1 + luma), luma = YCoCg's Y) on a YCoCg colour, and its inverse:
- * a rare bright sample of a noisy neighbourhood stretches the box's mean and sigma less. */
-inline float3 ycocg_tonemap(float3 c) { return c / (1.0f + fmax_f(c.x, 0.0f)); }
-inline float3 ycocg_tonemap_inverse(float3 t) { return t / fmax_f(1.0f - fmax_f(t.x, 0.0f), 1e-4f); }
+/* Half-width of the neighbourhood the clipping box is built from: 1 (3x3). A compile-time knob for the measurements
+ * of docs/temporal-stability.md ("The moving camera's level"). */
+#ifndef TAA_CLIP_RADIUS
+#define TAA_CLIP_RADIUS 1
+#endif
 
 #define TAA_BILINEAR 0
 #define TAA_CATMULL_ROM 1
@@ -158,23 +156,19 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
     if (n_prev > 0.0f && p.moving) {
         float3 m1 = (float3)(0.0f), m2 = (float3)(0.0f);
         float cnt = 0.0f;
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
+        for (int dy = -TAA_CLIP_RADIUS; dy <= TAA_CLIP_RADIUS; ++dy)
+            for (int dx = -TAA_CLIP_RADIUS; dx <= TAA_CLIP_RADIUS; ++dx) {
                 int nx = clamp(x + dx, 0, width - 1), ny = clamp(y + dy, 0, height - 1);
                 float3 v = sample[ny * width + nx].xyz;
                 if (!finite3_f(v)) continue;
                 v = rgb_to_ycocg(v);
-                if (p.clip_space == TAA_CLIP_TONEMAPPED) v = ycocg_tonemap(v);
                 m1 += v;
                 m2 += v * v;
                 cnt += 1.0f;
             }
         float3 mean = m1 / cnt;
         float3 sigma = sqrt(fmax(m2 / cnt - mean * mean, (float3)(0.0f)));
-        if (p.clip_space == TAA_CLIP_TONEMAPPED)
-            h = ycocg_to_rgb(ycocg_tonemap_inverse(clip_to_box(ycocg_tonemap(rgb_to_ycocg(h)), mean, gamma * sigma)));
-        else
-            h = ycocg_to_rgb(clip_to_box(rgb_to_ycocg(h), mean, gamma * sigma));
+        h = ycocg_to_rgb(clip_to_box(rgb_to_ycocg(h), mean, gamma * sigma));
     }
     float n = fmin_f(n_prev + 1.0f, (float)p.max_history);
     /* a still scene keeps converging (1/n up to max_history); motion brings back the floor alpha_min */

@@ -320,7 +320,7 @@ typedef struct {
     int reset;             /* 1: no history (first frame, camera cut): start from this frame's sample */
     int filter;            /* history fetch: TAA_BILINEAR or TAA_CATMULL_ROM */
     int dilate;            /* 1: take the motion of the nearest surface in the 3x3 neighbourhood */
-    int clip_space;        /* the clipping box's space: TAA_CLIP_LINEAR or TAA_CLIP_TONEMAPPED (taa.cl) */
+    int pad0;
 } TaaParams;               /* 48 bytes */
 
 /* One iteration of the real-time filter (atrous.cl). */

@@ -36,7 +36,6 @@ BEFORE = (
     ("area_sampling", "area"),
     ("light_proposal", "auto"),
     ("boiling_mode", "weight"),
-    ("taa_clip", "linear"),
 )
 NUMBERS = [d for d in declared(Settings) if d.spec.range is not None]
 

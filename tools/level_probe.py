@@ -10,7 +10,7 @@ deficit is split between the pixels the reference has brightest (the top 1 %: th
 import argparse
 
 import numpy as np
-from restircl import Renderer, Settings, scenes
+from restircl import Renderer, Settings, pipeline, scenes
 from restircl.eval import flicker as fl
 from restircl.eval.report_reference import get_reference
 
@@ -25,9 +25,6 @@ VARIANTS = {
     "restir gamma 1.5": Settings(gamma=1.5),
     "restir gamma 2": Settings(gamma=2.0),
     "restir gamma 3": Settings(gamma=3.0),
-    "restir tonemapped clip": Settings(taa_clip="tonemapped"),
-    "restir tonemapped clip, gamma 1.5": Settings(taa_clip="tonemapped", gamma=1.5),
-    "ris tonemapped clip": Settings(method="ris", taa_clip="tonemapped"),
 }
 
 
@@ -37,8 +34,12 @@ def main() -> None:
     ap.add_argument("--variants", default=",".join(VARIANTS))
     ap.add_argument("--cameras", default="moving,still")
     ap.add_argument("--size", default="160x90")
+    ap.add_argument("--define", default="", help="an -D option for every kernel build, e.g. TAA_CLIP_RADIUS=2")
     a = ap.parse_args()
     w, h = (int(v) for v in a.size.split("x"))
+    if a.define:
+        build = pipeline.build_program
+        pipeline.build_program = lambda dev, flags, **kw: build(dev, flags, extra_options=(f"-D{a.define}",))
     base = scenes.many_lights(w, h, frames=8)
     warmup, frames = 16, 16
     print("| camera | variant | seed | level | noisy level | taa / noisy | deficit top 1 % | deficit rest | flicker "
@@ -68,7 +69,8 @@ def main() -> None:
                 x, nz = np.stack(out), np.stack(noisy)
                 tot = r_lum.sum()
                 d = x - r_lum
-                print(f"| {camera} | {name} | {seed} | {x.sum() / tot:.3f} | {nz.sum() / tot:.3f} | "
+                label = f"{name} -D{a.define}" if a.define else name
+                print(f"| {camera} | {label} | {seed} | {x.sum() / tot:.3f} | {nz.sum() / tot:.3f} | "
                       f"{x.sum() / nz.sum():.3f} | {d[top].sum() / tot:+.3f} | {d[~top].sum() / tot:+.3f} | "
                       f"{st.flicker:.4f} | {st.error:.4f} |",
                       flush=True)

@@ -80,7 +80,7 @@ SPATIAL_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), ("spatial_neighbours"
                            ("fresh_m", np.float32), ("pad0", np.int32)])
 SHADE_PARAMS = np.dtype([("sampler", SAMPLER_PARAMS), *_ints("method", "candidates", "visible_known", "pad0")])
 TAA_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), *_floats("alpha_min", "gamma"),
-                       *_ints("moving", "max_history", "reset", "filter", "dilate", "clip_space")])
+                       *_ints("moving", "max_history", "reset", "filter", "dilate", "pad0")])
 
 ATROUS_PARAMS = np.dtype([("step", np.int32), *_floats("sigma_l", "sigma_z"), ("pad0", np.int32)])
 

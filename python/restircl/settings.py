@@ -43,13 +43,6 @@ TAA_FILTER_CHOICES = (
            "(bilinear where a tap shows another surface)", 1),
 )
 TAA_FILTERS = tuple(c.id for c in TAA_FILTER_CHOICES)
-# in the order of taa.cl's TAA_CLIP_* codes (index = code)
-TAA_CLIP_CHOICES = (
-    Choice("linear", "Linear", "Clip the history to the YCoCg variance box of the 3x3 neighbourhood's samples", 0),
-    Choice("tonemapped", "Tonemapped", "Build the box and clip in the tonemapped space c / (1 + luma): a rare "
-           "bright sample widens it less, and the clip darkens a noisy image less (docs/temporal-stability.md)", 1),
-)
-TAA_CLIPS = tuple(c.id for c in TAA_CLIP_CHOICES)
 # in the order of restir_boiling.cl's mode codes (index = code)
 BOILING_MODE_CHOICES = (
     Choice("weight", "Weight", "Empty a reservoir whose weight W stands far above its tile's (RTXDI's)", 0),
@@ -234,8 +227,6 @@ class Settings:
     boiling_mode: str = setting("weight", "Boiling Mode", "What the boiling filter compares with the other "
                                 "reservoirs of its tile, and what it does to an outlier", flag="--boiling-mode",
                                 choices=BOILING_MODE_CHOICES, panel="reuse", applies_when=_RESTIR)
-    taa_clip: str = setting("linear", "Clip Space", "Where TAA's colour clipping box is built and applied",
-                            flag="--taa-clip", choices=TAA_CLIP_CHOICES, panel="taa", applies_when=_TAA)
 
     def validate(self) -> Settings:
         check(self)

@@ -22,7 +22,7 @@ from .device_scene import DeviceScene
 from .history import History
 from .kernels import Kernels
 from .scene import Camera
-from .settings import BOILING_MODES, TAA_CLIPS, TAA_FILTERS
+from .settings import BOILING_MODES, TAA_FILTERS
 
 if TYPE_CHECKING:
     from .settings import Settings
@@ -293,8 +293,7 @@ class Taa(Stage):
         s, h = self.settings, self.history
         params = L.pack(L.TAA_PARAMS, alpha_min=s.alpha_min, gamma=s.gamma, similar=self._similarity(),
                         moving=int(moving), max_history=s.max_history, reset=int(not state.history),
-                        filter=TAA_FILTERS.index(s.taa_filter), dilate=int(s.taa_dilation),
-                        clip_space=TAA_CLIPS.index(s.taa_clip))
+                        filter=TAA_FILTERS.index(s.taa_filter), dilate=int(s.taa_dilation))
         self.kernels.launch("taa", image_size(state), sample=self.buffers.sample, gbuf=h.gbuf(h.cur),
                             glossy=h.glossy(h.cur),
                             prev_gbuf=h.gbuf(h.prev), history_in=h.taa[h.prev], history_out=h.taa[h.cur],
