@@ -4,7 +4,8 @@ its still frame 0, with TAA on and off, ReSTIR and RIS, and TAA's clip widened; 
 1-sample estimates TAA blends (ReSTIR's own bias), `taa` is the output's over the noisy's (TAA's own). The
 deficit is split between the pixels the reference has brightest (the top 1 %: the lamps seen directly) and the rest.
 
-    python tools/level_probe.py [--seeds 4242,7] [--variants restir,ris,...]
+    python tools/level_probe.py [--seeds 4242,7] [--variants restir,ris,...] [--cameras moving,still]
+                                [--define TAA_CLIP_RADIUS=2]   # an -D option for every kernel build
 """
 
 import argparse
