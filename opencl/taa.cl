@@ -25,6 +25,12 @@ inline float3 clip_to_box(float3 h, float3 centre, float3 extent)
     return m > 1.0f ? centre + d / m : h;
 }
 
+/* Half-width of the neighbourhood the clipping box is built from: 1 (3x3). A compile-time knob for the measurements
+ * of docs/temporal-stability.md ("The moving camera's level"). */
+#ifndef TAA_CLIP_RADIUS
+#define TAA_CLIP_RADIUS 1
+#endif
+
 #define TAA_BILINEAR 0
 #define TAA_CATMULL_ROM 1
 
@@ -150,8 +156,8 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
     if (n_prev > 0.0f && p.moving) {
         float3 m1 = (float3)(0.0f), m2 = (float3)(0.0f);
         float cnt = 0.0f;
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
+        for (int dy = -TAA_CLIP_RADIUS; dy <= TAA_CLIP_RADIUS; ++dy)
+            for (int dx = -TAA_CLIP_RADIUS; dx <= TAA_CLIP_RADIUS; ++dx) {
                 int nx = clamp(x + dx, 0, width - 1), ny = clamp(y + dy, 0, height - 1);
                 float3 v = sample[ny * width + nx].xyz;
                 if (!finite3_f(v)) continue;

@@ -256,3 +256,20 @@ def test_flip_metric_when_installed():
     same, low, high = flip(ref, ref), flip(noisy[0], ref), flip(noisy[1], ref)
     assert same is not None and low is not None and high is not None
     assert same < 1e-6 < low < high < 1.0
+
+
+def test_flip_absent_gives_a_clear_note(device, monkeypatch):
+    """Without flip-evaluator the FLIP column is empty and the report says why (logged and in its notes)."""
+    import sys
+
+    from restircl.eval.metrics import FLIP_MISSING, flip_available
+
+    monkeypatch.setitem(sys.modules, "flip_evaluator", None)  # import flip_evaluator raises ImportError
+    assert not flip_available()
+    ref = np.full((9, 16, 3), 0.5, np.float32)
+    assert flip(ref, ref) is None
+    scene = scenes.cornell_box(16, 9)
+    logs: list[str] = []
+    rep = R.run_report(scene, ["light_array"], (0.02,), device=device, reference=ref, log=logs.append)
+    assert FLIP_MISSING in rep.notes and FLIP_MISSING in logs
+    assert "flip-evaluator" in FLIP_MISSING and all(r.flip is None for r in rep.rows)

@@ -1,5 +1,6 @@
 """Flicker statistics (eval/flicker.py) of ReSTIR with and without each anti-flicker option, on many_lights
-(160x90, still and slowed moving camera), the cornell box (96x96, still) and material_balls (glossy, 160x90, still):
+(160x90, still and slowed moving camera), the cornell box (96x96, still and panning) and material_balls
+(glossy, 160x90, still):
 docs/temporal-stability.md. The variants include the boiling filter's two measures and lower history caps (m_cap).
 
     python tools/flicker_variants.py [--scenes many_lights_still,many_lights_moving,cornell_box,material_balls]
@@ -7,6 +8,7 @@ docs/temporal-stability.md. The variants include the boiling filter's two measur
 
 import argparse
 
+import numpy as np
 from restircl import Settings, scenes
 from restircl.eval import flicker as fl
 
@@ -27,21 +29,34 @@ VARIANTS = {"restir": Settings(), "restir boiling 0.2": Settings(boiling_filter=
             "restir contribution 0.7 + real-time filter": Settings(boiling_filter=0.7,
                                                                    boiling_mode="contribution",
                                                                    realtime_filter=True)}
+def cornell_box_moving():
+    """The cornell box with its camera panning 0.3 m sideways over 4 frames (33 once slowed 8x)."""
+    sc = scenes.cornell_box(96, 96, frames=5)
+    m = sc.camera.transforms.copy()
+    m[:, 0, 3] += np.linspace(-0.15, 0.15, m.shape[0])
+    sc.camera.transforms = m
+    sc.frame_count = m.shape[0]
+    return sc
+
+
 CASES = {"many_lights_still": ("many_lights", lambda: scenes.many_lights(160, 90, frames=8), False),
          "many_lights_moving": ("many_lights", lambda: scenes.many_lights(160, 90, frames=8), True),
          "cornell_box": ("cornell_box", lambda: scenes.cornell_box(96, 96), False),
+         "cornell_box_moving": ("cornell_box", cornell_box_moving, True),
          "material_balls": ("material_balls", lambda: scenes.material_balls(160, 90), False)}
 
 
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--scenes", default=",".join(CASES))
+    ap.add_argument("--variants", default=",".join(VARIANTS), help="comma-separated names of VARIANTS")
     a = ap.parse_args()
     print(fl.HEADER)
     for case in a.scenes.split(","):
         name, make, moving = CASES[case]
         sc = make()
-        for label, base in VARIANTS.items():
+        for label in a.variants.split(","):
+            base = VARIANTS[label]
             res = fl.run_flicker(sc, ["restir"], frames=16, warmup=16, moving=moving, steps=8, cache_dir="out/refs",
                                  reference_seconds=10.0, base=base, log=lambda s: None)[0]
             res.method = f"{name}: {label}"

@@ -413,9 +413,11 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--height", type=COUNT, default=None)
     s.set_defaults(func=cmd_save_scene)
 
-    st = sub.add_parser("stress", help="stability on extreme scenes: NaN/Inf, max value, relMSE per method",
+    st = sub.add_parser("stress", help="stability on extreme scenes: NaN/Inf, max value, relMSE, flicker per method",
                         description="Render the built-in extreme scenes (restircl/eval/stress.py) with every "
-                                    "method and check them against their references; exit status 1 if any fails.")
+                                    "method and check them against their references; exit status 1 if any fails. "
+                                    "The flicker, flk/err and boil px columns: the temporal stability of 16 "
+                                    "consecutive TAA outputs of each case's frame under test.")
     st.add_argument("--full", action="store_true", help="full sizes (1e6 lights, 5000 frames, ...): minutes")
     st.add_argument("--methods", default=None, help="comma-separated subset (default: all)")
     st.add_argument("--cases", default=None, help="comma-separated subset (default: all)")

@@ -22,7 +22,7 @@ import numpy as np
 
 from .. import Renderer, Settings, scenes
 from ..denoise import denoise_image
-from .metrics import flip, rel_mse
+from .metrics import FLIP_MISSING, flip, flip_available, rel_mse
 from .report_reference import get_reference
 
 
@@ -136,6 +136,8 @@ def main(argv: list[str] | None = None) -> int:
     a = p.parse_args(argv)
     w, h = (int(v) for v in a.size.split("x"))
     budgets = [float(v) for v in a.budgets.split(",")]
+    if not flip_available():
+        print(FLIP_MISSING, flush=True)
     still_lines = [] if a.moving_only else [*stills(w, h, budgets, a.cache_dir), ""]
     for line in [*still_lines, *moving(w, h, a.frames, a.cache_dir)]:
         print(line, flush=True)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
 
@@ -18,8 +20,21 @@ def rmse(x: np.ndarray, ref: np.ndarray) -> float:
     return float(np.sqrt(np.mean((x - ref) ** 2)))
 
 
+FLIP_MISSING = ("FLIP not measured: flip-evaluator is not installed (pip install flip-evaluator, or restircl's "
+                "'bench' or 'test' extra)")
+
+
+def flip_available() -> bool:
+    """Whether flip-evaluator imports (the FLIP columns of the reports are empty without it)."""
+    try:
+        import flip_evaluator  # type: ignore[import-not-found]  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
 def flip(x: np.ndarray, ref: np.ndarray) -> float | None:
-    """Mean FLIP (HDR) when `flip-evaluator` is installed, else None."""
+    """Mean FLIP (HDR) when `flip-evaluator` is installed, else None (the reports then say FLIP_MISSING)."""
     try:
         import flip_evaluator as flip_mod  # type: ignore[import-not-found]
     except ImportError:
@@ -27,5 +42,6 @@ def flip(x: np.ndarray, ref: np.ndarray) -> float | None:
     try:
         _, mean, _ = flip_mod.evaluate(ref[..., :3].astype(np.float32), x[..., :3].astype(np.float32), "HDR")
         return float(mean)
-    except Exception:
+    except Exception as e:  # a FLIP failure must not lose a report's other figures
+        warnings.warn(f"FLIP failed on a {x.shape} image: {e}", stacklevel=2)
         return None

@@ -20,7 +20,7 @@ import numpy as np
 
 from ..pipeline import Renderer, Settings
 from ..scene import Scene
-from .metrics import flip, rel_mse, rmse
+from .metrics import FLIP_MISSING, flip, flip_available, rel_mse, rmse
 from .report_files import ReportBase, plot_lines, write_files
 from .report_methods import METHODS, method_settings
 from .report_moving import FrameRow, MovingReport
@@ -101,6 +101,9 @@ def run_report(scene: Scene, methods: list[str], budgets: tuple[float, ...] = DE
     cam = scene.camera
     assert cam is not None
     report = Report(scene.name, "", cam.width, cam.height, reference=ref_meta)
+    if not flip_available():
+        report.notes.append(FLIP_MISSING)
+        log(FLIP_MISSING)
     budgets = tuple(sorted(budgets))
     for name in methods:
         for mode in modes:

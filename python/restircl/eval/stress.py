@@ -25,8 +25,14 @@ under test; its 1-sample image is the run's value, the mean of 8 samples of that
 history) and `long` (one very long animation with TAA and ReSTIR, compared by batch means of its 1-sample
 estimates over its second part: TAA's output of a still camera averages over up to max_history frames, more than
 a batch, so its batch means are not independent; the ReSTIR M and the TAA history length are checked to stay
-capped; its last 16 outputs also give the flicker and boiling figures of eval/flicker.py, columns `flicker` and
-`boil px`).
+capped).
+
+Every case and method also reports the temporal stability of what a viewer of its frame under test would see
+(eval/flicker.py): 16 consecutive TAA outputs of that frame held after 16 warm-up frames (the case's settings with
+TAA on and no jitter; sequence cases first render their frames before it; the long animation: its last 16 outputs),
+against the reference: `flicker` (the mean temporal standard deviation of each pixel's relative error), `flk/err`
+(flicker over the RMS relative error: near 1 the error is frame-to-frame noise, near 0 a steady offset) and
+`boil px` (blotch pixels per frame). The JSON has the RMS as `flicker_error`.
 """
 
 from __future__ import annotations

@@ -8,6 +8,7 @@ import json
 import math
 import time
 import warnings
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
@@ -63,8 +64,12 @@ class Result:
     notes: list[str] = field(default_factory=list)
     seconds: float = 0.0
     samples: int = 0  # frames rendered for the statistics
-    # long animations: temporal stability of the last FLICKER_FRAMES outputs (eval/flicker.py), else NaN
+    # temporal stability (eval/flicker.py) of FLICKER_FRAMES consecutive outputs (the run's TAA output; long
+    # animations: their last ones): flicker = mean temporal std of the relative error, flicker_error = its RMS,
+    # flicker_ratio = their ratio, boiling = blotch pixels per frame; NaN where not measured
     flicker: float = math.nan
+    flicker_error: float = math.nan
+    flicker_ratio: float = math.nan
     boiling: float = math.nan
 
     def row(self) -> list[str]:
@@ -73,13 +78,15 @@ class Result:
 
         return [self.case, self.method, str(self.nonfinite), g(self.max_value), g(self.rel_mse),
                 g(self.expected_rel_mse), f"{self.outliers}/{self.allowed}", g(self.z_image), g(self.rel_bias),
-                "pass" if self.passed else "FAIL", f"{self.seconds:.1f}", g(self.flicker), g(self.boiling),
+                "pass" if self.passed else "FAIL", f"{self.seconds:.1f}", g(self.flicker), g(self.flicker_ratio),
+                g(self.boiling),
                 "; ".join(self.notes)]
 
 
 HEADER = ["case", "method", "NaN/Inf", "max", "relMSE", "expected", "z>4 px", "z image", "bias", "result", "s",
-          "flicker", "boil px", "notes"]
-FLICKER_FRAMES = 16  # long animations: consecutive outputs the flicker statistics are taken over
+          "flicker", "flk/err", "boil px", "notes"]
+FLICKER_FRAMES = 16  # consecutive outputs the flicker statistics are taken over
+FLICKER_WARMUP = 16  # still and sequence cases: frames of the held camera before them (history fills)
 
 
 def _nonfinite(frame: Frame) -> int:
@@ -268,16 +275,37 @@ def run_method(case: Case, method: str, ref: Reference, device=None, seed: int =
         if r.settings.method == "restir":
             notes.append(f"max M {max_m:g} (bound {m_bound:g})")
         notes.append(f"max TAA n {max_n:g}")
+    if case.kind != "long":
+        last, guards = _flicker_outputs(case, r.settings, device, seen)
+        nonfinite += guards
     nonfinite += sum(r.guard_totals.values())
     res = _judge(case, method, np.stack(values), ref, nonfinite, max_value, time.perf_counter() - t0, samples,
                  notes, dof)
-    if case.kind == "long" and last:
-        st = flicker_stats(method, "still", last, [ref.mean] * len(last))
-        res.flicker, res.boiling = st.flicker, st.boiling
+    st = flicker_stats(method, "still", last, [ref.mean] * len(last))
+    res.flicker, res.flicker_error, res.flicker_ratio, res.boiling = st.flicker, st.error, st.ratio, st.boiling
     bad = [n for n in notes if not n.startswith("max ")]
     if bad and res.passed:
         res.passed = False
     return res
+
+
+def _flicker_outputs(case: Case, settings: Settings, device,
+                     seen: Callable[[Frame], None]) -> tuple[list[np.ndarray], int]:
+    """What a viewer of the case's frame under test sees: the case's frames before it (sequence cases), then that
+    frame held for FLICKER_WARMUP + FLICKER_FRAMES frames with history carried and TAA on (no jitter: the
+    reference is at the pixel centres): the last FLICKER_FRAMES TAA outputs, and the renderer's guard count."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = Renderer(case.scene, Settings(**{**settings.__dict__, "taa": True, "jitter": False}), device)
+    for fr in case.before if case.kind == "sequence" else ():
+        seen(r.render_frame(fr))
+    out = []
+    for k in range(FLICKER_WARMUP + FLICKER_FRAMES):
+        f = r.render_frame(case.eval_frame)
+        seen(f)
+        if k >= FLICKER_WARMUP:
+            out.append(f.color[..., :3].copy())
+    return out, sum(r.guard_totals.values())
 
 
 def _m_bound(s: Settings) -> float:
