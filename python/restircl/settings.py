@@ -180,11 +180,6 @@ class Settings:
     bsdf_candidates: int = setting(1, "BSDF Candidates", "BSDF-sampled candidates per pixel and frame (RIS, ReSTIR)",
                                    flag="--bsdf-candidates", range=Range(int, 1, 64), panel="sampling",
                                    applies_when=_BSDF, soft_max=8)
-    bsdf_mis_sample: bool = setting(False, "BSDF MIS Sample", "RIS (and stills that use it): one BSDF-sampled "
-                                    "direction per pixel and frame with its own shadow ray beside the resampled "
-                                    "light sample, the two combined by multiple importance sampling, instead of "
-                                    "BSDF candidates", flag="--bsdf-mis-sample", panel="sampling",
-                                    applies_when=_RIS)
     warmup_frames: int = setting(0, "Warm-up Frames", "Frames before the first frame of an animation render (and, "
                                  "on a farm, of every chunk) that are rendered with their motion and discarded, to "
                                  "fill the ReSTIR and TAA history", flag="--warmup-frames", range=Range(int, 0, 256),
@@ -232,6 +227,11 @@ class Settings:
     boiling_mode: str = setting("weight", "Boiling Mode", "What the boiling filter compares with the other "
                                 "reservoirs of its tile, and what it does to an outlier", flag="--boiling-mode",
                                 choices=BOILING_MODE_CHOICES, panel="reuse", applies_when=_RESTIR)
+    bsdf_mis_sample: bool = setting(False, "BSDF MIS Sample", "RIS (and stills that use it): one BSDF-sampled "
+                                    "direction per pixel and frame with its own shadow ray beside the resampled "
+                                    "light sample, the two combined by multiple importance sampling, instead of "
+                                    "BSDF candidates", flag="--bsdf-mis-sample", panel="sampling",
+                                    applies_when=_RIS)
 
     def validate(self) -> Settings:
         check(self)
