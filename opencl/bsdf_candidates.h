@@ -29,11 +29,12 @@ typedef struct {
     int analytic;     /* the first `analytic` lights (the scene's analytic lights) are tested against each ray */
     int triangles;    /* 1: emissive triangles are found through the BVH (tri_light) */
     int glossy_only;  /* 1: only at pixels whose material has a specular lobe (bsdf_sampling "auto") */
+    int mis_sample;   /* 1: a BSDF sample outside the reservoir shares the integral (bsdf_mis.h) */
 } BsdfSource;
 
 inline BsdfSource bsdf_source(SamplerParams sp)
 {
-    BsdfSource b = {sp.bsdf_candidates, sp.bsdf_analytic, sp.bsdf_triangles, sp.bsdf_glossy_only};
+    BsdfSource b = {sp.bsdf_candidates, sp.bsdf_analytic, sp.bsdf_triangles, sp.bsdf_glossy_only, 0};
     return b;
 }
 
@@ -72,6 +73,23 @@ inline float bsdf_pdf_of_light_sample(const Surface* s, const __global Light* re
     return light_hittable(rec, type, index, b.analytic, b.triangles) ? bsdf_pdf_light_measure(s, e) : 0.0f;
 }
 
+#ifdef HAS_TRIANGLE_LIGHTS
+/* The light of the emissive triangle that the ray from s in direction wi meets first (-1: none, or the first
+ * triangle does not emit), and its sample *uv. */
+inline int bsdf_ray_triangle_light(const Surface* s, const __global BVHNode* nodes, const __global Tri* tris,
+                                   const __global int* tri_light, float3 wi, float2* uv)
+{
+    /* off the surface as visible() offsets a shadow ray (visibility.h) */
+    Tri tri = tris[s->prim];
+    float err = RESTIRCL_OFFSET_ULPS * FLT_EPSILON * (max_abs3(s->x) + max_abs3(tri.e1.xyz) + max_abs3(tri.e2.xyz));
+    float3 o = s->x + err * (dot3(s->ng, wi) >= 0.0f ? s->ng : -s->ng);
+    Hit h = trace_closest(nodes, tris, o, wi, INFINITY);
+    int l = h.prim >= 0 ? tri_light[h.prim] : -1;
+    if (l >= 0) *uv = triangle_uv(h.u, h.v);
+    return l;
+}
+#endif
+
 /* Stream the sample (u, v) of light `index` that a BSDF ray met, as one candidate (M unchanged). */
 inline void bsdf_candidate_add(const Surface* s, const __global Light* rec, int type, int index, float2 uv,
                                const LightPick* lp, float n_light, BsdfSource b, uint* rng,
@@ -107,16 +125,9 @@ inline void bsdf_candidates(const Surface* s, const __global Light* lights, cons
         }
 #ifdef HAS_TRIANGLE_LIGHTS
         if (b.triangles) {
-            /* off the surface as visible() offsets a shadow ray (visibility.h) */
-            Tri tri = tris[s->prim];
-            float err = RESTIRCL_OFFSET_ULPS * FLT_EPSILON
-                        * (max_abs3(s->x) + max_abs3(tri.e1.xyz) + max_abs3(tri.e2.xyz));
-            float3 o = s->x + err * (dot3(s->ng, wi) >= 0.0f ? s->ng : -s->ng);
-            Hit h = trace_closest(nodes, tris, o, wi, INFINITY);
-            int l = h.prim >= 0 ? tri_light[h.prim] : -1;
-            if (l >= 0)
-                bsdf_candidate_add(s, &lights[l], LIGHT_TRIANGLE, l, triangle_uv(h.u, h.v), lp, n_light, b,
-                                   rng, r, chosen);
+            float2 uv;
+            int l = bsdf_ray_triangle_light(s, nodes, tris, tri_light, wi, &uv);
+            if (l >= 0) bsdf_candidate_add(s, &lights[l], LIGHT_TRIANGLE, l, uv, lp, n_light, b, rng, r, chosen);
         }
 #endif
     }

@@ -1,6 +1,7 @@
 /* Direct lighting with one light sample per pixel, without reuse: the samplers `uniform`, `light_array` and
- * `ris` (candidates from the light array or the presampled light tiles), and the exhaustive `reference` (every
- * light, one sample each). One shadow ray per light sample. */
+ * `ris` (candidates from the light array or the presampled light tiles; optionally one more, BSDF-sampled
+ * direction combined with it by MIS, bsdf_mis.h), and the exhaustive `reference` (every light, one sample each).
+ * One shadow ray per light sample. */
 
 __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySample* glossy, const __global BVHNode* nodes, const __global Tri* tris,
                            const __global Light* lights, const __global int* slots, const __global float* light_pdf,
@@ -27,12 +28,15 @@ __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySa
             res_init(&r);
             LightPick lp = light_pick_source(slots, light_pdf, tree_nodes, tree_info, tree_distant, params.sampler);
             RisSource src = ris_source(slot_count, tile_count, tile_size, i, frame, seed);
+            BsdfSource bsdf = bsdf_source(params.sampler);
+            bsdf.mis_sample = params.bsdf_mis_sample;
             ris_candidates(&s, lights, &lp, tile_rec, tile_info, src, candidates, nodes, tris, tri_light,
-                           bsdf_source(params.sampler), &rng, &r, &e);
+                           bsdf, &rng, &r, &e);
             res_finalize(&r, r.M);
             /* W > 0: a candidate of target > 0 was picked, and e holds its evaluation */
             if (r.W > 0.0f && visible(nodes, tris, &s, &e))
                 c += unshadowed_contrib(&s, &e) * r.W;
+            if (bsdf.mis_sample) c += bsdf_mis_sample(&s, lights, &lp, nodes, tris, tri_light, bsdf, &rng);
         } else {
             float2 uv;
             float pdf;

@@ -25,6 +25,7 @@
 #include "visibility.h"
 #include "guards.h"
 #include "bsdf_candidates.h"
+#include "bsdf_mis.h"
 #include "ris.h"
 #include "reproject.h"
 #include "view_dependence.h"

@@ -11,7 +11,8 @@
  * With presampled light tiles (light_tiles.h) a candidate is an entry of the pixel's tile instead of a slot; with
  * the light tree (light_tree.h) a light picked by a descent at the shading point.
  * With BSDF candidates (bsdf_candidates.h) every weight's source pdf is the two strategies' mixture density, and
- * the BSDF's candidates follow the light candidates; without them the weights are target / pdf exactly as before. */
+ * the BSDF's candidates follow the light candidates; without them the weights are target / pdf exactly as before.
+ * With a BSDF sample outside the reservoir (bsdf_mis.h) every light candidate's target is scaled by its MIS weight. */
 #ifndef RESTIRCL_RIS_H
 #define RESTIRCL_RIS_H
 
@@ -77,6 +78,11 @@ inline void ris_candidates(const Surface* s, const __global Light* lights, const
             float2 uv = light_sample_typed(rec[k], type[k], s->x, r0[k], r1[k], &py);
             float pdf = pick_pdf[k] * py;
             float t = pdf > 0.0f ? target_of_record(s, rec[k], uv.x, uv.y, &e) : 0.0f;
+            if (bsdf.mis_sample && t > 0.0f) {
+                float m = bsdf_mis_light_weight(s, rec[k], type[k], light[k], bsdf, pdf, &e);
+                t *= m;
+                e.contrib *= m;  /* the contribution the shade multiplies by W: f m_l */
+            }
             if (bsdf.count > 0 && t > 0.0f)
                 pdf = mis_mixture_pdf(n_light, pdf, n_bsdf,
                                       bsdf_pdf_of_light_sample(s, rec[k], type[k], light[k], bsdf, &e));

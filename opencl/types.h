@@ -306,7 +306,7 @@ typedef struct {
     int method;            /* METHOD_* (shade_direct) */
     int candidates;        /* RIS candidates per pixel (shade_direct, METHOD_RIS) */
     int visible_known;     /* restir_shade: the reuse passes already zeroed occluded samples */
-    int pad0;
+    int bsdf_mis_sample;   /* shade_direct, METHOD_RIS: 1 = one BSDF sample beside the reservoir's (bsdf_mis.h) */
 } ShadeParams;             /* 64 bytes */
 
 /* Pass 7: temporal accumulation (taa.cl). */

@@ -198,6 +198,9 @@ RIS_CASES = {
     "three": dict(bsdf_candidates=3),
     "tiles": dict(light_tiles="on", light_tile_count=4, light_tile_size=32),
     "glossy": dict(),  # the glossy twin: GGX lobes sampled and weighed by the Principled BSDF
+    # a BSDF sample with its own shadow ray beside the reservoir's instead of the candidates (bsdf_mis.h)
+    "mis_sample": dict(bsdf_mis_sample=True),
+    "glossy_mis_sample": dict(bsdf_mis_sample=True),
 }
 
 

@@ -22,16 +22,17 @@ def scene_with(env: Environment | None) -> Scene:
     return sc
 
 
-def frames(scene: Scene, method: str = "restir", count: int = 4) -> np.ndarray:
-    r = Renderer(scene, Settings(method=method, seed=2))
+def frames(scene: Scene, method: str = "restir", count: int = 4, **settings) -> np.ndarray:
+    r = Renderer(scene, Settings(method=method, seed=2, **settings))
     return np.stack([r.render_frame(0, still=True).color for _ in range(count)])
 
 
-@pytest.mark.parametrize("method", ["ris", "restir"])
+@pytest.mark.parametrize("method", ["ris", "restir", "ris_mis_sample"])
 def test_sun_1e5_times_the_sky_stays_finite(method):
     img = sky_map(32, 64, sun_scale=1.0)
     img[img.max(axis=2) > 100] = 1e5 * img[0, 0]  # the sun disk: 1e5 x the zenith sky
-    out = frames(scene_with(Environment("bright", color=(1, 1, 1), image=img)), method)
+    extra = {"bsdf_mis_sample": True} if method == "ris_mis_sample" else {}
+    out = frames(scene_with(Environment("bright", color=(1, 1, 1), image=img)), method.split("_")[0], **extra)
     assert np.all(np.isfinite(out)) and out[..., :3].mean() > 0
 
 

@@ -2,13 +2,15 @@
 user's choice overrides the rule, that the methods without reuse are left as set, and that the CLI's still mode
 uses it while its animation mode and Renderer.render_still take the settings as given. (The estimators it picks
 are tested for unbiasedness where they are defined: RIS in test_estimators.py, spatial-only ReSTIR in
-test_restir.py's "spatial" configuration, BSDF candidates in test_bsdf_candidates.py.)"""
+test_restir.py's "spatial" configuration, BSDF candidates and the BSDF MIS sample in test_bsdf_candidates.py and
+test_environment_estimators.py.)"""
 
 from __future__ import annotations
 
 import pytest
 from restircl import (
     Camera,
+    Environment,
     Light,
     Material,
     Mesh,
@@ -21,8 +23,9 @@ from restircl import (
     translation,
 )
 from restircl.cli import main
+from restircl.scenes_sky import sky_map
 from restircl.settings import METHODS, STILL_METHODS
-from restircl.still_method import OVERRIDES, auto_overrides, scene_kind
+from restircl.still_method import OVERRIDES, SUNNY_CANDIDATES, auto_overrides, scene_kind
 
 
 def _scene(light_types: tuple[str, ...] = (), emissive: bool = False) -> Scene:
@@ -79,6 +82,28 @@ def test_the_user_overrides_the_rule():
         for name, value in over.items():
             assert getattr(got, name) == value
         assert got.candidates == s.candidates and got.spatial_neighbours == s.spatial_neighbours
+
+
+def test_auto_adds_the_bsdf_mis_sample_under_a_sunny_world_only():
+    """A world with a sun (0.68 of its power in a 1.6-degree disc) gets the BSDF MIS sample and, where the
+    candidates are at their default, 4 of them; a sky without a sun, a constant world, and a user's own candidate
+    count or BSDF sampling off are left alone."""
+    from restircl.environment_sun import SUNNY_SHARE, sun_share
+
+    sunny, grey = _scene(("point",)), _scene(("point",))
+    sunny.environment = Environment("sunny", color=(1, 1, 1), image=sky_map(128, 256))
+    grey.environment = Environment("grey", color=(1, 1, 1), image=sky_map(128, 256, sun_scale=0.0))
+    assert sun_share(sunny.environment) > SUNNY_SHARE > sun_share(grey.environment)
+    got = still_settings(Settings(), sunny)
+    assert got.method == "ris" and got.bsdf_mis_sample and got.candidates == SUNNY_CANDIDATES
+    assert still_settings(Settings(candidates=6), sunny).candidates == 6
+    assert not still_settings(Settings(bsdf_sampling="off"), sunny).bsdf_mis_sample
+    for scene in (grey, _scene(("point",))):
+        got = still_settings(Settings(), scene)
+        assert not got.bsdf_mis_sample and got.candidates == Settings().candidates
+    constant = _scene(("point",))
+    constant.environment = Environment("constant", color=(0.5, 0.5, 0.5))
+    assert not still_settings(Settings(), constant).bsdf_mis_sample
 
 
 def test_still_method_is_validated():

@@ -256,14 +256,17 @@ class Renderer:
         tree = ds.light_tree if self.uses_light_tree and method in ("ris", "restir") and light_count > 1 else None
         tiles = tree is None and self._use_light_tiles(method, light_count)
         self.light_tiles_used = tiles
-        bsdf = self._bsdf_candidates(method, light_count)
+        mis_sample = self.bsdf_mis_sample(method, light_count)
+        bsdf = 0 if mis_sample else self._bsdf_candidates(method, light_count)
+        hit_tests = bool(bsdf) or mis_sample  # what BSDF rays look for: the candidates' or the MIS sample's
         sampler = L.pack(L.SAMPLER_PARAMS, light_count=light_count, slot_count=ds.light_array.slot_count,
                          light_tree=int(tree is not None), tree_leaves=tree.leaves if tree else 0,
                          tree_distant=tree.distant_count if tree else 0, tree_p_local=tree.p_local if tree else 1.0,
                          tile_count=s.light_tile_count if tiles else 0, tile_size=s.light_tile_size if tiles else 0,
                          bsdf_candidates=bsdf,
-                         bsdf_analytic=ds.analytic_lights if bsdf and ds.analytic_lights <= BSDF_ANALYTIC_MAX else 0,
-                         bsdf_triangles=int(bool(bsdf) and ds.triangle_lights),
+                         bsdf_analytic=ds.analytic_lights if hit_tests and ds.analytic_lights <= BSDF_ANALYTIC_MAX
+                         else 0,
+                         bsdf_triangles=int(hit_tests and ds.triangle_lights),
                          bsdf_glossy_only=int(s.bsdf_sampling == "auto"))
         jit = jitter_px if jitter_px is not None else jitter(self._sample) if s.jitter else (0.0, 0.0)
         # A light switched on or off (or its power jumped) makes last frame's reservoirs samples of another target:
@@ -295,6 +298,11 @@ class Renderer:
         if method not in ("ris", "restir") or light_count < 2 or mode == "off":
             return False
         return mode == "on" or light_count >= LIGHT_TILES_AUTO
+
+    def bsdf_mis_sample(self, method: str, light_count: int) -> bool:
+        """Whether `ris` frames add one BSDF sample with its own shadow ray, combined by MIS (bsdf_mis.h); it
+        replaces the BSDF candidates."""
+        return self.settings.bsdf_mis_sample and method == "ris" and light_count > 0
 
     def _bsdf_candidates(self, method: str, light_count: int) -> int:
         """BSDF-sampled candidates per pixel this frame (bsdf_candidates.h): for the RIS-based methods, where a

@@ -227,6 +227,11 @@ class Settings:
     boiling_mode: str = setting("weight", "Boiling Mode", "What the boiling filter compares with the other "
                                 "reservoirs of its tile, and what it does to an outlier", flag="--boiling-mode",
                                 choices=BOILING_MODE_CHOICES, panel="reuse", applies_when=_RESTIR)
+    bsdf_mis_sample: bool = setting(False, "BSDF MIS Sample", "RIS (and stills that use it): one BSDF-sampled "
+                                    "direction per pixel and frame with its own shadow ray beside the resampled "
+                                    "light sample, the two combined by multiple importance sampling, instead of "
+                                    "BSDF candidates", flag="--bsdf-mis-sample", panel="sampling",
+                                    applies_when=_RIS)
 
     def validate(self) -> Settings:
         check(self)

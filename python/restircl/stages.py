@@ -250,7 +250,8 @@ class Shade(Stage):
 
     def direct(self, state: FrameState, tiles: dict[str, cl.Buffer]) -> None:
         params = L.pack(L.SHADE_PARAMS, sampler=state.sampler, method=self.method_codes[state.method],
-                        candidates=self.settings.candidates)
+                        candidates=self.settings.candidates,
+                        bsdf_mis_sample=int(self.settings.bsdf_mis_sample and state.method == "ris"))
         self.kernels.launch("shade_direct", pixel_count(state), **self._common(state), slots=self.scene.slots_buf,
                             light_pdf=self.scene.light_pdf_buf, **self.scene.light_tree_args, **tiles,
                             tri_light=self.scene.tri_light_buf, params=params)

@@ -55,6 +55,9 @@ OURS: dict[str, dict] = {
     # candidates for the still path (still_method.py): RIS with BSDF candidates, and ReSTIR variants meant for
     # convergence: spatial reuse of fresh reservoirs every frame, temporal reuse with a short history
     "ris_bsdf": {"method": "ris", "bsdf_sampling": "on"},
+    # RIS with a BSDF sample of its own shadow ray, by MIS (bsdf_mis.h), with 8 and 4 light candidates
+    "ris_mis": {"method": "ris", "bsdf_mis_sample": True},
+    "ris_mis4": {"method": "ris", "bsdf_mis_sample": True, "candidates": 4},
     "spatial": {"temporal": False},
     "spatial_bsdf": {"temporal": False, "bsdf_sampling": "on"},
     "short_history": {"m_cap": 2.0},
