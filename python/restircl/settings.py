@@ -79,6 +79,14 @@ STILL_METHOD_CHOICES = (
            "spatial reuse only", 3),
 )
 STILL_METHODS = tuple(c.id for c in STILL_METHOD_CHOICES)
+SAMPLER_CHOICES = (
+    Choice("auto", "Auto", "Scrambled Sobol numbers for still RIS renders (F12), random numbers for animation "
+           "frames, the viewport and ReSTIR", 0),
+    Choice("random", "Random", "Independent random numbers everywhere", 1),
+    Choice("sobol", "Sobol", "Scrambled Sobol numbers for every RIS frame (stills, animation and viewport); "
+           "ReSTIR keeps random numbers", 2),
+)
+SAMPLERS = tuple(c.id for c in SAMPLER_CHOICES)
 AREA_SAMPLING_CHOICES = (
     Choice("auto", "Auto", "Solid angle where an area light looks large from the shaded point, area elsewhere", 0),
     Choice("solid_angle", "Solid Angle", "Area lights, emissive triangles and soft point lights sampled uniformly "
@@ -217,6 +225,11 @@ class Settings:
     still_method: str = setting("auto", "Still Method", "The estimator of still renders (F12, a still camera): "
                                 "animations and the viewport keep Method", flag="--still-method",
                                 choices=STILL_METHOD_CHOICES, panel="sampling")
+
+    sampler: str = setting("auto", "Sampler", "Where RIS's light pick, point on the light, BSDF direction and "
+                           "resampling choice come from: a per-pixel Owen-scrambled Sobol sequence (its error falls "
+                           "faster than random numbers' over the samples of a still) or random numbers",
+                           flag="--sampler", choices=SAMPLER_CHOICES, panel="sampling", applies_when=_RIS)
 
     area_sampling: str = setting("area", "Area Light Sampling", "How a point on an area light (and an emissive "
                                  "triangle, a soft point light) is drawn", flag="--area-sampling",
