@@ -60,7 +60,8 @@ def prog(device):
 def points(device, prog, pixel: int, key: int, dim: int, n: int, index0: int = 0) -> np.ndarray:
     out = np.empty((n, 2), np.uint32)
     buf = cl.Buffer(device.context, cl.mem_flags.WRITE_ONLY, out.nbytes)
-    cl.Kernel(prog, "points")(device.queue, (n,), None, np.uint32(pixel), np.uint32(key), np.uint32(dim), np.uint32(index0), buf)
+    cl.Kernel(prog, "points")(device.queue, (n,), None, np.uint32(pixel), np.uint32(key), np.uint32(dim),
+                              np.uint32(index0), buf)
     cl.enqueue_copy(device.queue, out, buf)
     return out
 
