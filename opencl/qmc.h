@@ -37,16 +37,18 @@ inline uint qmc_reverse_bits(uint x)
     return ((x & 0x55555555u) << 1) | ((x >> 1) & 0x55555555u);
 }
 
-/* Sobol dimension 0 (van der Corput in base 2) as a 32-bit fixed-point fraction. */
-inline uint sobol_dim0(uint i) { return qmc_reverse_bits(i); }
-
-/* Sobol dimension 1: direction numbers v_1 = 1/2, v_k = v_(k-1) xor v_(k-1) / 2 (primitive polynomial x + 1). */
-inline uint sobol_dim1(uint i)
+/* Sobol dimension 1 with its bits reversed (the lowest bit of the result is the fraction's first). Its direction
+ * numbers (primitive polynomial x + 1) form the Pascal matrix mod 2: index bit k adds the binomial coefficients
+ * C(k, j) mod 2, which by Lucas' theorem are 1 exactly where j is a sub-mask of k. So result bit j is the parity
+ * of the index bits k that are super-masks of j: a superset-sum transform, five shift-and-xor steps. */
+inline uint sobol_dim1_reversed(uint i)
 {
-    uint x = 0u, v = 0x80000000u;
-    for (; i != 0u; i >>= 1, v ^= v >> 1)
-        if (i & 1u) x ^= v;
-    return x;
+    i ^= (i & 0xaaaaaaaau) >> 1;
+    i ^= (i & 0xccccccccu) >> 2;
+    i ^= (i & 0xf0f0f0f0u) >> 4;
+    i ^= (i & 0xff00ff00u) >> 8;
+    i ^= (i & 0xffff0000u) >> 16;
+    return i;
 }
 
 /* A hash in which every bit depends only on the bits below it (multiplications by even constants, an addition),
@@ -62,19 +64,19 @@ inline uint qmc_lk_hash(uint x, uint seed)
     return x;
 }
 
-/* Nested uniform (Owen) scramble of a 32-bit fraction. */
-inline uint qmc_owen(uint x, uint seed) { return qmc_reverse_bits(qmc_lk_hash(qmc_reverse_bits(x), seed)); }
-
 /* 32-bit fixed point -> float in [0, 1) (24 bits, as rng_next). */
 inline float qmc_float(uint x) { return (float)(x >> 8) * (1.0f / 16777216.0f); }
 
-/* Point q->index of dimension pair d, as two 32-bit fractions. */
+/* Point q->index of dimension pair d, as two 32-bit fractions. The Owen scramble of a fraction f is
+ * reverse(lk(reverse(f))); Sobol dimension 0 is reverse(i) itself, and dimension 1 is built reversed, so each
+ * coordinate costs one reversal. The index shuffle is an Owen scramble of the index's bits: a permutation within
+ * every aligned block of indices. */
 inline uint2 qmc_pair_bits(const Qmc* q, uint d)
 {
     uint s = pcg_hash(q->seed ^ pcg_hash(d * 0x9e3779b9u + 0x7f4a7c15u));
-    uint i = qmc_owen(q->index, s);  /* index shuffle: the first 2^k samples are one aligned block */
-    return (uint2)(qmc_owen(sobol_dim0(i), pcg_hash(s ^ 0x2c1b3c6du)),
-                   qmc_owen(sobol_dim1(i), pcg_hash(s ^ 0x297a2d39u)));
+    uint i = qmc_reverse_bits(qmc_lk_hash(qmc_reverse_bits(q->index), s));
+    return (uint2)(qmc_reverse_bits(qmc_lk_hash(i, pcg_hash(s ^ 0x2c1b3c6du))),
+                   qmc_reverse_bits(qmc_lk_hash(sobol_dim1_reversed(i), pcg_hash(s ^ 0x297a2d39u))));
 }
 
 inline float2 qmc_pair(const Qmc* q, uint d)
