@@ -226,11 +226,6 @@ class Settings:
                                 "animations and the viewport keep Method", flag="--still-method",
                                 choices=STILL_METHOD_CHOICES, panel="sampling")
 
-    sampler: str = setting("auto", "Sampler", "Where RIS's light pick, point on the light, BSDF direction and "
-                           "resampling choice come from: a per-pixel Owen-scrambled Sobol sequence (its error falls "
-                           "faster than random numbers' over the samples of a still) or random numbers",
-                           flag="--sampler", choices=SAMPLER_CHOICES, panel="sampling", applies_when=_RIS)
-
     area_sampling: str = setting("area", "Area Light Sampling", "How a point on an area light (and an emissive "
                                  "triangle, a soft point light) is drawn", flag="--area-sampling",
                                  choices=AREA_SAMPLING_CHOICES, panel="lights")
@@ -240,6 +235,11 @@ class Settings:
     boiling_mode: str = setting("weight", "Boiling Mode", "What the boiling filter compares with the other "
                                 "reservoirs of its tile, and what it does to an outlier", flag="--boiling-mode",
                                 choices=BOILING_MODE_CHOICES, panel="reuse", applies_when=_RESTIR)
+
+    sampler: str = setting("auto", "Sampler", "Where RIS's light pick, point on the light, BSDF direction and "
+                           "resampling choice come from: a per-pixel Owen-scrambled Sobol sequence (its error falls "
+                           "faster than random numbers' over the samples of a still) or random numbers",
+                           flag="--sampler", choices=SAMPLER_CHOICES, panel="sampling", applies_when=_RIS)
 
     def validate(self) -> Settings:
         check(self)
