@@ -353,7 +353,10 @@ class Renderer:
         progress(done, samples) is called after each sample; should_stop() before each (a cancel keeps what is
         done); target_error stops once the reference-free error estimate (relMSE) reaches it; checkpoint(done,
         seconds) lets a caller look at the running mean (mean_image) while it accumulates."""
-        return render_still(self, frame, samples, progress, should_stop, target_error, checkpoint)
+        try:
+            return render_still(self, frame, samples, progress, should_stop, target_error, checkpoint)
+        finally:
+            self.qmc = None  # the frames after it draw random numbers again, also when it raised
 
     @property
     def still_counts(self) -> tuple[int, int]:
