@@ -237,8 +237,8 @@ class Settings:
                                 choices=BOILING_MODE_CHOICES, panel="reuse", applies_when=_RESTIR)
 
     sampler: str = setting("auto", "Sampler", "Where RIS's light pick, point on the light, BSDF direction and "
-                           "resampling choice come from: a per-pixel Owen-scrambled Sobol sequence (its error falls "
-                           "faster than random numbers' over the samples of a still) or random numbers",
+                           "resampling choice come from: a per-pixel Owen-scrambled Sobol sequence (a still's mean has "
+                           "less error at equal frames than with random numbers) or random numbers",
                            flag="--sampler", choices=SAMPLER_CHOICES, panel="sampling", applies_when=_RIS)
 
     def validate(self) -> Settings:
