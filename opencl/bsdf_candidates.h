@@ -23,6 +23,8 @@
 #ifndef RESTIRCL_BSDF_CANDIDATES_H
 #define RESTIRCL_BSDF_CANDIDATES_H
 
+#include "qmc.h"
+
 /* What the BSDF candidates of a frame look for (SamplerParams). */
 typedef struct {
     int count;        /* BSDF candidates per pixel; 0: light candidates only */
@@ -92,25 +94,37 @@ inline int bsdf_ray_triangle_light(const Surface* s, const __global BVHNode* nod
 
 /* Stream the sample (u, v) of light `index` that a BSDF ray met, as one candidate (M unchanged). */
 inline void bsdf_candidate_add(const Surface* s, const __global Light* rec, int type, int index, float2 uv,
-                               const LightPick* lp, float n_light, BsdfSource b, uint* rng,
+                               const LightPick* lp, float n_light, BsdfSource b, uint* rng, float* sel,
                                Reservoir* r, LightEval* chosen)
 {
     LightEval e;
-    float rnd = rng_next(rng);
+    float rnd = sel ? 0.0f : rng_next(rng);
     float t = target_of_record(s, rec, uv.x, uv.y, &e);
     if (!(t > 0.0f)) return;
     float p_light = light_pick_pdf(lp, index, s->x, s->n) * light_point_pdf(rec, type, s->x, &e);
     float p_mix = mis_mixture_pdf(n_light, p_light, (float)b.count, bsdf_pdf_light_measure(s, &e));
-    if (res_update(r, index, uv.x, uv.y, t / p_mix, t, rnd, 0.0f)) *chosen = e;
+    bool picked = sel ? res_update_remap(r, index, uv.x, uv.y, t / p_mix, t, sel, 0.0f)
+                      : res_update(r, index, uv.x, uv.y, t / p_mix, t, rnd, 0.0f);
+    if (picked) *chosen = e;
 }
 
-/* Draw b.count BSDF directions at s and stream the light samples they meet into r (M += b.count). */
+/* Draw b.count BSDF directions at s and stream the light samples they meet into r (M += b.count). With q->on the
+ * directions come from QMC pairs QMC_BSDF(k) and the resampling choices from *sel (res_update_remap). */
 inline void bsdf_candidates(const Surface* s, const __global Light* lights, const LightPick* lp,
                             const __global BVHNode* nodes, const __global Tri* tris, const __global int* tri_light,
-                            float n_light, BsdfSource b, uint* rng, Reservoir* r, LightEval* chosen)
+                            float n_light, BsdfSource b, uint* rng, const Qmc* q, float* sel, Reservoir* r,
+                            LightEval* chosen)
 {
     for (int k = 0; k < b.count; ++k) {
-        float u0 = rng_next(rng), u1 = rng_next(rng);
+        float u0, u1;
+        if (q->on) {
+            float2 u = qmc_pair(q, QMC_BSDF(k));
+            u0 = u.x;
+            u1 = u.y;
+        } else {
+            u0 = rng_next(rng);
+            u1 = rng_next(rng);
+        }
         float3 wi;
         float pdf;
         bsdf_sample(s, s->wo, u0, u1, &wi, &pdf);
@@ -121,13 +135,14 @@ inline void bsdf_candidates(const Surface* s, const __global Light* lights, cons
             int type = light_type(rec);
             float2 uv;
             if (light_hittable(rec, type, l, b.analytic, b.triangles) && light_hit(rec, type, s->x, wi, &uv))
-                bsdf_candidate_add(s, rec, type, l, uv, lp, n_light, b, rng, r, chosen);
+                bsdf_candidate_add(s, rec, type, l, uv, lp, n_light, b, rng, sel, r, chosen);
         }
 #ifdef HAS_TRIANGLE_LIGHTS
         if (b.triangles) {
             float2 uv;
             int l = bsdf_ray_triangle_light(s, nodes, tris, tri_light, wi, &uv);
-            if (l >= 0) bsdf_candidate_add(s, &lights[l], LIGHT_TRIANGLE, l, uv, lp, n_light, b, rng, r, chosen);
+            if (l >= 0)
+                bsdf_candidate_add(s, &lights[l], LIGHT_TRIANGLE, l, uv, lp, n_light, b, rng, sel, r, chosen);
         }
 #endif
     }

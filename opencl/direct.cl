@@ -30,8 +30,9 @@ __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySa
             RisSource src = ris_source(slot_count, tile_count, tile_size, i, frame, seed);
             BsdfSource bsdf = bsdf_source(params.sampler);
             bsdf.mis_sample = params.bsdf_mis_sample;
+            Qmc q = qmc_stream(frame_params.qmc, frame_params.qmc_index, frame_params.qmc_key, (uint)i);
             ris_candidates(&s, lights, &lp, tile_rec, tile_info, src, candidates, nodes, tris, tri_light,
-                           bsdf, &rng, &r, &e);
+                           bsdf, &rng, &q, &r, &e);
             res_finalize(&r, r.M);
             /* W > 0: a candidate of target > 0 was picked, and e holds its evaluation */
             if (r.W > 0.0f && visible(nodes, tris, &s, &e))

@@ -35,6 +35,28 @@ inline bool res_update(Reservoir* r, int light, float u, float v, float w, float
     return false;
 }
 
+/* res_update driven by one uniform *u for the whole stream (QMC, qmc.h): the candidate is picked when *u falls
+ * in its share w / w_sum of [0, 1), and *u is remapped to a fresh uniform in [0, 1) within the part it fell in, for
+ * the next candidate. The choice has the probabilities of res_update, and a stratified *u stratifies it. */
+inline bool res_update_remap(Reservoir* r, int light, float u, float v, float w, float target, float* sel,
+                             float count)
+{
+    r->M += count;
+    if (!(w > 0.0f) || !finite_f(w)) return false;
+    r->w_sum += w;
+    float p = w / r->w_sum, x = *sel;
+    bool pick = x < p;
+    x = pick ? x / p : (x - p) / (1.0f - p);
+    *sel = clamp(x, 0.0f, 0x1.fffffep-1f);  /* below 1: a choice with p = 1 after it must pick */
+    if (pick) {
+        r->light = light;
+        r->u = u;
+        r->v = v;
+        r->target = target;
+    }
+    return pick;
+}
+
 /* W = w_sum / (norm * target(y)), where norm is M (plain RIS / biased reuse) or Z (unbiased reuse).
  * target = 0 or a non-finite result gives an empty reservoir (W = 0), never a division by zero. */
 inline void res_finalize(Reservoir* r, float norm)

@@ -24,8 +24,9 @@ __kernel void restir_initial(const __global GSample* gbuf, const __global Glossy
         LightEval chosen;  /* the evaluation of the picked candidate, for its shadow ray */
         LightPick lp = light_pick_source(slots, light_pdf, tree_nodes, tree_info, tree_distant, p.sampler);
         RisSource src = ris_source(slot_count, tile_count, tile_size, i, frame_params.sample, frame_params.seed);
+        Qmc q = qmc_stream(frame_params.qmc, frame_params.qmc_index, frame_params.qmc_key, (uint)i);
         ris_candidates(&s, lights, &lp, tile_rec, tile_info, src, p.candidates, nodes, tris, tri_light,
-                       bsdf_source(p.sampler), &rng, &r, &chosen);
+                       bsdf_source(p.sampler), &rng, &q, &r, &chosen);
         res_finalize(&r, r.M);
         /* W > 0: a candidate with target > 0 was picked, and chosen holds its evaluation */
         if (visibility_reuse && r.W > 0.0f && !visible(nodes, tris, &s, &chosen)) r.W = 0.0f;

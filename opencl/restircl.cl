@@ -3,6 +3,7 @@
 #include "types.h"
 #include "numerics.h"
 #include "rng.h"
+#include "qmc.h"
 #include "bvh.h"
 #include "camera.h"
 #include "lights.h"

@@ -12,7 +12,9 @@
  * the light tree (light_tree.h) a light picked by a descent at the shading point.
  * With BSDF candidates (bsdf_candidates.h) every weight's source pdf is the two strategies' mixture density, and
  * the BSDF's candidates follow the light candidates; without them the weights are target / pdf exactly as before.
- * With a BSDF sample outside the reservoir (bsdf_mis.h) every light candidate's target is scaled by its MIS weight. */
+ * With a BSDF sample outside the reservoir (bsdf_mis.h) every light candidate's target is scaled by its MIS weight.
+ * With QMC (q->on, qmc.h) the pick, the point on the light and the BSDF direction of every candidate come from the
+ * pixel's scrambled Sobol pairs, and all resampling choices from one uniform (res_update_remap). */
 #ifndef RESTIRCL_RIS_H
 #define RESTIRCL_RIS_H
 
@@ -42,13 +44,14 @@ inline void ris_candidates(const Surface* s, const __global Light* lights, const
                            const __global Light* tile_rec,
                            const __global int2* tile_info, RisSource src, int candidates,
                            const __global BVHNode* nodes, const __global Tri* tris, const __global int* tri_light,
-                           BsdfSource bsdf_frame, uint* rng, Reservoir* r, LightEval* chosen)
+                           BsdfSource bsdf_frame, uint* rng, const Qmc* q, Reservoir* r, LightEval* chosen)
 {
     const BsdfSource bsdf = bsdf_source_at(s, bsdf_frame);
     const float n_light = (float)candidates, n_bsdf = (float)bsdf.count;
     LightEval e;
     bool tiled = src.tile_count > 0;
     uint draw_range = (uint)(tiled ? src.tile_size : src.slot_count);
+    float sel = 0.0f;  /* QMC: the one uniform of the resampling choices (res_update_remap) */
     for (int k0 = 0; k0 < candidates; k0 += RIS_BATCH) {
         int n = min(RIS_BATCH, candidates - k0);
         uint pick[RIS_BATCH];
@@ -56,6 +59,16 @@ inline void ris_candidates(const Surface* s, const __global Light* lights, const
         const __global Light* rec[RIS_BATCH];
         float r0[RIS_BATCH], r1[RIS_BATCH], rnd[RIS_BATCH], pick_pdf[RIS_BATCH];
         for (int k = 0; k < n; ++k) {
+            if (q->on) {
+                uint2 a = qmc_pair_bits(q, QMC_LIGHT_PICK(k0 + k));
+                float2 b = qmc_pair(q, QMC_LIGHT_POINT(k0 + k));
+                pick[k] = lp->tree ? a.x : (uint)(((ulong)a.x * (ulong)draw_range) >> 32);
+                if (k0 + k == 0) sel = qmc_float(a.y);
+                r0[k] = b.x;
+                r1[k] = b.y;
+                rnd[k] = 0.0f;
+                continue;
+            }
             /* a slot, an entry of the tile, or the tree's random word */
             pick[k] = lp->tree ? rng_next_uint(rng) : rng_below(rng, draw_range);
             r0[k] = rng_next(rng);
@@ -86,10 +99,13 @@ inline void ris_candidates(const Surface* s, const __global Light* lights, const
             if (bsdf.count > 0 && t > 0.0f)
                 pdf = mis_mixture_pdf(n_light, pdf, n_bsdf,
                                       bsdf_pdf_of_light_sample(s, rec[k], type[k], light[k], bsdf, &e));
-            if (res_update(r, light[k], uv.x, uv.y, t / pdf, t, rnd[k], 1.0f)) *chosen = e;
+            bool picked = q->on ? res_update_remap(r, light[k], uv.x, uv.y, t / pdf, t, &sel, 1.0f)
+                                : res_update(r, light[k], uv.x, uv.y, t / pdf, t, rnd[k], 1.0f);
+            if (picked) *chosen = e;
         }
     }
-    if (bsdf.count > 0) bsdf_candidates(s, lights, lp, nodes, tris, tri_light, n_light, bsdf, rng, r, chosen);
+    if (bsdf.count > 0) bsdf_candidates(s, lights, lp, nodes, tris, tri_light, n_light, bsdf, rng, q,
+                                     q->on ? &sel : 0, r, chosen);
 }
 
 #endif

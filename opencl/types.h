@@ -236,9 +236,9 @@ typedef struct {
     int pixels;            /* width * height */
     uint sample;           /* frames rendered so far by this renderer */
     uint seed;             /* Settings.seed */
-    int pad0;
-    int pad1;
-    int pad2;
+    int qmc;               /* 1: RIS draws from the pixel's scrambled Sobol sequence (qmc.h, setting sampler) */
+    uint qmc_index;        /* the sample's index in that sequence */
+    uint qmc_key;          /* its scramble key (one per half buffer of a still render) */
 } FrameParams;             /* 32 bytes */
 
 /* What the light samplers draw candidates from (light_array.h, light_tiles.h). */

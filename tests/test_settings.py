@@ -37,6 +37,7 @@ BEFORE = (
     ("light_proposal", "auto"),
     ("boiling_mode", "weight"),
     ("bsdf_mis_sample", False),
+    ("sampler", "auto"),
 )
 NUMBERS = [d for d in declared(Settings) if d.spec.range is not None]
 

@@ -25,7 +25,14 @@ from restircl import (
 from restircl.cli import main
 from restircl.scenes_sky import sky_map
 from restircl.settings import METHODS, STILL_METHODS
-from restircl.still_method import OVERRIDES, SUNNY_CANDIDATES, auto_overrides, scene_kind
+from restircl.still_method import (
+    FEW_LIGHTS,
+    FEW_LIGHTS_CANDIDATES,
+    OVERRIDES,
+    SUNNY_CANDIDATES,
+    auto_overrides,
+    scene_kind,
+)
 
 
 def _scene(light_types: tuple[str, ...] = (), emissive: bool = False) -> Scene:
@@ -124,3 +131,15 @@ def test_cli_still_mode_uses_the_still_estimator_and_animation_mode_does_not(tmp
     assert "still method: restir (temporal, spatial reuse) BSDF sampling auto, as set" in capsys.readouterr().out
     assert main(["render", str(path), "--frames", "2", "--mode", "animation", "--out", str(tmp_path)]) == 0
     assert "still method" not in capsys.readouterr().out
+
+
+def test_auto_takes_few_candidates_with_the_sobol_sampler_on_few_light_objects():
+    few = KINDS["analytic_lights"]  # four light objects
+    many = _scene(("point",) * (FEW_LIGHTS + 1))
+    assert still_settings(Settings(), few).candidates == FEW_LIGHTS_CANDIDATES
+    assert still_settings(Settings(sampler="sobol"), few).candidates == FEW_LIGHTS_CANDIDATES
+    assert still_settings(Settings(sampler="random"), few).candidates == Settings().candidates
+    assert still_settings(Settings(), many).candidates == Settings().candidates
+    assert still_settings(Settings(), KINDS["mesh_lights"]).candidates == Settings().candidates
+    # an explicit still method keeps the candidates as set
+    assert still_settings(Settings(still_method="ris"), few).candidates == Settings().candidates

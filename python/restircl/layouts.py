@@ -65,7 +65,7 @@ def _floats(*names: str) -> list[tuple[str, type]]:
 
 # The parameter structs of the passes (types.h "parameters of the passes"): one per stage, read by field name.
 FRAME_PARAMS = np.dtype([*_ints("width", "height", "pixels"), ("sample", np.uint32), ("seed", np.uint32),
-                         *_ints("pad0", "pad1", "pad2")])
+                         ("qmc", np.int32), ("qmc_index", np.uint32), ("qmc_key", np.uint32)])
 SAMPLER_PARAMS = np.dtype([*_ints("light_count", "slot_count", "tile_count", "tile_size", "bsdf_candidates",
                                   "bsdf_analytic", "bsdf_triangles", "bsdf_glossy_only", "light_tree",
                                   "tree_leaves", "tree_distant"), ("tree_p_local", np.float32)])

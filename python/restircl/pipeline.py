@@ -23,6 +23,7 @@ import numpy as np
 import pyopencl as cl
 
 from . import layouts as L
+from . import qmc
 from .buffers import FrameBuffers, alloc
 from .camera import jitter, views_differ
 from .denoise import denoise_frame
@@ -91,6 +92,7 @@ class Renderer:
         self.width, self.height = int(cam.width), int(cam.height)
         self.pixels = self.width * self.height
         self._sample = 0  # frames rendered so far: the random seed of the next one
+        self.qmc: tuple[int, int, int] | None = None  # FrameParams (qmc, qmc_index, qmc_key) set by a still render
         self._last_frame: int | None = None
         self.light_tiles_used = False  # whether the last frame drew its RIS candidates from the tiles
         self.guard_totals = dict.fromkeys(L.GUARD_NAMES[: L.GUARD_COUNT], 0)
@@ -234,8 +236,11 @@ class Renderer:
 
     def frame_params(self) -> np.void:
         """FrameParams of the next frame: the image and its random stream key."""
+        s = self.settings
+        on, index, key = self.qmc if self.qmc is not None else (
+            (1, self._sample, s.seed) if qmc.frames_use_sobol(s) else qmc.OFF)
         return L.pack(L.FRAME_PARAMS, width=self.width, height=self.height, pixels=self.pixels, sample=self._sample,
-                      seed=self.settings.seed)
+                      seed=s.seed, qmc=on, qmc_index=index % (1 << 32), qmc_key=key)
 
     def _begin_frame(self, frame: int, jitter_px: tuple[float, float] | None) -> FrameState:
         """Upload the scene at `frame` and decide what history the frame may reuse."""
@@ -356,7 +361,10 @@ class Renderer:
         progress(done, samples) is called after each sample; should_stop() before each (a cancel keeps what is
         done); target_error stops once the reference-free error estimate (relMSE) reaches it; checkpoint(done,
         seconds) lets a caller look at the running mean (mean_image) while it accumulates."""
-        return render_still(self, frame, samples, progress, should_stop, target_error, checkpoint)
+        try:
+            return render_still(self, frame, samples, progress, should_stop, target_error, checkpoint)
+        finally:
+            self.qmc = None  # the frames after it draw random numbers again, also when it raised
 
     @property
     def still_counts(self) -> tuple[int, int]:

@@ -79,6 +79,14 @@ STILL_METHOD_CHOICES = (
            "spatial reuse only", 3),
 )
 STILL_METHODS = tuple(c.id for c in STILL_METHOD_CHOICES)
+SAMPLER_CHOICES = (
+    Choice("auto", "Auto", "Scrambled Sobol numbers for still RIS renders (F12), random numbers for animation "
+           "frames, the viewport and ReSTIR", 0),
+    Choice("random", "Random", "Independent random numbers everywhere", 1),
+    Choice("sobol", "Sobol", "Scrambled Sobol numbers for every RIS frame (stills, animation and viewport); "
+           "ReSTIR keeps random numbers", 2),
+)
+SAMPLERS = tuple(c.id for c in SAMPLER_CHOICES)
 AREA_SAMPLING_CHOICES = (
     Choice("auto", "Auto", "Solid angle where an area light looks large from the shaded point, area elsewhere", 0),
     Choice("solid_angle", "Solid Angle", "Area lights, emissive triangles and soft point lights sampled uniformly "
@@ -232,6 +240,11 @@ class Settings:
                                     "light sample, the two combined by multiple importance sampling, instead of "
                                     "BSDF candidates", flag="--bsdf-mis-sample", panel="sampling",
                                     applies_when=_RIS)
+
+    sampler: str = setting("auto", "Sampler", "Where RIS's light pick, point on the light, BSDF direction and "
+                           "resampling choice come from: a per-pixel Owen-scrambled Sobol sequence (a still's mean has "
+                           "less error at equal frames than with random numbers) or random numbers",
+                           flag="--sampler", choices=SAMPLER_CHOICES, panel="sampling", applies_when=_RIS)
 
     def validate(self) -> Settings:
         check(self)

@@ -23,6 +23,7 @@ from .camera import halton
 from .denoise import denoise_frame
 from .frame import read_image
 from .kernels import Kernels
+from .qmc import still_key, still_uses_sobol
 
 if TYPE_CHECKING:
     from .pipeline import Frame, Renderer
@@ -142,10 +143,16 @@ def render_still(
     # Two independently shifted Halton sequences (randomised QMC) are independent estimates of the pixel.
     counts = [0, 0]
     shifts = np.random.default_rng([r.settings.seed, 0x5EED]).random((2, 2))
+    # RIS samples from a scrambled Sobol sequence (qmc.py): one index count and one scramble key per half buffer
+    sobol = still_uses_sobol(r.settings)
+    qmc_counts = [0, 0]
     for k in range(max(int(samples), 1)):
         if should_stop is not None and done > 0 and should_stop():
             break
         half = half_of(k)
+        if sobol:
+            r.qmc = (1, qmc_counts[half], still_key(r.settings.seed, half))
+            qmc_counts[half] += 1
         jit = None
         if r.settings.jitter:
             i = counts[half] = counts[half] + 1
@@ -174,6 +181,7 @@ def render_still(
             estimate = acc.error_estimate(done, n_half)
             if estimate is not None and estimate <= target_error:
                 break
+    r.qmc = None
     if chains and history.active != 0:  # back to the first chain: the renderer's own history
         history.use_chain(0, fresh=False)
     done, n_half = acc.counts

@@ -51,10 +51,20 @@ def scene_kind(scene: Scene) -> str:
     return "analytic_lights"
 
 
+#: with the Sobol sampler (qmc.py), scenes of at most this many light objects and no emissive triangles render
+#: their stills with FEW_LIGHTS_CANDIDATES light candidates: the fewer candidates a frame has, the more of its
+#: error the stratified dimension pairs remove, and the frames are cheaper (docs/error-vs-time.md, "Sobol sampler")
+FEW_LIGHTS = 16
+FEW_LIGHTS_CANDIDATES = 2
+
+
 def auto_overrides(scene: Scene, settings: Settings) -> dict:
     """What `auto` changes in `settings` (whose Method is ReSTIR) for a still of `scene`. A BSDF sampling switched
     off by the user stays off (and so does the BSDF MIS sample of a sunny world)."""
-    over = dict(RULE[scene_kind(scene)])
+    kind = scene_kind(scene)
+    over = dict(RULE[kind])
+    if kind == "analytic_lights" and len(scene.lights) <= FEW_LIGHTS and settings.sampler != "random":
+        over["candidates"] = FEW_LIGHTS_CANDIDATES
     if settings.bsdf_sampling == "off":
         over.pop("bsdf_sampling", None)
     elif is_sunny(scene.environment):

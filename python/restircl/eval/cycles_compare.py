@@ -62,12 +62,17 @@ OURS: dict[str, dict] = {
     "spatial_bsdf": {"temporal": False, "bsdf_sampling": "on"},
     "short_history": {"m_cap": 2.0},
     "auto": {},  # through still_settings (STILL_PATH)
+    # F12's still path with random numbers (sampler random: F12 before the Sobol sampler), and RIS with the Sobol
+    # sampler at 2 and 8 light candidates (the measurement behind still_method's FEW_LIGHTS rule)
+    "auto_random": {"sampler": "random"},
+    "ris_c2": {"method": "ris", "candidates": 2},
+    "ris_c8": {"method": "ris", "candidates": 8},
     # the light tree as the candidates' proposal (light_tree.py)
     "default_tree": {"light_proposal": "tree"},
     "ris_tree": {"method": "ris", "light_proposal": "tree"},
 }
 #: our methods whose settings go through still_settings, as F12's and the CLI's still renders do
-STILL_PATH = ("auto",)
+STILL_PATH = ("auto", "auto_random")
 #: what a comparison runs unless told otherwise; any of OURS may be named
 METHODS = ("cycles", "default", "auto", "ris")
 ALL_METHODS = ("cycles", *OURS)
