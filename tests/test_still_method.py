@@ -106,8 +106,8 @@ def test_auto_adds_the_bsdf_mis_sample_under_a_sunny_world_only():
     assert still_settings(Settings(candidates=6), sunny).candidates == 6
     assert not still_settings(Settings(bsdf_sampling="off"), sunny).bsdf_mis_sample
     for scene in (grey, _scene(("point",))):
-        got = still_settings(Settings(), scene)
-        assert not got.bsdf_mis_sample and got.candidates == Settings().candidates
+        got = still_settings(Settings(), scene)  # one light object: the Sobol sampler's few-lights rule
+        assert not got.bsdf_mis_sample and got.candidates == FEW_LIGHTS_CANDIDATES
     constant = _scene(("point",))
     constant.environment = Environment("constant", color=(0.5, 0.5, 0.5))
     assert not still_settings(Settings(), constant).bsdf_mis_sample
@@ -141,5 +141,6 @@ def test_auto_takes_few_candidates_with_the_sobol_sampler_on_few_light_objects()
     assert still_settings(Settings(sampler="random"), few).candidates == Settings().candidates
     assert still_settings(Settings(), many).candidates == Settings().candidates
     assert still_settings(Settings(), KINDS["mesh_lights"]).candidates == Settings().candidates
-    # an explicit still method keeps the candidates as set
+    # a user's own candidate count, and an explicit still method, keep the candidates as set
+    assert still_settings(Settings(candidates=6), few).candidates == 6
     assert still_settings(Settings(still_method="ris"), few).candidates == Settings().candidates

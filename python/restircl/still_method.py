@@ -53,7 +53,8 @@ def scene_kind(scene: Scene) -> str:
 
 #: with the Sobol sampler (qmc.py), scenes of at most this many light objects and no emissive triangles render
 #: their stills with FEW_LIGHTS_CANDIDATES light candidates: the fewer candidates a frame has, the more of its
-#: error the stratified dimension pairs remove, and the frames are cheaper (docs/error-vs-time.md, "Sobol sampler")
+#: error the stratified dimension pairs remove, and the frames are cheaper (docs/error-vs-time.md, "Sobol sampler").
+#: Under a sunny world SUNNY_CANDIDATES applies instead (measured with the BSDF MIS sample).
 FEW_LIGHTS = 16
 FEW_LIGHTS_CANDIDATES = 2
 
@@ -63,13 +64,15 @@ def auto_overrides(scene: Scene, settings: Settings) -> dict:
     off by the user stays off (and so does the BSDF MIS sample of a sunny world)."""
     kind = scene_kind(scene)
     over = dict(RULE[kind])
-    if kind == "analytic_lights" and len(scene.lights) <= FEW_LIGHTS and settings.sampler != "random":
+    default_candidates = settings.candidates == Settings.candidates  # a user's own count is kept
+    if (kind == "analytic_lights" and len(scene.lights) <= FEW_LIGHTS and settings.sampler != "random"
+            and default_candidates):
         over["candidates"] = FEW_LIGHTS_CANDIDATES
     if settings.bsdf_sampling == "off":
         over.pop("bsdf_sampling", None)
     elif is_sunny(scene.environment):
         over.update(SUNNY)
-        if settings.candidates == Settings.candidates:
+        if default_candidates:
             over["candidates"] = SUNNY_CANDIDATES
     return over
 
