@@ -36,6 +36,7 @@ BEFORE = (
     ("area_sampling", "area"),
     ("light_proposal", "auto"),
     ("boiling_mode", "weight"),
+    ("deferred_visibility", False),
 )
 NUMBERS = [d for d in declared(Settings) if d.spec.range is not None]
 
