@@ -36,7 +36,6 @@ BEFORE = (
     ("area_sampling", "area"),
     ("light_proposal", "auto"),
     ("boiling_mode", "weight"),
-    ("deferred_visibility", False),
 )
 NUMBERS = [d for d in declared(Settings) if d.spec.range is not None]
 
