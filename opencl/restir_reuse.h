@@ -5,21 +5,9 @@
  *   BIAS_Z_COUNT  1/Z: W normalised by the M of the inputs whose support holds the chosen sample;
  *   BIAS_PAIRWISE pairwise MIS (restir_pairwise.h; for n = 1 the balance heuristic of the two inputs).
  * Every stored reservoir keeps one invariant: with visibility reuse, W > 0 only for a sample visible at its pixel.
- * A sample taken from an input is therefore shadow-tested here once picked; the canonical one is known visible,
- * unless canonical_known is 0 (deferred visibility: the initial pass left its shadow ray to the temporal pass, which
- * tests whichever sample its merge keeps, canonical_verify). */
+ * A sample taken from an input is therefore shadow-tested here once picked; the canonical one is known visible. */
 #ifndef RESTIRCL_RESTIR_REUSE_H
 #define RESTIRCL_RESTIR_REUSE_H
-
-/* Deferred visibility: keep W > 0 of the canonical reservoir c at surface s only for a sample visible there. */
-inline void canonical_verify(const Surface* s, const __global BVHNode* nodes, const __global Tri* tris,
-                             const __global Light* lights, Reservoir* c)
-{
-    LightEval e;
-    if (c->light >= 0 && c->W > 0.0f
-        && !(target_of(s, lights, c->light, c->u, c->v, &e) > 0.0f && visible(nodes, tris, s, &e)))
-        c->W = 0.0f;
-}
 
 /* Combine c with qs[0 .. n-1] at surface s into *r (finalised). Input k's surface is pixel input_pixel[k] of
  * input_gbuf and input_glossy, and qs[k].target its target at its own sample there, evaluated with this frame's lights (read by BIAS_PAIRWISE only).
@@ -29,7 +17,7 @@ inline int reuse_combine(const Surface* s, const Reservoir* c, const Reservoir* 
                          const __global GSample* input_gbuf, const __global GlossySample* input_glossy,
                          const int* input_pixel, const __global BVHNode* nodes,
                          const __global Tri* tris, const __global Light* lights, int bias_correction, int visibility,
-                         int canonical_known, uint* rng, Reservoir* r)
+                         uint* rng, Reservoir* r)
 {
     res_init(r);
     LightEval e, chosen;  /* chosen: the evaluation at s of the sample picked from an input */
@@ -69,13 +57,8 @@ inline int reuse_combine(const Surface* s, const Reservoir* c, const Reservoir* 
     }
     /* r->W > 0 with src < 0 means the canonical sample was picked (an input of weight 0 never is); a sample from an
      * input was picked with target > 0 at s, evaluated in chosen */
-    if (visibility && bias_correction != BIAS_NONE && r->W > 0.0f) {
-        if (src >= 0) {
-            if (!visible(nodes, tris, s, &chosen)) r->W = 0.0f;
-        } else if (!canonical_known) {
-            canonical_verify(s, nodes, tris, lights, r);
-        }
-    }
+    if (visibility && bias_correction != BIAS_NONE && r->W > 0.0f && src >= 0 && !visible(nodes, tris, s, &chosen))
+        r->W = 0.0f;
     return src;
 }
 

@@ -73,6 +73,6 @@ __kernel void restir_spatial(const __global GSample* gbuf, const __global Glossy
     for (int k = 0; k < n_used; ++k) qs[k] = input[used[k]];
 
     Reservoir r;
-    reuse_combine(&s, &c, qs, n_used, gbuf, glossy, used, nodes, tris, lights, bias_correction, visibility_reuse, 1, &rng, &r);
+    reuse_combine(&s, &c, qs, n_used, gbuf, glossy, used, nodes, tris, lights, bias_correction, visibility_reuse, &rng, &r);
     out[i] = r;
 }

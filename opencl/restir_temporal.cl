@@ -4,17 +4,7 @@
  * target at its own sample, at last frame's surface with this frame's lights and geometry; lights_static: the light
  * records are last frame's, so that is the target the reservoir stored and is not evaluated again. Last frame's
  * surface must carry a similar material (surface_material_similar), and the history cap shrinks on view-dependent
- * (glossy) surfaces, whose target moves with the camera (view_dependence.h).
- * canonical_unverified (deferred visibility): the initial pass did not shadow-test its sample; this pass tests the
- * sample it keeps, whichever input it came from, so that its output holds the invariant of restir_reuse.h. */
-
-/* The pixel's own reservoir c, output alone (no history to merge); deferred: shadow-tested first. */
-inline Reservoir temporal_keep(const Surface* s, const __global BVHNode* nodes, const __global Tri* tris,
-                               const __global Light* lights, Reservoir c, int deferred)
-{
-    if (deferred) canonical_verify(s, nodes, tris, lights, &c);
-    return c;
-}
+ * (glossy) surfaces, whose target moves with the camera (view_dependence.h). */
 
 __kernel void restir_temporal(const __global GSample* gbuf, const __global GSample* prev_gbuf,
                               const __global GlossySample* glossy, const __global GlossySample* prev_glossy,
@@ -26,7 +16,7 @@ __kernel void restir_temporal(const __global GSample* gbuf, const __global GSamp
     const TemporalParams p = params;
     const int width = frame_params.width, height = frame_params.height;
     const int bias_correction = p.bias_correction, visibility_reuse = p.visibility_reuse;
-    const int lights_static = p.lights_static, deferred = p.canonical_unverified;
+    const int lights_static = p.lights_static;
     int x = get_global_id(0), y = get_global_id(1);
     if (x >= width || y >= height) return;
     int i = y * width + x;
@@ -35,27 +25,18 @@ __kernel void restir_temporal(const __global GSample* gbuf, const __global GSamp
     if (!s.valid) { out[i] = c; return; }
     int j = reproject_pixel(gbuf, prev_gbuf, x, y, width, height, p.similar.depth_tolerance, p.similar.normal_cos,
                             p.permutation);
-    /* from here on, an early exit keeps c alone: deferred, it is shadow-tested first */
-    if (j < 0) { out[i] = temporal_keep(&s, nodes, tris, lights, c, deferred); return; }
+    if (j < 0) { out[i] = c; return; }
     Surface sp = surface_load(prev_gbuf, prev_glossy, j);
-    if (!surface_material_similar(&s, &sp)) {  /* a glossy target is not a diffuse one's */
-        out[i] = temporal_keep(&s, nodes, tris, lights, c, deferred);
-        return;
-    }
+    if (!surface_material_similar(&s, &sp)) { out[i] = c; return; }  /* a glossy target is not a diffuse one's */
     Reservoir q = previous[j];
     q.M = fmin_f(q.M, p.m_cap * view_dependent_cap(&s));
-    if (!finite_f(q.W) || !finite_f(q.M)) {
-        guard_count(guards, GUARD_NONFINITE_RESERVOIR);
-        out[i] = temporal_keep(&s, nodes, tris, lights, c, deferred);
-        return;
-    }
+    if (!finite_f(q.W) || !finite_f(q.M)) { guard_count(guards, GUARD_NONFINITE_RESERVOIR); out[i] = c; return; }
     uint rng = rng_seed((uint)i, frame_params.sample, frame_params.seed, 4u);
     if (bias_correction == BIAS_PAIRWISE && !lights_static && q.light >= 0 && q.W > 0.0f) {
         LightEval e;
         q.target = target_of(&sp, lights, q.light, q.u, q.v, &e);
     }
     Reservoir r;
-    reuse_combine(&s, &c, &q, 1, prev_gbuf, prev_glossy, &j, nodes, tris, lights, bias_correction, visibility_reuse,
-                  !deferred, &rng, &r);
+    reuse_combine(&s, &c, &q, 1, prev_gbuf, prev_glossy, &j, nodes, tris, lights, bias_correction, visibility_reuse, &rng, &r);
     out[i] = r;
 }

@@ -282,7 +282,7 @@ typedef struct {
     int visibility_reuse;
     int lights_static;     /* 1: the light records are last frame's */
     uint permutation;      /* 0: none; else 16 | a per-frame 4-bit key (permutation sampling, reproject.h) */
-    int canonical_unverified;  /* 1: deferred visibility, the initial pass did not shadow-test its sample */
+    int pad0;
     int pad1;
     int pad2;
 } TemporalParams;          /* 48 bytes */

@@ -105,22 +105,6 @@ def test_unbiased_mode_with_light_tiles_matches_reference(device, references, si
     assert_matches(runs, references["mixed_lights", size], "mixed_lights light tiles")
 
 
-@pytest.mark.parametrize("size", SIZE_PARAMS)
-@pytest.mark.parametrize(("scene_name", "bias_correction"),
-                         [("occluders", "pairwise"), ("mixed_lights", "pairwise"), ("occluders", "z_count")])
-def test_deferred_visibility_stays_unbiased(device, references, scene_name, bias_correction, size):
-    """Deferred visibility: the initial pass leaves its shadow ray to the temporal pass, which tests the sample it
-    keeps (from history or not, or the pixel's own where there is no history), so the spatial pass still receives
-    only samples visible at their pixels."""
-    scene = occluder_scene(W, H) if scene_name == "occluders" else mixed_lights_scene(W, H)
-    cap = dict(m_cap=4.0) if bias_correction == "z_count" else {}
-    s = Settings(method="restir", bias_correction=bias_correction, deferred_visibility=True, jitter=False,
-                 taa=False, seed=16, **cap)
-    runs = run_means(scene, s, SIZES[size][0], SIZES[size][1], device)
-    assert np.all(np.isfinite(runs))
-    assert_matches(runs, references[scene_name, size], f"{scene_name} deferred visibility {bias_correction}")
-
-
 @pytest.mark.parametrize("scene_name", ["occluders", "mixed_lights"])
 def test_permutation_sampling_stays_unbiased(device, references, scene_name):
     """Temporal reuse from a permuted neighbour in a 4x4 block (reproject.h), then spatial reuse: pairwise MIS

@@ -45,7 +45,6 @@ VARIANTS: dict[str, dict] = {
     "n3": dict(spatial_neighbours=3),
     "novis_n2": dict(visibility_reuse=False, spatial_neighbours=2),
     "c4_novis_n2": dict(candidates=4, visibility_reuse=False, spatial_neighbours=2),
-    "deferred": dict(deferred_visibility=True),
 }
 
 

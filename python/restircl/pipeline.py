@@ -201,13 +201,10 @@ class Renderer:
             timer.mark("tiles")
         tiles = self.light_tiles.arguments(state)
         if state.method == "restir":
-            temporal = s.temporal and state.restir_history
-            # deferred visibility: the temporal pass shadow-tests the sample it keeps instead
-            deferred = temporal and s.deferred_visibility and s.visibility_reuse and s.bias_correction != "none"
-            res = self.initial.run(state, tiles, deferred)  # 2-3 RIS -> reservoir, visibility of the chosen sample
+            res = self.initial.run(state, tiles)  # 2-3 RIS -> reservoir, visibility of the chosen sample
             timer.mark("initial")
-            if temporal:  # 4 merge last frame's reservoir
-                res = self.temporal.run(state, res, deferred)
+            if s.temporal and state.restir_history:  # 4 merge last frame's reservoir
+                res = self.temporal.run(state, res)
                 timer.mark("temporal")
             if s.boiling_filter > 0 and not still:  # 4b biased: the animation path only
                 self.boiling.run(state, res)

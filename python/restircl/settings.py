@@ -133,10 +133,6 @@ class Settings:
     visibility_reuse: bool = setting(True, "Visibility Reuse", "Shadow-test the initial sample before reuse; "
                                      "unbiased reuse then counts visibility", flag="--no-visibility-reuse",
                                      panel="reuse", applies_when=_RESTIR)
-    deferred_visibility: bool = setting(False, "Deferred Visibility", "Unbiased reuse with visibility reuse: "
-                                        "shadow-test the initial sample after the temporal merge, not before it "
-                                        "(one shadow ray fewer where a pixel has history)",
-                                        flag="--deferred-visibility", panel="reuse", applies_when=_TEMPORAL)
     taa: bool = setting(True, "Temporal Anti-Aliasing", "Blend each animation frame with the reprojected, clipped "
                         "colour history", flag="--no-taa", panel="taa")
     alpha_min: float = setting(0.1, "Minimum Blend", "Smallest weight of the new frame in the TAA blend",

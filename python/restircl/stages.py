@@ -133,11 +133,10 @@ class LightTiles(Stage):
 class Initial(Stage):
     """2-3: RIS over the light candidates into a reservoir; with visibility reuse, the chosen sample's shadow ray."""
 
-    def run(self, state: FrameState, tiles: dict[str, cl.Buffer], deferred: bool = False) -> cl.Buffer:
-        """deferred: the temporal pass shadow-tests the sample it keeps (deferred visibility), so this one does not."""
+    def run(self, state: FrameState, tiles: dict[str, cl.Buffer]) -> cl.Buffer:
         s, h = self.settings, self.history
         params = L.pack(L.INITIAL_PARAMS, sampler=state.sampler, candidates=s.candidates,
-                        visibility_reuse=int(s.visibility_reuse and not deferred))
+                        visibility_reuse=int(s.visibility_reuse))
         out = self.buffers.res_initial
         self.kernels.launch("restir_initial", pixel_count(state), gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
                             **self.scene.geometry, **self.scene.light_sampling, **self.scene.light_tree_args,
@@ -160,14 +159,13 @@ class Temporal(Stage):
         key = int(state.frame_params["sample"]) * 0x9E3779B1 + int(state.frame_params["seed"]) * 0x85EBCA6B
         return 16 | ((key & 0xFFFFFFFF) >> 28)
 
-    def run(self, state: FrameState, current: cl.Buffer, deferred: bool = False) -> cl.Buffer:
-        """deferred: the initial pass left its shadow ray to this one (Settings.deferred_visibility)."""
+    def run(self, state: FrameState, current: cl.Buffer) -> cl.Buffer:
         s, h = self.settings, self.history
         per_frame = s.candidates + int(state.sampler["bsdf_candidates"])  # the M of an initial reservoir
         params = L.pack(L.TEMPORAL_PARAMS, m_cap=s.m_cap * per_frame, similar=self._similarity(),
                         bias_correction=self.bias_code, visibility_reuse=int(s.visibility_reuse),
                         lights_static=int(not self.scene.lights_changed),
-                        permutation=self._permutation(state), canonical_unverified=int(deferred))
+                        permutation=self._permutation(state))
         out = self.buffers.res_temp
         self.kernels.launch("restir_temporal", image_size(state), gbuf=h.gbuf(h.cur), prev_gbuf=h.gbuf(h.prev),
                             glossy=h.glossy(h.cur), prev_glossy=h.glossy(h.prev),
