@@ -1,0 +1,90 @@
+"""Issue 23: CPU ms (all threads of the process) per frame stage of Settings variants on many_lights, interleaved
+round by round in one process. CPU time is steadier than wall time on the shared machine; it counts what the
+device's threads spent on a stage, not how long it waited for a core.
+
+    python tools/stage_cpu.py '{"default": {}, "ris8": {"settings": {"method": "ris"}}, "l256": {"local": 256}}'
+        [--rounds 3] [--frames 4] [--width 640 --height 360]
+
+A variant is {"settings": Settings keywords, "local": work-items per work-group (kernels.LOCAL_ITEMS; 8x8 stays
+the 2D shape for 64)}. Prints the median over the frames of each stage and of their sum.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import time
+
+import pyopencl as cl
+from restircl import kernels, pipeline, stages
+from restircl.pipeline import Renderer, Settings
+from restircl.scenes import many_lights
+
+_LAST: dict[str, dict[str, float]] = {}
+_LOCAL: list[int | None] = [None]
+_local_size = kernels.local_size
+
+
+class CpuStageTimer(stages.StageTimer):
+    """The stage timer, also keeping the process's CPU ms per stage (in _LAST["cpu"])."""
+
+    def __init__(self, queue: cl.CommandQueue) -> None:
+        super().__init__(queue)
+        self.c = time.process_time()
+        self.cpu: dict[str, float] = {}
+        _LAST["cpu"] = self.cpu
+
+    def mark(self, name: str) -> None:
+        super().mark(name)
+        c1 = time.process_time()
+        self.cpu[name] = self.cpu.get(name, 0.0) + (c1 - self.c) * 1e3
+        self.c = c1
+
+
+def _variant_local_size(dims: int, max_items: int) -> tuple[int, ...]:
+    if _LOCAL[0] is None:
+        return _local_size(dims, max_items)
+    saved = kernels.LOCAL_ITEMS
+    kernels.LOCAL_ITEMS = _LOCAL[0]
+    try:
+        return _local_size(dims, max_items)
+    finally:
+        kernels.LOCAL_ITEMS = saved
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("variants", help="JSON: name -> {settings: {...}, local: n}")
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--frames", type=int, default=4, help="frames per variant and round")
+    ap.add_argument("--width", type=int, default=640)
+    ap.add_argument("--height", type=int, default=360)
+    a = ap.parse_args()
+    pipeline.StageTimer = CpuStageTimer  # type: ignore[misc]
+    kernels.local_size = _variant_local_size
+    variants: dict[str, dict] = json.loads(a.variants)
+    scene = many_lights(width=a.width, height=a.height, frames=16)
+    renderers = {n: Renderer(scene, Settings(**v.get("settings", {}))) for n, v in variants.items()}
+    frame = dict.fromkeys(renderers, 0)
+    cpu: dict[str, dict[str, list[float]]] = {n: {} for n in renderers}
+    print(f"many_lights {a.width}x{a.height}, load {os.getloadavg()}", flush=True)
+    for rnd in range(a.rounds + 1):  # round 0: warm-up (program build, uploads, history)
+        for n, r in renderers.items():
+            _LOCAL[0] = variants[n].get("local")
+            for _ in range(a.frames):
+                r.render_frame(frame[n] % scene.frames, aovs=False)
+                frame[n] += 1
+                if rnd > 0:
+                    for k, v in _LAST["cpu"].items():
+                        cpu[n].setdefault(k, []).append(v)
+        print(f"round {rnd} done, load {os.getloadavg()}", flush=True)
+    for n, d in cpu.items():
+        total = [sum(x) for x in zip(*d.values(), strict=True)]
+        parts = " ".join(f"{k} {statistics.median(v):6.1f}" for k, v in d.items() if k != "upload")
+        print(f"{n:<16} CPU ms {statistics.median(total):7.1f} = [{parts}]")
+
+
+if __name__ == "__main__":
+    main()
