@@ -1,5 +1,5 @@
 """Material previews (bl_use_preview) rendered by restircl, through Blender's own preview job: in background bpy,
-ed.lib_id_generate_preview renders a material's icon preview (128x128, Blender's preview scene: the sphere, two
+ID.asset_generate_preview renders a material's icon preview (128x128, Blender's preview scene: the sphere, two
 area lights, the checker floor, the preview world, film transparent) on a job thread, calling the engine's render
 with is_preview set. The icon must be finite, use preview_samples of the user's scene, and agree in level on the
 sphere with the icon Cycles renders of the same material.
@@ -29,8 +29,7 @@ def icon(material, engine: str, timeout: float = 300.0) -> np.ndarray:
     job runs on a thread of its own: wait (sleeping, so the job gets Python) until its pixels arrive."""
     bpy.context.scene.render.engine = engine
     mat = material.copy()
-    with bpy.context.temp_override(id=mat):
-        bpy.ops.ed.lib_id_generate_preview()
+    mat.asset_generate_preview()  # ed.lib_id_generate_preview's job; that operator's poll fails in 5.3
     end = time.monotonic() + timeout
     while time.monotonic() < end:
         time.sleep(0.05)
