@@ -140,7 +140,9 @@ def test_view_update_and_draw_run_a_session(monkeypatch):
     assert session.error is None, session.error
     viewport.view_draw(engine, ctx, dg)  # the done frame
     assert drawn and drawn[-1] == ((24, 32, 4), 64, 48, True)  # pixel size 2: half the region each way
+    # the header: samples, ms per frame, device
     assert "sample 3/3" in engine.stats[-1] and "ms/frame" in engine.stats[-1]
+    assert session.device_label and engine.stats[-1].endswith(f"| {session.device_label}")
     redraws = engine.redraws
     viewport.view_draw(engine, ctx, dg)
     assert engine.redraws == redraws  # done: no more polling

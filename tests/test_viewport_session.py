@@ -81,6 +81,7 @@ def test_frames_are_finite_and_stop_at_the_sample_limit():
         assert sess.stats.frames == 5 and sess.latest().index == 5
         assert set(redraws) == {"restircl-viewport"}  # never on the caller's thread
         assert "sample 5/5" in sess.status_text() and "ms/frame" in sess.status_text()
+        assert sess.device_label and sess.status_text().endswith(f"| {sess.device_label}")  # the device
     finally:
         assert sess.stop()
 

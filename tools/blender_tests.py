@@ -8,7 +8,8 @@ under --venv-root (made once, then reused while its requirements are unchanged),
 from this checkout. The extension zip is built once here (tools/build_extension.py) and installed by each
 release's own installer (tests/test_blender_extension.py). What runs where (RELEASES):
 
-  - 5.3, the current release (CPython 3.13): every Blender test, as the main run does on 5.0;
+  - 5.3, the current release (CPython 3.13): every Blender test (the viewport's in bpy too), as the main run
+    does on 5.0;
   - 4.2, the oldest supported LTS (CPython 3.11, numpy < 2 as Blender 4.2 ships): the zip installed into an empty
     user folder + enable + F12 agreeing with Cycles, registration and settings (test_blender_addon.py), the
     export of every data-block type (test_blender_export.py: where 4.2's API differs) and the mixed-light Cycles
@@ -43,8 +44,9 @@ class Release:
     tests: tuple[str, ...]  # pytest arguments
 
 
-# every Blender test file (those of new features included), and the zip builder's
+# every Blender test file (those of new features included), the viewport's in bpy, and the zip builder's
 ALL_BLENDER_TESTS = (*sorted(str(p.relative_to(ROOT)) for p in (ROOT / "tests").glob("test_blender_*.py")),
+                     "tests/test_viewport_blender.py", "tests/test_viewport_draw.py", "tests/test_ortho_blender.py",
                      "tests/test_build_extension.py")
 RELEASES = {
     "5.3": Release("3.13", "5.3.0", (), ALL_BLENDER_TESTS),

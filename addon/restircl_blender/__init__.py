@@ -31,7 +31,7 @@ bl_info = {  # for installing the folder as a legacy add-on; the extension uses 
 class RestirclRenderEngine(bpy.types.RenderEngine):
     bl_idname = "RESTIRCL"
     bl_label = "restircl"
-    bl_use_preview = False
+    bl_use_preview = True  # material previews: preview.py
     bl_use_postprocess = True
     bl_use_eevee_viewport = True  # the Material Preview shading mode uses EEVEE; Rendered uses view_draw
     bl_use_shading_nodes_custom = False  # materials use Blender's shader nodes

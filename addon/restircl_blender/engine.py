@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 from restircl.passes import PASSES, blender_name
 
-from . import compat, export
+from . import compat, export, preview
 
 MAX_REPORTED_WARNINGS = 8
 
@@ -131,6 +131,9 @@ def _render(engine, depsgraph) -> None:
     known = tuple(getattr(restircl, n) for n in ("DeviceError", "KernelBuildError", "SceneError", "SettingError")
                   if hasattr(restircl, n)) + (export.ExportError,)
 
+    if engine.is_preview:
+        preview.render_preview(engine, depsgraph, restircl, known)
+        return
     frame = int(scene.frame_current)
     animation = bool(engine.is_animation)
     key = (scene.name, view_layer.name)

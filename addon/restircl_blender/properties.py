@@ -24,6 +24,9 @@ class EngineSettings:
     target_error: float = setting(0.0, "Target Error", "Still render: stop before Samples once the estimated relMSE "
                                   "of the image (from two half buffers, no reference) reaches this; 0 = off",
                                   range=Range(float, 0, finite=True), panel="sampling", soft_max=0.1, precision=4)
+    preview_samples: int = setting(16, "Preview Samples", "Material previews (the Material tab's preview and the "
+                                   "material icons): frames accumulated for each", range=Range(int, 1, 1 << 16),
+                                   panel="viewport", soft_max=256)
     viewport_samples: int = setting(128, "Viewport Samples", "Rendered viewport: frames averaged while the view "
                                     "stays still, after which the viewport stops rendering until something changes",
                                     range=Range(int, 1, 1 << 20), panel="viewport", soft_max=4096)

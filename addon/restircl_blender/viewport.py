@@ -100,7 +100,12 @@ def scene_edit(depsgraph, vp: Viewport) -> SceneEdit | None:
     full = lights = materials = False
     shading = trees = False  # an object's shading or a node tree changed: a material edit's echo, or something else
     mats = None
-    for u in depsgraph.updates:
+    updates = list(depsgraph.updates)
+    # Blender 5.3 flags an object's geometry as updated when only one of its materials changed (a material can
+    # displace); its mesh data's own update then says the geometry is the same
+    material_edit = any(isinstance(u.id, bpy.types.Material) for u in updates)
+    reshaped = {u.id.name for u in updates if isinstance(u.id, bpy.types.Mesh) and u.is_updated_geometry}
+    for u in updates:
         idb = u.id
         if isinstance(idb, bpy.types.Object):
             if idb.type == "CAMERA":
@@ -108,7 +113,9 @@ def scene_edit(depsgraph, vp: Viewport) -> SceneEdit | None:
             if idb.type == "LIGHT":
                 lights = True
                 continue
-            if u.is_updated_shading and not (u.is_updated_geometry or u.is_updated_transform):
+            echo = (material_edit and u.is_updated_geometry and idb.type == "MESH"
+                    and getattr(idb.data, "name", None) not in reshaped)
+            if u.is_updated_shading and (echo or not u.is_updated_geometry) and not u.is_updated_transform:
                 shading = True  # one of its materials changed (whose own update comes with it), or its shading
                 continue
             if idb.type == "MESH" and idb.name in vp.mesh_names and not u.is_updated_geometry:
