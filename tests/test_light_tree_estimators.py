@@ -14,21 +14,21 @@ from .test_restir import SIZES as RESTIR_SIZES
 
 W, H = 16, 12
 TREE = dict(light_proposal="tree", jitter=False)
-# Both checks run at test_estimators.py's and test_restir.py's two sizes ("quick" in the default suite, "full"
-# behind the slow marker) against the same reference renders (one per session).
+# The ReSTIR checks run at test_restir.py's two sizes ("quick" in the default suite, "full" behind the slow marker)
+# against the same reference renders (one per session). The RIS check runs at the full size only: at
+# test_estimators.py's quick size (2048 frames, 32 batches) the tree's rare picks leave batches without them, the
+# batch standard errors come out too small and z reaches 17 on a few pixels (measured, seed 9).
 
 
 @pytest.fixture(scope="module")
-def references(reference_samples):
-    return lambda size: reference_samples(h.mixed_lights_scene(W, H), h.Settings(method="reference", seed=101,
-                                                                                 jitter=False), RIS_SIZES[size][0])
+def reference(reference_samples):
+    return reference_samples(h.mixed_lights_scene(W, H), h.Settings(method="reference", seed=101, jitter=False),
+                             RIS_SIZES["full"][0])
 
 
-@pytest.mark.parametrize("size", SIZE_PARAMS)
 @pytest.mark.parametrize("bsdf", ["off", "on"])
-def test_ris_with_the_tree_matches_reference(device, references, bsdf, size):
-    frames, batches = RIS_SIZES[size]
-    reference = references(size)
+def test_ris_with_the_tree_matches_reference(device, reference, bsdf):
+    frames, batches = RIS_SIZES["full"]
     s = h.Settings(method="ris", candidates=4, seed=9, bsdf_sampling=bsdf, **TREE)
     samples = h.collect(h.mixed_lights_scene(W, H), s, frames, device)
     assert np.all(np.isfinite(samples))
