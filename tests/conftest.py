@@ -1,4 +1,5 @@
-"""Test set-up: a per-run kernel cache directory (fast and clean), the OpenCL device, small helpers."""
+"""Test set-up: a per-run kernel cache directory (fast and clean), the OpenCL device, the session's cache of
+exhaustive reference renders, small helpers."""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ _CACHE = tempfile.mkdtemp(prefix="restircl-test-cache-")
 os.environ.setdefault("POCL_CACHE_DIR", os.path.join(_CACHE, "pocl"))
 os.environ.setdefault("PYOPENCL_CACHE_DIR", os.path.join(_CACHE, "pyopencl"))
 
+import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
 
@@ -18,6 +20,30 @@ def device():
     from restircl.device import get_device
 
     return get_device()
+
+
+@pytest.fixture(scope="session")
+def reference_samples(device, tmp_path_factory):
+    """reference_samples(scene, settings, frames): the per-frame samples of helpers.collect, computed once per
+    pytest session. Several test files compare against the same exhaustive render of the same test scene (at
+    8192 frames a few seconds each on 2 cores); the key is everything the render depends on: the scene file's
+    digest, the settings, the frame count and the device. The arrays are shared: read-only."""
+    from restircl.eval.report_reference import scene_digest
+
+    from .helpers import collect
+
+    digest_dir = tmp_path_factory.mktemp("reference_digests")
+    cache: dict[tuple[str, str, int, str], np.ndarray] = {}
+
+    def get(scene, settings, frames: int) -> np.ndarray:
+        key = (scene_digest(scene, digest_dir), repr(settings), int(frames), device.label)
+        if key not in cache:
+            samples = collect(scene, settings, frames, device)
+            samples.flags.writeable = False
+            cache[key] = samples
+        return cache[key]
+
+    return get
 
 
 _EXIT: dict[str, int] = {}

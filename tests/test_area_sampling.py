@@ -239,9 +239,11 @@ SCENES = {"large": large_lights_scene, "powers": lambda w, h: spread_powers(larg
 
 
 @pytest.fixture(scope="module")
-def references(device):
-    return {name: batch_stats(luminance(collect(make(W, H), Settings(method="reference", seed=17, jitter=False),
-                                                REFERENCE_FRAMES, device)), BATCHES) for name, make in SCENES.items()}
+def references(reference_samples):
+    """Rendered once per session: test_bsdf_candidates.py's quick reference is the same render of "large"."""
+    return {name: batch_stats(luminance(reference_samples(make(W, H), Settings(method="reference", seed=17,
+                                                                                jitter=False), REFERENCE_FRAMES)),
+                              BATCHES) for name, make in SCENES.items()}
 
 
 UNBIASED_CASES = {

@@ -162,17 +162,17 @@ SIZE_PARAMS = [pytest.param("full", marks=pytest.mark.slow), "quick"]
 
 
 @pytest.fixture(scope="module")
-def references(device):
+def references(reference_samples):
     """reference(glossy, size): batch statistics of the exhaustive sampler (the glossy twin's is noisier on the
-    glossy floor: half the frames), rendered once per module."""
+    glossy floor: half the frames), rendered once per session (test_area_sampling.py shares the quick one)."""
     cache: dict[tuple[bool, str], tuple[np.ndarray, np.ndarray]] = {}
 
     def get(glossy: bool, size: str) -> tuple[np.ndarray, np.ndarray]:
         if (glossy, size) not in cache:
             frames = SIZES[size]["glossy_reference" if glossy else "reference"]
             s = Settings(method="reference", seed=19 if glossy else 17, jitter=False)
-            cache[glossy, size] = batch_stats(luminance(collect(large_lights_scene(W, H, glossy), s, frames,
-                                                                device)), BATCHES)
+            cache[glossy, size] = batch_stats(luminance(reference_samples(large_lights_scene(W, H, glossy), s,
+                                                                          frames)), BATCHES)
         return cache[glossy, size]
 
     return get

@@ -34,16 +34,16 @@ SCENES = {"occluders": occluder_scene, "mixed_lights": mixed_lights_scene}
 
 
 @pytest.fixture(scope="module")
-def references(device):
-    """references[name] (full size) or references[name, size]: batch statistics of the exhaustive sampler,
-    rendered once per module."""
+def references(reference_samples):
+    """references[name] (full size) or references[name, size]: batch statistics of the exhaustive sampler
+    (rendered once per session: test_light_tree_estimators.py compares with the same renders)."""
 
     class Cache(dict):
         def __missing__(self, key):
             name, size = key if isinstance(key, tuple) else (key, "full")
             if (name, size) not in self:
-                ref = collect(SCENES[name](W, H), Settings(method="reference", seed=55, jitter=False),
-                              SIZES[size][2], device)
+                ref = reference_samples(SCENES[name](W, H), Settings(method="reference", seed=55, jitter=False),
+                                        SIZES[size][2])
                 dict.__setitem__(self, (name, size), batch_stats(luminance(ref), 32))
             return dict.__getitem__(self, (name, size))
 
@@ -105,24 +105,26 @@ def test_unbiased_mode_with_light_tiles_matches_reference(device, references, si
     assert_matches(runs, references["mixed_lights", size], "mixed_lights light tiles")
 
 
+@pytest.mark.parametrize("size", SIZE_PARAMS)
 @pytest.mark.parametrize("scene_name", ["occluders", "mixed_lights"])
-def test_permutation_sampling_stays_unbiased(device, references, scene_name):
+def test_permutation_sampling_stays_unbiased(device, references, scene_name, size):
     """Temporal reuse from a permuted neighbour in a 4x4 block (reproject.h), then spatial reuse: pairwise MIS
     weighs the history at the surface it came from, so the mode stays unbiased."""
     scene = occluder_scene(W, H) if scene_name == "occluders" else mixed_lights_scene(W, H)
     s = Settings(method="restir", jitter=False, taa=False, seed=12, temporal_permutation=True)
-    runs = run_means(scene, s, RUNS, FRAMES, device)
+    runs = run_means(scene, s, SIZES[size][0], SIZES[size][1], device)
     assert np.all(np.isfinite(runs))
-    assert_matches(runs, references[scene_name], f"{scene_name} permutation")
+    assert_matches(runs, references[scene_name, size], f"{scene_name} permutation")
 
 
-def test_disocclusion_boost_stays_unbiased(device, references):
+@pytest.mark.parametrize("size", SIZE_PARAMS)
+def test_disocclusion_boost_stays_unbiased(device, references, size):
     """Without temporal reuse no pixel has history, so every pixel takes the boosted neighbour count (8)."""
     scene = occluder_scene(W, H)
     s = Settings(method="restir", jitter=False, taa=False, seed=14, temporal=False, disocclusion_boost=8)
-    runs = run_means(scene, s, RUNS, FRAMES, device)
+    runs = run_means(scene, s, SIZES[size][0], SIZES[size][1], device)
     assert np.all(np.isfinite(runs))
-    assert_matches(runs, references["occluders"], "occluders disocclusion boost")
+    assert_matches(runs, references["occluders", size], "occluders disocclusion boost")
 
 
 def test_biased_mode_darkens_by_a_bounded_amount(device, references):
