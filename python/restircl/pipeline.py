@@ -280,7 +280,7 @@ class Renderer:
         return FrameState(frame=frame, prev_frame=self._last_frame if history else frame,
                           next_frame=min(frame + 1, ds.frame_count - 1), history=history,
                           restir_history=history and not ds.lights_switched, method=method, tiles=tiles,
-                          frame_params=self.frame_params(), sampler=sampler, jitter=jit)
+                          frame_params=self.frame_params(), sampler=sampler, jitter=jit, mis_sample=mis_sample)
 
     def _moving(self, state: FrameState) -> bool:
         """Whether TAA must validate and clip its history. Only a camera that moved between the two frames makes

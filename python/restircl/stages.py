@@ -42,6 +42,7 @@ class FrameState:
     frame_params: np.void  # FrameParams
     sampler: np.void  # SamplerParams
     jitter: tuple[float, float] = (0.0, 0.0)
+    mis_sample: bool = False  # RIS adds one BSDF sample combined by MIS (Renderer.bsdf_mis_sample, bsdf_mis.h)
 
 
 def pixel_count(state: FrameState) -> tuple[int]:
@@ -251,7 +252,7 @@ class Shade(Stage):
     def direct(self, state: FrameState, tiles: dict[str, cl.Buffer]) -> None:
         params = L.pack(L.SHADE_PARAMS, sampler=state.sampler, method=self.method_codes[state.method],
                         candidates=self.settings.candidates,
-                        bsdf_mis_sample=int(self.settings.bsdf_mis_sample and state.method == "ris"))
+                        bsdf_mis_sample=int(state.mis_sample))
         self.kernels.launch("shade_direct", pixel_count(state), **self._common(state), slots=self.scene.slots_buf,
                             light_pdf=self.scene.light_pdf_buf, **self.scene.light_tree_args, **tiles,
                             tri_light=self.scene.tri_light_buf, params=params)

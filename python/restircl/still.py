@@ -181,7 +181,6 @@ def render_still(
             estimate = acc.error_estimate(done, n_half)
             if estimate is not None and estimate <= target_error:
                 break
-    r.qmc = None
     if chains and history.active != 0:  # back to the first chain: the renderer's own history
         history.use_chain(0, fresh=False)
     done, n_half = acc.counts

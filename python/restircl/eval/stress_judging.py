@@ -9,7 +9,7 @@ import math
 import time
 import warnings
 from collections.abc import Callable
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -296,7 +296,7 @@ def _flicker_outputs(case: Case, settings: Settings, device,
     reference is at the pixel centres): the last FLICKER_FRAMES TAA outputs, and the renderer's guard count."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        r = Renderer(case.scene, Settings(**{**settings.__dict__, "taa": True, "jitter": False}), device)
+        r = Renderer(case.scene, replace(settings, taa=True, jitter=False), device)
     for fr in case.before if case.kind == "sequence" else ():
         seen(r.render_frame(fr))
     out = []
