@@ -19,7 +19,13 @@
  *
  * Traversal: one ray per work-item, scalar control flow; the four children's boxes of a node are tested with
  * float4 operations; leaves are intersected as soon as their box is hit; the inner children that are hit are
- * visited nearest first (closest hit) or in slot order (any hit), the others wait on a small fixed stack. */
+ * visited nearest first (closest hit) or in slot order (any hit), the others wait on a small fixed stack.
+ *
+ * Leaves: with BVH_TRI4 (the host's bvh_packets.ENABLED) a leaf of up to 4 triangles is one packet of lane-wise
+ * coordinates appended to the Tri array, tested in one pass of float4 operations (bvh_tri4) with no branch per
+ * triangle; the leaf slot's child is ~(packet's first Tri slot) and its count the leaf's first triangle. Without
+ * it the leaf's triangles tris[~child .. ~child + count - 1] are tested one by one (bvh_triangle). Both give the
+ * same hits bit for bit on the same tree (tests/test_bvh_packets.py). */
 #ifndef RESTIRCL_BVH_H
 #define RESTIRCL_BVH_H
 
@@ -169,6 +175,76 @@ static inline bool bvh_triangle(const __global Tri* tri, const BvhRay* r, float 
     return true;
 }
 
+#ifdef BVH_TRI4
+/* The watertight test of bvh_triangle on the four triangles of a leaf packet at p (python/restircl/bvh_packets.py),
+ * one per lane, with the same operations in the same order per lane, so each lane's t, u, v are bit for bit those
+ * of bvh_triangle. Returns the mask of the lanes hit with 0 < t < tmax (NaN lanes of a short leaf never are). */
+static inline int bvh_tri4(const __global Tri* p, const BvhRay* r, float tmax, float4* t_out, float4* inv_out,
+                           float4* v_out, float4* w_out)
+{
+    float4 ox = r->ox, oy = r->oy, oz = r->oz;
+    float4 ax = p[0].v0 - ox, ay = p[0].e1 - oy, az = p[0].e2 - oz;
+    float4 bx = (p[0].v0 + p[1].v0) - ox, by = (p[0].e1 + p[1].e1) - oy, bz = (p[0].e2 + p[1].e2) - oz;
+    float4 cx = (p[0].v0 + p[2].v0) - ox, cy = (p[0].e1 + p[2].e1) - oy, cz = (p[0].e2 + p[2].e2) - oz;
+    float4 s0 = r->shx, s1 = r->shy, s2 = r->shz;
+    float4 pxa = ax * s0.x + ay * s0.y + az * s0.z, pya = ax * s1.x + ay * s1.y + az * s1.z;
+    float4 pxb = bx * s0.x + by * s0.y + bz * s0.z, pyb = bx * s1.x + by * s1.y + bz * s1.z;
+    float4 pxc = cx * s0.x + cy * s0.y + cz * s0.z, pyc = cx * s1.x + cy * s1.y + cz * s1.z;
+    float4 pza = ax * s2.x + ay * s2.y + az * s2.z;
+    float4 pzb = bx * s2.x + by * s2.y + bz * s2.z;
+    float4 pzc = cx * s2.x + cy * s2.y + cz * s2.z;
+    float4 U, V, W;
+    {
+#pragma OPENCL FP_CONTRACT OFF
+        U = pxc * pyb - pyc * pxb;
+        V = pxa * pyc - pya * pxc;
+        W = pxb * pya - pyb * pxa;
+    }
+    uint4 sign = (uint4)(0x7fffffffu);
+    float4 tol = BVH_EDGE_TOL * ((as_float4(as_uint4(U) & sign) + as_float4(as_uint4(V) & sign))
+                                 + as_float4(as_uint4(W) & sign));
+    float4 ntol = -tol;
+    int4 below = (U < ntol) | (V < ntol) | (W < ntol);
+    int4 above = (U > tol) | (V > tol) | (W > tol);
+    float4 det = U + V + W;
+    float4 T = U * pza + V * pzb + W * pzc;
+    float4 inv = 1.0f / det;
+    float4 t = T * inv;
+    int4 ok = ~(below & above) & (det != (float4)(0.0f)) & (t > (float4)(0.0f)) & (t < (float4)(tmax));
+    *t_out = t;
+    *inv_out = inv;
+    *v_out = V;
+    *w_out = W;
+    return (ok.x & 1) | (ok.y & 2) | (ok.z & 4) | (ok.w & 8);
+}
+
+/* The packet at tris + rec of the leaf whose first triangle is `first`: keeps the nearest hit in *best / *hit
+ * (among lanes at the same distance the lowest, as bvh_leaf_closest's loop would). */
+static inline void bvh_leaf4_closest(const __global Tri* tris, int rec, int first, const BvhRay* r, float* best,
+                                     Hit* hit)
+{
+    float4 t, inv, V, W;
+    int m = bvh_tri4(tris + rec, r, *best, &t, &inv, &V, &W);
+    if (!m) return;
+    BvhFloat4 tu, iu, vu, wu;
+    tu.v = t;
+    int k = BVH_CTZ4(m);
+    m &= m - 1;
+    while (m) {
+        int j = BVH_CTZ4(m);
+        m &= m - 1;
+        if (tu.a[j] < tu.a[k]) k = j;
+    }
+    iu.v = inv;
+    vu.v = V;
+    wu.v = W;
+    *best = tu.a[k];
+    hit->prim = first + k;
+    hit->u = vu.a[k] * iu.a[k];
+    hit->v = wu.a[k] * iu.a[k];
+}
+#endif
+
 /* Intersect the triangles tris[first .. first + count - 1]; keeps the nearest hit in *best / *hit. */
 static inline void bvh_leaf_closest(const __global Tri* tris, int first, int count, const BvhRay* r, float* best,
                                     Hit* hit)
@@ -216,7 +292,11 @@ Hit trace_closest(const __global BVHNode* nodes, const __global Tri* tris, float
             do {
                 int k = BVH_CTZ4(leaves);
                 leaves &= leaves - 1;
+#ifdef BVH_TRI4
+                if (t[k] <= best) bvh_leaf4_closest(tris, ~c[k], cnt[k], &r, &best, &hit);
+#else
                 if (t[k] <= best) bvh_leaf_closest(tris, ~c[k], cnt[k], &r, &best, &hit);
+#endif
             } while (leaves);
             int4 in_range = tn <= (float4)(best);
             mask &= (child.x >= 0 ? in_range.x & 1 : 0) | (child.y >= 0 ? in_range.y & 2 : 0)
@@ -305,11 +385,16 @@ bool trace_any(const __global BVHNode* nodes, const __global Tri* tris, float3 o
             do {
                 int k = BVH_CTZ4(leaves);
                 leaves &= leaves - 1;
+#ifdef BVH_TRI4
+                float4 t4, inv4, v4, w4;
+                if (bvh_tri4(tris + ~c[k], &r, tmax, &t4, &inv4, &v4, &w4)) return true;
+#else
                 int first = ~c[k];
                 for (int i = first; i < first + cnt[k]; ++i) {
                     float t, u, v;
                     if (bvh_triangle(tris + i, &r, tmax, &t, &u, &v)) return true;
                 }
+#endif
             } while (leaves);
             mask &= (child.x >= 0 ? 1 : 0) | (child.y >= 0 ? 2 : 0) | (child.z >= 0 ? 4 : 0) | (child.w >= 0 ? 8 : 0);
         }

@@ -15,8 +15,10 @@ typedef struct {
 
 /* 4-wide BVH node: the boxes of up to four children in SoA form, tested together with float4 operations.
  * Node 0 is the root; nodes are numbered depth first. Child reference c = child[k]: c >= 0 is the inner node c;
- * c < 0 is a leaf holding the triangles tris[~c .. ~c + count[k] - 1] (~c == -c - 1). An unused slot is a leaf of
- * count 0 whose box is empty (min +inf, max -inf), so no ray enters it. count[k] is 0 for inner children. */
+ * c < 0 is a leaf holding the triangles tris[~c .. ~c + count[k] - 1] (~c == -c - 1); with leaf packets
+ * (BVH_TRI4, python/restircl/bvh_packets.py) ~c is the leaf's packet in the Tri array and count[k] its first
+ * triangle. An unused slot is a leaf of count 0 whose box is empty (min +inf, max -inf), so no ray enters it.
+ * count[k] is 0 for inner children. */
 typedef struct {
     float4 minx;   /* lane k: child k's box */
     float4 maxx;

@@ -7,6 +7,7 @@ import pyopencl as cl
 import pytest
 from restircl import layouts
 from restircl.bvh import LEAF_MAX, build_bvh, device_vertices, make_tris
+from restircl.bvh_packets import device_arrays
 from restircl.device import get_device
 from restircl.program import build_program
 
@@ -95,8 +96,9 @@ class Scene:
         self.tris = make_tris(self.v0, self.v1, self.v2, np.zeros(n, np.int64), np.arange(n), self.bvh.order)
         mf = cl.mem_flags
         ctx = dev.context
-        tris = self.tris if len(self.tris) else np.zeros(1, layouts.TRI)
-        self.nodes_buf = cl.Buffer(ctx, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=self.bvh.nodes)
+        nodes, tris = device_arrays(self.bvh.nodes, self.tris)
+        tris = tris if len(tris) else np.zeros(1, layouts.TRI)
+        self.nodes_buf = cl.Buffer(ctx, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=nodes)
         self.tris_buf = cl.Buffer(ctx, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=tris)
         self.k_closest = cl.Kernel(prog, "closest")
         self.k_any = cl.Kernel(prog, "any_hit")

@@ -6,12 +6,14 @@ device's threads spent on a stage, not how long it waited for a core.
         [--rounds 3] [--frames 4] [--width 640 --height 360]
 
 A variant is {"settings": Settings keywords, "local": work-items per work-group (kernels.LOCAL_ITEMS; 8x8 stays
-the 2D shape for 64)}. Prints the median over the frames of each stage and of their sum.
+the 2D shape for 64), "module": {"bvh_packets.ENABLED": false, "bvh.LEAF_MAX": 2} (restircl module constants
+while the variant's renderer is built)}. Prints the median over the frames of each stage and of their sum.
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib
 import json
 import os
 import statistics
@@ -54,6 +56,22 @@ def _variant_local_size(dims: int, max_items: int) -> tuple[int, ...]:
         kernels.LOCAL_ITEMS = saved
 
 
+def _renderer(scene, variant: dict) -> Renderer:
+    """The variant's Renderer, built with its "module" constants (restircl submodule attributes, e.g.
+    {"bvh_packets.ENABLED": false}) set while its program is built and its scene uploaded."""
+    saved = {}
+    for key, value in variant.get("module", {}).items():
+        mod, attr = key.rsplit(".", 1)
+        m = importlib.import_module(f"restircl.{mod}")
+        saved[(m, attr)] = getattr(m, attr)
+        setattr(m, attr, value)
+    try:
+        return Renderer(scene, Settings(**variant.get("settings", {})))
+    finally:
+        for (m, attr), value in saved.items():
+            setattr(m, attr, value)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("variants", help="JSON: name -> {settings: {...}, local: n}")
@@ -66,7 +84,7 @@ def main() -> None:
     kernels.local_size = _variant_local_size
     variants: dict[str, dict] = json.loads(a.variants)
     scene = many_lights(width=a.width, height=a.height, frames=16)
-    renderers = {n: Renderer(scene, Settings(**v.get("settings", {}))) for n, v in variants.items()}
+    renderers = {n: _renderer(scene, v) for n, v in variants.items()}
     frame = dict.fromkeys(renderers, 0)
     cpu: dict[str, dict[str, list[float]]] = {n: {} for n in renderers}
     print(f"many_lights {a.width}x{a.height}, load {os.getloadavg()}", flush=True)

@@ -13,6 +13,7 @@ import pyopencl as cl
 from . import layouts as L
 from .buffers import upload, upload_parts
 from .bvh import build_bvh, make_tris
+from .bvh_packets import device_arrays
 from .camera_lights import camera_light_indices, camera_light_table
 from .ggx_tables import ggx_tables
 from .light_array import LightArray, build_light_array
@@ -143,8 +144,9 @@ class DeviceScene:
         tris = make_tris(world.v0, world.v1, world.v2, world.material, world.prim, bvh.order)
         tris["e2"][:, 3] = L.int_bits(world.object[bvh.order])
         self.bvh_seconds = time.perf_counter() - t0
-        self.nodes_buf = upload(self.context, bvh.nodes)
-        self.tris_buf = upload(self.context, tris)
+        nodes, tris_dev = device_arrays(bvh.nodes, tris)
+        self.nodes_buf = upload(self.context, nodes)
+        self.tris_buf = upload(self.context, tris_dev)
         self.triangle_count = len(world)
         self._upload_materials()
         attributes = needs_attributes(self.scene, self.material_flags["HAS_TEXTURES"])

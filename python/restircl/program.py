@@ -15,6 +15,7 @@ from pathlib import Path
 
 import pyopencl as cl
 
+from . import bvh_packets
 from .device import Device
 from .settings import kernel_defines
 
@@ -80,7 +81,8 @@ def build_program(
     src_dir = opencl_dir()
     text = source if source is not None else (src_dir / MAIN_SOURCE).read_text()
     # the array limits the kernels share with validate() come from the settings table
-    options = [f"-I{src_dir}", *BASE_OPTIONS, *format_options(kernel_defines()), *format_options(flags or {}),
+    options = [f"-I{src_dir}", *BASE_OPTIONS, *format_options(kernel_defines()), *format_options(bvh_packets.defines()),
+               *format_options(flags or {}),
                *extra_options]
     for opt in options:
         if opt in FORBIDDEN_OPTIONS:

@@ -177,6 +177,7 @@ def run(triangles: int = 1_000_000, width: int = 640, height: int = 360, embree:
     light count. device: a restircl Device or a device spec ('P:D' or a name substring; None: the default choice),
     resolved before the scene is built, so that an unknown device fails at once (DeviceError)."""
     from ..bvh import build_bvh, make_tris
+    from ..bvh_packets import device_arrays
 
     dev = device if isinstance(device, Device) else get_device(device)
     res: dict = {}
@@ -198,7 +199,7 @@ def run(triangles: int = 1_000_000, width: int = 640, height: int = 360, embree:
     print_fn(f"BVH build: {bvh.build_seconds:.2f} s, {bvh.node_count} nodes, {bvh.leaf_count} leaves, "
              f"depth {bvh.depth}, SAH cost {res['sah_cost']:.1f}")
 
-    ours = OpenCLTracer(bvh.nodes, tris, device=dev, local_size=local_size)
+    ours = OpenCLTracer(*device_arrays(bvh.nodes, tris), device=dev, local_size=local_size)
     res["device"] = ours.dev.label
     print_fn(f"device: {ours.dev.label}; POCL_WORK_GROUP_METHOD={os.environ.get('POCL_WORK_GROUP_METHOD', '')!r}, "
              f"local size {local_size or 'None (chosen by the runtime)'}; load average {os.getloadavg()[0]:.1f}")
