@@ -6,8 +6,8 @@ import numpy as np
 import pyopencl as cl
 import pytest
 from restircl import layouts
-from restircl.bvh import LEAF_MAX, build_bvh, device_vertices, make_tris
-from restircl.bvh_packets import device_arrays
+from restircl.bvh import build_bvh, device_vertices, make_tris
+from restircl.bvh_packets import device_arrays, leaf_max
 from restircl.device import get_device
 from restircl.program import build_program
 
@@ -251,7 +251,7 @@ def check_structure(bvh, v0, v1, v2):
                 assert np.all(bmin[ni, k] == np.inf) and np.all(bmax[ni, k] == -np.inf)  # unused slot
             else:
                 first = ~ref
-                assert 0 < cnt <= LEAF_MAX and first + cnt <= n
+                assert 0 < cnt <= leaf_max() and first + cnt <= n
                 assert np.all(bmin[ni, k] <= lo[first:first + cnt]) and np.all(hi[first:first + cnt] <= bmax[ni, k])
                 seen[first:first + cnt] += 1
         stack.extend(reversed(inner))
@@ -295,7 +295,7 @@ def test_build_degenerate_inputs():
     x = np.geomspace(1e-3, 1e5, 300)[:, None]
     needles = (np.hstack([x, 0 * x, 0 * x]), np.hstack([x, 0 * x + 1e-3, 0 * x]), np.hstack([x * 1.001, 0 * x, 0 * x]))
     check_structure(build_bvh(*needles), *needles)
-    for n in (0, 1, 2, 3, LEAF_MAX + 1):
+    for n in (0, 1, 2, 3, leaf_max() + 1):
         rng = np.random.default_rng(n)
         v = random_soup(rng, n) if n else (np.zeros((0, 3)),) * 3
         bvh = build_bvh(*v)

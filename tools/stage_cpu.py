@@ -6,7 +6,7 @@ device's threads spent on a stage, not how long it waited for a core.
         [--rounds 3] [--frames 4] [--width 640 --height 360]
 
 A variant is {"settings": Settings keywords, "local": work-items per work-group (kernels.LOCAL_ITEMS; 8x8 stays
-the 2D shape for 64), "module": {"bvh_packets.ENABLED": false, "bvh.LEAF_MAX": 2} (restircl module constants
+the 2D shape for 64), "module": {"bvh_packets.ENABLED": false} (restircl module constants
 while the variant's renderer is built)}. Prints the median over the frames of each stage and of their sum.
 """
 

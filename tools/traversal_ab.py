@@ -45,25 +45,26 @@ def main() -> None:
     o, d = bt.camera_rays(a.width, a.height) if view is None else bt.camera_rays(a.width, a.height, *view)
     default_packets = bvh_packets.ENABLED
     bvhs: dict[str, tuple] = {}
+    first_tris = None
     tracers: dict[str, OpenCLTracer] = {}
     for name, v in variants.items():
-        key = json.dumps(v.get("build", {}), sort_keys=True)
-        if key not in bvhs:
-            bvh = build_bvh(v0, v1, v2, **v.get("build", {}))
-            bvhs[key] = (bvh, make_tris(v0, v1, v2, np.zeros(n, np.int32), np.arange(n), bvh.order))
-            print(f"{name}: build {bvh.build_seconds:.2f} s, {bvh.node_count} nodes, SAH {bvh.sah_cost:.1f}")
-        bvh, tris = bvhs[key]
-        bvh_packets.ENABLED = bool(v.get("packets", default_packets))  # read by build_program and device_arrays
+        bvh_packets.ENABLED = bool(v.get("packets", default_packets))  # read by build_bvh, build_program, device_arrays
         try:
+            key = json.dumps([v.get("build", {}), bvh_packets.ENABLED], sort_keys=True)
+            if key not in bvhs:
+                bvh = build_bvh(v0, v1, v2, **v.get("build", {}))
+                bvhs[key] = (bvh, make_tris(v0, v1, v2, np.zeros(n, np.int32), np.arange(n), bvh.order))
+                print(f"{name}: build {bvh.build_seconds:.2f} s, {bvh.node_count} nodes, SAH {bvh.sah_cost:.1f}")
+            bvh, tris = bvhs[key]
             tracers[name] = OpenCLTracer(*bvh_packets.device_arrays(bvh.nodes, tris), local_size=64,
                                          flags=v.get("defines", {}))
         finally:
             bvh_packets.ENABLED = default_packets
+        first_tris = first_tris if first_tris is not None else tris
         tracers[name].order = bvh.order  # type: ignore[attr-defined]
     first = next(iter(tracers))
     t0, leaf0, _ = tracers[first].closest(o, d, repeats=1)
-    so, sd = bt.shadow_rays(o, d, t0.astype(np.float64), leaf0, bvhs[json.dumps(
-        variants[first].get("build", {}), sort_keys=True)][1], np.random.default_rng(1))
+    so, sd = bt.shadow_rays(o, d, t0.astype(np.float64), leaf0, first_tris, np.random.default_rng(1))
     print(f"scene {a.scene}, {n} triangles, {len(o)} camera rays, {len(so)} shadow rays; load {os.getloadavg()}")
     prim_cpu: dict[str, list[float]] = {k: [] for k in tracers}
     shad_cpu: dict[str, list[float]] = {k: [] for k in tracers}

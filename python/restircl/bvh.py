@@ -17,11 +17,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import layouts
+from . import bvh_packets, layouts
 from .bvh_wide import COST_TRI, binary_sah_cost, depth_first, empty_slots, wide_nodes
 
-#: largest number of triangles in one leaf: one leaf packet (bvh_packets.py) when the device traverses packets
-LEAF_MAX = 3
 #: SAH bins per axis
 BINS = 8
 #: evaluate the SAH on all three axes (else only along the largest centroid extent: faster, about 8% more node
@@ -178,12 +176,12 @@ def build_bvh(
 ) -> BVH:
     """Binned-SAH BVH over triangles given as (T, 3) vertex arrays (world space).
 
-    Every node with more than `leaf_max` (default LEAF_MAX) triangles is split at the SAH-best of `bins` - 1
-    planes between its triangles' centroids, on each axis (`all_axes`) or on the axis of largest centroid extent
-    (Wald 2007); nodes of up to `leaf_max` triangles are leaves. A node whose centroids all coincide is split in
-    two halves, and so is every node deeper than 60 - log2(T) levels, which bounds the depth. The binary tree is
-    collapsed into 4-wide nodes. An empty scene gives one root node whose slots are all unused (no ray hits
-    anything).
+    Every node with more than `leaf_max` (default: bvh_packets.leaf_max()) triangles is split at the SAH-best of
+    `bins` - 1 planes between its triangles' centroids, on each axis (`all_axes`) or on the axis of largest
+    centroid extent (Wald 2007); nodes of up to `leaf_max` triangles are leaves. A node whose centroids all
+    coincide is split in two halves, and so is every node deeper than 60 - log2(T) levels, which bounds the depth.
+    The binary tree is collapsed into 4-wide nodes. An empty scene gives one root node whose slots are all unused
+    (no ray hits anything).
     """
     t_start = time.perf_counter()
     v0 = np.asarray(v0, dtype=np.float64).reshape(-1, 3)
@@ -196,7 +194,7 @@ def build_bvh(
         raise ValueError("too many triangles for 32-bit indices")
     if n and not (np.all(np.isfinite(v0)) and np.all(np.isfinite(v1)) and np.all(np.isfinite(v2))):
         raise ValueError("triangle vertices contain NaN or Inf")
-    leaf_max = max(1, int(LEAF_MAX if leaf_max is None else leaf_max))
+    leaf_max = max(1, int(bvh_packets.leaf_max() if leaf_max is None else leaf_max))
     bins = max(2, int(bins))
 
     # Boxes of the triangles as the device sees them (float32 v0 + e1, v0 + e2).

@@ -18,6 +18,15 @@ from . import layouts
 LANES = 4
 #: whether the device traverses leaf packets (device_arrays, defines); else it tests a leaf's triangles one by one
 ENABLED = True
+#: the build's leaf size (bvh.build_bvh) with packets and without: the faster of those measured for each
+#: (docs/benchmarks.md, "Traversal")
+LEAF_MAX = 3
+LEAF_MAX_TRIANGLES = 2
+
+
+def leaf_max() -> int:
+    """The build's default leaf size for the traversal that ENABLED selects."""
+    return LEAF_MAX if ENABLED else LEAF_MAX_TRIANGLES
 
 
 def defines() -> dict[str, int]:

@@ -1,7 +1,7 @@
 """Traversal benchmark: BVH build time and Mrays/s of opencl/bvh.h against Embree (embreex) on the same rays.
 
     python -m restircl.eval.bench_traversal [--triangles N] [--width W] [--height H] [--no-embree] [--scene S]
-                                         [--device D]
+                                         [--device D] [--leaf-packets on|off]
 
 The scene is procedural (a displaced ground grid with spheres and boxes of log-normal sizes spread over it), or
 with --scene light_cloud / light_panels the emissive-triangle scenes of `restircl bench lights` (triangles scattered
@@ -171,13 +171,28 @@ def shadow_rays(o, d, t, prim, tris, rng):
 
 
 def run(triangles: int = 1_000_000, width: int = 640, height: int = 360, embree: bool = True,
-        print_fn=print, local_size: int | None = 64, repeats: int = 3, scene: str = "mixed", device=None) -> dict:
+        print_fn=print, local_size: int | None = 64, repeats: int = 3, scene: str = "mixed", device=None,
+        leaf_packets: bool | None = None) -> dict:
     """Build, trace and (if embreex imports) compare with Embree; returns the figures as a dict. scene "mixed":
     make_scene(triangles); "light_cloud" / "light_panels": light_cloud_scene(triangles), `triangles` being the
     light count. device: a restircl Device or a device spec ('P:D' or a name substring; None: the default choice),
-    resolved before the scene is built, so that an unknown device fails at once (DeviceError)."""
+    resolved before the scene is built, so that an unknown device fails at once (DeviceError). leaf_packets: the
+    leaf layout and leaf size of bvh_packets (None: bvh_packets.ENABLED)."""
+    from .. import bvh_packets
+
+    saved = bvh_packets.ENABLED
+    if leaf_packets is not None:
+        bvh_packets.ENABLED = leaf_packets
+    try:
+        return _run(triangles, width, height, embree, print_fn, local_size, repeats, scene, device)
+    finally:
+        bvh_packets.ENABLED = saved
+
+
+def _run(triangles, width, height, embree, print_fn, local_size, repeats, scene, device) -> dict:
+    from .. import bvh_packets
     from ..bvh import build_bvh, make_tris
-    from ..bvh_packets import device_arrays
+    from ..bvh_packets import device_arrays, leaf_max
 
     dev = device if isinstance(device, Device) else get_device(device)
     res: dict = {}
@@ -197,7 +212,8 @@ def run(triangles: int = 1_000_000, width: int = 640, height: int = 360, embree:
     res.update(build_seconds=bvh.build_seconds, nodes=bvh.node_count, leaves=bvh.leaf_count, depth=bvh.depth,
                sah_cost=bvh.sah_cost)
     print_fn(f"BVH build: {bvh.build_seconds:.2f} s, {bvh.node_count} nodes, {bvh.leaf_count} leaves, "
-             f"depth {bvh.depth}, SAH cost {res['sah_cost']:.1f}")
+             f"depth {bvh.depth}, SAH cost {res['sah_cost']:.1f}; leaves of <= {leaf_max()} triangles, "
+             f"{'packets' if bvh_packets.ENABLED else 'tested one by one'}")
 
     ours = OpenCLTracer(*device_arrays(bvh.nodes, tris), device=dev, local_size=local_size)
     res["device"] = ours.dev.label
@@ -279,9 +295,13 @@ def main(argv=None) -> int:
                          "--triangles lights, seen from their camera")
     ap.add_argument("--device", default=None, help="OpenCL device: 'P:D' or a name substring (default: the default "
                     "choice, which honours $RESTIRCL_DEVICE)")
+    ap.add_argument("--leaf-packets", choices=("on", "off"), default=None,
+                    help="leaves as packets of up to 3 triangles tested together (on, the default) or leaves of up "
+                         "to 2 triangles tested one by one (off)")
     args = ap.parse_args(argv)
     run(args.triangles, args.width, args.height, embree=not args.no_embree, local_size=args.local_size or None,
-        repeats=args.repeats, scene=args.scene, device=args.device)
+        repeats=args.repeats, scene=args.scene, device=args.device,
+        leaf_packets=None if args.leaf_packets is None else args.leaf_packets == "on")
     return 0
 
 
