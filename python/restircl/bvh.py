@@ -170,7 +170,7 @@ def build_bvh(
     v1: np.ndarray,
     v2: np.ndarray,
     *,
-    bins: int = BINS,
+    bins: int | None = None,
     leaf_max: int | None = None,
     all_axes: bool = ALL_AXES,
 ) -> BVH:
@@ -195,7 +195,7 @@ def build_bvh(
     if n and not (np.all(np.isfinite(v0)) and np.all(np.isfinite(v1)) and np.all(np.isfinite(v2))):
         raise ValueError("triangle vertices contain NaN or Inf")
     leaf_max = max(1, int(bvh_packets.leaf_max() if leaf_max is None else leaf_max))
-    bins = max(2, int(bins))
+    bins = max(2, int(BINS if bins is None else bins))
 
     # Boxes of the triangles as the device sees them (float32 v0 + e1, v0 + e2).
     a, _, _, b, c = device_vertices(v0, v1, v2)
