@@ -89,4 +89,3 @@ def test_packets_give_the_same_hits_bit_for_bit(dev, leaf_max):
         assert hit.mean() > 0.2 and ref_occ.mean() > 0.2
         assert np.array_equal(got.view(np.int32), ref.view(np.int32))
         assert np.array_equal(got_occ, ref_occ)
-    assert layouts.TRI.itemsize * 3 == 9 * 16  # a packet is three Tri slots of x, y, z float4 lanes
