@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pyopencl as cl
 import pytest
-from restircl import bvh_packets, layouts
+from restircl import bvh_packets
 from restircl.bvh import build_bvh, make_tris
 from restircl.device import get_device
 from restircl.program import build_program
