@@ -15,7 +15,7 @@ inline void res_init(Reservoir* r)
     r->M = 0.0f;
     r->W = 0.0f;
     r->target = 0.0f;
-    r->pad = 0;
+    r->vis_age = 0;
 }
 
 /* Stream one candidate with resampling weight w (= target / source pdf) into r; rnd uniform in [0, 1).
@@ -76,6 +76,12 @@ inline bool res_merge(Reservoir* s, const Reservoir* q, float target_at_s, float
 {
     float w = target_at_s * q->W * q->M;
     return res_update(s, q->light, q->u, q->v, w, target_at_s, rnd, q->M);
+}
+
+/* Do a and b hold the same light sample (copied from one reservoir: reuse passes samples on unchanged)? */
+inline bool res_same_sample(const Reservoir* a, const Reservoir* b)
+{
+    return a->light >= 0 && a->light == b->light && a->u == b->u && a->v == b->v;
 }
 
 inline Reservoir res_load(const __global Reservoir* buf, int i) { return buf[i]; }

@@ -4,7 +4,19 @@
  * target at its own sample, at last frame's surface with this frame's lights and geometry; lights_static: the light
  * records are last frame's, so that is the target the reservoir stored and is not evaluated again. Last frame's
  * surface must carry a similar material (surface_material_similar), and the history cap shrinks on view-dependent
- * (glossy) surfaces, whose target moves with the camera (view_dependence.h). */
+ * (glossy) surfaces, whose target moves with the camera (view_dependence.h).
+ * The visibility shortcut (vis_max_age > 0, static scene): where last frame's point is within vis_max_distance
+ * pixels of this pixel's (the reprojected position against the centre of the pixel taken), the two shadow tests of
+ * the merge are answered from the stored ones (restir_reuse.h, VisKnown). */
+
+/* Is the surface of pixel (x, y), reprojected, within max_distance pixels of the centre of previous pixel j? */
+inline bool same_point(const __global GSample* gbuf, int x, int y, int width, int j, float max_distance)
+{
+    float2 prev;
+    if (!reproject_position(gbuf, x, y, width, &prev)) return false;
+    float dx = prev.x - ((float)(j % width) + 0.5f), dy = prev.y - ((float)(j / width) + 0.5f);
+    return dx * dx + dy * dy <= max_distance * max_distance;
+}
 
 __kernel void restir_temporal(const __global GSample* gbuf, const __global GSample* prev_gbuf,
                               const __global GlossySample* glossy, const __global GlossySample* prev_glossy,
@@ -36,7 +48,14 @@ __kernel void restir_temporal(const __global GSample* gbuf, const __global GSamp
         LightEval e;
         q.target = target_of(&sp, lights, q.light, q.u, q.v, &e);
     }
+    VisKnown known = vis_known_none();
+    if (visibility_reuse && p.vis_static) {
+        known.same_sample = 1;
+        known.max_age = p.vis_max_age;
+        known.same_point = p.vis_max_age > 0 && same_point(gbuf, x, y, width, j, p.vis_max_distance);
+    }
     Reservoir r;
-    reuse_combine(&s, &c, &q, 1, prev_gbuf, prev_glossy, &j, nodes, tris, lights, bias_correction, visibility_reuse, &rng, &r);
+    reuse_combine(&s, &c, &q, 1, prev_gbuf, prev_glossy, &j, nodes, tris, lights, bias_correction, visibility_reuse,
+                  &known, &rng, &r);
     out[i] = r;
 }
