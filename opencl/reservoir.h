@@ -78,12 +78,6 @@ inline bool res_merge(Reservoir* s, const Reservoir* q, float target_at_s, float
     return res_update(s, q->light, q->u, q->v, w, target_at_s, rnd, q->M);
 }
 
-/* Do a and b hold the same light sample (copied from one reservoir: reuse passes samples on unchanged)? */
-inline bool res_same_sample(const Reservoir* a, const Reservoir* b)
-{
-    return a->light >= 0 && a->light == b->light && a->u == b->u && a->v == b->v;
-}
-
 inline Reservoir res_load(const __global Reservoir* buf, int i) { return buf[i]; }
 
 #endif

@@ -9,17 +9,12 @@
 #ifndef RESTIRCL_RESTIR_REUSE_H
 #define RESTIRCL_RESTIR_REUSE_H
 
-/* Shadow tests the combine may answer from what is stored instead of a ray (with visibility reuse: W > 0 says
- * visible at the reservoir's own point):
- *   same_sample  the inputs' W are this frame's scene's, so a canonical sample equal to an input's (reuse copies
- *                samples) is visible at that input's point, and an input's sample equal to the canonical one is
- *                visible here. Exact.
- *   same_point   the visibility shortcut (temporal pass, static scene): the input's point is this pixel's within
- *                a tolerance, so a sample visible at one is taken as visible at the other. Exact at the same point,
- *                biased by the distance at shadow edges; a sample whose visibility was reused max_age times in a
- *                row (Reservoir.vis_age) is traced again. */
+/* The visibility shortcut (temporal pass, static scene): with visibility reuse W > 0 says visible at the
+ * reservoir's own point, and where the input's point is this pixel's (same_point, within a tolerance) a sample
+ * visible at one is taken as visible at the other instead of tracing a ray. Exact at the same point, biased by the
+ * distance at shadow edges; a sample whose visibility was taken so max_age times in a row (Reservoir.vis_age) is
+ * traced again. */
 typedef struct {
-    int same_sample;
     int same_point;
     int max_age;
 } VisKnown;
@@ -27,7 +22,6 @@ typedef struct {
 inline VisKnown vis_known_none(void)
 {
     VisKnown k;
-    k.same_sample = 0;
     k.same_point = 0;
     k.max_age = 0;
     return k;
@@ -50,8 +44,7 @@ inline int reuse_combine(const Surface* s, const Reservoir* c, const Reservoir* 
         PairwiseMis mis = pairwise_begin(c, (float)n);
         for (int k = 0; k < n; ++k) {
             Surface sn = surface_load(input_gbuf, input_glossy, input_pixel[k]);
-            bool c_known = (known->same_point && c->vis_age < known->max_age)
-                           || (known->same_sample && qs[k].W > 0.0f && res_same_sample(c, &qs[k]));
+            bool c_known = known->same_point && c->vis_age < known->max_age;
             if (pairwise_neighbour(&mis, r, s, &sn, c, &qs[k], qs[k].target, nodes, tris, lights, visibility,
                                    c_known, rng_next(rng), &chosen))
                 src = k;
@@ -86,9 +79,7 @@ inline int reuse_combine(const Surface* s, const Reservoir* c, const Reservoir* 
     r->vis_age = c->vis_age;
     if (visibility && bias_correction != BIAS_NONE && r->W > 0.0f && src >= 0) {
         const Reservoir* q = &qs[src];
-        if (known->same_sample && c->W > 0.0f && res_same_sample(c, q)) {
-            r->vis_age = c->vis_age;
-        } else if (known->same_point && q->vis_age < known->max_age) {
+        if (known->same_point && q->vis_age < known->max_age) {
             r->vis_age = q->vis_age + 1;
         } else {
             r->vis_age = 0;

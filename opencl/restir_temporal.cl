@@ -6,19 +6,20 @@
  * surface must carry a similar material (surface_material_similar), and the history cap shrinks on view-dependent
  * (glossy) surfaces, whose target moves with the camera (view_dependence.h).
  * The visibility shortcut (vis_max_age > 0, static scene): where last frame's point is within vis_max_distance
- * pixels of this pixel's (the reprojected position against the centre of the pixel taken), the two shadow tests of
- * the merge are answered from the stored ones (restir_reuse.h, VisKnown). */
+ * pixel footprints of this pixel's, the two shadow tests of the merge are answered from the stored ones
+ * (restir_reuse.h, VisKnown). */
 
-/* Is the surface of pixel (x, y), reprojected, within max_distance pixels of the centre of previous pixel j? */
-inline bool same_point(const __global GSample* gbuf, int x, int y, int width, int j, float max_distance)
+/* Is last frame's point xp within max_distance footprints of a pixel (at x, facing the camera) of point x? */
+inline bool same_point(const __global Camera* cam, float3 x, float3 xp, float max_distance)
 {
-    float2 prev;
-    if (!reproject_position(gbuf, x, y, width, &prev)) return false;
-    float dx = prev.x - ((float)(j % width) + 0.5f), dy = prev.y - ((float)(j / width) + 0.5f);
-    return dx * dx + dy * dy <= max_distance * max_distance;
+    float3 d = x - cam->origin.xyz;
+    float t = len3(d);
+    float tol = max_distance * camera_footprint(cam, t > 0.0f ? d / t : cam->forward.xyz, t);
+    float3 e = x - xp;
+    return dot3(e, e) <= tol * tol;
 }
 
-__kernel void restir_temporal(const __global GSample* gbuf, const __global GSample* prev_gbuf,
+__kernel void restir_temporal(const __global Camera* cam, const __global GSample* gbuf, const __global GSample* prev_gbuf,
                               const __global GlossySample* glossy, const __global GlossySample* prev_glossy,
                               const __global BVHNode* nodes, const __global Tri* tris, const __global Light* lights,
                               const __global Reservoir* current, const __global Reservoir* previous,
@@ -50,9 +51,8 @@ __kernel void restir_temporal(const __global GSample* gbuf, const __global GSamp
     }
     VisKnown known = vis_known_none();
     if (visibility_reuse && p.vis_static) {
-        known.same_sample = 1;
         known.max_age = p.vis_max_age;
-        known.same_point = p.vis_max_age > 0 && same_point(gbuf, x, y, width, j, p.vis_max_distance);
+        known.same_point = p.vis_max_age > 0 && same_point(cam, s.x, sp.x, p.vis_max_distance);
     }
     Reservoir r;
     reuse_combine(&s, &c, &q, 1, prev_gbuf, prev_glossy, &j, nodes, tris, lights, bias_correction, visibility_reuse,

@@ -174,7 +174,8 @@ class Temporal(Stage):
                         permutation=self._permutation(state), vis_static=int(self._static()),
                         vis_max_age=s.visibility_max_age, vis_max_distance=s.visibility_max_distance)
         out = self.buffers.res_temp
-        self.kernels.launch("restir_temporal", image_size(state), gbuf=h.gbuf(h.cur), prev_gbuf=h.gbuf(h.prev),
+        self.kernels.launch("restir_temporal", image_size(state), cam=self.buffers.cameras[0], gbuf=h.gbuf(h.cur),
+                            prev_gbuf=h.gbuf(h.prev),
                             glossy=h.glossy(h.cur), prev_glossy=h.glossy(h.prev),
                             **self.scene.geometry, lights=self.scene.lights_buf, current=current,
                             previous=h.reservoirs(h.prev), out=out, guards=self.buffers.guards,
