@@ -251,7 +251,7 @@ class Settings:
                                       "the stored shadow tests instead of rays, at most this many frames in a row; "
                                       "0: trace them (unbiased)", flag="--visibility-max-age", range=Range(int, 0, 64),
                                       panel="reuse", applies_when=_VIS_TEMPORAL, soft_max=16)
-    visibility_max_distance: float = setting(1.0, "Visibility Distance", "Distance between last frame's point and "
+    visibility_max_distance: float = setting(2.0, "Visibility Distance", "Distance between last frame's point and "
                                              "this pixel's, in pixel footprints, within which the visibility "
                                              "shortcut holds",
                                              flag="--visibility-max-distance", range=Range(float, 0, finite=True),
