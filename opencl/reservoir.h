@@ -15,7 +15,7 @@ inline void res_init(Reservoir* r)
     r->M = 0.0f;
     r->W = 0.0f;
     r->target = 0.0f;
-    r->pad = 0;
+    r->vis_age = 0;
 }
 
 /* Stream one candidate with resampling weight w (= target / source pdf) into r; rnd uniform in [0, 1).

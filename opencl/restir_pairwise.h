@@ -16,7 +16,8 @@
  * Supports: with visibility reuse every stored reservoir has W > 0 only for samples visible at its pixel, so p_q
  * includes the visibility at q: the canonical sample is shadow-tested from each neighbour (k shadow rays), a
  * neighbour's own sample is known visible there. The canonical's p_c needs no visibility: a y occluded here has
- * integrand 0, and the chosen sample is tested afterwards (restir_reuse.h). */
+ * integrand 0, and the chosen sample is tested afterwards (restir_reuse.h). Where the canonical sample is known
+ * visible at q (c_known_at_q: restir_reuse.h's VisKnown) its ray is left out. */
 #ifndef RESTIRCL_RESTIR_PAIRWISE_H
 #define RESTIRCL_RESTIR_PAIRWISE_H
 
@@ -44,8 +45,8 @@ inline PairwiseMis pairwise_begin(const Reservoir* c, float k)
  * then its evaluation at s in *picked (for the caller's shadow ray). */
 inline bool pairwise_neighbour(PairwiseMis* m, Reservoir* r, const Surface* s, const Surface* sn, const Reservoir* c,
                                const Reservoir* q, float target_q_own, const __global BVHNode* nodes,
-                               const __global Tri* tris, const __global Light* lights, int visibility, float rnd,
-                               LightEval* picked_eval)
+                               const __global Tri* tris, const __global Light* lights, int visibility,
+                               bool c_known_at_q, float rnd, LightEval* picked_eval)
 {
     LightEval e;
     bool picked = false;
@@ -62,7 +63,7 @@ inline bool pairwise_neighbour(PairwiseMis* m, Reservoir* r, const Surface* s, c
     if (c->light >= 0 && c->W > 0.0f) {
         float b = m->conf_c * c->target;
         float t_q = target_of(sn, lights, c->light, c->u, c->v, &e);  /* p_q(y_c) */
-        if (t_q > 0.0f && visibility && !visible(nodes, tris, sn, &e)) t_q = 0.0f;
+        if (t_q > 0.0f && visibility && !c_known_at_q && !visible(nodes, tris, sn, &e)) t_q = 0.0f;
         float d = b + q->M * t_q;
         m->m_c += d > 0.0f ? b / d : 0.0f;
     }

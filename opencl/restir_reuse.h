@@ -9,6 +9,24 @@
 #ifndef RESTIRCL_RESTIR_REUSE_H
 #define RESTIRCL_RESTIR_REUSE_H
 
+/* The visibility shortcut (temporal pass, static scene): with visibility reuse W > 0 says visible at the
+ * reservoir's own point, and where the input's point is this pixel's (same_point, within a tolerance) a sample
+ * visible at one is taken as visible at the other instead of tracing a ray. Exact at the same point, biased by the
+ * distance at shadow edges; a sample whose visibility was taken so max_age times in a row (Reservoir.vis_age) is
+ * traced again. */
+typedef struct {
+    int same_point;
+    int max_age;
+} VisKnown;
+
+inline VisKnown vis_known_none(void)
+{
+    VisKnown k;
+    k.same_point = 0;
+    k.max_age = 0;
+    return k;
+}
+
 /* Combine c with qs[0 .. n-1] at surface s into *r (finalised). Input k's surface is pixel input_pixel[k] of
  * input_gbuf and input_glossy, and qs[k].target its target at its own sample there, evaluated with this frame's lights (read by BIAS_PAIRWISE only).
  * One random number per input, drawn in input order (the canonical one first, except for BIAS_PAIRWISE where it is
@@ -17,7 +35,7 @@ inline int reuse_combine(const Surface* s, const Reservoir* c, const Reservoir* 
                          const __global GSample* input_gbuf, const __global GlossySample* input_glossy,
                          const int* input_pixel, const __global BVHNode* nodes,
                          const __global Tri* tris, const __global Light* lights, int bias_correction, int visibility,
-                         uint* rng, Reservoir* r)
+                         const VisKnown* known, uint* rng, Reservoir* r)
 {
     res_init(r);
     LightEval e, chosen;  /* chosen: the evaluation at s of the sample picked from an input */
@@ -26,8 +44,9 @@ inline int reuse_combine(const Surface* s, const Reservoir* c, const Reservoir* 
         PairwiseMis mis = pairwise_begin(c, (float)n);
         for (int k = 0; k < n; ++k) {
             Surface sn = surface_load(input_gbuf, input_glossy, input_pixel[k]);
+            bool c_known = known->same_point && c->vis_age < known->max_age;
             if (pairwise_neighbour(&mis, r, s, &sn, c, &qs[k], qs[k].target, nodes, tris, lights, visibility,
-                                   rng_next(rng), &chosen))
+                                   c_known, rng_next(rng), &chosen))
                 src = k;
         }
         if (pairwise_canonical(&mis, r, c, rng_next(rng))) src = -1;
@@ -57,8 +76,16 @@ inline int reuse_combine(const Surface* s, const Reservoir* c, const Reservoir* 
     }
     /* r->W > 0 with src < 0 means the canonical sample was picked (an input of weight 0 never is); a sample from an
      * input was picked with target > 0 at s, evaluated in chosen */
-    if (visibility && bias_correction != BIAS_NONE && r->W > 0.0f && src >= 0 && !visible(nodes, tris, s, &chosen))
-        r->W = 0.0f;
+    r->vis_age = c->vis_age;
+    if (visibility && bias_correction != BIAS_NONE && r->W > 0.0f && src >= 0) {
+        const Reservoir* q = &qs[src];
+        if (known->same_point && q->vis_age < known->max_age) {
+            r->vis_age = q->vis_age + 1;
+        } else {
+            r->vis_age = 0;
+            if (!visible(nodes, tris, s, &chosen)) r->W = 0.0f;
+        }
+    }
     return src;
 }
 

@@ -72,7 +72,9 @@ __kernel void restir_spatial(const __global GSample* gbuf, const __global Glossy
     Reservoir qs[MAX_NEIGHBOURS];  /* their reservoirs, read before any is used (the same overlap) */
     for (int k = 0; k < n_used; ++k) qs[k] = input[used[k]];
 
+    VisKnown known = vis_known_none();  /* a neighbour's point is not this pixel's */
     Reservoir r;
-    reuse_combine(&s, &c, qs, n_used, gbuf, glossy, used, nodes, tris, lights, bias_correction, visibility_reuse, &rng, &r);
+    reuse_combine(&s, &c, qs, n_used, gbuf, glossy, used, nodes, tris, lights, bias_correction, visibility_reuse,
+                  &known, &rng, &r);
     out[i] = r;
 }

@@ -4,9 +4,22 @@
  * target at its own sample, at last frame's surface with this frame's lights and geometry; lights_static: the light
  * records are last frame's, so that is the target the reservoir stored and is not evaluated again. Last frame's
  * surface must carry a similar material (surface_material_similar), and the history cap shrinks on view-dependent
- * (glossy) surfaces, whose target moves with the camera (view_dependence.h). */
+ * (glossy) surfaces, whose target moves with the camera (view_dependence.h).
+ * The visibility shortcut (vis_max_age > 0, static scene): where last frame's point is within vis_max_distance
+ * pixel footprints of this pixel's, the two shadow tests of the merge are answered from the stored ones
+ * (restir_reuse.h, VisKnown). */
 
-__kernel void restir_temporal(const __global GSample* gbuf, const __global GSample* prev_gbuf,
+/* Is last frame's point xp within max_distance footprints of a pixel (at x, facing the camera) of point x? */
+inline bool same_point(const __global Camera* cam, float3 x, float3 xp, float max_distance)
+{
+    float3 d = x - cam->origin.xyz;
+    float t = len3(d);
+    float tol = max_distance * camera_footprint(cam, t > 0.0f ? d / t : cam->forward.xyz, t);
+    float3 e = x - xp;
+    return dot3(e, e) <= tol * tol;
+}
+
+__kernel void restir_temporal(const __global Camera* cam, const __global GSample* gbuf, const __global GSample* prev_gbuf,
                               const __global GlossySample* glossy, const __global GlossySample* prev_glossy,
                               const __global BVHNode* nodes, const __global Tri* tris, const __global Light* lights,
                               const __global Reservoir* current, const __global Reservoir* previous,
@@ -36,7 +49,13 @@ __kernel void restir_temporal(const __global GSample* gbuf, const __global GSamp
         LightEval e;
         q.target = target_of(&sp, lights, q.light, q.u, q.v, &e);
     }
+    VisKnown known = vis_known_none();
+    if (visibility_reuse && p.vis_static) {
+        known.max_age = p.vis_max_age;
+        known.same_point = p.vis_max_age > 0 && same_point(cam, s.x, sp.x, p.vis_max_distance);
+    }
     Reservoir r;
-    reuse_combine(&s, &c, &q, 1, prev_gbuf, prev_glossy, &j, nodes, tris, lights, bias_correction, visibility_reuse, &rng, &r);
+    reuse_combine(&s, &c, &q, 1, prev_gbuf, prev_glossy, &j, nodes, tris, lights, bias_correction, visibility_reuse,
+                  &known, &rng, &r);
     out[i] = r;
 }

@@ -224,7 +224,8 @@ typedef struct {
     float M;          /* number of candidates seen (float: merges add confidence) */
     float W;          /* unbiased contribution weight */
     float target;     /* p-hat(y) at the pixel that owns the reservoir */
-    int pad;
+    int vis_age;      /* with visibility reuse: reuse passes that took the sample's visibility at this pixel from a
+                         stored result rather than a ray since its last shadow ray (restir_reuse.h) */
 } Reservoir;          /* 32 bytes */
 
 /* ---- parameters of the passes ---------------------------------------------------------------
@@ -284,9 +285,9 @@ typedef struct {
     int visibility_reuse;
     int lights_static;     /* 1: the light records are last frame's */
     uint permutation;      /* 0: none; else 16 | a per-frame 4-bit key (permutation sampling, reproject.h) */
-    int pad0;
-    int pad1;
-    int pad2;
+    int vis_static;        /* 1: geometry and lights are last frame's, so last frame's shadow tests still hold */
+    int vis_max_age;       /* the visibility shortcut: reuse a stored visibility at most this often in a row; 0: off */
+    float vis_max_distance;/* ... where the history's point is within this many pixels of the pixel's */
 } TemporalParams;          /* 48 bytes */
 
 /* ReSTIR pass 5 (restir_spatial.cl), one launch per spatial pass. */

@@ -38,6 +38,7 @@ BEFORE = (
     ("boiling_mode", "weight"),
     ("bsdf_mis_sample", False),
     ("sampler", "auto"),
+    ("visibility_max_age", 0), ("visibility_max_distance", 2.0),
 )
 NUMBERS = [d for d in declared(Settings) if d.spec.range is not None]
 

@@ -45,6 +45,9 @@ VARIANTS: dict[str, dict] = {
     "n3": dict(spatial_neighbours=3),
     "novis_n2": dict(visibility_reuse=False, spatial_neighbours=2),
     "c4_novis_n2": dict(candidates=4, visibility_reuse=False, spatial_neighbours=2),
+    # the visibility shortcut (restir_temporal.cl): stored shadow tests within 1 or 2 pixel footprints, 4 frames
+    "vis4": dict(visibility_max_age=4, visibility_max_distance=1.0),
+    "vis4_d2": dict(visibility_max_age=4, visibility_max_distance=2.0),  # visibility_max_distance's default
 }
 
 

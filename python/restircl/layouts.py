@@ -52,7 +52,7 @@ RESERVOIR = np.dtype(
         ("M", np.float32),
         ("W", np.float32),
         ("target", np.float32),
-        ("pad", np.int32),
+        ("vis_age", np.int32),
     ]
 )
 def _ints(*names: str) -> list[tuple[str, type]]:
@@ -73,7 +73,8 @@ SIMILARITY_PARAMS = np.dtype([*_floats("depth_tolerance", "normal_cos"), *_ints(
 INITIAL_PARAMS = np.dtype([("sampler", SAMPLER_PARAMS), *_ints("candidates", "visibility_reuse", "pad0", "pad1")])
 TEMPORAL_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), ("m_cap", np.float32),
                             *_ints("bias_correction", "visibility_reuse", "lights_static"),
-                            ("permutation", np.uint32), *_ints("pad0", "pad1", "pad2")])
+                            ("permutation", np.uint32), *_ints("vis_static", "vis_max_age"),
+                            ("vis_max_distance", np.float32)])
 SPATIAL_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), ("spatial_neighbours", np.int32),
                            ("spatial_radius", np.float32),
                            *_ints("bias_correction", "visibility_reuse", "pass_index", "boost_neighbours"),

@@ -106,6 +106,7 @@ _RIS = (("method", ("ris", "restir")),)
 _RESTIR = (("method", ("restir",)),)
 _TEMPORAL = (*_RESTIR, ("temporal", (True,)))
 _SPATIAL = (*_RESTIR, ("spatial", (True,)))
+_VIS_TEMPORAL = (*_TEMPORAL, ("visibility_reuse", (True,)))
 _TILES = (*_RIS, ("light_tiles", ("auto", "on")))
 _TAA = (("taa", (True,)),)
 _BSDF = (*_RIS, ("bsdf_sampling", ("auto", "on")))
@@ -245,6 +246,17 @@ class Settings:
                            "resampling choice come from: a per-pixel Owen-scrambled Sobol sequence (a still's mean has "
                            "less error at equal frames than with random numbers) or random numbers",
                            flag="--sampler", choices=SAMPLER_CHOICES, panel="sampling", applies_when=_RIS)
+    visibility_max_age: int = setting(0, "Visibility Age", "Visibility shortcut: where last frame's point is this "
+                                      "pixel's (Visibility Distance) and nothing moved, the temporal reuse takes "
+                                      "the stored shadow tests instead of rays, at most this many frames in a row; "
+                                      "0: trace them (unbiased)", flag="--visibility-max-age", range=Range(int, 0, 64),
+                                      panel="reuse", applies_when=_VIS_TEMPORAL, soft_max=16)
+    visibility_max_distance: float = setting(2.0, "Visibility Distance", "Distance between last frame's point and "
+                                             "this pixel's, in pixel footprints, within which the visibility "
+                                             "shortcut holds",
+                                             flag="--visibility-max-distance", range=Range(float, 0, finite=True),
+                                             panel="reuse", applies_when=_VIS_TEMPORAL, soft_max=16.0,
+                                             subtype="PIXEL")
 
     def validate(self) -> Settings:
         check(self)

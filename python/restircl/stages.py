@@ -160,15 +160,22 @@ class Temporal(Stage):
         key = int(state.frame_params["sample"]) * 0x9E3779B1 + int(state.frame_params["seed"]) * 0x85EBCA6B
         return 16 | ((key & 0xFFFFFFFF) >> 28)
 
+    def _static(self) -> bool:
+        """Whether last frame's shadow tests hold in this frame: no object or light moved or was edited."""
+        ds = self.scene
+        return not (ds.lights_changed or ds.moving_objects or ds.moving_lights or ds.edited)
+
     def run(self, state: FrameState, current: cl.Buffer) -> cl.Buffer:
         s, h = self.settings, self.history
         per_frame = s.candidates + int(state.sampler["bsdf_candidates"])  # the M of an initial reservoir
         params = L.pack(L.TEMPORAL_PARAMS, m_cap=s.m_cap * per_frame, similar=self._similarity(),
                         bias_correction=self.bias_code, visibility_reuse=int(s.visibility_reuse),
                         lights_static=int(not self.scene.lights_changed),
-                        permutation=self._permutation(state))
+                        permutation=self._permutation(state), vis_static=int(self._static()),
+                        vis_max_age=s.visibility_max_age, vis_max_distance=s.visibility_max_distance)
         out = self.buffers.res_temp
-        self.kernels.launch("restir_temporal", image_size(state), gbuf=h.gbuf(h.cur), prev_gbuf=h.gbuf(h.prev),
+        self.kernels.launch("restir_temporal", image_size(state), cam=self.buffers.cameras[0], gbuf=h.gbuf(h.cur),
+                            prev_gbuf=h.gbuf(h.prev),
                             glossy=h.glossy(h.cur), prev_glossy=h.glossy(h.prev),
                             **self.scene.geometry, lights=self.scene.lights_buf, current=current,
                             previous=h.reservoirs(h.prev), out=out, guards=self.buffers.guards,
