@@ -15,7 +15,7 @@
 
 #define PICK_TABLE_MAX 16           /* light_pick_table.py MAX_LIGHTS: at most this many lights per row */
 #define PICK_TABLE_ONE 65536u
-#define PICK_TABLE_FLOOR 0.1f       /* light_pick_table.py FLOOR: the light array's share of each probability */
+#define PICK_TABLE_FLOOR 0.25f      /* light_pick_table.py FLOOR: the light array's share of each probability */
 #define PICK_TABLE_POINTS 4         /* points per light of the estimate (2 x 2 strata) */
 
 /* The light of the word `bits` in row `row` of n lights, *pdf its probability. */

@@ -15,7 +15,7 @@ from .kernels import Kernels
 #: light_pick_table.h PICK_TABLE_MAX: a row covers at most this many lights (memory: 2 (n - 1) bytes per pixel)
 MAX_LIGHTS = 16
 #: light_pick_table.h PICK_TABLE_FLOOR: the light array's share of every probability
-FLOOR = 0.1
+FLOOR = 0.25
 ONE = 65536
 
 

@@ -72,12 +72,15 @@ OURS: dict[str, dict] = {
     "auto_array": {"light_proposal": "array"},
     "ris_c1": {"method": "ris", "candidates": 1},
     "ris_c4": {"method": "ris", "candidates": 4},
+    # F12's still path with solid-angle sampling of area lights (everywhere; where they look large)
+    "auto_solid": {"area_sampling": "solid_angle"},
+    "auto_solid_near": {"area_sampling": "auto"},
     # the light tree as the candidates' proposal (light_tree.py)
     "default_tree": {"light_proposal": "tree"},
     "ris_tree": {"method": "ris", "light_proposal": "tree"},
 }
 #: our methods whose settings go through still_settings, as F12's and the CLI's still renders do
-STILL_PATH = ("auto", "auto_random", "auto_array")
+STILL_PATH = ("auto", "auto_random", "auto_array", "auto_solid", "auto_solid_near")
 #: what a comparison runs unless told otherwise; any of OURS may be named
 METHODS = ("cycles", "default", "auto", "ris")
 ALL_METHODS = ("cycles", *OURS)
@@ -204,7 +207,8 @@ def ours_settings(method: str, scene: Scene) -> Settings:
 
 def time_ours(scene: Scene, settings: Settings, budget: float, device=None) -> tuple[np.ndarray, float, float, int]:
     """A still render from scratch stopped when `budget` seconds have passed: (image, seconds, setup seconds,
-    samples). Every frame waits for the device (the stage timers), so the clock sees the work done."""
+    samples). The still render keeps at most one frame in flight and reads the image back at the end, so the clock
+    sees the work done."""
     t0 = time.perf_counter()
     r = Renderer(scene, settings, device)
     setup = time.perf_counter() - t0
