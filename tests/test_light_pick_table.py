@@ -7,12 +7,11 @@ sample too, whose MIS weights take the table's pdf of the light a BSDF ray met (
 
 import numpy as np
 import pytest
+from restircl.light_pick_table import FLOOR, MAX_LIGHTS, ONE, uses_table
+from restircl.pipeline import Renderer
 
 from . import helpers as h
 from .test_estimators import SIZES
-
-from restircl.light_pick_table import FLOOR, MAX_LIGHTS, ONE, uses_table
-from restircl.pipeline import Renderer
 
 W, H = 16, 12
 

@@ -69,9 +69,9 @@ __all__ = ["LOCAL_ITEMS", "Frame", "Renderer", "Settings", "local_size"]
 _METHOD_CODE = {"uniform": 0, "light_array": 1, "ris": 2}
 
 
-KERNELS = ("primary", "light_tiles_fill", "light_pick_table", "shade_direct", "shade_reference", "accumulate", "accumulate_aux",
-           "restir_initial", "restir_temporal", "boiling_tiles", "boiling_filter", "restir_spatial", "restir_shade",
-           "taa", "filter_variance", "atrous")
+KERNELS = ("primary", "light_tiles_fill", "light_pick_table", "shade_direct", "shade_reference", "accumulate",
+           "accumulate_aux", "restir_initial", "restir_temporal", "boiling_tiles", "boiling_filter", "restir_spatial",
+           "restir_shade", "taa", "filter_variance", "atrous")
 
 
 class Renderer:
