@@ -191,12 +191,12 @@ class Renderer:
         self.scene.camera = camera
         return self.render_frame(0, aovs=aovs)
 
-    def _render(self, frame: int, still: bool, jitter_px: tuple[float, float] | None = None, wait: bool = True
+    def _render(self, frame: int, still: bool, jitter_px: tuple[float, float] | None = None
                 ) -> tuple[dict[str, float], cl.Buffer, cl.Buffer]:
         """Run the stages of one frame (DESIGN section 2); returns the stage times (ms), the colour buffer and the
-        G-buffer. wait=False: the stages are enqueued without waiting for each other (StageTimer)."""
+        G-buffer."""
         s, h = self.settings, self.history
-        timer = StageTimer(self.device.queue, wait=wait)
+        timer = StageTimer(self.device.queue)
         state = self._begin_frame(frame, jitter_px)
         timer.mark("upload")
         self.primary.run(state, self.scene.camera, self._prev_view)  # 1 camera rays -> G-buffer

@@ -58,18 +58,14 @@ def image_size(state: FrameState) -> tuple[int, int]:
 
 @dataclass
 class StageTimer:
-    """Milliseconds per stage; each mark waits for the queue, so a stage's time is its own. With wait=False it
-    only names the stages that ran (their times are the host's enqueueing): a still render's frames after its
-    first, which run without a wait between their stages (still.py)."""
+    """Milliseconds per stage; each mark waits for the queue, so a stage's time is its own."""
 
     queue: cl.CommandQueue
     ms: dict[str, float] = field(default_factory=dict)
     t: float = field(default_factory=time.perf_counter)
-    wait: bool = True
 
     def mark(self, name: str) -> None:
-        if self.wait:
-            self.queue.finish()
+        self.queue.finish()
         t1 = time.perf_counter()
         self.ms[name] = self.ms.get(name, 0.0) + (t1 - self.t) * 1e3
         self.t = t1
@@ -99,11 +95,9 @@ class Primary(Stage):
     def run(self, state: FrameState, camera: Camera, prev_camera: Camera | None = None) -> None:
         """prev_camera: the previous frame's camera where it is another one (an interactive view)."""
         q, b, h = self.kernels.device.queue, self.buffers, self.history
-        # not blocking: a blocking write waits for the frame before it (the in-order queue); pyopencl's event of a
-        # non-blocking copy keeps the host array alive until it is done
-        cl.enqueue_copy(q, b.cameras[0], camera_record(camera, state.frame, state.jitter), is_blocking=False)
-        cl.enqueue_copy(q, b.cameras[1], camera_record(prev_camera or camera, state.prev_frame), is_blocking=False)
-        cl.enqueue_copy(q, b.cameras[2], camera_record(camera, state.next_frame), is_blocking=False)
+        cl.enqueue_copy(q, b.cameras[0], camera_record(camera, state.frame, state.jitter))
+        cl.enqueue_copy(q, b.cameras[1], camera_record(prev_camera or camera, state.prev_frame))
+        cl.enqueue_copy(q, b.cameras[2], camera_record(camera, state.next_frame))
         self.kernels.launch("primary", image_size(state), cam=b.cameras[0],
                             prev_cam=b.cameras[1], next_cam=b.cameras[2], **self.scene.geometry,
                             **self.scene.surface, ggx_tables=self.scene.ggx_tables_buf or b.none,

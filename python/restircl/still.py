@@ -146,11 +146,6 @@ def render_still(
     # RIS samples from a scrambled Sobol sequence (qmc.py): one index count and one scramble key per half buffer
     sobol = still_uses_sobol(r.settings)
     qmc_counts = [0, 0]
-    # Only the first frame waits for each stage (its stage times are the render's stage_ms); the others are enqueued
-    # whole, with one frame in flight: while the device renders frame k the host enqueues frame k + 1, and waits for
-    # frame k before going on, so a stop (should_stop, a budget) leaves at most one frame to finish. At 192x108 the
-    # waits between stages and the host's launches cost a fifth of a still frame's wall time (docs/error-vs-time.md).
-    in_flight: cl.Event | None = None
     for k in range(max(int(samples), 1)):
         if should_stop is not None and done > 0 and should_stop():
             break
@@ -168,16 +163,12 @@ def render_still(
                 history.use_chain(chain, fresh=chain not in started)
                 started.add(chain)
             active = half
-        st, _, gbuf = r._render(frame, still=True, jitter_px=jit, wait=k == 0)
-        if k == 0:
-            stage = st
+        st, _, gbuf = r._render(frame, still=True, jitter_px=jit)
+        for key, v in st.items():
+            stage[key] = stage.get(key, 0.0) + v
         acc.add(r.buffers.sample, r.frame_params(), half)
         if denoise:  # the frame's G-buffer is in the previous slot once _render has swapped the history
             acc.add_aux(gbuf, history.glossy(history.prev), r.frame_params())
-        done_event = cl.enqueue_marker(q)
-        if in_flight is not None:
-            in_flight.wait()
-        in_flight = done_event
         done, n_half = acc.counts
         if progress is not None:
             progress(done, samples)
@@ -196,7 +187,7 @@ def render_still(
     out = r._read(acc.sum, gbuf, frame, scale=1.0 / done)
     out.noisy = read_image(q, r.buffers.sample, acc.shape)[..., :3].copy()
     out.samples = done
-    out.stage_ms = stage  # the first frame's
+    out.stage_ms = {k: v / done for k, v in stage.items()}
     out.ms = (time.perf_counter() - t0) * 1e3 / done
     out.error_estimate = acc.error_estimate(done, n_half) if done >= 2 else None
     if denoise:
