@@ -8,7 +8,8 @@ __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySa
                            const __global LightTreeNode* tree_nodes, const __global int2* tree_info,
                            const __global int2* tree_distant,
                            const __global Light* tile_rec, const __global int2* tile_info,
-                           const __global int* tri_light, volatile __global int* guards, __global float4* out, FrameParams frame_params,
+                           const __global int* tri_light, const __global ushort* pick_table,
+                           volatile __global int* guards, __global float4* out, FrameParams frame_params,
                            ShadeParams params)
 {
     const int pixel_count = frame_params.pixels;
@@ -27,6 +28,7 @@ __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySa
             Reservoir r;
             res_init(&r);
             LightPick lp = light_pick_source(slots, light_pdf, tree_nodes, tree_info, tree_distant, params.sampler);
+            light_pick_use_table(&lp, pick_table, params.sampler, i);
             RisSource src = ris_source(slot_count, tile_count, tile_size, i, frame, seed);
             BsdfSource bsdf = bsdf_source(params.sampler);
             bsdf.mis_sample = params.bsdf_mis_sample;

@@ -15,6 +15,7 @@
 #define RESTIRCL_LIGHT_TREE_H
 
 #include "light_array.h"  /* light_pick_lights falls back to the array (and picks the distant lights by it) */
+#include "light_pick_table.h"
 
 #define LIGHT_TREE_FLOOR 0.1f       /* light_tree.py FLOOR */
 #define LIGHT_TREE_TWO_SIDED 1      /* LightTreeNode.meta.y: a light below emits on both sides */
@@ -34,6 +35,8 @@ typedef struct {
     int leaves;
     int distant_count;
     float p_local;
+    const __global ushort* table;  /* the pixel's row of the per-pixel pick (light_pick_table.h), or 0 */
+    int table_n;                   /* its lights; 0: no table */
 } LightPick;
 
 inline LightPick light_pick_source(const __global int* slots, const __global float* light_pdf,
@@ -41,9 +44,23 @@ inline LightPick light_pick_source(const __global int* slots, const __global flo
                                    const __global int2* distant, SamplerParams sp)
 {
     LightPick p = {slots, light_pdf, nodes, info, distant, sp.light_tree, sp.tree_leaves, sp.tree_distant,
-                   sp.tree_p_local};
+                   sp.tree_p_local, 0, 0};
     return p;
 }
+
+/* Pick from pixel i's row of the per-pixel table `table` (of light_count lights) where the frame has one. */
+inline void light_pick_use_table(LightPick* lp, const __global ushort* table, SamplerParams sp, int i)
+{
+#ifdef HAS_PICK_TABLE
+    if (sp.pick_table && sp.light_count > 1) {
+        lp->table = table + (size_t)i * (size_t)(sp.light_count - 1);
+        lp->table_n = sp.light_count;
+    }
+#endif
+}
+
+/* Whether a pick takes a 32-bit word (the tree's descent, the table's inversion) rather than a slot. */
+inline bool light_pick_takes_word(const LightPick* lp) { return lp->tree || lp->table_n > 0; }
 
 #ifdef HAS_LIGHT_TREE
 /* cos and sin of max(0, a - b), angles in [0, pi] given by cos and sin */
@@ -182,6 +199,12 @@ inline void light_tree_lights(const LightPick* lp, float3 x, float3 n, const uin
 inline void light_pick_lights(const LightPick* lp, float3 x, float3 n, const uint* bits, int count, int* light,
                               float* pdf)
 {
+#ifdef HAS_PICK_TABLE
+    if (lp->table_n > 0) {
+        for (int k = 0; k < count; ++k) light[k] = pick_table_light(lp->table, lp->table_n, bits[k], &pdf[k]);
+        return;
+    }
+#endif
 #ifdef HAS_LIGHT_TREE
     if (lp->tree) {
         light_tree_lights(lp, x, n, bits, count, light, pdf);
@@ -194,6 +217,9 @@ inline void light_pick_lights(const LightPick* lp, float3 x, float3 n, const uin
 /* The probability with which the pick of lp chooses light `light` at x (normal n). */
 inline float light_pick_pdf(const LightPick* lp, int light, float3 x, float3 n)
 {
+#ifdef HAS_PICK_TABLE
+    if (lp->table_n > 0) return pick_table_pdf(lp->table, lp->table_n, light);
+#endif
 #ifdef HAS_LIGHT_TREE
     if (lp->tree) {
         int2 info = lp->info[light];

@@ -35,6 +35,7 @@
 
 #include "primary.cl"
 #include "light_tiles.cl"
+#include "light_pick_table.cl"
 #include "direct.cl"
 #include "restir_initial.cl"
 #include "restir_temporal.cl"

@@ -62,15 +62,15 @@ inline void ris_candidates(const Surface* s, const __global Light* lights, const
             if (q->on) {
                 uint2 a = qmc_pair_bits(q, QMC_LIGHT_PICK(k0 + k));
                 float2 b = qmc_pair(q, QMC_LIGHT_POINT(k0 + k));
-                pick[k] = lp->tree ? a.x : (uint)(((ulong)a.x * (ulong)draw_range) >> 32);
+                pick[k] = light_pick_takes_word(lp) ? a.x : (uint)(((ulong)a.x * (ulong)draw_range) >> 32);
                 if (k0 + k == 0) sel = qmc_float(a.y);
                 r0[k] = b.x;
                 r1[k] = b.y;
                 rnd[k] = 0.0f;
                 continue;
             }
-            /* a slot, an entry of the tile, or the tree's random word */
-            pick[k] = lp->tree ? rng_next_uint(rng) : rng_below(rng, draw_range);
+            /* a slot, an entry of the tile, or the tree's or the table's random word */
+            pick[k] = light_pick_takes_word(lp) ? rng_next_uint(rng) : rng_below(rng, draw_range);
             r0[k] = rng_next(rng);
             r1[k] = rng_next(rng);
             rnd[k] = rng_next(rng);

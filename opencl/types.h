@@ -258,7 +258,11 @@ typedef struct {
     int tree_leaves;       /* lights in the tree */
     int tree_distant;      /* lights outside it (no position: suns), picked as often as the light array does */
     float tree_p_local;    /* probability of a descent of the tree rather than a distant light */
-} SamplerParams;           /* 48 bytes */
+    int pick_table;        /* 1: RIS picks lights by the pixel's row of the per-pixel table (light_pick_table.h) */
+    int pad0;
+    int pad1;
+    int pad2;
+} SamplerParams;           /* 64 bytes */
 
 /* When a history or neighbour surface counts as the pixel's own (temporal and spatial reuse, TAA). */
 typedef struct {
@@ -275,7 +279,7 @@ typedef struct {
     int visibility_reuse;  /* 1: shadow-test the chosen sample */
     int pad0;
     int pad1;
-} InitialParams;           /* 64 bytes */
+} InitialParams;           /* 80 bytes */
 
 /* ReSTIR pass 4 (restir_temporal.cl). */
 typedef struct {
@@ -310,7 +314,7 @@ typedef struct {
     int candidates;        /* RIS candidates per pixel (shade_direct, METHOD_RIS) */
     int visible_known;     /* restir_shade: the reuse passes already zeroed occluded samples */
     int bsdf_mis_sample;   /* shade_direct, METHOD_RIS: 1 = one BSDF sample beside the reservoir's (bsdf_mis.h) */
-} ShadeParams;             /* 64 bytes */
+} ShadeParams;             /* 80 bytes */
 
 /* Pass 7: temporal accumulation (taa.cl). */
 typedef struct {

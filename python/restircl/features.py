@@ -11,16 +11,17 @@ LIGHT_FLAGS = FEATURE_FLAGS  # light type code -> HAS_<TYPE>_LIGHTS, from each t
 MATERIAL_FLAGS = ("HAS_GLOSSY", "HAS_TEXTURES")
 # HAS_LIGHT_TREE: RIS candidates come from the light tree (Settings.light_proposal, light_tree.py)
 # HAS_CAMERA_LIGHTS: camera rays test the lights visible to the camera that have a shape (camera_lights.py)
+# HAS_PICK_TABLE: still RIS renders pick lights from a per-pixel table (light_pick_table.py)
 ALL_FLAGS = (*LIGHT_FLAGS.values(), "HAS_MOTION", "HAS_MOVING_OBJECTS", *MATERIAL_FLAGS, "HAS_LIGHT_TREE",
-             "HAS_CAMERA_LIGHTS")
+             "HAS_CAMERA_LIGHTS", "HAS_PICK_TABLE")
 
 
 def derive_flags(light_types: Iterable[int], motion: bool, moving_objects: bool,
                  materials: dict[str, bool] | None = None, light_tree: bool = False,
-                 camera_lights: bool = False) -> dict[str, bool]:
+                 camera_lights: bool = False, pick_table: bool = False) -> dict[str, bool]:
     """Flags for a scene with these light types, whether anything moves between frames, what its materials
-    need (MATERIAL_FLAGS -> bool, python/restircl/material_pack.py), whether it samples from the light tree and
-    whether the camera sees lights."""
+    need (MATERIAL_FLAGS -> bool, python/restircl/material_pack.py), whether it samples from the light tree,
+    whether the camera sees lights and whether still renders pick lights from the per-pixel table."""
     types = set(light_types)
     flags = {name: t in types for t, name in LIGHT_FLAGS.items()}
     flags["HAS_MOTION"] = bool(motion or moving_objects)
@@ -29,6 +30,7 @@ def derive_flags(light_types: Iterable[int], motion: bool, moving_objects: bool,
         flags[name] = bool((materials or {}).get(name, False))
     flags["HAS_LIGHT_TREE"] = bool(light_tree)
     flags["HAS_CAMERA_LIGHTS"] = bool(camera_lights)
+    flags["HAS_PICK_TABLE"] = bool(pick_table)
     return flags
 
 

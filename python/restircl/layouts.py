@@ -68,7 +68,8 @@ FRAME_PARAMS = np.dtype([*_ints("width", "height", "pixels"), ("sample", np.uint
                          ("qmc", np.int32), ("qmc_index", np.uint32), ("qmc_key", np.uint32)])
 SAMPLER_PARAMS = np.dtype([*_ints("light_count", "slot_count", "tile_count", "tile_size", "bsdf_candidates",
                                   "bsdf_analytic", "bsdf_triangles", "bsdf_glossy_only", "light_tree",
-                                  "tree_leaves", "tree_distant"), ("tree_p_local", np.float32)])
+                                  "tree_leaves", "tree_distant"), ("tree_p_local", np.float32),
+                           *_ints("pick_table", "pad0", "pad1", "pad2")])
 SIMILARITY_PARAMS = np.dtype([*_floats("depth_tolerance", "normal_cos"), *_ints("pad0", "pad1")])
 INITIAL_PARAMS = np.dtype([("sampler", SAMPLER_PARAMS), *_ints("candidates", "visibility_reuse", "pad0", "pad1")])
 TEMPORAL_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), ("m_cap", np.float32),

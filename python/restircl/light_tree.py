@@ -230,7 +230,7 @@ def tree_pays(types: np.ndarray) -> bool:
 def tree_proposal(method: str, proposal: str, types: np.ndarray) -> bool:
     """Whether the RIS candidates of a render with this method and Settings.light_proposal come from the tree, for
     lights of these LIGHT_* types."""
-    if method not in ("ris", "restir") or proposal == "array" or len(types) < 2:
+    if method not in ("ris", "restir") or proposal in ("array", "pixel") or len(types) < 2:
         return False
     return proposal == "tree" or tree_pays(types)
 

@@ -34,6 +34,7 @@ from .frame import Frame, read_aovs, read_colour, read_gbuffer, read_guards, rea
 from .history import History
 from .kernels import LOCAL_ITEMS, Kernels, local_size
 from .light_array import LightArray
+from .light_pick_table import PickTable, uses_table
 from .light_tree import tree_proposal
 from .lights import DeviceLights
 from .program import build_program
@@ -68,9 +69,9 @@ __all__ = ["LOCAL_ITEMS", "Frame", "Renderer", "Settings", "local_size"]
 _METHOD_CODE = {"uniform": 0, "light_array": 1, "ris": 2}
 
 
-KERNELS = ("primary", "light_tiles_fill", "shade_direct", "shade_reference", "accumulate", "accumulate_aux",
-           "restir_initial", "restir_temporal", "boiling_tiles", "boiling_filter", "restir_spatial", "restir_shade",
-           "taa", "filter_variance", "atrous")
+KERNELS = ("primary", "light_tiles_fill", "light_pick_table", "shade_direct", "shade_reference", "accumulate",
+           "accumulate_aux", "restir_initial", "restir_temporal", "boiling_tiles", "boiling_filter", "restir_spatial",
+           "restir_shade", "taa", "filter_variance", "atrous")
 
 
 class Renderer:
@@ -117,6 +118,7 @@ class Renderer:
         self.shade = Shade(*stage, method_codes=_METHOD_CODE)
         self.taa = Taa(*stage)
         self.still = StillAccumulation(self.kernels, self.pixels, (self.height, self.width))
+        self.pick_table = PickTable(self.kernels, self.pixels)
 
     def _build(self) -> None:
         s, ds = self.scene, self.device_scene
@@ -130,7 +132,8 @@ class Renderer:
             # a light the camera sees that moves needs motion vectors of its own
             moving = moving_camera or ds.moving_objects or (ds.moving_lights and bool(ds.camera_lights))
             flags = derive_flags(ds.lights.type_set, moving, ds.moving_objects or self.interactive,
-                                 ds.material_flags, self.uses_light_tree, camera_lights=bool(ds.camera_lights))
+                                 ds.material_flags, self.uses_light_tree, camera_lights=bool(ds.camera_lights),
+                                 pick_table=self._stills_use_pick_table())
         else:
             flags = general_flags()
         self.flags = flags
@@ -202,6 +205,11 @@ class Renderer:
             self.light_tiles.run(state)
             timer.mark("tiles")
         tiles = self.light_tiles.arguments(state)
+        if state.pick_table and not self.pick_table.ready:  # once per still render, from its first G-buffer
+            self.pick_table.build(h.gbuf(h.cur), h.glossy(h.cur), self.device_scene.lights_buf,
+                                  self.device_scene.light_pdf_buf, self.device_scene.sampled_light_count,
+                                  state.frame_params)
+            timer.mark("pick_table")
         if state.method == "restir":
             res = self.initial.run(state, tiles)  # 2-3 RIS -> reservoir, visibility of the chosen sample
             timer.mark("initial")
@@ -219,7 +227,7 @@ class Renderer:
         elif state.method == "reference":
             self.shade.reference(state)
         else:
-            self.shade.direct(state, tiles)
+            self.shade.direct(state, tiles, self.pick_table.buf if state.pick_table else None)
         timer.mark("shade")
         color_buf = self.buffers.sample
         if s.taa and not still:  # 7 temporal accumulation (animation frames; a still render averages instead)
@@ -262,6 +270,8 @@ class Renderer:
         tiles = tree is None and self._use_light_tiles(method, light_count)
         self.light_tiles_used = tiles
         mis_sample = self.bsdf_mis_sample(method, light_count)
+        pick_table = (self.pick_table.active and tree is None and not tiles
+                      and uses_table(s.light_proposal, method, light_count, still=True))
         bsdf = 0 if mis_sample else self._bsdf_candidates(method, light_count)
         hit_tests = bool(bsdf) or mis_sample  # what BSDF rays look for: the candidates' or the MIS sample's
         sampler = L.pack(L.SAMPLER_PARAMS, light_count=light_count, slot_count=ds.light_array.slot_count,
@@ -272,7 +282,7 @@ class Renderer:
                          bsdf_analytic=ds.analytic_lights if hit_tests and ds.analytic_lights <= BSDF_ANALYTIC_MAX
                          else 0,
                          bsdf_triangles=int(hit_tests and ds.triangle_lights),
-                         bsdf_glossy_only=int(s.bsdf_sampling == "auto"))
+                         bsdf_glossy_only=int(s.bsdf_sampling == "auto"), pick_table=int(pick_table))
         jit = jitter_px if jitter_px is not None else jitter(self._sample) if s.jitter else (0.0, 0.0)
         # A light switched on or off (or its power jumped) makes last frame's reservoirs samples of another target:
         # kept, they would dilute this frame's estimate for many frames. The decision depends on the scene only, not
@@ -280,7 +290,8 @@ class Renderer:
         return FrameState(frame=frame, prev_frame=self._last_frame if history else frame,
                           next_frame=min(frame + 1, ds.frame_count - 1), history=history,
                           restir_history=history and not ds.lights_switched, method=method, tiles=tiles,
-                          frame_params=self.frame_params(), sampler=sampler, jitter=jit, mis_sample=mis_sample)
+                          frame_params=self.frame_params(), sampler=sampler, jitter=jit, mis_sample=mis_sample,
+                          pick_table=pick_table)
 
     def _moving(self, state: FrameState) -> bool:
         """Whether TAA must validate and clip its history. Only a camera that moved between the two frames makes
@@ -318,6 +329,12 @@ class Renderer:
         if s.bsdf_sampling == "auto" and not self.device_scene.material_flags.get("HAS_GLOSSY", False):
             return 0
         return s.bsdf_candidates
+
+    def _stills_use_pick_table(self) -> bool:
+        """Whether still renders of this scene and settings pick lights from the per-pixel table (compiled in)."""
+        s = self.settings
+        return (not self.uses_light_tree and not self._use_light_tiles(s.method, self.device_scene.sampled_light_count)
+                and uses_table(s.light_proposal, s.method, self.device_scene.sampled_light_count, still=True))
 
     def will_use_light_tiles(self) -> bool:
         """Whether the frames of this scene and settings (with its current lights) draw their RIS candidates from
@@ -362,9 +379,11 @@ class Renderer:
         done); target_error stops once the reference-free error estimate (relMSE) reaches it; checkpoint(done,
         seconds) lets a caller look at the running mean (mean_image) while it accumulates."""
         try:
+            self.pick_table.start(bool(self.flags.get("HAS_PICK_TABLE")))
             return render_still(self, frame, samples, progress, should_stop, target_error, checkpoint)
         finally:
             self.qmc = None  # the frames after it draw random numbers again, also when it raised
+            self.pick_table.start(False)
 
     @property
     def still_counts(self) -> tuple[int, int]:

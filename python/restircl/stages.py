@@ -43,6 +43,7 @@ class FrameState:
     sampler: np.void  # SamplerParams
     jitter: tuple[float, float] = (0.0, 0.0)
     mis_sample: bool = False  # RIS adds one BSDF sample combined by MIS (Renderer.bsdf_mis_sample, bsdf_mis.h)
+    pick_table: bool = False  # RIS picks lights from the still render's per-pixel table (light_pick_table.py)
 
 
 def pixel_count(state: FrameState) -> tuple[int]:
@@ -256,13 +257,15 @@ class Shade(Stage):
         self.kernels.launch("restir_shade", pixel_count(state), **self._common(state), res=h.reservoirs(h.cur),
                             params=params)
 
-    def direct(self, state: FrameState, tiles: dict[str, cl.Buffer]) -> None:
+    def direct(self, state: FrameState, tiles: dict[str, cl.Buffer], pick_table: cl.Buffer | None = None) -> None:
+        """pick_table: the still render's per-pixel light pick, where state.pick_table says the frame uses it."""
         params = L.pack(L.SHADE_PARAMS, sampler=state.sampler, method=self.method_codes[state.method],
                         candidates=self.settings.candidates,
                         bsdf_mis_sample=int(state.mis_sample))
         self.kernels.launch("shade_direct", pixel_count(state), **self._common(state), slots=self.scene.slots_buf,
                             light_pdf=self.scene.light_pdf_buf, **self.scene.light_tree_args, **tiles,
-                            tri_light=self.scene.tri_light_buf, params=params)
+                            tri_light=self.scene.tri_light_buf, pick_table=pick_table or self.buffers.none,
+                            params=params)
 
     def reference(self, state: FrameState) -> None:
         params = L.pack(L.SHADE_PARAMS, sampler=state.sampler)

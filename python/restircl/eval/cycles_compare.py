@@ -67,12 +67,20 @@ OURS: dict[str, dict] = {
     "auto_random": {"sampler": "random"},
     "ris_c2": {"method": "ris", "candidates": 2},
     "ris_c8": {"method": "ris", "candidates": 8},
+    # F12's still path with the light array's pick instead of the per-pixel table (light_pick_table.py), and RIS
+    # with the table at 1 and 4 light candidates
+    "auto_array": {"light_proposal": "array"},
+    "ris_c1": {"method": "ris", "candidates": 1},
+    "ris_c4": {"method": "ris", "candidates": 4},
+    # F12's still path with solid-angle sampling of area lights (everywhere; where they look large)
+    "auto_solid": {"area_sampling": "solid_angle"},
+    "auto_solid_near": {"area_sampling": "auto"},
     # the light tree as the candidates' proposal (light_tree.py)
     "default_tree": {"light_proposal": "tree"},
     "ris_tree": {"method": "ris", "light_proposal": "tree"},
 }
 #: our methods whose settings go through still_settings, as F12's and the CLI's still renders do
-STILL_PATH = ("auto", "auto_random")
+STILL_PATH = ("auto", "auto_random", "auto_array", "auto_solid", "auto_solid_near")
 #: what a comparison runs unless told otherwise; any of OURS may be named
 METHODS = ("cycles", "default", "auto", "ris")
 ALL_METHODS = ("cycles", *OURS)
