@@ -6,7 +6,7 @@ device's threads spent on a stage, not how long it waited for a core.
         [--rounds 3] [--frames 4] [--width 640 --height 360]
 
 A variant is {"settings": Settings keywords, "local": work-items per work-group (kernels.LOCAL_ITEMS; 8x8 stays
-the 2D shape for 64)}. Prints the median over the frames of each stage and of their sum.
+the 2D shape for 64), "shape": [x, y], the work-group shape of the 2D kernels (e.g. [64, 1]: rows of pixels)}. Prints the median over the frames of each stage and of their sum.
 """
 
 from __future__ import annotations
@@ -24,6 +24,7 @@ from restircl.scenes import many_lights
 
 _LAST: dict[str, dict[str, float]] = {}
 _LOCAL: list[int | None] = [None]
+_SHAPE: list[tuple[int, int] | None] = [None]
 _local_size = kernels.local_size
 
 
@@ -44,6 +45,9 @@ class CpuStageTimer(stages.StageTimer):
 
 
 def _variant_local_size(dims: int, max_items: int) -> tuple[int, ...]:
+    shape = _SHAPE[0]
+    if dims == 2 and shape is not None and shape[0] * shape[1] <= max_items:
+        return shape
     if _LOCAL[0] is None:
         return _local_size(dims, max_items)
     saved = kernels.LOCAL_ITEMS
@@ -73,6 +77,8 @@ def main() -> None:
     for rnd in range(a.rounds + 1):  # round 0: warm-up (program build, uploads, history)
         for n, r in renderers.items():
             _LOCAL[0] = variants[n].get("local")
+            shape = variants[n].get("shape")
+            _SHAPE[0] = (int(shape[0]), int(shape[1])) if shape else None
             for _ in range(a.frames):
                 r.render_frame(frame[n] % scene.frames, aovs=False)
                 frame[n] += 1
