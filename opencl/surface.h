@@ -35,7 +35,8 @@ typedef struct {
     int prim;       /* the triangle hit (leaf order; < 0: none), for the shadow ray offset */
 } Surface;
 
-/* The material of pixel i of the G-buffer g and its extension gx (valid: the pixel shows a surface). */
+/* The material of pixel i of the G-buffer g and its extension gx (valid: the pixel shows a surface); the lobes
+ * from m.lobes on are left unset. */
 inline SurfaceMaterial surface_material_load(const __global GSample* g, const __global GlossySample* gx, int i,
                                              int valid)
 {
@@ -44,8 +45,10 @@ inline SurfaceMaterial surface_material_load(const __global GSample* g, const __
 #ifdef HAS_GLOSSY
     const __global GlossySample* q = gx + i;
     m.lobes = valid ? min(as_int(q->wo.w), MAX_LAYERS) : 0;
-    m.lobe[0] = q->lobe0;
-    m.lobe[1] = q->lobe1;
+    /* only the lobes in use: every reader stops at m.lobes, and a diffuse pixel (most of a scene's) then reads one
+     * of the sample's three cache lines (the passes are bound by these reads more than by their arithmetic) */
+    if (m.lobes > 0) m.lobe[0] = q->lobe0;
+    if (m.lobes > 1) m.lobe[1] = q->lobe1;
 #else
     (void)gx;
     (void)valid;
