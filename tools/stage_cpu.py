@@ -6,7 +6,8 @@ device's threads spent on a stage, not how long it waited for a core.
         [--rounds 3] [--frames 4] [--width 640 --height 360]
 
 A variant is {"settings": Settings keywords, "local": work-items per work-group (kernels.LOCAL_ITEMS; 8x8 stays
-the 2D shape for 64), "shape": [x, y], the work-group shape of the 2D kernels (e.g. [64, 1]: rows of pixels)}. Prints the median over the frames of each stage and of their sum.
+the 2D shape for 64), "shape": [x, y], the work-group shape of the 2D kernels (e.g. [64, 1]: rows of pixels)}.
+Prints the median over the frames of each stage and of their sum.
 """
 
 from __future__ import annotations
