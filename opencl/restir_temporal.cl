@@ -26,9 +26,9 @@ __kernel void restir_temporal(const __global GSample* gbuf, const __global GSamp
     int j = reproject_pixel(gbuf, prev_gbuf, x, y, width, height, p.similar.depth_tolerance, p.similar.normal_cos,
                             p.permutation);
     if (j < 0) { out[i] = c; return; }
-    Reservoir q = previous[j];  /* read with the surface, before the test: the two cache misses overlap */
     Surface sp = surface_load(prev_gbuf, prev_glossy, j);
     if (!surface_material_similar(&s, &sp)) { out[i] = c; return; }  /* a glossy target is not a diffuse one's */
+    Reservoir q = previous[j];
     q.M = fmin_f(q.M, p.m_cap * view_dependent_cap(&s));
     if (!finite_f(q.W) || !finite_f(q.M)) { guard_count(guards, GUARD_NONFINITE_RESERVOIR); out[i] = c; return; }
     uint rng = rng_seed((uint)i, frame_params.sample, frame_params.seed, 4u);
