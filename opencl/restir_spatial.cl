@@ -50,27 +50,32 @@ __kernel void restir_spatial(const __global GSample* gbuf, const __global Glossy
         bool inside = nx >= 0 && ny >= 0 && nx < width && ny < height && !(nx == x && ny == y);
         used[k] = inside ? ny * width + nx : i;  /* i: rejected below */
     }
-    /* The neighbours' depth and normal are read in one loop and tested in the next: the reads (cache misses,
-     * random pixels within the radius) then overlap instead of each waiting behind the branch on the last one. */
+    /* What the tests need of each neighbour (depth, normal, material key) and its reservoir are read in one loop
+     * and tested in the next: the reads (cache misses, random pixels within the radius) then overlap instead of
+     * each waiting behind the branch on the last one. */
     float4 nn[MAX_NEIGHBOURS];  /* normal; w: the primitive (int bits), < 0 for a miss */
     float nd[MAX_NEIGHBOURS];
+    MaterialKey nk[MAX_NEIGHBOURS];
+    Reservoir qs[MAX_NEIGHBOURS];
     for (int k = 0; k < k_max; ++k) {
         nn[k] = gbuf[used[k]].normal;
         nd[k] = gbuf[used[k]].pos.w;
+        SurfaceMaterial m = surface_material_load(gbuf, glossy, used[k], as_int(nn[k].w) >= 0);
+        nk[k] = material_key(&m);
+        qs[k] = input[used[k]];
     }
+    const MaterialKey key = material_key(&s.mat);
     int n_used = 0;
     for (int k = 0; k < k_max; ++k) {
+        /* the material too: a glossy target is not a diffuse one's */
         bool similar = used[k] != i && as_int(nn[k].w) >= 0 && abs_f(nd[k] - s.depth) <= p.similar.depth_tolerance * s.depth
-                       && dot3(nn[k].xyz, s.n) >= p.similar.normal_cos;
-        if (similar) {  /* and of a material alike: a glossy target is not a diffuse one's */
-            Surface sn = surface_load(gbuf, glossy, used[k]);
-            similar = surface_material_similar(&s, &sn);
+                       && dot3(nn[k].xyz, s.n) >= p.similar.normal_cos && material_keys_similar(&key, &nk[k]);
+        if (similar) {
+            used[n_used] = used[k];
+            qs[n_used++] = qs[k];
         }
-        if (similar) used[n_used++] = used[k];
     }
     if (n_used == 0) { out[i] = c; return; }
-    Reservoir qs[MAX_NEIGHBOURS];  /* their reservoirs, read before any is used (the same overlap) */
-    for (int k = 0; k < n_used; ++k) qs[k] = input[used[k]];
 
     VisKnown known = vis_known_none();  /* a neighbour's point is not this pixel's */
     Reservoir r;

@@ -35,6 +35,27 @@ typedef struct {
     int prim;       /* the triangle hit (leaf order; < 0: none), for the shadow ray offset */
 } Surface;
 
+/* The material of pixel i of the G-buffer g and its extension gx (valid: the pixel shows a surface); the lobes
+ * from m.lobes on are left unset. */
+inline SurfaceMaterial surface_material_load(const __global GSample* g, const __global GlossySample* gx, int i,
+                                             int valid)
+{
+    SurfaceMaterial m;
+    m.albedo = g[i].albedo.xyz;
+#ifdef HAS_GLOSSY
+    const __global GlossySample* q = gx + i;
+    m.lobes = valid ? min(as_int(q->wo.w), MAX_LAYERS) : 0;
+    /* only the lobes in use: every reader stops at m.lobes, and a diffuse pixel (most of a scene's) then reads one
+     * of the sample's three cache lines (the passes are bound by these reads more than by their arithmetic) */
+    if (m.lobes > 0) m.lobe[0] = q->lobe0;
+    if (m.lobes > 1) m.lobe[1] = q->lobe1;
+#else
+    (void)gx;
+    (void)valid;
+#endif
+    return m;
+}
+
 /* Pixel i of the G-buffer g and its extension gx (read only in glossy builds; a placeholder buffer otherwise). */
 inline Surface surface_load(const __global GSample* g, const __global GlossySample* gx, int i)
 {
@@ -46,25 +67,19 @@ inline Surface surface_load(const __global GSample* g, const __global GlossySamp
     s.depth = gs.pos.w;
     s.n = gs.normal.xyz;
     s.ng = gs.gnormal.xyz;
-    s.mat.albedo = gs.albedo.xyz;
 #ifdef HAS_TEXTURES
     int nb = as_int(gs.emission.w);
     s.bumped = s.valid && nb != 0;
     s.nb = s.bumped ? normal_unpack(nb) : s.n;
 #endif
+    s.mat = surface_material_load(g, gx, i, s.valid);
 #ifdef HAS_GLOSSY
-    const __global GlossySample* q = gx + i;
-    float4 wo = q->wo;
-    s.wo = wo.xyz;
-    s.mat.lobes = s.valid ? min(as_int(wo.w), MAX_LAYERS) : 0;
-    s.mat.lobe[0] = q->lobe0;
-    s.mat.lobe[1] = q->lobe1;
+    s.wo = gx[i].wo.xyz;
     s.nl = s.n;
 #ifdef HAS_TEXTURES
     if (s.bumped) s.nl = shading_normal_guard(s.n, s.ng, s.wo);
 #endif
 #else
-    (void)gx;
     s.wo = s.n;
 #endif
     return s;
@@ -88,6 +103,18 @@ inline void surface_set_normal(Surface* s, float3 n)
 #define SIMILAR_ROUGHNESS 0.15f   /* |roughness difference| of a lobe */
 #define SIMILAR_METALLIC 0.25f    /* |difference| of the share of the metallic part in the reflectance */
 
+/* What surface_material_similar compares of a material: per lobe its roughness (sqrt of alpha) and metallic share.
+ * The spatial pass computes it for each candidate neighbour straight from the G-buffer (surface_material_load),
+ * without the rest of its surface. */
+typedef struct {
+#ifdef HAS_GLOSSY
+    int lobes;
+    float2 lobe[MAX_LAYERS];  /* x: roughness, y: metallic share */
+#else
+    int unused;
+#endif
+} MaterialKey;
+
 #ifdef HAS_GLOSSY
 /* the share of the F82-tint (metal or Glossy) part in a lobe's and the diffuse reflectance */
 inline float surface_metal_share(const SurfaceMaterial* m, int k)
@@ -99,23 +126,42 @@ inline float surface_metal_share(const SurfaceMaterial* m, int k)
 }
 #endif
 
-/* Whether the materials of two surfaces are alike enough for one to reuse the other's light samples: the same
- * number of lobes, each of similar roughness and metallic share. Diffuse-only builds: always. */
-inline bool surface_material_similar(const Surface* a, const Surface* b)
+inline MaterialKey material_key(const SurfaceMaterial* m)
+{
+    MaterialKey key;
+#ifdef HAS_GLOSSY
+    key.lobes = m->lobes;
+    for (int k = 0; k < MAX_LAYERS; ++k)
+        key.lobe[k] = k < m->lobes ? (float2)(sqrt(m->lobe[k].metal_f0.w), surface_metal_share(m, k)) : (float2)(0.0f);
+#else
+    (void)m;
+    key.unused = 0;
+#endif
+    return key;
+}
+
+/* Whether two materials are alike enough for one surface to reuse the other's light samples: the same number of
+ * lobes, each of similar roughness and metallic share. Diffuse-only builds: always. */
+inline bool material_keys_similar(const MaterialKey* a, const MaterialKey* b)
 {
 #ifdef HAS_GLOSSY
-    if (a->mat.lobes != b->mat.lobes) return false;
-    for (int k = 0; k < a->mat.lobes; ++k) {
-        float ra = sqrt(a->mat.lobe[k].metal_f0.w), rb = sqrt(b->mat.lobe[k].metal_f0.w);
-        if (abs_f(ra - rb) > SIMILAR_ROUGHNESS) return false;
-        if (abs_f(surface_metal_share(&a->mat, k) - surface_metal_share(&b->mat, k)) > SIMILAR_METALLIC)
-            return false;
+    if (a->lobes != b->lobes) return false;
+    for (int k = 0; k < a->lobes; ++k) {
+        if (abs_f(a->lobe[k].x - b->lobe[k].x) > SIMILAR_ROUGHNESS) return false;
+        if (abs_f(a->lobe[k].y - b->lobe[k].y) > SIMILAR_METALLIC) return false;
     }
 #else
     (void)a;
     (void)b;
 #endif
     return true;
+}
+
+/* material_keys_similar of two surfaces */
+inline bool surface_material_similar(const Surface* a, const Surface* b)
+{
+    MaterialKey ka = material_key(&a->mat), kb = material_key(&b->mat);
+    return material_keys_similar(&ka, &kb);
 }
 
 #endif

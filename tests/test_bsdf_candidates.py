@@ -74,6 +74,10 @@ HIT_LIGHTS = {
                   size_y=0.6),
     "sphere": Light("s", "point", power=50.0, transforms=translation(0.5, 0.5, 1.2), radius=0.4, soft_falloff=False),
     "soft_sphere": Light("ss", "point", power=50.0, transforms=translation(-0.5, 0.3, 0.9), radius=0.3),
+    # sphere_hit's early rejection by the ray's distance from the centre must keep the disk's rim: a small far disk
+    # (many_lights' kind) and one far from the origin, where the margin's float32 terms are large
+    "soft_sphere_far": Light("sf", "point", power=50.0, transforms=translation(9.0, -7.0, 4.0), radius=0.05),
+    "soft_sphere_offset": Light("so", "point", power=50.0, transforms=translation(3e3, 1e3, 2e3), radius=2.0),
     "spot": Light("sp", "spot", power=50.0, transforms=look_at((0.0, 0.0, 1.5), (0.1, -0.2, 0.0)), radius=0.25,
                   spot_size=1.2),
     "sun": Light("sun", "sun", power=2.0, transforms=look_at((1, -1, 3), (0, 0, 0)), angle=0.3),

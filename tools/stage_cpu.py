@@ -6,8 +6,11 @@ device's threads spent on a stage, not how long it waited for a core.
         [--rounds 3] [--frames 4] [--width 640 --height 360]
 
 A variant is {"settings": Settings keywords, "local": work-items per work-group (kernels.LOCAL_ITEMS; 8x8 stays
-the 2D shape for 64), "module": {"bvh_packets.ENABLED": false} (restircl module constants
-while the variant's renderer is built)}. Prints the median over the frames of each stage and of their sum.
+the 2D shape for 64), "shape": [x, y], the work-group shape of the 2D kernels (e.g. [64, 1]: rows of pixels),
+"opencl": a directory of kernel sources to build this variant from (another checkout's opencl/, to compare kernel
+changes side by side in one process; the host code stays this checkout's), "module": {"bvh_packets.ENABLED":
+false} (restircl module constants while the variant's renderer is built)}.
+Prints the median over the frames of each stage and of their sum.
 """
 
 from __future__ import annotations
@@ -18,15 +21,26 @@ import json
 import os
 import statistics
 import time
+from pathlib import Path
 
 import pyopencl as cl
-from restircl import kernels, pipeline, stages
+from restircl import kernels, pipeline, program, stages
 from restircl.pipeline import Renderer, Settings
 from restircl.scenes import many_lights
 
 _LAST: dict[str, dict[str, float]] = {}
 _LOCAL: list[int | None] = [None]
+_SHAPE: list[tuple[int, int] | None] = [None]
 _local_size = kernels.local_size
+_opencl_dir = program.opencl_dir
+
+
+def _use_opencl(path: str | None) -> None:
+    """Build and launch kernels from `path` (None: this checkout's opencl/) until the next call."""
+    def where() -> Path:
+        return Path(path) if path else _opencl_dir()
+    program.opencl_dir = where  # type: ignore[assignment]
+    kernels.opencl_dir = where  # type: ignore[assignment]
 
 
 class CpuStageTimer(stages.StageTimer):
@@ -46,6 +60,9 @@ class CpuStageTimer(stages.StageTimer):
 
 
 def _variant_local_size(dims: int, max_items: int) -> tuple[int, ...]:
+    shape = _SHAPE[0]
+    if dims == 2 and shape is not None and shape[0] * shape[1] <= max_items:
+        return shape
     if _LOCAL[0] is None:
         return _local_size(dims, max_items)
     saved = kernels.LOCAL_ITEMS
@@ -84,13 +101,19 @@ def main() -> None:
     kernels.local_size = _variant_local_size
     variants: dict[str, dict] = json.loads(a.variants)
     scene = many_lights(width=a.width, height=a.height, frames=16)
-    renderers = {n: _renderer(scene, v) for n, v in variants.items()}
+    renderers = {}
+    for n, v in variants.items():
+        _use_opencl(v.get("opencl"))
+        renderers[n] = _renderer(scene, v)
     frame = dict.fromkeys(renderers, 0)
     cpu: dict[str, dict[str, list[float]]] = {n: {} for n in renderers}
     print(f"many_lights {a.width}x{a.height}, load {os.getloadavg()}", flush=True)
     for rnd in range(a.rounds + 1):  # round 0: warm-up (program build, uploads, history)
         for n, r in renderers.items():
             _LOCAL[0] = variants[n].get("local")
+            _use_opencl(variants[n].get("opencl"))
+            shape = variants[n].get("shape")
+            _SHAPE[0] = (int(shape[0]), int(shape[1])) if shape else None
             for _ in range(a.frames):
                 r.render_frame(frame[n] % scene.frames, aovs=False)
                 frame[n] += 1

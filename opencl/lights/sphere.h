@@ -150,7 +150,16 @@ inline bool sphere_hit(const __global Light* l, float3 x, float3 wi, float2* uv)
     float r = sp.radius;
     if (!(r > 0.0f)) return false;
     float3 oc = sp.centre - x;
+    float b = dot3(oc, wi);
+    float3 perp = oc - b * wi;  /* the discriminant from the ray's closest approach: no cancellation far away */
+    float perp2 = dot3(perp, perp);
     if (sp.soft_falloff) {
+        /* Every point of the disk lies within r of the centre, so a line passing farther misses it: most of the
+         * lights a BSDF ray is tested against end here, before the disk's frame is built. The margin (a bound of
+         * both tests' float32 error, relative to r and to the magnitudes in the sums) keeps this test from
+         * rejecting a ray the exact test below accepts. */
+        float mag = max_abs3(x) + max_abs3(sp.centre) + 2.0f * max_abs3(oc);
+        if (perp2 > 1.002f * (r * r) + 1e-9f * (mag * mag)) return false;
         float dc = len3(oc);
         if (!(dc > 0.0f)) return false;
         float3 w = oc / dc;
@@ -164,9 +173,7 @@ inline bool sphere_hit(const __global Light* l, float3 x, float3 wi, float2* uv)
         *uv = concentric_disk_inverse(ab);
         return true;
     }
-    float b = dot3(oc, wi);
-    float3 perp = oc - b * wi;  /* the discriminant from the ray's closest approach: no cancellation far away */
-    float disc = r * r - dot3(perp, perp);
+    float disc = r * r - perp2;
     if (!(disc >= 0.0f)) return false;
     float h = sqrt(disc);
     float t = b - h > 0.0f ? b - h : b + h;
