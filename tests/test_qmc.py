@@ -252,3 +252,22 @@ def test_sampler_setting_decides_where_sobol_is_used(device):
         assert idx == list(range(len(idx)))
     with pytest.raises(ValueError, match="sampler"):
         Settings(sampler="halton").validate()
+
+
+def test_one_light_still_draws_its_points_from_sobol(device):
+    # a still of one light object: with Sobol the frames run RIS (their points on the light from the sequence),
+    # with random numbers the plain light-array sampler; the Sobol mean's variance must be lower by more than four
+    # combined standard errors, as in the test above
+    full = two_area_lights_scene()
+    scene = Scene(full.meshes, full.materials, full.lights[:1], full.camera, name="one_light")
+    kw = dict(method="ris", candidates=1, jitter=False, bsdf_sampling="off")
+    r = Renderer(scene, Settings(sampler="sobol", **kw), device)
+    r.qmc = (1, 0, 1)
+    assert r._begin_frame(0, None).method == "ris"
+    r.qmc = None
+    assert r._begin_frame(0, None).method == "light_array"
+    runs = 24
+    v_rand, e_rand = total_variance(run_means(scene, Settings(sampler="random", **kw), runs, 32, device))
+    v_qmc, e_qmc = total_variance(run_means(scene, Settings(sampler="sobol", **kw), runs, 32, device))
+    print(f"one light, variance of the mean of 32 frames, sobol / random: {v_qmc / v_rand:.3f}")
+    assert v_qmc / v_rand < 1 - 4 * math.hypot(e_rand, e_qmc), (v_qmc / v_rand, e_rand, e_qmc)

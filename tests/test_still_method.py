@@ -28,6 +28,7 @@ from restircl.settings import METHODS, STILL_METHODS
 from restircl.still_method import (
     FEW_LIGHTS,
     FEW_LIGHTS_CANDIDATES,
+    ONE_LIGHT_CANDIDATES,
     OVERRIDES,
     SUNNY_CANDIDATES,
     auto_overrides,
@@ -105,9 +106,10 @@ def test_auto_adds_the_bsdf_mis_sample_under_a_sunny_world_only():
     assert got.method == "ris" and got.bsdf_mis_sample and got.candidates == SUNNY_CANDIDATES
     assert still_settings(Settings(candidates=6), sunny).candidates == 6
     assert not still_settings(Settings(bsdf_sampling="off"), sunny).bsdf_mis_sample
-    for scene in (grey, _scene(("point",))):
-        got = still_settings(Settings(), scene)  # one light object: the Sobol sampler's few-lights rule
-        assert not got.bsdf_mis_sample and got.candidates == FEW_LIGHTS_CANDIDATES
+    # one light object under a world: the Sobol sampler's few-lights rule; alone: its one-light rule
+    for scene, candidates in ((grey, FEW_LIGHTS_CANDIDATES), (_scene(("point",)), ONE_LIGHT_CANDIDATES)):
+        got = still_settings(Settings(), scene)
+        assert not got.bsdf_mis_sample and got.candidates == candidates
     constant = _scene(("point",))
     constant.environment = Environment("constant", color=(0.5, 0.5, 0.5))
     assert not still_settings(Settings(), constant).bsdf_mis_sample
@@ -144,3 +146,10 @@ def test_auto_takes_few_candidates_with_the_sobol_sampler_on_few_light_objects()
     # a user's own candidate count, and an explicit still method, keep the candidates as set
     assert still_settings(Settings(candidates=6), few).candidates == 6
     assert still_settings(Settings(still_method="ris"), few).candidates == Settings().candidates
+
+
+def test_auto_takes_one_candidate_on_one_light_object():
+    one = _scene(("area",))
+    assert still_settings(Settings(), one).candidates == ONE_LIGHT_CANDIDATES
+    assert still_settings(Settings(sampler="random"), one).candidates == Settings().candidates
+    assert still_settings(Settings(candidates=3), one).candidates == 3

@@ -57,6 +57,10 @@ def scene_kind(scene: Scene) -> str:
 #: Under a sunny world SUNNY_CANDIDATES applies instead (measured with the BSDF MIS sample).
 FEW_LIGHTS = 16
 FEW_LIGHTS_CANDIDATES = 2
+#: a single light object and no world: RIS over one candidate, i.e. one Sobol-drawn point on the light (with 2,
+#: relMSE at 64 frames of cornell_box was 1.8x that of one candidate, in more time per frame: docs/error-vs-time.md,
+#: "One light")
+ONE_LIGHT_CANDIDATES = 1
 
 
 def auto_overrides(scene: Scene, settings: Settings) -> dict:
@@ -67,7 +71,8 @@ def auto_overrides(scene: Scene, settings: Settings) -> dict:
     default_candidates = settings.candidates == Settings.candidates  # a user's own count is kept
     if (kind == "analytic_lights" and len(scene.lights) <= FEW_LIGHTS and settings.sampler != "random"
             and default_candidates):
-        over["candidates"] = FEW_LIGHTS_CANDIDATES
+        over["candidates"] = (ONE_LIGHT_CANDIDATES if len(scene.lights) == 1 and scene.environment is None
+                              else FEW_LIGHTS_CANDIDATES)
     if settings.bsdf_sampling == "off":
         over.pop("bsdf_sampling", None)
     elif is_sunny(scene.environment):
