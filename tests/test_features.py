@@ -132,15 +132,18 @@ def test_passes_run_only_when_needed(device):
 
 
 def test_ris_with_one_light_runs_the_single_pick(device):
-    """RIS over one light picks that light: the pipeline leaves the candidate loop out, so the image is the
-    light_array image of the same seed."""
+    """RIS over one light picks that light: with random numbers the pipeline leaves the candidate loop out, so the
+    image is the light_array image of the same seed. A Sobol still keeps RIS, whose points come from the sequence
+    (tests/test_qmc.py::test_one_light_still_draws_its_points_from_sobol): a different image."""
     fv, ft = scenes.quad(4, 4)
     scene = Scene([Mesh("floor", fv, ft, 0)], [Material("grey", (0.7, 0.7, 0.7))],
                   [Light("quad", "area", (1, 1, 1), 40.0, translation(0, 0, 1.2), size=0.6)],
                   Camera(look_at((0, -3, 2), (0, 0, 0)), W, H, lens=28.0))
-    ris = Renderer(scene, Settings(method="ris", candidates=32, seed=4), device).render_still(0, 4)
+    ris = Renderer(scene, Settings(method="ris", candidates=32, seed=4, sampler="random"), device).render_still(0, 4)
     la = Renderer(scene, Settings(method="light_array", seed=4), device).render_still(0, 4)
     np.testing.assert_array_equal(ris.color, la.color)
+    sobol = Renderer(scene, Settings(method="ris", candidates=32, seed=4), device).render_still(0, 4)
+    assert np.isfinite(sobol.color).all() and not np.array_equal(sobol.color, la.color)
 
 
 def test_animation_of_a_still_camera_accumulates_like_a_still_scene(device):
