@@ -255,17 +255,18 @@ def test_sampler_setting_decides_where_sobol_is_used(device):
 
 
 def test_one_light_still_draws_its_points_from_sobol(device):
-    # a still of one light object: with Sobol the frames run RIS (their points on the light from the sequence),
-    # with random numbers the plain light-array sampler; the Sobol mean's variance must be lower by more than four
-    # combined standard errors, as in the test above
+    # a still of one light object: with Sobol the frames (still or animation) run RIS (their points on the light
+    # from the sequence), with random numbers the plain light-array sampler; the Sobol mean's variance must be lower
+    # by more than four combined standard errors, as in the test above
     full = two_area_lights_scene()
     scene = Scene(full.meshes, full.materials, full.lights[:1], full.camera, name="one_light")
     kw = dict(method="ris", candidates=1, jitter=False, bsdf_sampling="off")
     r = Renderer(scene, Settings(sampler="sobol", **kw), device)
     r.qmc = (1, 0, 1)
     assert r._begin_frame(0, None).method == "ris"
-    r.qmc = None
-    assert r._begin_frame(0, None).method == "light_array"
+    r.qmc = None  # animation frames with the Sobol sampler draw from the sequence too
+    assert r._begin_frame(0, None).method == "ris"
+    assert Renderer(scene, Settings(sampler="random", **kw), device)._begin_frame(0, None).method == "light_array"
     runs = 24
     v_rand, e_rand = total_variance(run_means(scene, Settings(sampler="random", **kw), runs, 32, device))
     v_qmc, e_qmc = total_variance(run_means(scene, Settings(sampler="sobol", **kw), runs, 32, device))

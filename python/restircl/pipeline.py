@@ -262,10 +262,11 @@ class Renderer:
         history = self.history.valid and consecutive and not cut
         light_count = ds.sampled_light_count
         method = s.method
-        if method == "ris" and light_count == 1 and ds.lights.environment is None and self.qmc is None:
+        sobol = self.qmc is not None or qmc.frames_use_sobol(s)
+        if method == "ris" and light_count == 1 and ds.lights.environment is None and not sobol:
             # RIS over one light picks that light: leave the loop out (not for the environment, whose candidates
-            # are directions that RIS and the BSDF candidates choose between; not for a Sobol still, whose points
-            # on the light only RIS's candidates draw from the sequence)
+            # are directions that RIS and the BSDF candidates choose between; not for Sobol frames, still or
+            # animation, whose points on the light only RIS's candidates draw from the sequence)
             method = "light_array"
         tree = ds.light_tree if self.uses_light_tree and method in ("ris", "restir") and light_count > 1 else None
         tiles = tree is None and self._use_light_tiles(method, light_count)
