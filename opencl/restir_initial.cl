@@ -7,8 +7,7 @@ __kernel void restir_initial(const __global GSample* gbuf, const __global Glossy
                              const __global LightTreeNode* tree_nodes, const __global int2* tree_info,
                              const __global int2* tree_distant,
                              const __global Light* tile_rec, const __global int2* tile_info,
-                             const __global int* tri_light, __global ReuseKey* reuse_key,
-                             __global Reservoir* out, FrameParams frame_params, InitialParams params)
+                             const __global int* tri_light, __global Reservoir* out, FrameParams frame_params, InitialParams params)
 {
     const InitialParams p = params;
     const int pixel_count = frame_params.pixels;
@@ -18,7 +17,6 @@ __kernel void restir_initial(const __global GSample* gbuf, const __global Glossy
     int i = get_global_id(0);
     if (i >= pixel_count) return;
     Surface s = surface_load(gbuf, glossy, i);
-    reuse_key[i] = surface_reuse_key(&s);  /* for the spatial pass's neighbour test */
     Reservoir r;
     res_init(&r);
     if (s.valid && light_count > 0) {

@@ -22,8 +22,7 @@ inline float2 disk_offset(float r, uint* rng)
     return (float2)(0.0f, 0.0f);
 }
 
-__kernel void restir_spatial(const __global GSample* gbuf, const __global GlossySample* glossy,
-                             const __global ReuseKey* reuse_key, const __global BVHNode* nodes, const __global Tri* tris,
+__kernel void restir_spatial(const __global GSample* gbuf, const __global GlossySample* glossy, const __global BVHNode* nodes, const __global Tri* tris,
                              const __global Light* lights, const __global Reservoir* input, __global Reservoir* out,
                              FrameParams frame_params, SpatialParams params)
 {
@@ -51,24 +50,25 @@ __kernel void restir_spatial(const __global GSample* gbuf, const __global Glossy
         bool inside = nx >= 0 && ny >= 0 && nx < width && ny < height && !(nx == x && ny == y);
         used[k] = inside ? ny * width + nx : i;  /* i: rejected below */
     }
-    /* What the tests need of each neighbour (its ReuseKey: depth, normal, material key; one cache line) and its
-     * reservoir are read in one loop and tested in the next: the reads (cache misses, random pixels within the
-     * radius) then overlap instead of each waiting behind the branch on the last one. The rest of an accepted
-     * neighbour's surface is read only by the combine step. */
-    float4 nn[MAX_NEIGHBOURS];  /* normal; w: view depth, < 0 for a miss */
+    /* What the tests need of each neighbour (depth, normal, material key) and its reservoir are read in one loop
+     * and tested in the next: the reads (cache misses, random pixels within the radius) then overlap instead of
+     * each waiting behind the branch on the last one. */
+    float4 nn[MAX_NEIGHBOURS];  /* normal; w: the primitive (int bits), < 0 for a miss */
+    float nd[MAX_NEIGHBOURS];
     MaterialKey nk[MAX_NEIGHBOURS];
     Reservoir qs[MAX_NEIGHBOURS];
     for (int k = 0; k < k_max; ++k) {
-        ReuseKey rk = reuse_key[used[k]];
-        nn[k] = rk.normal;
-        nk[k] = reuse_material_key(&rk);
+        nn[k] = gbuf[used[k]].normal;
+        nd[k] = gbuf[used[k]].pos.w;
+        SurfaceMaterial m = surface_material_load(gbuf, glossy, used[k], as_int(nn[k].w) >= 0);
+        nk[k] = material_key(&m);
         qs[k] = input[used[k]];
     }
     const MaterialKey key = material_key(&s.mat);
     int n_used = 0;
     for (int k = 0; k < k_max; ++k) {
         /* the material too: a glossy target is not a diffuse one's */
-        bool similar = used[k] != i && nn[k].w >= 0.0f && abs_f(nn[k].w - s.depth) <= p.similar.depth_tolerance * s.depth
+        bool similar = used[k] != i && as_int(nn[k].w) >= 0 && abs_f(nd[k] - s.depth) <= p.similar.depth_tolerance * s.depth
                        && dot3(nn[k].xyz, s.n) >= p.similar.normal_cos && material_keys_similar(&key, &nk[k]);
         if (similar) {
             used[n_used] = used[k];

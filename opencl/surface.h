@@ -157,34 +157,6 @@ inline bool material_keys_similar(const MaterialKey* a, const MaterialKey* b)
     return true;
 }
 
-/* The spatial pass's record of surface s (ReuseKey, types.h) */
-inline ReuseKey surface_reuse_key(const Surface* s)
-{
-    ReuseKey r;
-    r.normal = (float4)(s->n, s->valid ? s->depth : -1.0f);
-    r.key = (float4)(0.0f);
-#ifdef HAS_GLOSSY
-    MaterialKey k = material_key(&s->mat);
-    r.key = (float4)(k.lobes > 0 ? k.lobe[0].x : -1.0f, k.lobe[0].y, k.lobes > 1 ? k.lobe[1].x : -1.0f, k.lobe[1].y);
-#endif
-    return r;
-}
-
-/* The MaterialKey a ReuseKey holds */
-inline MaterialKey reuse_material_key(const ReuseKey* r)
-{
-    MaterialKey k;
-#ifdef HAS_GLOSSY
-    k.lobes = r->key.x < 0.0f ? 0 : (r->key.z < 0.0f ? 1 : 2);
-    k.lobe[0] = r->key.xy;
-    k.lobe[1] = r->key.zw;
-#else
-    (void)r;
-    k.unused = 0;
-#endif
-    return k;
-}
-
 /* material_keys_similar of two surfaces */
 inline bool surface_material_similar(const Surface* a, const Surface* b)
 {

@@ -194,15 +194,6 @@ typedef struct {
     float4 motion;     /* xy: motion in pixels, previous minus current position (jitter removed); zw: 0 */
 } GSample;             /* 96 bytes */
 
-/* What the spatial pass's neighbour test reads of a pixel (surface_reuse_key, written by the initial pass from the
- * same Surface the pass shades): one cache line, so a rejected neighbour costs no read of its GSample and
- * GlossySample. The values are the ones the test would compute from those, bit for bit. */
-typedef struct {
-    float4 normal;     /* xyz: shading normal (GSample.normal); w: view depth, -1 where the primary ray missed */
-    float4 key;        /* MaterialKey (surface.h): xy lobe 0's roughness and metallic share, zw lobe 1's;
-                          roughness -1: the lobe is not in use; all 0 in diffuse-only builds */
-} ReuseKey;            /* 32 bytes */
-
 /* One resolved specular lobe of a pixel (HAS_GLOSSY): a GGX distribution (alpha) shared by a Principled closure's
  * metallic part (F82-tint Fresnel; a Glossy BSDF is one with f0 = 1, b = 0) and its dielectric specular (the real
  * Fresnel of eta remapped from its F0 onto [f0, 1]). The weights include the closure's weight and, for multiscatter

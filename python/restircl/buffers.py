@@ -44,7 +44,6 @@ class FrameBuffers:
         n = pixels
         self.res_initial = alloc(context, n * L.RESERVOIR.itemsize)
         self.res_temp = alloc(context, n * L.RESERVOIR.itemsize)
-        self.reuse_key = alloc(context, n * L.REUSE_KEY.itemsize)  # the spatial pass's neighbour test
         self.sample = alloc(context, n * 16)  # the noisy estimate s_n of this frame
         self.guards = alloc(context, 4 * L.GUARD_COUNT)
         self.cameras = [alloc(context, L.CAMERA.itemsize) for _ in range(3)]  # current, previous, next

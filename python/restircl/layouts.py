@@ -41,7 +41,6 @@ CAMERA_KINDS = ("PERSP", "ORTHO")  # Camera.kind: the index (types.h CAMERA_PERS
 GSAMPLE = np.dtype(
     [("pos", F4), ("normal", F4), ("gnormal", F4), ("albedo", F4), ("emission", F4), ("motion", F4)]
 )
-REUSE_KEY = np.dtype([("normal", F4), ("key", F4)])
 SPEC_LOBE = np.dtype([("metal_f0", F4), ("metal_b", F4), ("metal_w", F4), ("diel_f0", F4), ("diel_w", F4)])
 GLOSSY_SAMPLE = np.dtype([("wo", F4), ("lobe0", SPEC_LOBE), ("lobe1", SPEC_LOBE)])
 RESERVOIR = np.dtype(
@@ -102,7 +101,6 @@ STRUCTS: dict[str, np.dtype] = {
     "LightTreeNode": LIGHT_TREE_NODE,
     "Camera": CAMERA,
     "GSample": GSAMPLE,
-    "ReuseKey": REUSE_KEY,
     "SpecLobe": SPEC_LOBE,
     "GlossySample": GLOSSY_SAMPLE,
     "Reservoir": RESERVOIR,

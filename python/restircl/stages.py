@@ -142,8 +142,7 @@ class Initial(Stage):
         out = self.buffers.res_initial
         self.kernels.launch("restir_initial", pixel_count(state), gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
                             **self.scene.geometry, **self.scene.light_sampling, **self.scene.light_tree_args,
-                            **tiles, tri_light=self.scene.tri_light_buf, reuse_key=self.buffers.reuse_key, out=out,
-                            frame_params=state.frame_params,
+                            **tiles, tri_light=self.scene.tri_light_buf, out=out, frame_params=state.frame_params,
                             params=params)
         return out
 
@@ -229,7 +228,6 @@ class Spatial(Stage):
                             boost_neighbours=s.disocclusion_boost,
                             fresh_m=s.candidates + int(state.sampler["bsdf_candidates"]))
             self.kernels.launch("restir_spatial", image_size(state), gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
-                                reuse_key=b.reuse_key,
                                 **self.scene.geometry,
                                 lights=self.scene.lights_buf, input=res, out=dst,
                                 frame_params=state.frame_params, params=params)
