@@ -262,8 +262,8 @@ class Renderer:
         history = self.history.valid and consecutive and not cut
         light_count = ds.sampled_light_count
         method = s.method
-        sobol = self.qmc is not None or qmc.frames_use_sobol(s)
-        if method == "ris" and light_count == 1 and ds.lights.environment is None and not sobol:
+        params = self.frame_params()
+        if method == "ris" and light_count == 1 and ds.lights.environment is None and not params["qmc"]:
             # RIS over one light picks that light: leave the loop out (not for the environment, whose candidates
             # are directions that RIS and the BSDF candidates choose between; not for Sobol frames, still or
             # animation, whose points on the light only RIS's candidates draw from the sequence)
@@ -292,7 +292,7 @@ class Renderer:
         return FrameState(frame=frame, prev_frame=self._last_frame if history else frame,
                           next_frame=min(frame + 1, ds.frame_count - 1), history=history,
                           restir_history=history and not ds.lights_switched, method=method, tiles=tiles,
-                          frame_params=self.frame_params(), sampler=sampler, jitter=jit, mis_sample=mis_sample,
+                          frame_params=params, sampler=sampler, jitter=jit, mis_sample=mis_sample,
                           pick_table=pick_table)
 
     def _moving(self, state: FrameState) -> bool:
