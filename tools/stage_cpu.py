@@ -107,6 +107,7 @@ def main() -> None:
         renderers[n] = _renderer(scene, v)
     frame = dict.fromkeys(renderers, 0)
     cpu: dict[str, dict[str, list[float]]] = {n: {} for n in renderers}
+    totals: dict[str, list[float]] = {n: [] for n in renderers}  # per frame (a stage such as upload may be absent)
     print(f"many_lights {a.width}x{a.height}, load {os.getloadavg()}", flush=True)
     for rnd in range(a.rounds + 1):  # round 0: warm-up (program build, uploads, history)
         for n, r in renderers.items():
@@ -120,9 +121,10 @@ def main() -> None:
                 if rnd > 0:
                     for k, v in _LAST["cpu"].items():
                         cpu[n].setdefault(k, []).append(v)
+                    totals[n].append(sum(_LAST["cpu"].values()))
         print(f"round {rnd} done, load {os.getloadavg()}", flush=True)
     for n, d in cpu.items():
-        total = [sum(x) for x in zip(*d.values(), strict=True)]
+        total = totals[n]
         parts = " ".join(f"{k} {statistics.median(v):6.1f}" for k, v in d.items() if k != "upload")
         print(f"{n:<16} CPU ms {statistics.median(total):7.1f} = [{parts}]")
 

@@ -1,7 +1,8 @@
 """`restircl bench`: benchmark figures, printed (run by hand; never timed tests).
 
     traversal  BVH build and Mrays/s for camera and shadow rays, ours vs Embree (bench_traversal.py)
-    frame      ms per frame and per stage for every method on many_lights at 640x360
+    frame      ms per frame and per stage for every method on many_lights at 640x360, then the default frame
+               and the lightest ReSTIR frame against the floor (camera ray, shadow ray, TAA)
     lights     ReSTIR frame time against the number of lights, 1e2 .. 1e6 emissive triangles
     taa        relMSE against frame number with TAA on and off (still and moving camera), TAA pass ms
     filter     the real-time filter's ms per frame at 1..5 iterations against the frame without it (bench_filter.py,
@@ -73,12 +74,21 @@ def bench_frame(width: int, height: int, device=None, print_fn=print) -> dict:
     return out
 
 
+#: the cheapest frame that still runs every ReSTIR pass: one light candidate, no BSDF candidate, no visibility
+#: reuse (one shadow ray, in the shading). What is left above the floor is the reuse passes' own work, which no
+#: cheaper candidate or fewer shadow rays can remove.
+LIGHTEST_RESTIR: dict = dict(method="restir", candidates=1, bsdf_sampling="off", visibility_reuse=False)
+
+
 def bench_floor(width: int, height: int, device=None, frames: int = 12, print_fn=print) -> dict:
     """The default ReSTIR + TAA frame (Settings()) of many_lights against the floor of one camera ray and one
-    shadow ray per pixel plus TAA (frame_profile.floor_of), measured in one run: per stage ms and the ratio."""
+    shadow ray per pixel plus TAA (frame_profile.floor_of), measured in one run: per stage ms and the ratio; and
+    the lightest ReSTIR frame (LIGHTEST_RESTIR) against the same floor, the ratio below which the default cannot go
+    while it keeps temporal and spatial reuse."""
     scene = many_lights(width=width, height=height, frames=16)
     ms, st = time_frames(scene, Settings(), frames=frames, device=device)
     la_ms, la = time_frames(scene, Settings(method="light_array"), frames=frames, device=device)
+    lite_ms, lite = time_frames(scene, Settings(**LIGHTEST_RESTIR), frames=frames, device=device)
     floor = floor_of(la, st.get("taa", 0.0))
     stages = ", ".join(f"{k} {v:.1f}" for k, v in st.items() if k != "cpu")
     print_fn(f"many_lights {width}x{height}, default ReSTIR + TAA (median of {frames} frames): {ms:.1f} ms = "
@@ -87,7 +97,12 @@ def bench_floor(width: int, height: int, device=None, frames: int = 12, print_fn
              f"frame, {la_ms:.1f} ms in all) + TAA {floor['taa_ms']:.1f} = {floor['ms']:.1f} ms")
     ratio = ms / floor["ms"] if floor["ms"] > 0 else math.nan
     print_fn(f"  default frame / floor: {ratio:.2f} (goal 1.5)")
-    return {"ms": ms, "stages_ms": st, "floor": floor, "ratio": ratio}
+    lite_ratio = lite_ms / floor["ms"] if floor["ms"] > 0 else math.nan
+    lite_stages = ", ".join(f"{k} {v:.1f}" for k, v in lite.items() if k not in ("upload", "cpu"))
+    print_fn(f"  lightest ReSTIR frame (1 candidate, no BSDF candidate, no visibility reuse): {lite_ms:.1f} ms = "
+             f"[{lite_stages}], / floor: {lite_ratio:.2f}")
+    return {"ms": ms, "stages_ms": st, "floor": floor, "ratio": ratio,
+            "lightest_ms": lite_ms, "lightest_stages_ms": lite, "lightest_ratio": lite_ratio}
 
 
 def bench_lights(width: int, height: int, sizes=(100, 1000, 10_000, 100_000, 1_000_000), device=None,
