@@ -115,6 +115,34 @@ def test_auto_adds_the_bsdf_mis_sample_under_a_sunny_world_only():
     assert not still_settings(Settings(), constant).bsdf_mis_sample
 
 
+def test_a_world_alone_gets_one_candidate_and_the_cumulative_table():
+    """The world as the only light: with the Sobol sampler one light candidate (beside the BSDF MIS sample under a
+    sun), drawn from the world's cumulative table (its inversion keeps the strata); with random numbers a sunny
+    world's 4 and a grey world's default; a renderer whose frames are ReSTIR's keeps the default table."""
+    from restircl.lights import environment
+    from restircl.pipeline import Renderer
+
+    alone, grey = _scene(), _scene()
+    alone.environment = Environment("sunny", color=(1, 1, 1), image=sky_map(64, 128))
+    grey.environment = Environment("grey", color=(1, 1, 1), image=sky_map(64, 128, sun_scale=0.0))
+    got = still_settings(Settings(), alone)
+    assert got.method == "ris" and got.bsdf_mis_sample and got.candidates == ONE_LIGHT_CANDIDATES
+    assert still_settings(Settings(sampler="random"), alone).candidates == SUNNY_CANDIDATES
+    assert still_settings(Settings(candidates=3), alone).candidates == 3
+    got_grey = still_settings(Settings(), grey)
+    assert not got_grey.bsdf_mis_sample and got_grey.candidates == ONE_LIGHT_CANDIDATES
+    assert still_settings(Settings(sampler="random"), grey).candidates == Settings.candidates
+    tables = {}
+    for name, s in (("still", got), ("restir", Settings())):
+        r = Renderer(alone, s)
+        packed = r.device_scene.lights.environment
+        assert packed is not None
+        tables[name] = packed.kind
+        img = r.render_still(0, 4).color
+        assert (img[..., :3] > 0).any() and bool(img[..., :3].min() >= 0)
+    assert tables == {"still": "cdf", "restir": environment.TABLE_KIND}
+
+
 def test_still_method_is_validated():
     assert set(STILL_METHODS) == {"auto", "as_set", *OVERRIDES}
     with pytest.raises(SettingError):

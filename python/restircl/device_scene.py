@@ -42,11 +42,12 @@ class DeviceScene:
     """Device buffers of a Scene at one frame of its animation (upload(frame) moves them to another frame)."""
 
     def __init__(self, context: cl.Context, scene: Scene, slots_per_light: float, light_change_ratio: float,
-                 area_sampling: str = "area") -> None:
+                 area_sampling: str = "area", environment_table: str | None = None) -> None:
         self.context = context
         self.scene = scene
         self.slots_per_light = slots_per_light
         self.area_sampling = area_sampling
+        self.environment_table = environment_table  # None: lights/environment.py's default for the map's size
         self.light_change_ratio = light_change_ratio
         # what moves, decided once: each scans every light, ~50 ms per frame at 1e5 explicit lights when asked
         # every frame
@@ -97,7 +98,7 @@ class DeviceScene:
         if self.lights_changed:
             if world is None:
                 world = scene.world_triangles(frame)
-            self._upload_lights(scene_lights(scene, frame, world, self.area_sampling))
+            self._upload_lights(scene_lights(scene, frame, world, self.area_sampling, self.environment_table))
             self._lights_key = lights_key
         if world is not None:  # the geometry or the lights changed: the triangle -> light map of BSDF rays
             self.tri_light_buf = upload(self.context, triangle_lights(self._leaf_order, self.lights))

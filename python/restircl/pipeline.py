@@ -99,7 +99,8 @@ class Renderer:
         self.guard_totals = dict.fromkeys(L.GUARD_NAMES[: L.GUARD_COUNT], 0)
         context, queue = self.device.context, self.device.queue
         self.buffers = FrameBuffers(context, queue, self.pixels)
-        self.device_scene = DeviceScene(context, scene, s.slots_per_light, s.light_change_ratio, s.area_sampling)
+        self.device_scene = DeviceScene(context, scene, s.slots_per_light, s.light_change_ratio, s.area_sampling,
+                                        qmc.environment_table(s))
         self.device_scene.upload(0, None)
         self._build()
         glossy = self.flags.get("HAS_GLOSSY", False)

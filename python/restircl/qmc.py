@@ -22,6 +22,14 @@ def still_uses_sobol(settings: Settings) -> bool:
     return settings.sampler in ("auto", "sobol") and settings.method == "ris"
 
 
+def environment_table(settings: Settings) -> str | None:
+    """The environment's sampling table for a renderer with `settings` (lights/environment.py): the cumulative
+    one where still renders draw from the Sobol sequence, since inverting it keeps the strata of the point's two
+    dimensions, which an alias draw scatters (measured on F12's sky path: docs/error-vs-time.md, "The sky with one
+    candidate"); None, the default table, elsewhere."""
+    return "cdf" if still_uses_sobol(settings) else None
+
+
 def frames_use_sobol(settings: Settings) -> bool:
     """Whether animation and viewport frames draw from it: only with `sobol` and RIS (index: the frame count)."""
     return settings.sampler == "sobol" and settings.method == "ris"

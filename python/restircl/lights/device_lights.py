@@ -51,9 +51,11 @@ class DeviceLights:
         return {int(t) for t in np.unique(self.types)}
 
 
-def scene_lights(scene: Scene, frame: int, world=None, area_sampling: str = "area") -> DeviceLights:
+def scene_lights(scene: Scene, frame: int, world=None, area_sampling: str = "area",
+                 environment_table: str | None = None) -> DeviceLights:
     """Device light records for `frame`: the scene's lights first (in order), then emissive triangles, flagged for
-    the density `area_sampling` asks for (area_sampling.py)."""
+    the density `area_sampling` asks for (area_sampling.py); the world's sampling table of kind
+    `environment_table` (None: the default for its size, lights/environment.py)."""
     if world is None:
         world = scene.world_triangles(frame)
     recs: list[np.ndarray] = []
@@ -63,7 +65,7 @@ def scene_lights(scene: Scene, frame: int, world=None, area_sampling: str = "are
     sources: list[int] = []
     packed = None
     if scene.environment is not None:
-        packed = env_light.packed_map(scene.environment)
+        packed = env_light.packed_map(scene.environment, environment_table)
         recs.append(env_light.record(scene.environment, packed, frame))
         power.append(env_light.power(scene.environment, packed, frame, radius))
         types.append(env_light.TYPE.code)
