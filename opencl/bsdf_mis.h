@@ -38,16 +38,25 @@ inline float3 bsdf_mis_term(const Surface* s, const __global Light* rec, int typ
     return unshadowed_contrib(s, &e) / (p_l + p_b);
 }
 
-/* Draw one BSDF direction at s and return its MIS-weighted, shadowed contribution (the lights it meets). */
+/* Draw one BSDF direction at s and return its MIS-weighted, shadowed contribution (the lights it meets). With QMC
+ * (q->on) the direction comes from the pixel's Sobol pair QMC_BSDF_MIS: where the light sample's shadow ray is
+ * blocked (a sun behind an occluder) this sample carries the sky, and stratified across a still's frames its
+ * error falls faster than with random numbers, as the light sample's does. */
 inline float3 bsdf_mis_sample(const Surface* s, const __global Light* lights, const LightPick* lp,
                               const __global BVHNode* nodes, const __global Tri* tris, const __global int* tri_light,
-                              BsdfSource b, uint* rng)
+                              BsdfSource b, uint* rng, const Qmc* q)
 {
-    float u0 = rng_next(rng), u1 = rng_next(rng);
+    float2 u;
+    if (q->on) {
+        u = qmc_pair(q, QMC_BSDF_MIS);
+    } else {
+        u.x = rng_next(rng);  /* in this order: the random stream stays as it was */
+        u.y = rng_next(rng);
+    }
     float3 wi;
     float pdf;
     float3 c = (float3)(0.0f);
-    bsdf_sample(s, s->wo, u0, u1, &wi, &pdf);
+    bsdf_sample(s, s->wo, u.x, u.y, &wi, &pdf);
     if (!(pdf > 0.0f)) return c;
     for (int l = 0; l < b.analytic; ++l) {
         const __global Light* rec = &lights[l];

@@ -39,7 +39,7 @@ __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySa
             /* W > 0: a candidate of target > 0 was picked, and e holds its evaluation */
             if (r.W > 0.0f && visible(nodes, tris, &s, &e))
                 c += unshadowed_contrib(&s, &e) * r.W;
-            if (bsdf.mis_sample) c += bsdf_mis_sample(&s, lights, &lp, nodes, tris, tri_light, bsdf, &rng);
+            if (bsdf.mis_sample) c += bsdf_mis_sample(&s, lights, &lp, nodes, tris, tri_light, bsdf, &rng, &q);
         } else {
             float2 uv;
             float pdf;

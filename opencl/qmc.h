@@ -86,9 +86,11 @@ inline float2 qmc_pair(const Qmc* q, uint d)
 }
 
 /* Dimension pairs of a RIS sample: light candidate k uses QMC_LIGHT_PICK(k) (the pick, and for k = 0 the
- * resampling choice) and QMC_LIGHT_POINT(k) (the point on the light); BSDF candidate k QMC_BSDF(k). */
+ * resampling choice) and QMC_LIGHT_POINT(k) (the point on the light); BSDF candidate k QMC_BSDF(k); the BSDF MIS
+ * sample's direction (bsdf_mis.h) QMC_BSDF_MIS. */
 #define QMC_LIGHT_PICK(k) (2u * (uint)(k))
 #define QMC_LIGHT_POINT(k) (2u * (uint)(k) + 1u)
 #define QMC_BSDF(k) (0x10000u + (uint)(k))
+#define QMC_BSDF_MIS 0x20000u
 
 #endif

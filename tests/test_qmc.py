@@ -158,7 +158,7 @@ def reference(device):
     return collect(mixed_lights_scene(W, H), Settings(method="reference", seed=101, jitter=False), 4096, device)
 
 
-@pytest.mark.parametrize("extra", [{}, {"bsdf_sampling": "on"}, {"candidates": 9}])
+@pytest.mark.parametrize("extra", [{}, {"bsdf_sampling": "on"}, {"candidates": 9}, {"bsdf_mis_sample": True}])
 def test_sobol_ris_mean_equals_reference(device, reference, extra):
     # RUNS runs of 32 frames are independent (own keys); their means are compared with the exhaustive reference
     s = Settings(**{"method": "ris", "sampler": "sobol", "candidates": 4, "jitter": False, **extra})
