@@ -54,7 +54,7 @@ def scene_kind(scene: Scene) -> str:
 #: with the Sobol sampler (qmc.py), scenes of at most this many light objects and no emissive triangles render
 #: their stills with FEW_LIGHTS_CANDIDATES light candidates: the fewer candidates a frame has, the more of its
 #: error the stratified dimension pairs remove, and the frames are cheaper (docs/error-vs-time.md, "Sobol sampler").
-#: Under a sunny world SUNNY_CANDIDATES applies instead (measured with the BSDF MIS sample).
+#: Under a sunny world SUNNY_CANDIDATES applies instead (measured with the BSDF MIS sample), unless the world is alone.
 FEW_LIGHTS = 16
 FEW_LIGHTS_CANDIDATES = 2
 #: a single light object and no world: RIS over one candidate, i.e. one Sobol-drawn point on the light (with 2,
