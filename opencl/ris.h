@@ -60,12 +60,11 @@ inline void ris_candidates(const Surface* s, const __global Light* lights, const
         float r0[RIS_BATCH], r1[RIS_BATCH], rnd[RIS_BATCH], pick_pdf[RIS_BATCH];
         for (int k = 0; k < n; ++k) {
             if (q->on) {
-                uint2 a = qmc_pair_bits(q, QMC_LIGHT_PICK(k0 + k));
-                float2 b = qmc_pair(q, QMC_LIGHT_POINT(k0 + k));
+                uint4 a = qmc_quad_bits(q, QMC_LIGHT(k0 + k));
                 pick[k] = light_pick_takes_word(lp) ? a.x : (uint)(((ulong)a.x * (ulong)draw_range) >> 32);
-                if (k0 + k == 0) sel = qmc_float(a.y);
-                r0[k] = b.x;
-                r1[k] = b.y;
+                if (k0 + k == 0) sel = qmc_float(a.w);
+                r0[k] = qmc_float(a.y);
+                r1[k] = qmc_float(a.z);
                 rnd[k] = 0.0f;
                 continue;
             }

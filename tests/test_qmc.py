@@ -38,6 +38,26 @@ __kernel void across_pixels(uint key, uint dim, uint index, __global float2* out
     Qmc q = qmc_stream(1, index, key, i);
     out[i] = qmc_pair(&q, dim);
 }
+/* points index0 .. index0 + n - 1 of the 4D group `dim` of pixel `pixel` under `key` */
+__kernel void quads(uint pixel, uint key, uint dim, uint index0, __global uint4* out)
+{
+    uint k = get_global_id(0);
+    Qmc q = qmc_stream(1, index0 + k, key, pixel);
+    out[k] = qmc_quad_bits(&q, dim);
+}
+/* unscrambled Sobol dimensions 2 and 3 at the given indices */
+__kernel void sobol23(const __global uint* index, __global uint2* out)
+{
+    uint k = get_global_id(0);
+    out[k] = (uint2)(sobol_matrix(index[k], SOBOL_DIM2), sobol_matrix(index[k], SOBOL_DIM3));
+}
+/* point `index` of the 4D group `dim` for pixels 0 .. n - 1 */
+__kernel void quads_across_pixels(uint key, uint dim, uint index, __global uint4* out)
+{
+    uint i = get_global_id(0);
+    Qmc q = qmc_stream(1, index, key, i);
+    out[i] = qmc_quad_bits(&q, dim);
+}
 /* streaming choice over n weights driven by one uniform: random (stratified = 0) or the item's stratum */
 __kernel void remap_choice(const __global float* w, int n, int stratified, volatile __global int* counts)
 {
@@ -90,6 +110,85 @@ def test_aligned_blocks_after_the_first_stratify_too(device, prog):
         assert elementary_intervals_hit_once(p, 6), index0
     p = points(device, prog, 9, 3, 2, 96)  # and any 2^k-aligned prefix of a longer run
     assert elementary_intervals_hit_once(p[:32], 5) and elementary_intervals_hit_once(p[:64], 6)
+
+
+def quads(device, prog, pixel: int, key: int, dim: int, n: int, index0: int = 0) -> np.ndarray:
+    out = np.empty((n, 4), np.uint32)
+    buf = cl.Buffer(device.context, cl.mem_flags.WRITE_ONLY, out.nbytes)
+    cl.Kernel(prog, "quads")(device.queue, (n,), None, np.uint32(pixel), np.uint32(key), np.uint32(dim),
+                             np.uint32(index0), buf)
+    cl.enqueue_copy(device.queue, out, buf)
+    return out
+
+
+def sobol23(device, prog, index: np.ndarray) -> np.ndarray:
+    idx = cl.Buffer(device.context, cl.mem_flags.READ_ONLY | cl.mem_flags.COPY_HOST_PTR,
+                    hostbuf=index.astype(np.uint32))
+    out = np.empty((len(index), 2), np.uint32)
+    buf = cl.Buffer(device.context, cl.mem_flags.WRITE_ONLY, out.nbytes)
+    cl.Kernel(prog, "sobol23")(device.queue, (len(index),), None, idx, buf)
+    cl.enqueue_copy(device.queue, out, buf)
+    return out.astype(np.uint64)
+
+
+def test_sobol_dimensions_2_and_3_are_scipys(device, prog):
+    # scipy's unscrambled Sobol points come in Gray-code order: its point k is the matrix product at gray(k); the
+    # first 4096 points, and 8 points from 2^31 - 3 on (scipy's fast_forward), so every nibble table is read
+    from scipy.stats import qmc
+
+    for start, n in ((0, 1 << 12), ((1 << 31) - 3, 8)):
+        sob = qmc.Sobol(d=4, scramble=False, bits=32)
+        if start:
+            sob.fast_forward(start)
+        ref = np.floor(sob.random(n)[:, 2:] * 2.0**32).astype(np.uint64)
+        k = np.arange(start, start + n, dtype=np.uint64)
+        assert np.array_equal(sobol23(device, prog, k ^ (k >> np.uint64(1))), ref), start
+
+
+def boxes_hold(p: np.ndarray, k: int, t: int) -> bool:
+    """2^k points of 3 coordinates, 2^t in every elementary box of volume 2^-(k - t)."""
+    m = k - t
+    for a in range(m + 1):
+        for b in range(m + 1 - a):
+            c = m - a - b
+            cell = np.zeros(len(p), np.uint64)
+            for bits, col in ((a, 0), (b, 1), (c, 2)):
+                part = p[:, col].astype(np.uint64) >> np.uint64(32 - bits) if bits else np.zeros(len(p), np.uint64)
+                cell = cell * np.uint64(1 << bits) + part
+            if np.bincount(cell.astype(np.int64), minlength=1 << m).max() != 1 << t:
+                return False
+    return True
+
+
+@pytest.mark.parametrize("k", [4, 8, 10])
+def test_light_group_stratifies_the_pick_and_the_point_together(device, prog, k):
+    # a light candidate's (pick, point) is one Sobol point: 2 of the first 2^k in every 3D box of volume 2^(1-k),
+    # the point alone one in every elementary interval; a later aligned block too
+    for pixel, key, dim, index0 in [(0, 0, 0, 0), (17, 5, 2, 0), (4095, 123456, 14, 0), (9, 3, 0, 1 << k)]:
+        p = quads(device, prog, pixel, key, dim, 1 << k, index0)
+        assert boxes_hold(p[:, :3], k, 1), (pixel, key, dim, index0)
+        assert elementary_intervals_hit_once(p[:, 1:3], k), (pixel, key, dim, index0)
+    # the pick's and the point's pairs of the old layout were shuffled apart: two points per box fails for them
+    pair = points(device, prog, 0, 0, 0, 1 << k)
+    other = points(device, prog, 0, 0, 1, 1 << k)
+    assert not boxes_hold(np.column_stack([pair[:, 0], other]), k, 1)
+
+
+@pytest.mark.parametrize("index", [0, 37])
+def test_light_group_coordinates_are_uniform_over_pixels(device, prog, index):
+    n = 1 << 14
+    out = np.empty((n, 4), np.uint32)
+    buf = cl.Buffer(device.context, cl.mem_flags.WRITE_ONLY, out.nbytes)
+    cl.Kernel(prog, "quads_across_pixels")(device.queue, (n,), None, np.uint32(1), np.uint32(2), np.uint32(index),
+                                           buf)
+    cl.enqueue_copy(device.queue, out, buf)
+    u = out.astype(np.float64) / 2.0**32
+    for c in range(4):
+        counts = np.bincount(np.floor(u[:, c] * 32).astype(int), minlength=32)
+        chi2, p, _ = pooled_chi2(counts, np.full(32, 1 / 32))
+        assert p > 1e-4, (c, chi2, p)
+    corr = np.corrcoef(u.T)[np.triu_indices(4, 1)]
+    assert np.all(np.abs(corr) < 4 / math.sqrt(n)), corr
 
 
 def test_scrambles_differ_by_pixel_key_and_pair(device, prog):
