@@ -6,7 +6,9 @@
  * d) (the nested uniform scramble of Burley 2020, "Practical Hash-based Owen Scrambling"). The scramble keeps the
  * stratification and makes every point uniform, so the estimator stays unbiased; the index shuffle maps the first
  * 2^k indices onto one aligned block of 2^k Sobol points (still a (0,k,2)-net) and decorrelates the pairs from
- * each other and the pixels from their neighbours, so no pair repeats another pair's pattern.
+ * each other and the pixels from their neighbours, so no pair repeats another pair's pattern. A light candidate
+ * takes a 4D group instead (qmc_quad_bits): four Sobol dimensions under one index shuffle, so that its pick and its
+ * point on the light are stratified together.
  *
  * The index is the sample's number within its half buffer of a still render (still.py), the key differs between
  * the halves: each half is its own randomised QMC estimate, and their difference stays an honest error estimate. */
