@@ -69,16 +69,33 @@ inline uint qmc_lk_hash(uint x, uint seed)
 /* 32-bit fixed point -> float in [0, 1) (24 bits, as rng_next). */
 inline float qmc_float(uint x) { return (float)(x >> 8) * (1.0f / 16777216.0f); }
 
+/* the seed of group (pair or quad) d of the pixel */
+inline uint qmc_group_seed(const Qmc* q, uint d)
+{
+    return pcg_hash(q->seed ^ pcg_hash(d * 0x9e3779b9u + 0x7f4a7c15u));
+}
+
+/* the shuffled index of a group with seed s */
+inline uint qmc_shuffled_index(const Qmc* q, uint s)
+{
+    return qmc_reverse_bits(qmc_lk_hash(qmc_reverse_bits(q->index), s));
+}
+
+/* Sobol dimensions 0 and 1 at shuffled index i, each Owen-scrambled, for a group with seed s */
+inline uint2 qmc_dims01(uint i, uint s)
+{
+    return (uint2)(qmc_reverse_bits(qmc_lk_hash(i, pcg_hash(s ^ 0x2c1b3c6du))),
+                   qmc_reverse_bits(qmc_lk_hash(sobol_dim1_reversed(i), pcg_hash(s ^ 0x297a2d39u))));
+}
+
 /* Point q->index of dimension pair d, as two 32-bit fractions. The Owen scramble of a fraction f is
  * reverse(lk(reverse(f))); Sobol dimension 0 is reverse(i) itself, and dimension 1 is built reversed, so each
  * coordinate costs one reversal. The index shuffle is an Owen scramble of the index's bits: a permutation within
  * every aligned block of indices. */
 inline uint2 qmc_pair_bits(const Qmc* q, uint d)
 {
-    uint s = pcg_hash(q->seed ^ pcg_hash(d * 0x9e3779b9u + 0x7f4a7c15u));
-    uint i = qmc_reverse_bits(qmc_lk_hash(qmc_reverse_bits(q->index), s));
-    return (uint2)(qmc_reverse_bits(qmc_lk_hash(i, pcg_hash(s ^ 0x2c1b3c6du))),
-                   qmc_reverse_bits(qmc_lk_hash(sobol_dim1_reversed(i), pcg_hash(s ^ 0x297a2d39u))));
+    uint s = qmc_group_seed(q, d);
+    return qmc_dims01(qmc_shuffled_index(q, s), s);
 }
 
 inline float2 qmc_pair(const Qmc* q, uint d)
@@ -144,11 +161,10 @@ inline uint qmc_owen(uint f, uint seed) { return qmc_reverse_bits(qmc_lk_hash(qm
  * still spread their points over it (in 3D the first 2^k points put 2 in every elementary box of volume 2^(1-k)). */
 inline uint4 qmc_quad_bits(const Qmc* q, uint d)
 {
-    uint s = pcg_hash(q->seed ^ pcg_hash(d * 0x9e3779b9u + 0x7f4a7c15u));
-    uint i = qmc_reverse_bits(qmc_lk_hash(qmc_reverse_bits(q->index), s));
-    return (uint4)(qmc_owen(sobol_matrix(i, SOBOL_DIM2), pcg_hash(s ^ 0x6a09e667u)),
-                   qmc_reverse_bits(qmc_lk_hash(i, pcg_hash(s ^ 0x2c1b3c6du))),
-                   qmc_reverse_bits(qmc_lk_hash(sobol_dim1_reversed(i), pcg_hash(s ^ 0x297a2d39u))),
+    uint s = qmc_group_seed(q, d);
+    uint i = qmc_shuffled_index(q, s);
+    uint2 p = qmc_dims01(i, s);  /* the point on the light: the same (0,2)-sequence as a pair's */
+    return (uint4)(qmc_owen(sobol_matrix(i, SOBOL_DIM2), pcg_hash(s ^ 0x6a09e667u)), p.x, p.y,
                    qmc_owen(sobol_matrix(i, SOBOL_DIM3), pcg_hash(s ^ 0xbb67ae85u)));
 }
 

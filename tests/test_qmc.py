@@ -77,13 +77,24 @@ def prog(device):
     return build_program(device, {}, source=SRC)
 
 
-def points(device, prog, pixel: int, key: int, dim: int, n: int, index0: int = 0) -> np.ndarray:
-    out = np.empty((n, 2), np.uint32)
+def _sequence(device, prog, kernel: str, width: int, pixel: int, key: int, dim: int, n: int,
+              index0: int) -> np.ndarray:
+    out = np.empty((n, width), np.uint32)
     buf = cl.Buffer(device.context, cl.mem_flags.WRITE_ONLY, out.nbytes)
-    cl.Kernel(prog, "points")(device.queue, (n,), None, np.uint32(pixel), np.uint32(key), np.uint32(dim),
-                              np.uint32(index0), buf)
+    cl.Kernel(prog, kernel)(device.queue, (n,), None, np.uint32(pixel), np.uint32(key), np.uint32(dim),
+                            np.uint32(index0), buf)
     cl.enqueue_copy(device.queue, out, buf)
     return out
+
+
+def points(device, prog, pixel: int, key: int, dim: int, n: int, index0: int = 0) -> np.ndarray:
+    """Points of pair `dim` (n, 2)."""
+    return _sequence(device, prog, "points", 2, pixel, key, dim, n, index0)
+
+
+def quads(device, prog, pixel: int, key: int, dim: int, n: int, index0: int = 0) -> np.ndarray:
+    """Points of the 4D group `dim` (n, 4)."""
+    return _sequence(device, prog, "quads", 4, pixel, key, dim, n, index0)
 
 
 def elementary_intervals_hit_once(p: np.ndarray, k: int) -> bool:
@@ -110,15 +121,6 @@ def test_aligned_blocks_after_the_first_stratify_too(device, prog):
         assert elementary_intervals_hit_once(p, 6), index0
     p = points(device, prog, 9, 3, 2, 96)  # and any 2^k-aligned prefix of a longer run
     assert elementary_intervals_hit_once(p[:32], 5) and elementary_intervals_hit_once(p[:64], 6)
-
-
-def quads(device, prog, pixel: int, key: int, dim: int, n: int, index0: int = 0) -> np.ndarray:
-    out = np.empty((n, 4), np.uint32)
-    buf = cl.Buffer(device.context, cl.mem_flags.WRITE_ONLY, out.nbytes)
-    cl.Kernel(prog, "quads")(device.queue, (n,), None, np.uint32(pixel), np.uint32(key), np.uint32(dim),
-                             np.uint32(index0), buf)
-    cl.enqueue_copy(device.queue, out, buf)
-    return out
 
 
 def sobol23(device, prog, index: np.ndarray) -> np.ndarray:

@@ -25,8 +25,8 @@ def still_uses_sobol(settings: Settings) -> bool:
 def environment_table(settings: Settings) -> str | None:
     """The environment's sampling table for a renderer with `settings` (lights/environment.py): the cumulative
     one where still renders draw from the Sobol sequence, since inverting it keeps the strata of the point's two
-    dimensions, which an alias draw scatters (measured on F12's sky path: docs/error-vs-time.md, "The sky with one
-    candidate"); None, the default table, elsewhere."""
+    dimensions, which an alias draw scatters (measured on F12's sky path: docs/error-vs-time.md, "A world alone:
+    one candidate"); None, the default table, elsewhere."""
     return "cdf" if still_uses_sobol(settings) else None
 
 
