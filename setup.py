@@ -1,6 +1,6 @@
 """restircl: many-light direct lighting (light array, RIS, ReSTIR DI) and TAA in OpenCL C."""
 
-from setuptools import setup
+from setuptools import find_packages, setup
 
 setup(
     name="restircl",
@@ -8,15 +8,15 @@ setup(
     description="Many-light direct lighting with ReSTIR DI and TAA, in OpenCL C on PoCL or any OpenCL GPU",
     python_requires=">=3.11",
     classifiers=["Programming Language :: Python :: 3.11", "Programming Language :: Python :: 3.13"],
-    packages=["restircl", "restircl.eval", "restircl.lights", "restircl.opencl"],
-    package_dir={"restircl": "python/restircl", "restircl.opencl": "opencl"},
-    package_data={"restircl.opencl": ["*.h", "*.cl", "lights/*.h"]},
+    packages=[*find_packages(where="python", include=["restircl", "restircl.*"]), "restircl.opencl"],
+    package_dir={"": "python", "restircl.opencl": "opencl"},
+    package_data={"restircl.opencl": ["*.h", "*.cl", "*/*.h", "*/*.cl"]},
     install_requires=["numpy>=1.24", "pyopencl>=2024.1", "openexr>=3.3", "pillow>=10"],
     extras_require={
         "pocl": ["pyopencl[pocl]>=2024.1"],
         # libclang: the OpenCL C front end for NVIDIA, AMD and SPIR targets (tests/test_portability.py)
         # distributed: the farm's engine (restircl render --workers/--scheduler, docs/farm.md; pure Python)
-        # flip-evaluator: the FLIP columns of restircl report and eval/denoise_report.py (empty, with a note, without)
+        # flip-evaluator: the FLIP columns of restircl report and eval/report/denoise.py (empty, with a note, without)
         "test": ["pytest>=8", "ruff>=0.5", "scipy>=1.10", "matplotlib>=3.7", "libclang>=16", "distributed>=2024.8",
                  "pyoidn>=2.5", "flip-evaluator>=1.7"],
         "farm": ["distributed>=2024.8"],
@@ -27,5 +27,5 @@ setup(
         "blender": ['bpy==5.0.1; python_version == "3.11"', 'bpy==5.3.0; python_version == "3.13"'],
         "blender-lts": ['bpy==4.2.23; python_version == "3.11"'],
     },
-    entry_points={"console_scripts": ["restircl=restircl.cli:main"]},
+    entry_points={"console_scripts": ["restircl=restircl.cli.main:main"]},
 )

@@ -25,7 +25,7 @@ def new_scene(width: int = 64, height: int = 48, engine: str = "CYCLES", reset: 
     sc = bpy.context.scene
     sc.render.resolution_x, sc.render.resolution_y = width, height
     sc.render.resolution_percentage = 100
-    from restircl.eval.cycles import black_world  # shared with the scenes `restircl report` writes for Cycles
+    from restircl.eval.cycles.bridge import black_world  # shared with the scenes `restircl report` writes for Cycles
 
     black_world(bpy, sc)
     sc.render.engine = engine
@@ -35,7 +35,9 @@ def new_scene(width: int = 64, height: int = 48, engine: str = "CYCLES", reset: 
 def cycles_direct_only(sc: bpy.types.Scene, samples: int = 1024, seed: int = 0, threads: int = 0) -> None:
     """Cycles as the reference for direct light: no bounces, box filter 1 px, light threshold 0, no adaptive
     sampling, no denoising, no clamping."""
-    from restircl.eval.cycles import direct_only  # one definition of these settings, shared with `restircl report`
+    from restircl.eval.cycles.bridge import (  # one definition of these settings, shared with `restircl report`
+        direct_only,
+    )
 
     direct_only(sc, samples, seed, threads)
 
@@ -57,7 +59,7 @@ def exr_output(sc: bpy.types.Scene, path: str, multilayer: bool = True) -> None:
 
 
 def _material(name: str) -> tuple[bpy.types.Material, bpy.types.NodeTree, bpy.types.Node]:
-    from restircl.eval.cycles import node_material  # shared with the scenes `restircl report` writes for Cycles
+    from restircl.eval.cycles.bridge import node_material  # shared with the scenes `restircl report` writes for Cycles
 
     return node_material(bpy, name)
 

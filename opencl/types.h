@@ -1,5 +1,5 @@
 /* Every struct shared between the host and the device, and nothing else.
- * Mirrored by numpy dtypes in python/restircl/layouts.py; tests/test_layouts.py compares sizeof/offsetof.
+ * Mirrored by numpy dtypes in python/restircl/core/layouts.py; tests/core/test_layouts.py compares sizeof/offsetof.
  * Rules: no float3 (16 bytes here, 12 in numpy); float4 members first; sizes multiples of 16. */
 #ifndef RESTIRCL_TYPES_H
 #define RESTIRCL_TYPES_H
@@ -16,7 +16,7 @@ typedef struct {
 /* 4-wide BVH node: the boxes of up to four children in SoA form, tested together with float4 operations.
  * Node 0 is the root; nodes are numbered depth first. Child reference c = child[k]: c >= 0 is the inner node c;
  * c < 0 is a leaf holding the triangles tris[~c .. ~c + count[k] - 1] (~c == -c - 1); with leaf packets
- * (BVH_TRI4, python/restircl/bvh_packets.py) ~c is the leaf's packet in the Tri array and count[k] its first
+ * (BVH_TRI4, python/restircl/bvh/packets.py) ~c is the leaf's packet in the Tri array and count[k] its first
  * triangle. An unused slot is a leaf of count 0 whose box is empty (min +inf, max -inf), so no ray enters it.
  * count[k] is 0 for inner children. */
 typedef struct {
@@ -33,7 +33,7 @@ typedef struct {
 /* ---- materials and lights -------------------------------------------------------------------- */
 
 /* A material: what the diffuse-only kernels read (albedo, emission) first; then where its closures are. A material
- * is 1..MAX_LAYERS closures (python/restircl/material.py), summed with their weights (Mix / Add Shader). */
+ * is 1..MAX_LAYERS closures (python/restircl/materials/material.py), summed with their weights (Mix / Add Shader). */
 typedef struct {
     float4 albedo;     /* rgb: diffuse albedo of diffuse-only builds (the closures' constant colours summed with
                           their weights); w: unused */
@@ -42,7 +42,7 @@ typedef struct {
                           constant); w: MATERIAL_* flags (informative: each closure carries its own weight) */
 } Material;            /* 48 bytes */
 
-#define MAX_LAYERS 2   /* closures per material (python/restircl/material.py MAX_LAYERS) */
+#define MAX_LAYERS 2   /* closures per material (python/restircl/materials/material.py MAX_LAYERS) */
 #define MATERIAL_MIX 1 /* the two closures are mixed by closure 1's weight w (1 - w, w); else added */
 
 #define CLOSURE_PRINCIPLED 0
@@ -52,7 +52,7 @@ typedef struct {
 #define TEX_NONE (-1)
 
 /* One closure's inputs: a constant each, replaced by a texture node's value where its index in tex / tex2 is not
- * TEX_NONE (opencl/closure_inputs.h evaluates them). */
+ * TEX_NONE (opencl/textures/closure_inputs.h evaluates them). */
 typedef struct {
     float4 base;       /* rgb: Base Color / Color; w: Metallic */
     float4 spec;       /* x: Roughness; y: IOR; z: Specular IOR Level; w: weight (Mix factor, 1 for Add) */
@@ -63,9 +63,9 @@ typedef struct {
     int4 tex2;         /* x: specular tint, y: normal map, z: weight, w: unused */
 } Closure;             /* 96 bytes */
 
-/* ---- surface attributes and textures (opencl/texture_*.h, python/restircl/texture_pack.py) ---------- */
+/* ---- surface attributes and textures (opencl/texture_*.h, python/restircl/upload/textures.py) ---------- */
 
-/* Per triangle, in BVH leaf order (python/restircl/tri_attributes.py): what the primary hit interpolates for
+/* Per triangle, in BVH leaf order (python/restircl/upload/tri_attributes.py): what the primary hit interpolates for
  * smooth shading and texture coordinates. Uploaded only when some mesh has normals or some material a texture. */
 typedef struct {
     float4 n0;         /* xyz: world-space shading normal at corner 0 (Mesh.normals; the geometric one if none) */
@@ -151,7 +151,7 @@ typedef struct {
     float4 L;    /* rgb: radiance or intensity; w: flags (int bits) */
 } Light;         /* 64 bytes */
 
-/* A node of the light tree (light_tree.h, built by light_tree.py): the bounds of the lights below it. */
+/* A node of the light tree (lights/tree.h, built by lights/tree.py): the bounds of the lights below it. */
 typedef struct {
     float4 lo;   /* xyz: box min;  w: summed power */
     float4 hi;   /* xyz: box max;  w: cos theta_o, the half angle of the cone of emission normals */
@@ -162,7 +162,7 @@ typedef struct {
 
 /* ---- camera ----------------------------------------------------------------------------------- */
 
-#define CAMERA_PERSP 0  /* python/restircl/layouts.py CAMERA_KINDS */
+#define CAMERA_PERSP 0  /* python/restircl/core/layouts.py CAMERA_KINDS */
 #define CAMERA_ORTHO 1
 
 /* A pinhole (kind CAMERA_PERSP) or orthographic (CAMERA_ORTHO) camera. With a = nx * lens.x + lens.z and
@@ -197,7 +197,7 @@ typedef struct {
 /* One resolved specular lobe of a pixel (HAS_GLOSSY): a GGX distribution (alpha) shared by a Principled closure's
  * metallic part (F82-tint Fresnel; a Glossy BSDF is one with f0 = 1, b = 0) and its dielectric specular (the real
  * Fresnel of eta remapped from its F0 onto [f0, 1]). The weights include the closure's weight and, for multiscatter
- * GGX, the energy compensation for this pixel's view direction (opencl/bsdf_principled.h). */
+ * GGX, the energy compensation for this pixel's view direction (opencl/bsdf/principled.h). */
 typedef struct {
     float4 metal_f0;   /* rgb: F82-tint f0; w: alpha (roughness^2, clamped) */
     float4 metal_b;    /* rgb: F82-tint b; w: eta of the dielectric specular (1: none) */
@@ -225,11 +225,11 @@ typedef struct {
     float W;          /* unbiased contribution weight */
     float target;     /* p-hat(y) at the pixel that owns the reservoir */
     int vis_age;      /* with visibility reuse: reuse passes that took the sample's visibility at this pixel from a
-                         stored result rather than a ray since its last shadow ray (restir_reuse.h) */
+                         stored result rather than a ray since its last shadow ray (restir/reuse.h) */
 } Reservoir;          /* 32 bytes */
 
 /* ---- parameters of the passes ---------------------------------------------------------------
- * One struct per stage, passed by value and read by field name; the host packs them (python/restircl/stages.py).
+ * One struct per stage, passed by value and read by field name; the host packs them (python/restircl/render/stages.py).
  * Every pass reads its random stream key (sample, seed) from FrameParams. */
 
 /* The image a frame renders, and the key of its random numbers. */
@@ -239,26 +239,26 @@ typedef struct {
     int pixels;            /* width * height */
     uint sample;           /* frames rendered so far by this renderer */
     uint seed;             /* Settings.seed */
-    int qmc;               /* 1: RIS draws from the pixel's scrambled Sobol sequence (qmc.h, setting sampler) */
+    int qmc;               /* 1: RIS draws from the pixel's scrambled Sobol sequence (sampling/qmc.h, setting sampler) */
     uint qmc_index;        /* the sample's index in that sequence */
     uint qmc_key;          /* its scramble key (one per half buffer of a still render) */
 } FrameParams;             /* 32 bytes */
 
-/* What the light samplers draw candidates from (light_array.h, light_tiles.h). */
+/* What the light samplers draw candidates from (lights/array.h, lights/tiles.h). */
 typedef struct {
     int light_count;       /* lights the samplers draw from; 0 when no light emits */
     int slot_count;        /* light array slots */
     int tile_count;        /* presampled light tiles; 0: candidates come straight from the light array */
     int tile_size;         /* entries per tile */
-    int bsdf_candidates;   /* BSDF-sampled candidates per pixel (bsdf_candidates.h); 0: none */
+    int bsdf_candidates;   /* BSDF-sampled candidates per pixel (direct/bsdf_candidates.h); 0: none */
     int bsdf_analytic;     /* how many of the first lights (the analytic ones) BSDF rays are tested against */
     int bsdf_triangles;    /* 1: BSDF rays look for emissive triangles (tri_light) */
     int bsdf_glossy_only;  /* 1: BSDF candidates only where the material has a specular lobe */
-    int light_tree;        /* 1: light candidates come from the light tree (light_tree.h), not the array */
+    int light_tree;        /* 1: light candidates come from the light tree (lights/tree.h), not the array */
     int tree_leaves;       /* lights in the tree */
     int tree_distant;      /* lights outside it (no position: suns), picked as often as the light array does */
     float tree_p_local;    /* probability of a descent of the tree rather than a distant light */
-    int pick_table;        /* 1: RIS picks lights by the pixel's row of the per-pixel table (light_pick_table.h) */
+    int pick_table;        /* 1: RIS picks lights by the pixel's row of the per-pixel table (lights/pick_table.h) */
     int pad0;
     int pad1;
     int pad2;
@@ -272,7 +272,7 @@ typedef struct {
     int pad1;
 } SimilarityParams;        /* 16 bytes */
 
-/* ReSTIR pass 2 (restir_initial.cl). */
+/* ReSTIR pass 2 (restir/initial.cl). */
 typedef struct {
     SamplerParams sampler;
     int candidates;        /* RIS candidates per pixel */
@@ -281,20 +281,20 @@ typedef struct {
     int pad1;
 } InitialParams;           /* 80 bytes */
 
-/* ReSTIR pass 4 (restir_temporal.cl). */
+/* ReSTIR pass 4 (restir/temporal.cl). */
 typedef struct {
     SimilarityParams similar;
     float m_cap;           /* history cap, absolute M */
     int bias_correction;   /* BIAS_* */
     int visibility_reuse;
     int lights_static;     /* 1: the light records are last frame's */
-    uint permutation;      /* 0: none; else 16 | a per-frame 4-bit key (permutation sampling, reproject.h) */
+    uint permutation;      /* 0: none; else 16 | a per-frame 4-bit key (permutation sampling, camera/reproject.h) */
     int vis_static;        /* 1: geometry and lights are last frame's, so last frame's shadow tests still hold */
     int vis_max_age;       /* the visibility shortcut: reuse a stored visibility at most this often in a row; 0: off */
     float vis_max_distance;/* ... where the history's point is within this many pixels of the pixel's */
 } TemporalParams;          /* 48 bytes */
 
-/* ReSTIR pass 5 (restir_spatial.cl), one launch per spatial pass. */
+/* ReSTIR pass 5 (restir/spatial.cl), one launch per spatial pass. */
 typedef struct {
     SimilarityParams similar;
     int spatial_neighbours;
@@ -307,16 +307,16 @@ typedef struct {
     int pad0;
 } SpatialParams;           /* 48 bytes */
 
-/* Pass 6: restir_shade, and the samplers without reuse (direct.cl). */
+/* Pass 6: restir_shade, and the samplers without reuse (direct/direct.cl). */
 typedef struct {
     SamplerParams sampler;
     int method;            /* METHOD_* (shade_direct) */
     int candidates;        /* RIS candidates per pixel (shade_direct, METHOD_RIS) */
     int visible_known;     /* restir_shade: the reuse passes already zeroed occluded samples */
-    int bsdf_mis_sample;   /* shade_direct, METHOD_RIS: 1 = one BSDF sample beside the reservoir's (bsdf_mis.h) */
+    int bsdf_mis_sample;   /* shade_direct, METHOD_RIS: 1 = one BSDF sample beside the reservoir's (direct/bsdf_mis.h) */
 } ShadeParams;             /* 80 bytes */
 
-/* Pass 7: temporal accumulation (taa.cl). */
+/* Pass 7: temporal accumulation (taa/taa.cl). */
 typedef struct {
     SimilarityParams similar; /* a disocclusion: the history's surface is not the pixel's */
     float alpha_min;       /* lower bound of the blend factor a = max(1/n, alpha_min) */
@@ -330,7 +330,7 @@ typedef struct {
     int pad0;
 } TaaParams;               /* 48 bytes */
 
-/* One iteration of the real-time filter (atrous.cl). */
+/* One iteration of the real-time filter (filter/atrous.cl). */
 typedef struct {
     int step;              /* tap spacing in pixels: 1, 2, 4, ... */
     float sigma_l;         /* luminance edge stop, in standard deviations of the centre */

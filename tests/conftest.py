@@ -17,7 +17,7 @@ import pytest  # noqa: E402
 
 @pytest.fixture(scope="session")
 def device():
-    from restircl.device import get_device
+    from restircl import get_device
 
     return get_device()
 
@@ -28,7 +28,7 @@ def reference_samples(device, tmp_path_factory):
     pytest session. Several test files compare against the same exhaustive render of the same test scene (at
     8192 frames a few seconds each on 2 cores); the key is everything the render depends on: the scene file's
     digest, the settings, the frame count and the device. The arrays are shared: read-only."""
-    from restircl.eval.report_reference import scene_digest
+    from restircl.eval.report.reference import scene_digest
 
     from .helpers import collect
 

@@ -6,13 +6,13 @@
 Each release is a `bpy` module from PyPI for the CPython that release embeds, in a virtual environment of its own
 under --venv-root (made once, then reused while its requirements are unchanged), with restircl installed editable
 from this checkout. The extension zip is built once here (tools/build_extension.py) and installed by each
-release's own installer (tests/test_blender_extension.py). What runs where (RELEASES):
+release's own installer (tests/blender/test_blender_extension.py). What runs where (RELEASES):
 
   - 5.3, the current release (CPython 3.13): every Blender test (the viewport's in bpy too), as the main run
     does on 5.0;
   - 4.2, the oldest supported LTS (CPython 3.11, numpy < 2 as Blender 4.2 ships): the zip installed into an empty
-    user folder + enable + F12 agreeing with Cycles, registration and settings (test_blender_addon.py), the
-    export of every data-block type (test_blender_export.py: where 4.2's API differs) and the mixed-light Cycles
+    user folder + enable + F12 agreeing with Cycles, registration and settings (blender/test_blender_addon.py), the
+    export of every data-block type (blender/test_blender_export.py: where 4.2's API differs) and the mixed-light Cycles
     comparison; the renders of the material and texture features are the same code on every release and run on
     5.0 and 5.3.
 
@@ -45,14 +45,15 @@ class Release:
 
 
 # every Blender test file (those of new features included), the viewport's in bpy, and the zip builder's
-ALL_BLENDER_TESTS = (*sorted(str(p.relative_to(ROOT)) for p in (ROOT / "tests").glob("test_blender_*.py")),
-                     "tests/test_viewport_blender.py", "tests/test_viewport_draw.py", "tests/test_ortho_blender.py",
-                     "tests/test_build_extension.py")
+ALL_BLENDER_TESTS = (*sorted(str(p.relative_to(ROOT)) for p in (ROOT / "tests" / "blender").glob("test_blender_*.py")),
+                     "tests/blender/test_viewport_blender.py", "tests/blender/test_viewport_draw.py",
+                     "tests/blender/test_ortho_blender.py", "tests/tools/test_build_extension.py")
 RELEASES = {
     "5.3": Release("3.13", "5.3.0", (), ALL_BLENDER_TESTS),
     "4.2": Release("3.11", "4.2.23", ("numpy<2",),
-                   ("tests/test_blender_extension.py", "tests/test_blender_addon.py", "tests/test_blender_export.py",
-                    "tests/test_blender_cycles.py::test_agrees_with_cycles[mixed]")),
+                   ("tests/blender/test_blender_extension.py", "tests/blender/test_blender_addon.py",
+                    "tests/blender/test_blender_export.py",
+                    "tests/blender/test_blender_cycles.py::test_agrees_with_cycles[mixed]")),
 }
 
 

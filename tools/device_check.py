@@ -19,7 +19,7 @@ Traversal: `bench_traversal.run` (1M triangles, camera and shadow rays), no Embr
 With $OUT set, everything printed also goes to $OUT/device_check.json. On a machine without pip access (the device
 machine of this project's sessions), carry wheels of pyopencl, pytools, platformdirs, siphash24 and
 typing_extensions and install them with `pip install --no-index --no-deps --target`, then run with
-PYTHONPATH=<that target>:python (docs/benchmarks.md, "GPU").
+PYTHONPATH=<that target>:python (docs/measurements/benchmarks.md, "GPU").
 """
 
 from __future__ import annotations
@@ -27,17 +27,12 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import sys
 import time
 from pathlib import Path
 
 import numpy as np
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "python"))
-
-from restircl import Renderer, Settings, scenes  # noqa: E402
-from restircl.device import Device, list_devices  # noqa: E402
-from restircl.eval.bench import FRAME_METHODS, time_frames  # noqa: E402
+from restircl import Device, Renderer, Settings, list_devices, scenes
+from restircl.eval.bench.main import FRAME_METHODS, time_frames
 
 Z_LIMIT = 4.0
 NORMAL_TAIL = 6.3e-5  # P(|z| > 4) for a standard normal
@@ -139,7 +134,7 @@ def main(argv: list[str] | None = None) -> int:
 
     # traversal
     if not a.no_traversal:
-        from restircl.eval import bench_traversal
+        from restircl.eval.bench import traversal as bench_traversal
 
         for di, d in enumerate(devices):
             t0 = time.perf_counter()

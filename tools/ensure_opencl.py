@@ -2,7 +2,7 @@
 
 The PoCL inside the pyopencl wheel (LLVM 14) cannot build for CPUs newer than its LLVM (AMD Zen 5 and later: "unknown
 target CPU 'generic'"). Debian's `pocl-opencl-icd` (PoCL 3.1 in Debian 12) picks its code target per CPU feature
-set and works there; restircl's device choice then takes whichever device builds (python/restircl/device.py).
+set and works there; restircl's device choice then takes whichever device builds (python/restircl/core/device.py).
 
 Exit status 0 when a device builds (after installing, where that was needed and allowed), 1 otherwise, with what to
 run. Installs only as root or with password-less sudo, and only with apt-get; `--dry-run` says what it would do.
@@ -25,7 +25,7 @@ def device_problem() -> str | None:
     code = (
         "import sys, warnings\n"
         "warnings.simplefilter('ignore')\n"
-        "from restircl.device import choose_device, DeviceError\n"
+        "from restircl.core.device import choose_device, DeviceError\n"
         "try:\n"
         "    print(choose_device()[0].label)\n"
         "except DeviceError as e:\n"

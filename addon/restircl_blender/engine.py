@@ -16,7 +16,7 @@ import warnings
 from dataclasses import dataclass
 
 import numpy as np
-from restircl.passes import PASSES, blender_name
+from restircl.render.passes import PASSES, blender_name
 
 from . import compat, export, preview
 
@@ -40,7 +40,7 @@ def _pass_on(view_layer, p) -> bool:
 
 
 def register_passes(engine, scene, view_layer) -> None:
-    """RenderEngine.update_render_passes: the passes of restircl.passes.PASSES the view layer has turned on."""
+    """RenderEngine.update_render_passes: the passes of restircl.render.passes.PASSES the view layer has turned on."""
     props = getattr(scene, "restircl", None)
     for p in PASSES:
         if p.requires is not None and not getattr(props, p.requires, False):
@@ -321,8 +321,8 @@ def write_result(engine, frame, width: int, height: int, view_layer, film_transp
 
 def _set_rect(render_pass, pixels: np.ndarray) -> None:
     """RenderPass.rect from (pixels, channels) float32. foreach_set takes the buffer whole; assigning the array
-    (`rect = pixels`) took 80-150 ms per pass of 192x108 against 0.1 ms (tools/bench_write_result.py,
-    docs/benchmarks.md)."""
+    (`rect = pixels`) took 80-150 ms per pass of 192x108 against 0.1 ms (tools/experiments/bench_write_result.py,
+    docs/measurements/benchmarks.md)."""
     try:
         render_pass.rect.foreach_set(pixels.reshape(-1))
     except (AttributeError, TypeError):  # a Blender without foreach_set on this array

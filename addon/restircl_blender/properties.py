@@ -1,5 +1,5 @@
 """Render settings of the restircl engine, `scene.restircl` and `view_layer.restircl`, generated from restircl's
-settings table (restircl/settings.py) and the add-on's own settings below, which are declared the same way: one
+settings table (restircl/settings/table.py) and the add-on's own settings below, which are declared the same way: one
 Blender property per setting, with the table's label, description, default, choices and range."""
 
 from __future__ import annotations
@@ -9,8 +9,8 @@ from typing import Any
 
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
-from restircl.setting_spec import Declared, Range, declared, setting
-from restircl.settings import Settings
+from restircl import Settings
+from restircl.settings.spec import Declared, Range, declared, setting
 
 INT_MIN, INT_MAX = -(1 << 31), (1 << 31) - 1  # Blender's IntProperty holds a C int
 

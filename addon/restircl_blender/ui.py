@@ -4,7 +4,7 @@ our engine added to the built-in light, material and post-processing panels that
 from __future__ import annotations
 
 import bpy
-from restircl.passes import PASSES
+from restircl.render.passes import PASSES
 
 from . import engine, properties
 
@@ -99,7 +99,7 @@ class RESTIRCL_PT_device(RestirclPanel, bpy.types.Panel):
 
 
 class RESTIRCL_PT_passes(RestirclPanel, bpy.types.Panel):
-    """The passes of restircl.passes.PASSES that can be turned off, under Blender's own headings."""
+    """The passes of restircl.render.passes.PASSES that can be turned off, under Blender's own headings."""
 
     bl_label = "Passes"
     bl_context = "view_layer"

@@ -208,7 +208,7 @@ def draw_frame(engine, scene, vp: Viewport, frame, width: int, height: int) -> N
     """The frame, stretched over the region (bilinear), uploaded once per frame. bind_display_space_shader binds
     Blender's image shader (Blender 5.0; the scene is not used): the frame's scene-linear values go into the 3D
     view's colour buffer as they are, and Blender applies the view transform to that buffer afterwards, as for
-    Cycles. Needs a GPU context: tests/test_viewport_draw.py draws into an offscreen of background bpy."""
+    Cycles. Needs a GPU context: tests/blender/test_viewport_draw.py draws into an offscreen of background bpy."""
     import gpu
     from gpu_extras.presets import draw_texture_2d
 

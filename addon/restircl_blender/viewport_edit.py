@@ -15,15 +15,11 @@ from __future__ import annotations
 
 import copy
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
 import numpy as np
-from restircl import Camera, Light, Material, Scene
+from restircl import Camera, Light, Material, Renderer, Scene
 
 from .export.fingerprint import fingerprint
-
-if TYPE_CHECKING:
-    from .viewport_session import ViewportSession
 
 
 @dataclass
@@ -50,9 +46,9 @@ def _geometry(mesh) -> tuple:
 def _kernel_needs(scene: Scene) -> tuple:
     """What of a scene decides the compiled kernels beyond the light array (features.py): the light types and
     which materials are glossy, textured or emissive, the world."""
-    from restircl.camera_lights import camera_light_indices
+    from restircl.lights.camera_visible import camera_light_indices
     from restircl.lights.registry import type_of
-    from restircl.material_pack import uses_glossy, uses_textures
+    from restircl.upload.materials import uses_glossy, uses_textures
 
     # the device light types (a square and a disk area light are two) and whether the camera sees any light
     light_types = sorted({type_of(lt).code for lt in scene.lights})
@@ -75,40 +71,19 @@ def _move(objects, name: str, matrix: np.ndarray) -> tuple[int, np.ndarray] | No
     return hits[0], old
 
 
-def apply_edit(session: ViewportSession, edit: SceneEdit, view: Camera) -> str:
-    """Apply `edit` to the session's scene and renderer: 'none' (nothing changed), 'kept' (uploaded, history
-    kept), 'reset' (uploaded, history dropped) or 'rebuilt' (a new renderer)."""
-    sc, r = session.scene, session.renderer
-    assert r is not None
-    moved: dict[int, np.ndarray] = {}
-    lights = geometry = materials = False
-    for name, m in edit.transforms.items():
-        hit = _move(sc.meshes, name, m)
-        if hit is not None:
-            moved[hit[0]] = hit[1]
-        lights |= _move(sc.lights, name, m) is not None
-    new = edit.scene
-    if new is None and (edit.lights is not None or edit.materials is not None):
-        new = copy.copy(sc)  # the lights or the materials alone: the rest of the scene is the session's
-        new.meshes = list(sc.meshes)
-        new.lights = sc.lights if edit.lights is None else edit.lights
-        new.materials = sc.materials if edit.materials is None else edit.materials
+def apply_edit(sc: Scene, r: Renderer, edit: SceneEdit, view: Camera) -> tuple[str, Scene]:
+    """Apply `edit` to scene `sc` and its renderer `r`: ('none', sc) nothing changed, ('kept', sc) uploaded with
+    the history kept, ('reset', sc) uploaded with the history dropped, or ('rebuilt', new) where the kernels cannot
+    show the edited scene `new` (seen by `view`) and the caller makes a new renderer for it."""
+    moved, lights = _apply_moves(sc, edit.transforms)
+    new = _edited_scene(sc, edit)
+    if new is not None and (len(new.meshes) != len(sc.meshes) or len(new.materials) != len(sc.materials)
+                            or _kernel_needs(new) != _kernel_needs(sc)):
+        new.camera = view
+        return "rebuilt", new
+    geometry = materials = False
     if new is not None:
-        if (len(new.meshes) != len(sc.meshes) or len(new.materials) != len(sc.materials)
-                or _kernel_needs(new) != _kernel_needs(sc)):
-            new.camera = view
-            session.scene = new
-            session.build(view)
-            return "rebuilt"
-        for i, (a, b) in enumerate(zip(sc.meshes, new.meshes, strict=True)):
-            if a is b:  # not re-exported
-                continue
-            if not _same(_geometry(a), _geometry(b)):
-                geometry = True
-                sc.meshes[i] = b
-            elif not np.array_equal(a.transforms, b.transforms):
-                moved[i] = np.array(a.transforms[0])
-                a.transforms = b.transforms
+        geometry = _take_meshes(sc, new, moved)
         if new.lights is not sc.lights and not _same(sc.lights, new.lights):
             lights = True
             sc.lights = new.lights
@@ -120,9 +95,47 @@ def apply_edit(session: ViewportSession, edit: SceneEdit, view: Camera) -> str:
                 lights |= any(c and m.is_emissive for c, m in zip(changed, new.materials, strict=True))
                 sc.materials = new.materials
     if not (moved or lights or geometry or materials):
-        return "none"
+        return "none", sc
     r.device_scene.edit(geometry=geometry, lights=lights, materials=materials, moved=moved or None)
     if geometry:
         r.reset()
-        return "reset"
-    return "kept"
+        return "reset", sc
+    return "kept", sc
+
+
+def _edited_scene(sc: Scene, edit: SceneEdit) -> Scene | None:
+    """The scene to compare with `sc`: the edit's re-export, or `sc` with the re-read lights or materials."""
+    if edit.scene is not None or (edit.lights is None and edit.materials is None):
+        return edit.scene
+    new = copy.copy(sc)  # the lights or the materials alone: the rest of the scene is the session's
+    new.meshes = list(sc.meshes)
+    new.lights = sc.lights if edit.lights is None else edit.lights
+    new.materials = sc.materials if edit.materials is None else edit.materials
+    return new
+
+
+def _apply_moves(sc: Scene, transforms: dict[str, np.ndarray]) -> tuple[dict[int, np.ndarray], bool]:
+    """Objects moved by name: (mesh index -> its transform before, whether a light moved)."""
+    moved: dict[int, np.ndarray] = {}
+    lights = False
+    for name, m in transforms.items():
+        hit = _move(sc.meshes, name, m)
+        if hit is not None:
+            moved[hit[0]] = hit[1]
+        lights |= _move(sc.lights, name, m) is not None
+    return moved, lights
+
+
+def _take_meshes(sc: Scene, new: Scene, moved: dict[int, np.ndarray]) -> bool:
+    """Take the re-exported meshes of `new` into `sc`: True where a geometry changed; moved ones go to `moved`."""
+    geometry = False
+    for i, (a, b) in enumerate(zip(sc.meshes, new.meshes, strict=True)):
+        if a is b:  # not re-exported
+            continue
+        if not _same(_geometry(a), _geometry(b)):
+            geometry = True
+            sc.meshes[i] = b
+        elif not np.array_equal(a.transforms, b.transforms):
+            moved[i] = np.array(a.transforms[0])
+            a.transforms = b.transforms
+    return geometry

@@ -23,7 +23,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 from restircl import Camera, Renderer, Scene, Settings
-from restircl.camera import views_differ
+from restircl.render.camera import views_differ
 
 from .viewport_edit import SceneEdit, apply_edit
 
@@ -251,7 +251,11 @@ class ViewportSession:
             cut = True
         edited = False
         for e in edits:
-            outcome = apply_edit(self, e, view)
+            assert self.renderer is not None
+            outcome, scene = apply_edit(self.scene, self.renderer, e, view)
+            if outcome == "rebuilt":
+                self.scene = scene
+                self.build(view)
             self.stats.edits[outcome] = self.stats.edits.get(outcome, 0) + 1
             cut |= outcome in ("reset", "rebuilt")
             edited |= outcome != "none"

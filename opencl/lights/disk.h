@@ -9,7 +9,7 @@
 #include "lights/planar.h"
 #include "lights/solid_angle.h"
 #include "lights/spherical_rect.h"
-#include "lights/warps.h"
+#include "sampling/warps.h"
 
 #define LIGHT_DISK 2
 

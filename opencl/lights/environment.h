@@ -7,7 +7,7 @@
  * The map and its sampling table are not in the 64-byte record: they follow the light records in the same buffer
  * (the host puts them there, python/restircl/lights/environment.py), and the record holds their offsets in floats
  * from itself. That keeps every kernel's arguments as they are; a copy of the record elsewhere (a light tile) must
- * not be used to reach them (ris.h reads the environment's record from the light buffer).
+ * not be used to reach them (direct/ris.h reads the environment's record from the light buffer).
  *
  * Directions follow Blender's mapping of the World's default vector d (Z up): after the lookup rotation R (a
  * Mapping node), d' = R d, u = 1/2 - atan2(d'.y, d'.x) / (2 pi), v = acos(d'.z) / pi; row 0 of the map is the
@@ -18,7 +18,7 @@
 
 #include "lights/eval.h"
 #include "lights/record.h"
-#include "lights/warps.h"
+#include "sampling/warps.h"
 
 #define LIGHT_ENVIRONMENT 6
 /* L.w flags: camera rays that miss the geometry see it (Film > Transparent leaves alpha 0 either way) */
@@ -26,12 +26,12 @@
 /* the sampling table is the pair of cumulative distributions (else the alias tables) */
 #define ENV_FLAG_CDF 4
 /* the texels are RGB half floats (else float32): radiance / 2^k, the record's radiance holds the 2^k
- * (python/restircl/environment_pack.py) */
+ * (python/restircl/environment/pack.py) */
 #define ENV_FLAG_HALF 8
 
 typedef struct {
     const __global float* texels;  /* p.x: offset in floats from the record; W x H RGB triples, row 0 up */
-    const __global float* table;   /* a.w: offset of the sampling table (environment_table.py) */
+    const __global float* table;   /* a.w: offset of the sampling table (environment/table.py) */
     int width, height;             /* p.y, p.z */
     float3 r0, r1, r2;             /* a.xyz, b.xyz: rows of the lookup rotation; r2 = r0 x r1 */
     float norm;                    /* b.w: 1 / sum(luminance x solid angle): the alias tables' pdf per luminance */

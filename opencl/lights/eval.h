@@ -12,7 +12,7 @@ typedef struct {
     float3 nl;        /* light normal at pos, facing the shading point (for offsetting the shadow ray end) */
     float dist;       /* distance to pos; INFINITY for the sun */
     float eps;        /* emissive triangles (lights that are also geometry): a bound of the float32 error of pos, by
-                         which the shadow ray stops short of it (visibility.h visible); 0 for every other light */
+                         which the shadow ray stops short of it (direct/visibility.h visible); 0 for every other light */
 } LightEval;
 
 /* Shadow ray ends are moved off their surfaces by RESTIRCL_OFFSET_ULPS float32 epsilons of the largest magnitude in

@@ -10,7 +10,7 @@
 #include "lights/eval.h"
 #include "lights/record.h"
 #include "lights/solid_angle.h"
-#include "lights/warps.h"
+#include "sampling/warps.h"
 
 #define LIGHT_SPHERE 3
 

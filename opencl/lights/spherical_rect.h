@@ -9,7 +9,7 @@
 #define RESTIRCL_LIGHTS_SPHERICAL_RECT_H
 
 #include "lights/trig.h"
-#include "lights/warps.h"
+#include "sampling/warps.h"
 
 /* complex product and length of float2s */
 inline float2 cmul(float2 a, float2 b) { return (float2)(a.x * b.x - a.y * b.y, a.x * b.y + a.y * b.x); }

@@ -9,7 +9,7 @@
 #define RESTIRCL_LIGHTS_SPHERICAL_TRI_H
 
 #include "lights/trig.h"
-#include "lights/warps.h"
+#include "sampling/warps.h"
 
 typedef struct {
     float3 A, B, C;      /* unit directions from the shading point to the vertices */

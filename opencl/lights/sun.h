@@ -5,7 +5,7 @@
 
 #include "lights/eval.h"
 #include "lights/record.h"
-#include "lights/warps.h"
+#include "sampling/warps.h"
 
 #define LIGHT_SUN 5
 

@@ -18,13 +18,13 @@ inline bool triangle_eval(const __global Light* l, float u, float v, float3 x, f
     float3 v0 = pl.origin, e1 = pl.span_u, e2 = pl.span_v;
     float su = sqrt(u);
     float3 y = v0 + e1 * (su * (1.0f - v)) + e2 * (su * v);
-    /* the bound the shading point gets (visibility.h visible): y is the same kind of sum */
+    /* the bound the shading point gets (direct/visibility.h visible): y is the same kind of sum */
     e->eps = RESTIRCL_OFFSET_ULPS * FLT_EPSILON * (max_abs3(v0) + max_abs3(e1) + max_abs3(e2));
     return planar_contrib(l, pl, y, x, n, e);
 }
 
 /* The sample (u, v) of the point with barycentric weights b1 (of v1) and b2 (of v2): the inverse of
- * triangle_eval's map, for a ray that hit the triangle (bvh.h Hit.u, Hit.v). */
+ * triangle_eval's map, for a ray that hit the triangle (bvh/traverse.h Hit.u, Hit.v). */
 inline float2 triangle_uv(float b1, float b2)
 {
     float su = b1 + b2;

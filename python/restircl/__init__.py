@@ -11,15 +11,23 @@ Public API::
 """
 
 from . import scenes
-from .device import Device, DeviceError, choose_device, get_device, list_devices
-from .environment import Environment
-from .image_io import read_exr, write_exr, write_png
-from .pipeline import Frame, Renderer, Settings
-from .program import KernelBuildError
-from .scene import Camera, Light, Material, Mesh, Scene, SceneError, SceneFileError, look_at, translation
-from .setting_spec import SettingError
-from .still_method import still_settings
-from .textures import CheckerTexture, ImageTexture, MixColor, NormalMap
+from .core.device import Device, DeviceError, choose_device, get_device, list_devices
+from .core.program import KernelBuildError
+from .environment.world import Environment
+from .io.images import read_exr, write_exr, write_png
+from .materials.material import Material
+from .materials.textures import CheckerTexture, ImageTexture, MixColor, NormalMap
+from .render.frame import Frame
+from .render.pipeline import Renderer
+from .render.still_method import still_settings
+from .scene.camera import Camera
+from .scene.errors import SceneError, SceneFileError
+from .scene.light import Light
+from .scene.mesh import Mesh
+from .scene.scene import Scene
+from .scene.transforms import look_at, translation
+from .settings.spec import SettingError
+from .settings.table import Settings
 
 __all__ = [
     "Camera", "CheckerTexture", "Device", "DeviceError", "Environment", "Frame", "ImageTexture", "KernelBuildError",

@@ -25,7 +25,7 @@ class Baker:
         self.count = 0
 
     def __call__(self, src: Source, want: str):
-        from restircl.textures import ImageTexture
+        from restircl import ImageTexture
 
         try:
             pixels = bake_socket(self.mat, self.ob, _original_socket(self.mat, src), self.size)

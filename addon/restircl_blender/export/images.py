@@ -1,4 +1,4 @@
-"""Blender images -> the `image` and `colorspace` of a restircl.textures.ImageTexture.
+"""Blender images -> the `image` and `colorspace` of a restircl.materials.textures.ImageTexture.
 
 Images saved on disk in a format the renderer reads (PNG, JPEG, EXR) are passed by path and read at upload;
 packed, generated, edited-but-unsaved images and other formats are copied out of Blender as arrays (rows top
@@ -13,7 +13,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-READABLE = (".png", ".jpg", ".jpeg", ".exr")  # what restircl.image_load reads on every install
+READABLE = (".png", ".jpg", ".jpeg", ".exr")  # what restircl.io.image_load reads on every install
 # colour spaces whose values are taken as stored: scene linear (Blender's working space) and data
 LINEAR_EXACT = ("Non-Color", "Raw", "Linear Rec.709", "Linear", "scene_linear", "Utility - Raw")
 LINEAR_LIKE = ("Linear", "ACES2065", "ACEScg", "Log")  # linear or log encodings: nearest is "as stored"

@@ -1,6 +1,6 @@
 """A colour or value input of a shader node -> a restircl Input: a constant, or a texture node of
-restircl.textures (Image Texture, Checker Texture, Mix Color, Normal Map) whose own inputs are read the same way.
-Whatever else feeds an input is handed to the baker (bake.py); where that cannot be done, the input's own
+restircl.materials.textures (Image Texture, Checker Texture, Mix Color, Normal Map) whose own inputs are read the same
+way. Whatever else feeds an input is handed to the baker (bake.py); where that cannot be done, the input's own
 (unlinked) value is used, with a note."""
 
 from __future__ import annotations
@@ -83,7 +83,7 @@ class InputReader:
             return None
         if not self._uv_ok(f"Normal Map {node.name!r}", node.uv_map):
             return None
-        from restircl.textures import NormalMap
+        from restircl import NormalMap
 
         strength = self.constant(find_input(node, ("Strength",)), src.stack, f"Normal Map {node.name!r} Strength")
         return NormalMap(color=self.color(find_input(node, ("Color",)), src.stack), strength=strength)
@@ -149,7 +149,7 @@ class InputReader:
         return c
 
     def _image(self, src: Source):
-        from restircl.textures import ImageTexture
+        from restircl import ImageTexture
 
         node = src.node
         what = f"Image Texture {node.name!r}"
@@ -173,7 +173,7 @@ class InputReader:
             mapping=c.mapping, name=node.image.name)
 
     def _checker(self, src: Source, depth: int):
-        from restircl.textures import CheckerTexture
+        from restircl import CheckerTexture
 
         node = src.node
         scale = find_input(node, ("Scale",))
@@ -191,7 +191,7 @@ class InputReader:
                               coords=c.coords, mapping=c.mapping)
 
     def _mix(self, src: Source, depth: int):
-        from restircl.textures import MixColor
+        from restircl import MixColor
 
         node = src.node
         if node.bl_idname == "ShaderNodeMixRGB":

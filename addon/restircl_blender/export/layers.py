@@ -18,7 +18,7 @@ BLACK = (0.0, 0.0, 0.0)
 
 
 def _max_layers() -> int:
-    from restircl.material import MAX_LAYERS
+    from restircl.materials.material import MAX_LAYERS
 
     return MAX_LAYERS
 

@@ -118,7 +118,7 @@ def _key(mat) -> str | None:
 
 def scene_bake_resolution(scene) -> int:
     """The scene's `bake_resolution` setting (the settings table's default where the add-on is not registered)."""
-    from restircl.settings import Settings
+    from restircl import Settings
 
     props = getattr(scene, "restircl", None)
     return int(getattr(props, "bake_resolution", Settings.bake_resolution))

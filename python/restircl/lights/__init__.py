@@ -2,7 +2,7 @@
 is opencl/lights/<type>.h), the registry of them all, and the packing of a scene's lights into device records.
 
 A new type adds its module here and its entry in registry.py; opencl/lights/<type>.h and the dispatch in
-opencl/lights.h are its device half."""
+opencl/lights/lights.h are its device half."""
 
 from .device_lights import DeviceLights, scene_lights
 from .light_type import LightType, PlacedLight, SceneLightType

@@ -11,8 +11,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .. import layouts as L
-from ..scene import Scene
+from ..core import layouts as L
+from ..scene.scene import Scene
 from . import environment as env_light
 from .area_sampling import apply_sampling_flags
 from .light_type import PlacedLight

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from ..scene import Light
+from ..scene.light import Light
 from . import area
 from .light_type import PlacedLight, SceneLightType
 from .record import lanes

@@ -1,6 +1,6 @@
 """The environment light (opencl/lights/environment.h): the scene's world as one light of solid-angle measure.
 
-Its record goes first in the light buffer (primary.cl finds what camera rays see there) and its map and sampling
+Its record goes first in the light buffer (camera/primary.cl finds what camera rays see there) and its map and sampling
 table after every record, where the record's offsets point. Texels are the image, or the colour without one (per
 unit strength), so the tables sample the luminance of the radiance itself; the strength (animated by
 strength_per_frame) is the record's radiance scale and does not rebuild them.
@@ -16,8 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..environment import Environment
-from ..environment_pack import (
+from ..environment.pack import (
     StoredLuminance,
     StoredTexels,
     choose_format,
@@ -26,7 +25,8 @@ from ..environment_pack import (
     store_texels,
     texel_floats,
 )
-from ..environment_table import fill_table, table_floats
+from ..environment.table import fill_table, table_floats
+from ..environment.world import Environment
 from .light_type import LightType
 from .record import LUMINANCE, lanes
 
@@ -34,13 +34,15 @@ TYPE = LightType("environment", code=6, flag="HAS_ENVIRONMENT")
 FLAG_CAMERA = 2  # ENV_FLAG_CAMERA
 FLAG_CDF = 4  # ENV_FLAG_CDF
 FLAG_HALF = 8  # ENV_FLAG_HALF
-#: the sampling table of new scenes: "alias" or "cdf" (environment_table.py; measured in docs/benchmarks.md)
+#: the sampling table of new scenes: "alias" or "cdf" (environment/table.py; measured in
+#: docs/measurements/benchmarks.md)
 TABLE_KIND = "alias"
 #: maps above this many texels get the cdf table whatever TABLE_KIND says: the host builds alias tables row by row
-#: in lock step, 23 s for 4096 x 2048 against 3.3 s for the cdf (docs/benchmarks.md), minutes for 16384 x 8192
+#: in lock step, 23 s for 4096 x 2048 against 3.3 s for the cdf (docs/measurements/benchmarks.md), minutes for 16384
+#: x 8192
 ALIAS_MAX_TEXELS = 1 << 22
 #: how the texels are stored on the device: "auto" (half floats unless the map's range needs float32), "half" or
-#: "float" (environment_pack.py; the error half floats add is measured in docs/design.md, "The environment light")
+#: "float" (environment/pack.py; the error half floats add is measured in docs/design.md, "The environment light")
 TEXEL_FORMAT = "auto"
 
 

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..scene import Light
+from ..scene.light import Light
 
 
 @dataclass(frozen=True)
@@ -25,7 +25,7 @@ class PlacedLight:
 class LightType:
     name: str
     code: int  # LIGHT_<NAME> in opencl/lights/<name>.h
-    flag: str  # HAS_<NAME>_LIGHTS: compiles the type's code in (features.py)
+    flag: str  # HAS_<NAME>_LIGHTS: compiles the type's code in (render/features.py)
 
 
 @dataclass(frozen=True)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..scene import Light
+from ..scene.light import Light
 from . import area
 from .light_type import PlacedLight, SceneLightType
 from .record import lanes

@@ -1,8 +1,9 @@
-"""Every device light type, by code: the one list features.py, layouts.py and the packing read."""
+"""Every device light type, by code: the one list render/features.py, core/layouts.py and the packing read."""
 
 from __future__ import annotations
 
-from ..scene import Light, SceneError
+from ..scene.errors import SceneError
+from ..scene.light import Light
 from . import disk, environment, quad, sphere, spot, sun, triangle
 from .light_type import LightType, SceneLightType
 

@@ -9,7 +9,7 @@ from typing import TypedDict
 
 import numpy as np
 
-from ..scene import Light
+from ..scene.light import Light
 from .light_type import PlacedLight, SceneLightType
 from .record import LUMINANCE, lanes
 

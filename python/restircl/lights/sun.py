@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from ..scene import Light
+from ..scene.light import Light
 from .light_type import PlacedLight, SceneLightType
 from .record import LUMINANCE, lanes, unit
 

@@ -1,0 +1,133 @@
+/* Pass 1: camera rays into the G-buffer (position, normals, albedo, emission seen directly, motion vectors).
+ * motion.xy: previous minus current pixel position of the hit (jitter removed); motion.z: 1 if the hit has a
+ * previous position on the previous camera's image plane; motion.w: its view depth in the previous camera.
+ * vector (the Vector pass): xy as motion.xy, zw the next frame's position minus the current one (pixels, y down).
+ * object_motion: per object, 3 rows of M_prev M_cur^-1, then 3 rows of M_next M_cur^-1. */
+
+inline float3 motion_apply(const __global float4* m, float3 p)
+{
+    float4 p4 = (float4)(p, 1.0f);
+    return (float3)(dot(m[0], p4), dot(m[1], p4), dot(m[2], p4));
+}
+
+__kernel void primary(const __global Camera* cam, const __global Camera* prev_cam, const __global Camera* next_cam,
+                      const __global BVHNode* nodes, const __global Tri* tris,
+                      const __global Material* materials, const __global float4* object_motion,
+                      const __global TriAttr* tri_attr, const __global ObjectInfo* objects,
+                      const __global Closure* closures, const __global TexNode* tex_nodes,
+                      const __global TexImage* tex_images, const __global float4* texels,
+                      const __global float* ggx_tables,
+                      const __global Light* lights, const __global float4* camera_lights,
+                      __global GSample* gbuf, __global GlossySample* glossy, __global float4* vector)
+{
+    int x = get_global_id(0), y = get_global_id(1);
+    int w = cam->width, h = cam->height;
+    if (x >= w || y >= h) return;
+    int i = y * w + x;
+    float2 ray_px = (float2)((float)x + 0.5f + cam->jitter.x, (float)y + 0.5f + cam->jitter.y);
+    float3 o, d;
+    camera_ray(cam, ray_px.x, ray_px.y, &o, &d);
+    Hit hit = trace_closest(nodes, tris, o, d, INFINITY);
+    float3 sun_seen = (float3)(0.0f);  /* the suns a ray that misses sees (lights/camera_visible.h) */
+#ifdef HAS_CAMERA_LIGHTS
+    if (camera_light_pixel(lights, camera_lights, cam, prev_cam, next_cam, o, d, hit.t,
+                           gbuf + i, glossy + i, vector + i, &sun_seen))
+        return;
+#else
+    (void)lights;
+    (void)camera_lights;
+#endif
+    GSample g;
+    g.motion = (float4)(0.0f);
+    if (hit.prim < 0) {
+        g.pos = (float4)(0.0f, 0.0f, 0.0f, INFINITY);
+        g.normal = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
+        g.gnormal = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
+        g.albedo = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
+        g.emission = (float4)(sun_seen, 0.0f);  /* a sun the ray sees is in front of the world */
+#ifdef HAS_ENVIRONMENT
+        g.emission.xyz += environment_seen(lights, d);
+#endif
+        g.motion = (float4)(0.0f, 0.0f, 1.0f, INFINITY);  /* the background: reprojected by direction */
+        float4 vec = (float4)(0.0f);
+#ifdef HAS_MOTION
+        float2 delta;
+        if (camera_dir_motion(cam, prev_cam, d, ray_px, &delta))
+            g.motion.xy = vec.xy = delta;
+        else
+            g.motion.z = 0.0f;
+        if (camera_dir_motion(cam, next_cam, d, ray_px, &delta)) vec.zw = delta;
+#endif
+        gbuf[i] = g;
+        vector[i] = vec;
+#ifdef HAS_GLOSSY
+        glossy[i].wo = (float4)(-d, as_float(0));
+#endif
+        return;
+    }
+    Tri t = tris[hit.prim];
+    float3 p = t.v0.xyz + hit.u * t.e1.xyz + hit.v * t.e2.xyz;
+    float3 ng = norm3(cross3(t.e1.xyz, t.e2.xyz));
+    int backfacing = dot3(ng, d) > 0.0f;
+    if (backfacing) ng = -ng;
+    int mat = as_int(t.v0.w);
+    int obj = as_int(t.e2.w);
+    Material m = materials[mat];
+    /* smooth shading and texture coordinates, filtered over the pixel's ray cone */
+    TexPoint tp = texture_point(tri_attr, objects, hit.prim, obj, hit.u, hit.v, d, ng, backfacing,
+                                camera_footprint(cam, d, hit.t));
+    float3 albedo = m.albedo.xyz, emission = m.emission.xyz;
+#ifdef HAS_TEXTURES
+    texture_material(materials + mat, closures, tex_nodes, tex_images, texels, &tp, &albedo, &emission);
+#endif
+    g.pos = (float4)(p, camera_depth(cam, p));
+    g.normal = (float4)(tp.ns, as_float(hit.prim));
+    g.gnormal = (float4)(ng, as_float(mat));
+    g.albedo = (float4)(albedo, as_float(obj));
+#ifdef HAS_GLOSSY
+    /* the material's closures resolved for this view at the shading normal: the diffuse albedo under the specular
+     * layer, and the lobes */
+    int count = min(m.info.y, MAX_LAYERS);
+    if (count > 0) {
+        ClosureInputs cin[MAX_LAYERS];
+        for (int k = 0; k < count; ++k) {
+#ifdef HAS_TEXTURES
+            cin[k] = closure_inputs(&closures[m.info.x + k], tex_nodes, tex_images, texels, &tp);
+#else
+            cin[k] = closure_constants(&closures[m.info.x + k]);
+#endif
+        }
+        GlossySample gx;
+        /* the lobes' normal, as surface_load derives it again */
+        float3 nl = tp.bumped ? shading_normal_guard(tp.ns, ng, -d) : tp.ns;
+        g.albedo.xyz = surface_resolve(cin, count, nl, -d, ggx_tables, &gx);
+        glossy[i] = gx;
+    } else {
+        glossy[i].wo = (float4)(-d, as_float(0));
+    }
+#else
+    (void)closures;
+    (void)ggx_tables;
+    (void)glossy;
+#endif
+    g.emission = (float4)(emission, as_float(tp.bumped ? normal_pack(tp.nb) : 0));
+    g.motion = (float4)(0.0f, 0.0f, 1.0f, g.pos.w);  /* nothing moves: the previous position is this one */
+    float4 vec = (float4)(0.0f);
+#ifdef HAS_MOTION
+    float3 pp = p, pn = p;
+#ifdef HAS_MOVING_OBJECTS
+    pp = motion_apply(object_motion + 6 * obj, p);
+    pn = motion_apply(object_motion + 6 * obj + 3, p);
+#endif
+    float2 cur_px, prev_px, next_px;
+    bool cur_ok = camera_project(cam, p, &cur_px);
+    if (cur_ok && camera_project(prev_cam, pp, &prev_px))
+        g.motion = (float4)(prev_px - cur_px, 1.0f, camera_depth(prev_cam, pp));
+    else
+        g.motion = (float4)(0.0f, 0.0f, 0.0f, 0.0f);  /* z = 0: no valid previous position */
+    vec.xy = g.motion.xy;
+    if (cur_ok && camera_project(next_cam, pn, &next_px)) vec.zw = next_px - cur_px;
+#endif
+    gbuf[i] = g;
+    vector[i] = vec;
+}

@@ -1,0 +1,77 @@
+/* Direct lighting with one light sample per pixel, without reuse: the samplers `uniform`, `light_array` and
+ * `ris` (candidates from the light array or the presampled light tiles; optionally one more, BSDF-sampled
+ * direction combined with it by MIS, direct/bsdf_mis.h), and the exhaustive `reference` (every light, one sample each).
+ * One shadow ray per light sample. */
+
+__kernel void shade_direct(const __global GSample* gbuf, const __global GlossySample* glossy, const __global BVHNode* nodes, const __global Tri* tris,
+                           const __global Light* lights, const __global int* slots, const __global float* light_pdf,
+                           const __global LightTreeNode* tree_nodes, const __global int2* tree_info,
+                           const __global int2* tree_distant,
+                           const __global Light* tile_rec, const __global int2* tile_info,
+                           const __global int* tri_light, const __global ushort* pick_table,
+                           volatile __global int* guards, __global float4* out, FrameParams frame_params,
+                           ShadeParams params)
+{
+    const int pixel_count = frame_params.pixels;
+    const uint frame = frame_params.sample, seed = frame_params.seed;
+    const int light_count = params.sampler.light_count, slot_count = params.sampler.slot_count;
+    const int tile_count = params.sampler.tile_count, tile_size = params.sampler.tile_size;
+    const int method = params.method, candidates = params.candidates;
+    int i = get_global_id(0);
+    if (i >= pixel_count) return;
+    Surface s = surface_load(gbuf, glossy, i);
+    float3 c = gbuf[i].emission.xyz;
+    if (s.valid && light_count > 0) {
+        uint rng = rng_seed((uint)i, frame, seed, 1u);
+        LightEval e;
+        if (method == METHOD_RIS) {
+            Reservoir r;
+            res_init(&r);
+            LightPick lp = light_pick_source(slots, light_pdf, tree_nodes, tree_info, tree_distant, params.sampler);
+            light_pick_use_table(&lp, pick_table, params.sampler, i);
+            RisSource src = ris_source(slot_count, tile_count, tile_size, i, frame, seed);
+            BsdfSource bsdf = bsdf_source(params.sampler);
+            bsdf.mis_sample = params.bsdf_mis_sample;
+            Qmc q = qmc_stream(frame_params.qmc, frame_params.qmc_index, frame_params.qmc_key, (uint)i);
+            ris_candidates(&s, lights, &lp, tile_rec, tile_info, src, candidates, nodes, tris, tri_light,
+                           bsdf, &rng, &q, &r, &e);
+            res_finalize(&r, r.M);
+            /* W > 0: a candidate of target > 0 was picked, and e holds its evaluation */
+            if (r.W > 0.0f && visible(nodes, tris, &s, &e))
+                c += unshadowed_contrib(&s, &e) * r.W;
+            if (bsdf.mis_sample) c += bsdf_mis_sample(&s, lights, &lp, nodes, tris, tri_light, bsdf, &rng, &q);
+        } else {
+            float2 uv;
+            float pdf;
+            int light = light_draw(method == METHOD_UNIFORM, lights, light_count, slots, slot_count, light_pdf, s.x, &rng, &uv, &pdf);
+            if (pdf > 0.0f && light_eval(&lights[light], uv.x, uv.y, s.x, s.n, &e) && visible(nodes, tris, &s, &e))
+                c += unshadowed_contrib(&s, &e) / pdf;
+        }
+    }
+    out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), 1.0f);
+}
+
+__kernel void shade_reference(const __global GSample* gbuf, const __global GlossySample* glossy, const __global BVHNode* nodes, const __global Tri* tris,
+                              const __global Light* lights, volatile __global int* guards, __global float4* out,
+                              FrameParams frame_params, ShadeParams params)
+{
+    const int pixel_count = frame_params.pixels;
+    const uint frame = frame_params.sample, seed = frame_params.seed;
+    const int light_count = params.sampler.light_count;
+    int i = get_global_id(0);
+    if (i >= pixel_count) return;
+    Surface s = surface_load(gbuf, glossy, i);
+    float3 c = gbuf[i].emission.xyz;
+    if (s.valid) {
+        uint rng = rng_seed((uint)i, frame, seed, 2u);
+        for (int l = 0; l < light_count; ++l) {
+            float r0 = rng_next(&rng), r1 = rng_next(&rng);
+            float pdf;
+            float2 uv = light_sample(&lights[l], s.x, r0, r1, &pdf);
+            LightEval e;
+            if (pdf > 0.0f && light_eval(&lights[l], uv.x, uv.y, s.x, s.n, &e) && visible(nodes, tris, &s, &e))
+                c += unshadowed_contrib(&s, &e) / pdf;
+        }
+    }
+    out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), 1.0f);
+}

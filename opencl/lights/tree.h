@@ -1,0 +1,232 @@
+/* The light tree: a spatial proposal for RIS candidates (built on the host by lights/tree.py, which says how it is
+ * laid out). A pick descends from the root, at each node taking a child with probability
+ *     p = (1 - F) I_c / (I_0 + I_1) + F phi_c / (phi_0 + phi_1),
+ * I the children's importance bounds at the shading point (power x orientation bound / squared distance, the bound
+ * of pbrt-v4's LightBounds::Importance), phi their power, F = LIGHT_TREE_FLOOR. The power term is the floor: every
+ * light of power > 0 keeps a nonzero probability everywhere, so RIS over tree candidates stays unbiased even where
+ * a bound is wrong (a shading normal, a normal map); no branch goes below LIGHT_TREE_MIN_BRANCH. The pick's pdf
+ * is the product of the branch probabilities; light_pick_pdf recomputes it for a given light from its leaf index
+ * (its trail: the binary digits of leaf + 1), with the same arithmetic, for the MIS weights of BSDF candidates.
+ * Lights without a position (suns) are outside the tree: with probability 1 - p_local one of them is picked
+ * instead, as often as the light array would pick it.
+ *
+ * Presampled light tiles do not apply: a tile is drawn without a shading point, the tree's proposal needs one. */
+#ifndef RESTIRCL_LIGHT_TREE_H
+#define RESTIRCL_LIGHT_TREE_H
+
+#include "lights/array.h"  /* light_pick_lights falls back to the array (and picks the distant lights by it) */
+#include "lights/pick_table.h"
+
+#define LIGHT_TREE_FLOOR 0.1f       /* lights/tree.py FLOOR */
+#define LIGHT_TREE_TWO_SIDED 1      /* LightTreeNode.meta.y: a light below emits on both sides */
+#define LIGHT_TREE_MIN_BRANCH (1.0f / 4096.0f)  /* lights/tree.py MIN_BRANCH */
+#define LIGHT_TREE_MEMO 15          /* the top four levels' branches are computed once per pixel and batch */
+
+/* Where a light pick comes from, and what it needs to give the pick pdf of any light: the light array, or
+ * the tree's nodes, per-light info (leaf node, or -1 with the pick pdf's bits for lights outside the tree) and the
+ * distant lights (light index, cumulative probability bits). */
+typedef struct {
+    const __global int* slots;
+    const __global float* light_pdf;
+    const __global LightTreeNode* nodes;
+    const __global int2* info;
+    const __global int2* distant;
+    int tree;
+    int leaves;
+    int distant_count;
+    float p_local;
+    const __global ushort* table;  /* the pixel's row of the per-pixel pick (lights/pick_table.h), or 0 */
+    int table_n;                   /* its lights; 0: no table */
+} LightPick;
+
+inline LightPick light_pick_source(const __global int* slots, const __global float* light_pdf,
+                                   const __global LightTreeNode* nodes, const __global int2* info,
+                                   const __global int2* distant, SamplerParams sp)
+{
+    LightPick p = {slots, light_pdf, nodes, info, distant, sp.light_tree, sp.tree_leaves, sp.tree_distant,
+                   sp.tree_p_local, 0, 0};
+    return p;
+}
+
+/* Pick from pixel i's row of the per-pixel table `table` (of light_count lights) where the frame has one. */
+inline void light_pick_use_table(LightPick* lp, const __global ushort* table, SamplerParams sp, int i)
+{
+#ifdef HAS_PICK_TABLE
+    if (sp.pick_table && sp.light_count > 1) {
+        lp->table = table + (size_t)i * (size_t)(sp.light_count - 1);
+        lp->table_n = sp.light_count;
+    }
+#endif
+}
+
+/* Whether a pick takes a 32-bit word (the tree's descent, the table's inversion) rather than a slot. */
+inline bool light_pick_takes_word(const LightPick* lp) { return lp->tree || lp->table_n > 0; }
+
+#ifdef HAS_LIGHT_TREE
+/* cos and sin of max(0, a - b), angles in [0, pi] given by cos and sin */
+inline float2 light_tree_cos_sub(float cos_a, float sin_a, float cos_b, float sin_b)
+{
+    if (cos_a >= cos_b) return (float2)(1.0f, 0.0f);
+    return (float2)(cos_a * cos_b + sin_a * sin_b, sin_a * cos_b - cos_a * sin_b);
+}
+
+/* An upper bound (up to a constant) of what the lights below node nd can give point x of unit normal n. The cheap
+ * exits first: x inside the box's bounding sphere (every direction may reach it), the whole box behind x's
+ * tangent plane, lights that emit in every direction (points: no cone to test). */
+inline float light_tree_importance(const __global LightTreeNode* nd, float3 x, float3 n)
+{
+    float4 lo = nd->lo, hi = nd->hi, ax = nd->axis;
+    float3 d = x - 0.5f * (lo.xyz + hi.xyz);
+    float3 ext = hi.xyz - lo.xyz;
+    float d2 = dot3(d, d), r2 = 0.25f * dot3(ext, ext);
+    if (d2 <= r2) return lo.w / fmax_f(r2, 1e-12f);
+    float inv_d = 1.0f / sqrt(d2);
+    float3 wo = d * inv_d;  /* from the node towards x */
+    float sin2_b = r2 * inv_d * inv_d;
+    float cos_b = sqrt(fmax_f(0.0f, 1.0f - sin2_b)), sin_b = sqrt(sin2_b);
+    float cos_i = -dot3(n, wo);
+    float cos_ip = cos_i >= cos_b ? 1.0f
+                                  : cos_i * cos_b + sqrt(fmax_f(0.0f, 1.0f - cos_i * cos_i)) * sin_b;
+    if (!(cos_ip > 0.0f)) return 0.0f;  /* the incidence angle's bound: the box is behind x */
+    float cos_p = 1.0f;                 /* the emission angle's bound */
+    float cos_o = hi.w;
+    if (cos_o > -1.0f) {
+        float cos_w = dot3(ax.xyz, wo);
+        if (nd->meta.y & LIGHT_TREE_TWO_SIDED) cos_w = abs_f(cos_w);
+        float2 w_o = light_tree_cos_sub(cos_w, sqrt(fmax_f(0.0f, 1.0f - cos_w * cos_w)), cos_o,
+                                        as_float(nd->meta.z));
+        cos_p = light_tree_cos_sub(w_o.x, w_o.y, cos_b, sin_b).x;
+        if (cos_p < ax.w) return 0.0f;
+    }
+    return lo.w * cos_ip * cos_p / d2;
+}
+
+/* The probability of taking the first of the children c, c + 1 at x, kept within [B, 1 - B] (B =
+ * LIGHT_TREE_MIN_BRANCH): a float draw could not reach a branch of probability 1e-12 that the pmf would still count,
+ * and 1 - p of the clamped p is what the descent takes the second child with, to float rounding. */
+inline float light_tree_branch(const __global LightTreeNode* nodes, int c, float3 x, float3 n)
+{
+    float phi0 = nodes[c].lo.w, phi1 = nodes[c + 1].lo.w;
+    /* a child without power is never taken (the light array gives such lights no slot either) */
+    if (!(phi0 > 0.0f) || !(phi1 > 0.0f)) return phi0 > 0.0f ? 1.0f : 0.0f;
+    float pw = phi0 / (phi0 + phi1);
+    float i0 = light_tree_importance(&nodes[c], x, n), i1 = light_tree_importance(&nodes[c + 1], x, n);
+    float sum = i0 + i1;
+    float p = !(sum > 0.0f) || !finite_f(sum) ? pw : (1.0f - LIGHT_TREE_FLOOR) * (i0 / sum) + LIGHT_TREE_FLOOR * pw;
+    return clamp_f(p, LIGHT_TREE_MIN_BRANCH, 1.0f - LIGHT_TREE_MIN_BRANCH);
+}
+
+/* Descend with the random stream `state` (a fresh number per level): the light of the leaf reached, *pdf its
+ * probability. memo[j] caches the branch of node j < LIGHT_TREE_MEMO at this point (negative: not yet computed):
+ * the top levels are the same for every candidate of a pixel. */
+inline int light_tree_descend(const LightPick* lp, float3 x, float3 n, uint state, float* memo, float* pdf)
+{
+    int j = 0;
+    float p = 1.0f;
+    while (j < lp->leaves - 1) {
+        int c = 2 * j + 1;
+        float p0;
+        if (j < LIGHT_TREE_MEMO) {
+            if (memo[j] < 0.0f) memo[j] = light_tree_branch(lp->nodes, c, x, n);
+            p0 = memo[j];
+        } else {
+            p0 = light_tree_branch(lp->nodes, c, x, n);
+        }
+        if (rng_next(&state) < p0) {
+            p *= p0;
+            j = c;
+        } else {
+            p *= 1.0f - p0;
+            j = c + 1;
+        }
+    }
+    *pdf = p;
+    return lp->nodes[j].meta.x;
+}
+
+/* The probability with which light_tree_descend reaches leaf node `leaf` at x. */
+inline float light_tree_leaf_pdf(const LightPick* lp, int leaf, float3 x, float3 n)
+{
+    uint path = (uint)leaf + 1u;
+    float p = 1.0f;
+    int j = 0;
+    for (int d = 30 - (int)clz(path); d >= 0; --d) {
+        int c = 2 * j + 1;
+        float p0 = light_tree_branch(lp->nodes, c, x, n);
+        if ((path >> d) & 1u) {
+            p *= 1.0f - p0;
+            j = c + 1;
+        } else {
+            p *= p0;
+            j = c;
+        }
+    }
+    return p;
+}
+
+/* A light for the random word `bits` at x: from the tree with probability p_local, else a distant one (by its
+ * light-array pdf); the word seeds the descent's stream. */
+inline int light_tree_pick(const LightPick* lp, float3 x, float3 n, uint bits, float* memo, float* pdf)
+{
+    uint state = bits;
+    float u = rng_next(&state);
+    if (lp->distant_count == 0 || u < lp->p_local) {
+        float p;
+        int light = light_tree_descend(lp, x, n, state, memo, &p);
+        *pdf = p * lp->p_local;
+        return light;
+    }
+    u = rng_next(&state);
+    int k = 0;
+    while (k < lp->distant_count - 1 && !(u < as_float(lp->distant[k].y))) ++k;
+    int light = lp->distant[k].x;
+    *pdf = as_float(lp->info[light].y);
+    return light;
+}
+
+/* The candidates' lights and pick pdfs for n random words (direct/ris.h, as light_array_lights does for slots). */
+inline void light_tree_lights(const LightPick* lp, float3 x, float3 n, const uint* bits, int count, int* light,
+                              float* pdf)
+{
+    float memo[LIGHT_TREE_MEMO];
+    for (int j = 0; j < LIGHT_TREE_MEMO; ++j) memo[j] = -1.0f;
+    for (int k = 0; k < count; ++k) light[k] = light_tree_pick(lp, x, n, bits[k], memo, &pdf[k]);
+}
+#endif
+
+/* The lights of `count` candidates at x (normal n) and their pick pdfs, from the tree or from the light array
+ * (then bits[k] is a slot). */
+inline void light_pick_lights(const LightPick* lp, float3 x, float3 n, const uint* bits, int count, int* light,
+                              float* pdf)
+{
+#ifdef HAS_PICK_TABLE
+    if (lp->table_n > 0) {
+        for (int k = 0; k < count; ++k) light[k] = pick_table_light(lp->table, lp->table_n, bits[k], &pdf[k]);
+        return;
+    }
+#endif
+#ifdef HAS_LIGHT_TREE
+    if (lp->tree) {
+        light_tree_lights(lp, x, n, bits, count, light, pdf);
+        return;
+    }
+#endif
+    light_array_lights(lp->slots, lp->light_pdf, bits, count, light, pdf);
+}
+
+/* The probability with which the pick of lp chooses light `light` at x (normal n). */
+inline float light_pick_pdf(const LightPick* lp, int light, float3 x, float3 n)
+{
+#ifdef HAS_PICK_TABLE
+    if (lp->table_n > 0) return pick_table_pdf(lp->table, lp->table_n, light);
+#endif
+#ifdef HAS_LIGHT_TREE
+    if (lp->tree) {
+        int2 info = lp->info[light];
+        return info.x >= 0 ? lp->p_local * light_tree_leaf_pdf(lp, info.x, x, n) : as_float(info.y);
+    }
+#endif
+    return lp->light_pdf[light];
+}
+
+#endif

@@ -1,0 +1,85 @@
+/* ReSTIR pass 5: merge up to `spatial_neighbours` (or `boost_neighbours`) reservoirs of random pixels within `spatial_radius` whose
+ * surface is similar (view depth, normal and material: surface_material_similar) with the pixel's own
+ * (restir/reuse.h). */
+
+/* the table's limit (settings/table.py) arrives as -DMAX_NEIGHBOURS; this fallback serves builds outside core/program.py */
+#ifndef MAX_NEIGHBOURS
+#define MAX_NEIGHBOURS 16
+#endif
+
+/* round(), inline: |v| is at most the radius (<< 2^22) */
+inline int round_i(float v) { return (int)(v + (v >= 0.0f ? 0.5f : -0.5f)); }
+
+/* A point uniform in the disk of radius r, by rejection from the square (accepts pi/4 of the tries): no sqrt, sin
+ * or cos, which cost more than the rest of picking a neighbour on a CPU. After 16 rejections (probability 2e-11)
+ * it returns the centre, which the caller skips. */
+inline float2 disk_offset(float r, uint* rng)
+{
+    for (int t = 0; t < 16; ++t) {
+        float a = 2.0f * rng_next(rng) - 1.0f, b = 2.0f * rng_next(rng) - 1.0f;
+        if (a * a + b * b <= 1.0f) return (float2)(a * r, b * r);
+    }
+    return (float2)(0.0f, 0.0f);
+}
+
+__kernel void restir_spatial(const __global GSample* gbuf, const __global GlossySample* glossy, const __global BVHNode* nodes, const __global Tri* tris,
+                             const __global Light* lights, const __global Reservoir* input, __global Reservoir* out,
+                             FrameParams frame_params, SpatialParams params)
+{
+    const SpatialParams p = params;
+    const int width = frame_params.width, height = frame_params.height;
+    const int bias_correction = p.bias_correction, visibility_reuse = p.visibility_reuse;
+    const int pass = p.pass_index;
+    int x = get_global_id(0), y = get_global_id(1);
+    if (x >= width || y >= height) return;
+    int i = y * width + x;
+    Reservoir c = input[i];
+    Surface s = surface_load(gbuf, glossy, i);
+    if (!s.valid) { out[i] = c; return; }
+    uint rng = rng_seed((uint)i, frame_params.sample, frame_params.seed, 5u + (uint)pass);
+    /* the neighbours: random pixels in the disk that show a similar surface */
+    int used[MAX_NEIGHBOURS];
+    /* disocclusion boost (first pass): a pixel the temporal pass found no history for takes more neighbours. The
+     * count depends on the history's presence, not on any sample, so every bias correction stays as it was. */
+    int k_want = (pass == 0 && p.boost_neighbours > p.spatial_neighbours && c.M <= p.fresh_m)
+                 ? p.boost_neighbours : p.spatial_neighbours;
+    int k_max = min(k_want, MAX_NEIGHBOURS);
+    for (int k = 0; k < k_max; ++k) {
+        float2 o = disk_offset(p.spatial_radius, &rng);
+        int nx = x + round_i(o.x), ny = y + round_i(o.y);
+        bool inside = nx >= 0 && ny >= 0 && nx < width && ny < height && !(nx == x && ny == y);
+        used[k] = inside ? ny * width + nx : i;  /* i: rejected below */
+    }
+    /* What the tests need of each neighbour (depth, normal, material key) and its reservoir are read in one loop
+     * and tested in the next: the reads (cache misses, random pixels within the radius) then overlap instead of
+     * each waiting behind the branch on the last one. */
+    float4 nn[MAX_NEIGHBOURS];  /* normal; w: the primitive (int bits), < 0 for a miss */
+    float nd[MAX_NEIGHBOURS];
+    MaterialKey nk[MAX_NEIGHBOURS];
+    Reservoir qs[MAX_NEIGHBOURS];
+    for (int k = 0; k < k_max; ++k) {
+        nn[k] = gbuf[used[k]].normal;
+        nd[k] = gbuf[used[k]].pos.w;
+        SurfaceMaterial m = surface_material_load(gbuf, glossy, used[k], as_int(nn[k].w) >= 0);
+        nk[k] = material_key(&m);
+        qs[k] = input[used[k]];
+    }
+    const MaterialKey key = material_key(&s.mat);
+    int n_used = 0;
+    for (int k = 0; k < k_max; ++k) {
+        /* the material too: a glossy target is not a diffuse one's */
+        bool similar = used[k] != i && as_int(nn[k].w) >= 0 && abs_f(nd[k] - s.depth) <= p.similar.depth_tolerance * s.depth
+                       && dot3(nn[k].xyz, s.n) >= p.similar.normal_cos && material_keys_similar(&key, &nk[k]);
+        if (similar) {
+            used[n_used] = used[k];
+            qs[n_used++] = qs[k];
+        }
+    }
+    if (n_used == 0) { out[i] = c; return; }
+
+    VisKnown known = vis_known_none();  /* a neighbour's point is not this pixel's */
+    Reservoir r;
+    reuse_combine(&s, &c, qs, n_used, gbuf, glossy, used, nodes, tris, lights, bias_correction, visibility_reuse,
+                  &known, &rng, &r);
+    out[i] = r;
+}

@@ -1,0 +1,38 @@
+/* Running sum of a still render's samples, and of the samples of its half buffer 1 (python/restircl/render/still.py):
+ * the two halves are independent estimates of the pixel, whose difference estimates the error. */
+
+__kernel void accumulate(const __global float4* sample, __global float4* sum, __global float4* sum_half,
+                         FrameParams frame_params, int in_half)
+{
+    int i = get_global_id(0);
+    if (i >= frame_params.pixels) return;
+    float4 v = sample[i];
+    sum[i] += v;
+    if (in_half) sum_half[i] += v;
+}
+
+/* The still render's running sums of the denoiser's guide images (python/restircl/render/denoise.py): the surface's
+ * albedo and shading normal, summed over the jittered samples as the colour is, so that at edges they mix the two
+ * sides in the colour's proportions; and the emission the camera sees, which the denoiser leaves out (it is no
+ * noise, and a small bright lamp smeared over its dark neighbours is a large error). The albedo of a glossy surface adds its lobes' reflectance at normal
+ * incidence (F0 times weight): a metal's diffuse albedo is 0, and a guide of 0 would tell the denoiser the
+ * surface is black. */
+__kernel void accumulate_aux(const __global GSample* gbuf, const __global GlossySample* glossy,
+                             __global float4* albedo_sum, __global float4* normal_sum, __global float4* emission_sum,
+                             FrameParams frame_params)
+{
+    int i = get_global_id(0);
+    if (i >= frame_params.pixels) return;
+    GSample g = gbuf[i];
+    if (finite3_f(g.emission.xyz)) emission_sum[i] += (float4)(g.emission.xyz, 0.0f);
+    if (as_int(g.normal.w) < 0) return;  /* a miss: black albedo, zero normal */
+    float4 a = (float4)(g.albedo.xyz, 0.0f);
+#ifdef HAS_GLOSSY
+    GlossySample gx = glossy[i];
+    int lobes = as_int(gx.wo.w);
+    if (lobes > 0) a.xyz += gx.lobe0.metal_w.xyz * gx.lobe0.metal_f0.xyz + gx.lobe0.diel_w.xyz * gx.lobe0.diel_f0.xyz;
+    if (lobes > 1) a.xyz += gx.lobe1.metal_w.xyz * gx.lobe1.metal_f0.xyz + gx.lobe1.diel_w.xyz * gx.lobe1.diel_f0.xyz;
+#endif
+    albedo_sum[i] += (float4)(clamp_f(a.x, 0.0f, 1.0f), clamp_f(a.y, 0.0f, 1.0f), clamp_f(a.z, 0.0f, 1.0f), 0.0f);
+    normal_sum[i] += (float4)(g.normal.xyz, 0.0f);
+}

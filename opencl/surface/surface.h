@@ -1,0 +1,167 @@
+/* The surface a pixel shows, as the shading code reads it from the G-buffer: where it is, which way it faces, where
+ * the viewer is, and its material (what the BSDF, bsdf/bsdf.h, reads). Private to a kernel; the G-buffer (GSample, and
+ * GlossySample in glossy scenes, types.h) is the stored form. */
+#ifndef RESTIRCL_SURFACE_H
+#define RESTIRCL_SURFACE_H
+
+#include "surface/shading_normal.h"
+
+/* The material parameters of a surface, for the BSDF: the diffuse albedo and, in glossy builds, the GGX lobes the
+ * primary pass resolved for this pixel's view (bsdf/principled.h). */
+typedef struct {
+    float3 albedo;  /* diffuse reflectance, rgb in [0, 1] (under the specular layer: already scaled for it) */
+#ifdef HAS_GLOSSY
+    int lobes;      /* specular lobes in use, 0 .. MAX_LAYERS */
+    SpecLobe lobe[MAX_LAYERS];
+#endif
+} SurfaceMaterial;
+
+typedef struct {
+    float3 x;       /* world position */
+    float3 n;       /* shading normal facing the camera: the diffuse part's and the lights' cosine */
+    float3 ng;      /* geometric normal facing the camera */
+#ifdef HAS_GLOSSY
+    float3 nl;      /* the specular lobes' normal: n, bent on normal-mapped pixels (shading_normal_guard) */
+#endif
+#ifdef HAS_TEXTURES
+    float3 nb;      /* on normal-mapped pixels the smooth normal under the map (bump_shadowing), else n */
+    int bumped;     /* 1: n comes from a normal map */
+#endif
+    float3 wo;      /* unit direction towards the viewer. Glossy builds store it per pixel (GlossySample.wo); a
+                       diffuse-only build, whose Lambert BSDF ignores it, sets it to n and stores nothing */
+    SurfaceMaterial mat;
+    float depth;    /* view depth */
+    int valid;      /* 0: the primary ray missed */
+    int prim;       /* the triangle hit (leaf order; < 0: none), for the shadow ray offset */
+} Surface;
+
+/* The material of pixel i of the G-buffer g and its extension gx (valid: the pixel shows a surface); the lobes
+ * from m.lobes on are left unset. */
+inline SurfaceMaterial surface_material_load(const __global GSample* g, const __global GlossySample* gx, int i,
+                                             int valid)
+{
+    SurfaceMaterial m;
+    m.albedo = g[i].albedo.xyz;
+#ifdef HAS_GLOSSY
+    const __global GlossySample* q = gx + i;
+    m.lobes = valid ? min(as_int(q->wo.w), MAX_LAYERS) : 0;
+    /* only the lobes in use: every reader stops at m.lobes, and a diffuse pixel (most of a scene's) then reads one
+     * of the sample's three cache lines (the passes are bound by these reads more than by their arithmetic) */
+    if (m.lobes > 0) m.lobe[0] = q->lobe0;
+    if (m.lobes > 1) m.lobe[1] = q->lobe1;
+#else
+    (void)gx;
+    (void)valid;
+#endif
+    return m;
+}
+
+/* Pixel i of the G-buffer g and its extension gx (read only in glossy builds; a placeholder buffer otherwise). */
+inline Surface surface_load(const __global GSample* g, const __global GlossySample* gx, int i)
+{
+    Surface s;
+    GSample gs = g[i];
+    s.prim = as_int(gs.normal.w);
+    s.valid = s.prim >= 0;
+    s.x = gs.pos.xyz;
+    s.depth = gs.pos.w;
+    s.n = gs.normal.xyz;
+    s.ng = gs.gnormal.xyz;
+#ifdef HAS_TEXTURES
+    int nb = as_int(gs.emission.w);
+    s.bumped = s.valid && nb != 0;
+    s.nb = s.bumped ? normal_unpack(nb) : s.n;
+#endif
+    s.mat = surface_material_load(g, gx, i, s.valid);
+#ifdef HAS_GLOSSY
+    s.wo = gx[i].wo.xyz;
+    s.nl = s.n;
+#ifdef HAS_TEXTURES
+    if (s.bumped) s.nl = shading_normal_guard(s.n, s.ng, s.wo);
+#endif
+#else
+    s.wo = s.n;
+#endif
+    return s;
+}
+
+/* A surface built by hand (tests) with normal n everywhere and no normal map. */
+inline void surface_set_normal(Surface* s, float3 n)
+{
+    s->n = s->ng = n;
+#ifdef HAS_GLOSSY
+    s->nl = n;
+#endif
+#ifdef HAS_TEXTURES
+    s->nb = n;
+    s->bumped = 0;
+#endif
+}
+
+/* How far two surfaces' materials may differ for one to reuse the other's light samples (temporal and spatial
+ * reuse): a glossy target at one is not the other's when roughness or the metallic share differ much. */
+#define SIMILAR_ROUGHNESS 0.15f   /* |roughness difference| of a lobe */
+#define SIMILAR_METALLIC 0.25f    /* |difference| of the share of the metallic part in the reflectance */
+
+/* What surface_material_similar compares of a material: per lobe its roughness (sqrt of alpha) and metallic share.
+ * The spatial pass computes it for each candidate neighbour straight from the G-buffer (surface_material_load),
+ * without the rest of its surface. */
+typedef struct {
+#ifdef HAS_GLOSSY
+    int lobes;
+    float2 lobe[MAX_LAYERS];  /* x: roughness, y: metallic share */
+#else
+    int unused;
+#endif
+} MaterialKey;
+
+#ifdef HAS_GLOSSY
+/* the share of the F82-tint (metal or Glossy) part in a lobe's and the diffuse reflectance */
+inline float surface_metal_share(const SurfaceMaterial* m, int k)
+{
+    const SpecLobe* l = &m->lobe[k];
+    float mw = l->metal_w.x + l->metal_w.y + l->metal_w.z;
+    float dw = l->diel_w.x + l->diel_w.y + l->diel_w.z + m->albedo.x + m->albedo.y + m->albedo.z;
+    return mw / fmax_f(mw + dw, 1e-6f);
+}
+#endif
+
+inline MaterialKey material_key(const SurfaceMaterial* m)
+{
+    MaterialKey key;
+#ifdef HAS_GLOSSY
+    key.lobes = m->lobes;
+    for (int k = 0; k < MAX_LAYERS; ++k)
+        key.lobe[k] = k < m->lobes ? (float2)(sqrt(m->lobe[k].metal_f0.w), surface_metal_share(m, k)) : (float2)(0.0f);
+#else
+    (void)m;
+    key.unused = 0;
+#endif
+    return key;
+}
+
+/* Whether two materials are alike enough for one surface to reuse the other's light samples: the same number of
+ * lobes, each of similar roughness and metallic share. Diffuse-only builds: always. */
+inline bool material_keys_similar(const MaterialKey* a, const MaterialKey* b)
+{
+#ifdef HAS_GLOSSY
+    if (a->lobes != b->lobes) return false;
+    for (int k = 0; k < a->lobes; ++k) {
+        if (abs_f(a->lobe[k].x - b->lobe[k].x) > SIMILAR_ROUGHNESS) return false;
+        if (abs_f(a->lobe[k].y - b->lobe[k].y) > SIMILAR_METALLIC) return false;
+    }
+#else
+    (void)a;
+    (void)b;
+#endif
+    return true;
+}
+
+/* material_keys_similar of two surfaces */
+inline bool surface_material_similar(const Surface* a, const Surface* b)
+{
+    MaterialKey ka = material_key(&a->mat), kb = material_key(&b->mat);
+    return material_keys_similar(&ka, &kb);
+}
+
+#endif

@@ -1,0 +1,117 @@
+/* Texture programs (TexNode, types.h; built by python/restircl/upload/textures.py): the nodes of one material input
+ * stored in evaluation order, each reading its inputs from constants or from earlier nodes' registers, so a node
+ * graph is evaluated in one loop (no recursion in OpenCL C). Checker and Mix follow Blender's definitions
+ * (Cycles' kernel/svm/checker.h and mix.h); the Normal Map node its tangent-space rule with Strength. */
+#ifndef RESTIRCL_TEXTURE_NODES_H
+#define RESTIRCL_TEXTURE_NODES_H
+
+/* a colour read by a value input (roughness, metallic, a factor), as Blender converts it: Rec.709 luminance */
+inline float tex_gray(float3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+
+/* Blender's checker: 1 (color1) where the parity of floor(x) + floor(y) + floor(z) is odd, the coordinate nudged
+ * off the integer lattice first as Blender does */
+inline float tex_checker(float3 p)
+{
+    p = (p + 0.000001f) * 0.999999f;
+    int xi = (int)floor(clamp_f(p.x, -1073741824.0f, 1073741824.0f));
+    int yi = (int)floor(clamp_f(p.y, -1073741824.0f, 1073741824.0f));
+    int zi = (int)floor(clamp_f(p.z, -1073741824.0f, 1073741824.0f));
+    return ((xi ^ yi ^ zi) & 1) ? 1.0f : 0.0f;
+}
+
+inline float tex_overlay(float t, float a, float b)
+{
+    float tm = 1.0f - t;
+    return a < 0.5f ? a * (tm + 2.0f * t * b) : 1.0f - (tm + 2.0f * t * (1.0f - b)) * (1.0f - a);
+}
+
+/* Blender's Mix (Color) blend modes: each blends a towards its combination with b by t */
+inline float3 tex_mix(int blend, float t, float3 a, float3 b)
+{
+    float3 c;
+    switch (blend) {
+    case TEXMIX_MULTIPLY: c = a * b; break;
+    case TEXMIX_ADD: c = a + b; break;
+    case TEXMIX_SUBTRACT: c = a - b; break;
+    case TEXMIX_SCREEN: return 1.0f - ((1.0f - t) + t * (1.0f - b)) * (1.0f - a);
+    case TEXMIX_DIFFERENCE: c = fabs(a - b); break;
+    case TEXMIX_DARKEN: c = (float3)(fmin_f(a.x, b.x), fmin_f(a.y, b.y), fmin_f(a.z, b.z)); break;
+    case TEXMIX_LIGHTEN: c = (float3)(fmax_f(a.x, b.x), fmax_f(a.y, b.y), fmax_f(a.z, b.z)); break;
+    case TEXMIX_OVERLAY: return (float3)(tex_overlay(t, a.x, b.x), tex_overlay(t, a.y, b.y), tex_overlay(t, a.z, b.z));
+    default: c = b; break;
+    }
+    return a + t * (c - a);
+}
+
+/* The node's texture coordinate (its Mapping applied) and the footprint width there (log2, coordinate units). */
+inline float3 tex_coords(const TexNode* n, const TexPoint* tp, float* lod)
+{
+    float3 c = tp->uv;
+    *lod = tp->lod_uv;
+    if (n->op.w == TEXCOORD_GENERATED) { c = tp->gen; *lod = tp->lod_gen; }
+    if (n->op.w == TEXCOORD_OBJECT) { c = tp->obj; *lod = tp->lod_obj; }
+    *lod += n->p.y;
+    float4 c4 = (float4)(c, 1.0f);
+    return (float3)(dot(n->m0, c4), dot(n->m1, c4), dot(n->m2, c4));
+}
+
+/* Blender's Normal Map node in tangent space: color in [0, 1]^3 -> a world-space shading normal on the camera's side
+ * of the surface, unbent (surface/shading_normal.h: the specular lobes bend it, the diffuse part does not). Without a UV
+ * tangent the surface's own shading normal stays. */
+inline float3 tex_normal_map(float3 color, float strength, const TexPoint* tp)
+{
+    if (dot3(tp->tangent, tp->tangent) == 0.0f) return tp->ns;
+    float3 c = 2.0f * (color - 0.5f);
+    c.x *= strength;
+    c.y *= strength;
+    c.z = 1.0f + clamp_f(strength, 0.0f, 1.0f) * (c.z - 1.0f);
+    float3 n = tp->n_front, t = tp->tangent;
+    float3 b = tp->sign * cross3(n, t);
+    float3 m = c.x * t + c.y * b + c.z * n;
+    float l2 = dot3(m, m);
+    if (!(l2 > 0.0f) || !finite_f(l2)) return tp->ns;
+    m *= 1.0f / sqrt(l2);
+    return tp->backfacing ? -m : m;
+}
+
+/* The value of node `root` at tp: its program (nodes blk.x .. root) evaluated in order into registers. */
+inline float4 texture_eval(const __global TexNode* nodes, const __global TexImage* images,
+                           const __global float4* texels, int root, const TexPoint* tp)
+{
+    float4 reg[MAX_TEX_PROGRAM];
+    int first = nodes[root].blk.x;
+    int last = min(root, first + MAX_TEX_PROGRAM - 1);
+    for (int k = first; k <= last; ++k) {
+        TexNode n = nodes[k];
+        float4 a = n.in.x >= 0 ? reg[n.in.x - first] : n.a;
+        float4 b = n.in.y >= 0 ? reg[n.in.y - first] : n.b;
+        float f = n.in.z >= 0 ? tex_gray(reg[n.in.z - first].xyz) : n.p.x;
+        float lod;
+        float4 out = (float4)(0.0f, 0.0f, 0.0f, 1.0f);
+        switch (n.op.x) {
+        case TEXNODE_IMAGE: {
+            float3 c = tex_coords(&n, tp, &lod);
+            out = texture_image(images, texels, n.in.w, c.xy, lod, n.op.y, n.op.z);
+            if (n.blk.z) out.xyz = (float3)(tex_srgb_decode(out.x), tex_srgb_decode(out.y), tex_srgb_decode(out.z));
+            break;
+        }
+        case TEXNODE_CHECKER: {
+            float3 c = tex_coords(&n, tp, &lod);
+            out = tex_checker(c * n.p.x) == 1.0f ? a : b;
+            break;
+        }
+        case TEXNODE_MIX:
+            out.xyz = tex_mix(n.op.y, n.blk.y ? clamp_f(f, 0.0f, 1.0f) : f, a.xyz, b.xyz);
+            break;
+        case TEXNODE_NORMAL_MAP:
+            out.xyz = tex_normal_map(a.xyz, n.p.x, tp);
+            break;
+        default:
+            break;
+        }
+        reg[k - first] = out;
+    }
+    return reg[last - first];
+}
+
+#endif

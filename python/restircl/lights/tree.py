@@ -1,0 +1,305 @@
+"""The light tree: a spatial proposal for RIS candidates (DESIGN section 3; the idea of pbrt-v4's BVHLightSampler and
+Cycles' light tree, written here for our light records). Mirrors opencl/lights/tree.h.
+
+Every light with a position and power > 0 is a leaf of a binary tree stored in implicit heap order (node j has the
+children 2j + 1 and 2j + 2; the N leaves are nodes N - 1 .. 2N - 2), the leaves' in-order sequence being the lights
+sorted by the Morton code of their centres, so that siblings are neighbours in space. A node bounds its lights by
+a box, a cone of emission normals (axis, theta_o, plus theta_e: how far beyond the normals they still emit), their
+summed power and whether any is two-sided. The device descends from the root choosing each child with probability
+proportional to an importance bound at the shading point, mixed with the children's power share (a floor: every
+emitting light keeps a nonzero probability whatever the bound says). A light's leaf index is also its trail: the
+binary digits of leaf + 1 below the leading one are the branches taken, so the pmf of a given light at a given
+point is the product of the branch probabilities along it.
+
+Lights without a position (the sun; any type this module does not know) stay outside the tree, as Cycles keeps
+distant lights: one of them is picked with the probability the light array gives it."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..core import layouts as L
+
+TRIANGLE, QUAD, DISK, SPHERE, SPOT, SUN = range(6)  # LIGHT_* codes (opencl/lights/<type>.h)
+FLAG_TWO_SIDED = 1  # LIGHT_FLAG_TWO_SIDED (lights/record.h), also the node flag (lights/tree.h)
+
+
+@dataclass
+class LightBounds:
+    """Per light: where it is and how it faces. lo/hi (N, 3) box; axis (N, 3) unit; theta_o, theta_e (N,)
+    radians; phi (N,) power; two_sided (N,) bool; local (N,) bool: has a position (a candidate for the tree)."""
+
+    lo: np.ndarray
+    hi: np.ndarray
+    axis: np.ndarray
+    theta_o: np.ndarray
+    theta_e: np.ndarray
+    phi: np.ndarray
+    two_sided: np.ndarray
+    local: np.ndarray
+
+
+@dataclass
+class LightTree:
+    nodes: np.ndarray  # layouts.LIGHT_TREE_NODE, 2 * leaves - 1 (one placeholder when there are no leaves)
+    light_info: np.ndarray  # (N, 2) int32 per light: leaf node index (-1: not in the tree), pick pdf bits if not
+    distant: np.ndarray  # (D, 2) int32: distant light index, cumulative pick probability bits (within distant ones)
+    leaves: int
+    p_local: float  # probability of a descent of the tree (the rest goes to the distant lights)
+
+    @property
+    def distant_count(self) -> int:
+        return len(self.distant)
+
+
+def light_bounds(records: np.ndarray, types: np.ndarray, power: np.ndarray) -> LightBounds:
+    """Bounds of each light record (layouts.LIGHT), read from the lanes each type's decode names
+    (opencl/lights/<type>.h)."""
+    f = records.view(np.float32).reshape(-1, 16).astype(np.float64)
+    flags = records.view(np.int32).reshape(-1, 16)[:, 15]
+    n = len(f)
+    p, a, b, a_w, b_x = f[:, 0:3], f[:, 4:7], f[:, 8:11], f[:, 7], f[:, 8]
+    lo, hi = p.copy(), p.copy()
+    axis = np.tile([0.0, 0.0, 1.0], (n, 1))
+    theta_o = np.full(n, np.pi)
+    theta_e = np.full(n, 0.5 * np.pi)
+    types = np.asarray(types)
+    two_sided = (flags & FLAG_TWO_SIDED) != 0
+    tri, quad, disk = types == TRIANGLE, types == QUAD, types == DISK
+    planar = tri | quad | disk
+    for sel, pts in ((tri, (p, p + a, p + b)), (quad, (p, p + a, p + b, p + a + b))):
+        lo[sel] = np.minimum.reduce([q[sel] for q in pts])
+        hi[sel] = np.maximum.reduce([q[sel] for q in pts])
+    ext = np.sqrt(a[disk] ** 2 + b[disk] ** 2)  # a disk's extent along each axis
+    lo[disk], hi[disk] = p[disk] - ext, p[disk] + ext
+    normal = np.cross(a, b)
+    length = np.linalg.norm(normal, axis=1)
+    facing = planar & (length > 0)
+    axis[facing] = normal[facing] / length[facing, None]
+    theta_o[facing] = 0.0
+    ball = (types == SPHERE) | (types == SPOT)
+    r = np.abs(a_w[ball])[:, None]
+    lo[ball], hi[ball] = p[ball] - r, p[ball] + r
+    spot = types == SPOT
+    spot_axis = a[spot]
+    spot_len = np.linalg.norm(spot_axis, axis=1)
+    axis[spot] = np.where(spot_len[:, None] > 0, spot_axis / np.maximum(spot_len, 1e-30)[:, None], axis[spot])
+    theta_o[spot] = np.where(spot_len > 0, np.arccos(np.clip(b_x[spot], -1.0, 1.0)), np.pi)
+    theta_e[spot] = 0.0  # the cone's mask is zero beyond cos_outer
+    two_sided &= planar
+    phi = np.asarray(power, np.float64)
+    local = (planar | ball) & np.isfinite(phi) & (phi > 0) & np.all(np.isfinite(lo) & np.isfinite(hi), axis=1)
+    return LightBounds(lo, hi, axis, theta_o, theta_e, np.where(np.isfinite(phi) & (phi > 0), phi, 0.0),
+                       two_sided, local)
+
+
+def merge_cones(wa: np.ndarray, ta: np.ndarray, wb: np.ndarray, tb: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The smallest cone (axis, half angle) holding both cones, per row (vectorised)."""
+    swap = tb > ta
+    wa, wb = np.where(swap[:, None], wb, wa), np.where(swap[:, None], wa, wb)
+    ta, tb = np.where(swap, tb, ta), np.where(swap, ta, tb)  # now ta >= tb
+    td = np.arccos(np.clip(np.einsum("ij,ij->i", wa, wb), -1.0, 1.0))
+    inside = np.minimum(td + tb, np.pi) <= ta
+    to = 0.5 * (ta + td + tb)
+    k = np.cross(wa, wb)
+    klen = np.linalg.norm(k, axis=1)
+    full = (to >= np.pi) | ((klen < 1e-12) & ~inside)
+    tr = to - ta
+    k = k / np.maximum(klen, 1e-300)[:, None]
+    rotated = wa * np.cos(tr)[:, None] + np.cross(k, wa) * np.sin(tr)[:, None]
+    rotated /= np.maximum(np.linalg.norm(rotated, axis=1), 1e-300)[:, None]
+    axis = np.where(inside[:, None] | full[:, None], wa, rotated)
+    theta = np.where(inside, ta, np.where(full, np.pi, to))
+    return axis, theta
+
+
+def morton_order(centres: np.ndarray) -> np.ndarray:
+    """Indices sorting the points by their 30-bit Morton code in their bounding box."""
+    if len(centres) == 0:
+        return np.zeros(0, np.int64)
+    lo, hi = centres.min(axis=0), centres.max(axis=0)
+    q = ((centres - lo) / np.where(hi > lo, hi - lo, 1.0) * 1023.0).astype(np.uint64)
+    code = np.zeros(len(centres), np.uint64)
+    for bit in range(10):
+        for axis in range(3):
+            code |= ((q[:, axis] >> np.uint64(bit)) & np.uint64(1)) << np.uint64(3 * bit + 2 - axis)
+    return np.argsort(code, kind="stable")
+
+
+def inorder_leaves(leaves: int) -> np.ndarray:
+    """The heap indices of the leaves (nodes leaves - 1 .. 2 leaves - 2) in their left-to-right order."""
+    if leaves <= 0:
+        return np.zeros(0, np.int64)
+    total = 2 * leaves - 1
+    # left-to-right order of a complete tree: sort the leaves by their path from the root, read as a binary
+    # fraction (the bits of j + 1 below the leading one, shifted to a common depth)
+    j = np.arange(leaves - 1, total, dtype=np.int64)
+    k = j + 1
+    depth = np.floor(np.log2(k)).astype(np.int64)
+    depth = np.where((np.int64(1) << depth) > k, depth - 1, depth)  # guard log2 rounding
+    depth = np.where((np.int64(1) << (depth + 1)) <= k, depth + 1, depth)
+    max_depth = int(depth.max())
+    key = (k - (np.int64(1) << depth)) << (max_depth - depth)
+    return j[np.argsort(key, kind="stable")]
+
+
+def build_light_tree(records: np.ndarray, types: np.ndarray, power: np.ndarray,
+                     array_pdf: np.ndarray | None = None) -> LightTree:
+    """The tree over the lights (layouts.LIGHT records with their LIGHT_* types and light-array power). The
+    lights outside it are picked as often as the light array picks them (array_pdf: its pdf per light; without
+    it, by their power share): a sun's power is not comparable with a lamp's, and by power alone a sun lighting a
+    wall head-on could get a share of 1e-5."""
+    bnd = light_bounds(records, types, power)
+    n = len(bnd.phi)
+    local = np.flatnonzero(bnd.local)
+    leaves = len(local)
+    total = max(2 * leaves - 1, 1)
+    lo, hi = np.zeros((total, 3)), np.zeros((total, 3))
+    axis = np.tile([0.0, 0.0, 1.0], (total, 1))
+    theta_o, theta_e, phi = np.full(total, np.pi), np.zeros(total), np.zeros(total)
+    two_sided = np.zeros(total, bool)
+    light = np.full(total, -1, np.int64)
+    info = np.zeros((n, 2), np.int32)
+    info[:, 0] = -1
+    if leaves:
+        centres = 0.5 * (bnd.lo[local] + bnd.hi[local])
+        sorted_lights = local[morton_order(centres)]
+        slots = inorder_leaves(leaves)
+        light[slots] = sorted_lights
+        for dst, src in ((lo, bnd.lo), (hi, bnd.hi), (axis, bnd.axis)):
+            dst[slots] = src[sorted_lights]
+        for dst1, src1 in ((theta_o, bnd.theta_o), (theta_e, bnd.theta_e), (phi, bnd.phi),
+                           (two_sided, bnd.two_sided)):
+            dst1[slots] = src1[sorted_lights]
+        info[sorted_lights, 0] = slots
+        _fill_internal(leaves, lo, hi, axis, theta_o, theta_e, phi, two_sided)
+    nodes = np.zeros(total, L.LIGHT_TREE_NODE)
+    nodes["lo"][:, :3], nodes["lo"][:, 3] = lo, phi
+    nodes["hi"][:, :3], nodes["hi"][:, 3] = hi, np.cos(theta_o)
+    nodes["axis"][:, :3], nodes["axis"][:, 3] = axis, np.cos(theta_e)
+    nodes["meta"][:, 0], nodes["meta"][:, 1] = light, np.where(two_sided, FLAG_TWO_SIDED, 0)
+    nodes["meta"][:, 2] = np.sin(theta_o).astype(np.float32).view(np.int32)
+    # distant lights (nothing else outside the tree emits), in order
+    emits = bnd.phi > 0
+    far = np.flatnonzero(emits & ~bnd.local)
+    weight = bnd.phi if array_pdf is None else np.asarray(array_pdf, np.float64)
+    total_weight = weight[emits].sum()
+    p_local = float(1.0 - weight[far].sum() / total_weight) if len(far) and total_weight > 0 else 1.0
+    if leaves == 0:
+        p_local = 0.0
+    cdf = np.cumsum(weight[far]) / max(weight[far].sum(), 1e-300)
+    cdf32 = cdf.astype(np.float32)
+    if len(cdf32):
+        cdf32[-1] = 1.0
+    pdf_far = (np.diff(np.concatenate([[0.0], cdf32.astype(np.float64)])) * (1.0 - p_local)).astype(np.float32)
+    info[far, 1] = pdf_far.view(np.int32)
+    distant = np.zeros((len(far), 2), np.int32)
+    distant[:, 0], distant[:, 1] = far, cdf32.view(np.int32)
+    return LightTree(nodes, info, distant, leaves, p_local)
+
+
+def _fill_internal(leaves: int, lo, hi, axis, theta_o, theta_e, phi, two_sided) -> None:
+    """Bounds of the internal nodes 0 .. leaves - 2 from their children, one heap level at a time (deepest
+    first: children have the larger indices)."""
+    last = leaves - 2
+    if last < 0:
+        return
+    top = int(np.floor(np.log2(last + 1)))
+    for level in range(top, -1, -1):
+        j = np.arange((1 << level) - 1, min((1 << (level + 1)) - 1, last + 1))
+        c0, c1 = 2 * j + 1, 2 * j + 2
+        lo[j] = np.minimum(lo[c0], lo[c1])
+        hi[j] = np.maximum(hi[c0], hi[c1])
+        axis[j], theta_o[j] = merge_cones(axis[c0], theta_o[c0], axis[c1], theta_o[c1])
+        theta_e[j] = np.maximum(theta_e[c0], theta_e[c1])
+        phi[j] = phi[c0] + phi[c1]
+        two_sided[j] = two_sided[c0] | two_sided[c1]
+
+
+def tree_pays(types: np.ndarray) -> bool:
+    """light_proposal="auto": whether the tree beats the light array at equal time for lights of these types.
+    Not yet anywhere measured: on the 2-core CPU (PoCL) a tree candidate halved RIS's per-frame error on the
+    held-out garden (300 point lights) but cost 2.5-4x an array candidate, and gave 10 % on neon; at equal time the
+    array won on both (docs/measurements/benchmarks.md, "Light tree"). So auto keeps the array until a device measures
+    otherwise."""
+    return False
+
+
+def tree_proposal(method: str, proposal: str, types: np.ndarray) -> bool:
+    """Whether the RIS candidates of a render with this method and Settings.light_proposal come from the tree, for
+    lights of these LIGHT_* types."""
+    if method not in ("ris", "restir") or proposal in ("array", "pixel") or len(types) < 2:
+        return False
+    return proposal == "tree" or tree_pays(types)
+
+
+# ---- the host's reference of the device's branch probabilities (tests; opencl/lights/tree.h) ----------------
+
+#: share of each branch probability given by the children's power (lights/tree.h LIGHT_TREE_FLOOR)
+FLOOR = 0.1
+#: no branch probability below this, nor above 1 minus it (lights/tree.h LIGHT_TREE_MIN_BRANCH)
+MIN_BRANCH = 1.0 / 4096.0
+
+
+def _cos_sub(cos_a, sin_a, cos_b, sin_b):
+    """cos and sin of max(0, a - b) for angles in [0, pi] given by their cos and sin."""
+    inside = cos_a >= cos_b
+    c = np.where(inside, 1.0, cos_a * cos_b + sin_a * sin_b)
+    s = np.where(inside, 0.0, sin_a * cos_b - cos_a * sin_b)
+    return c, s
+
+
+def importance(nodes: np.ndarray, x: np.ndarray, n: np.ndarray) -> np.ndarray:
+    """Each node's importance bound at point x with unit normal n (float64; the device computes it in float)."""
+    lo, hi = nodes["lo"][:, :3].astype(np.float64), nodes["hi"][:, :3].astype(np.float64)
+    phi, cos_o, cos_e = (nodes[k][:, 3].astype(np.float64) for k in ("lo", "hi", "axis"))
+    sin_o = nodes["meta"][:, 2].copy().view(np.float32).astype(np.float64)
+    ax = nodes["axis"][:, :3].astype(np.float64)
+    two = (nodes["meta"][:, 1] & FLAG_TWO_SIDED) != 0
+    d = x - 0.5 * (lo + hi)
+    d2 = np.einsum("ij,ij->i", d, d)
+    r2 = 0.25 * np.einsum("ij,ij->i", hi - lo, hi - lo)
+    inside = d2 <= r2
+    wo = d / np.sqrt(np.maximum(d2, 1e-300))[:, None]  # from the node towards x
+    sin2_b = np.where(inside, 0.0, r2 / np.maximum(d2, 1e-300))
+    cos_b, sin_b = np.sqrt(np.maximum(0.0, 1 - sin2_b)), np.sqrt(sin2_b)
+    cos_i = -np.einsum("j,ij->i", n, wo)
+    cos_ip, _ = _cos_sub(cos_i, np.sqrt(np.maximum(0.0, 1 - cos_i**2)), cos_b, sin_b)
+    cos_w = np.einsum("ij,ij->i", ax, wo)
+    cos_w = np.where(two, np.abs(cos_w), cos_w)
+    c1, s1 = _cos_sub(cos_w, np.sqrt(np.maximum(0.0, 1 - cos_w**2)), cos_o, sin_o)
+    cos_p, _ = _cos_sub(c1, s1, cos_b, sin_b)
+    cos_p = np.where(cos_o > -1, cos_p, 1.0)
+    val = np.where((cos_p < cos_e) | (cos_ip <= 0), 0.0, phi * cos_ip * cos_p / np.maximum(d2, 1e-300))
+    return np.where(inside, phi / np.maximum(r2, 1e-12), val)
+
+
+def pmf(tree: LightTree, x: np.ndarray, n: np.ndarray) -> np.ndarray:
+    """The probability with which the device's pick chooses each light at (x, n), every light (float64)."""
+    out = np.zeros(len(tree.light_info))
+    far = tree.light_info[:, 0] < 0
+    out[far] = tree.light_info[far, 1].view(np.float32)
+    if tree.leaves == 0:
+        return out
+    imp = importance(tree.nodes, np.asarray(x, np.float64), np.asarray(n, np.float64))
+    phi = tree.nodes["lo"][:, 3].astype(np.float64)
+    prob = np.ones(len(tree.nodes))
+    for j in range(tree.leaves - 1):  # parents before children
+        c0, c1 = 2 * j + 1, 2 * j + 2
+        p0 = branch(imp[c0], imp[c1], phi[c0], phi[c1])
+        prob[c0], prob[c1] = prob[j] * p0, prob[j] * (1 - p0)
+    leaf = tree.light_info[~far, 0]
+    out[~far] = tree.p_local * prob[leaf]
+    return out
+
+
+def branch(i0: float, i1: float, phi0: float, phi1: float) -> float:
+    """The probability of the first child (lights/tree.h light_tree_branch)."""
+    if not (phi0 > 0 and phi1 > 0):
+        return 1.0 if phi0 > 0 else 0.0
+    pw = phi0 / (phi0 + phi1)
+    s = i0 + i1
+    p = (1 - FLOOR) * i0 / s + FLOOR * pw if s > 0 and np.isfinite(s) else pw
+    return min(max(p, MIN_BRANCH), 1 - MIN_BRANCH)

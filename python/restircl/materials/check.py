@@ -1,0 +1,140 @@
+"""Validation of materials and their texture nodes (Scene.validate): SceneError naming the material and the field.
+
+Ranges follow what Blender allows on the nodes: Metallic, Roughness, Specular IOR Level and a Mix factor in [0, 1],
+IOR > 0, colours >= 0, names from the lists in materials/material.py / materials/textures.py. What only shows when the
+images are read (a missing file, a 0x0 image, an unsupported colour space, NaN texels) is a warning at upload
+(upload/textures.py).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from .material import DISTRIBUTIONS, MATERIAL_KINDS, MAX_LAYERS, Material
+from .textures import COORDS, EXTENSIONS, INTERPOLATIONS, MIX_BLENDS, CheckerTexture, ImageTexture, MixColor, NormalMap
+from .textures import is_texture as _is_texture
+
+UNIT_FIELDS = ("metallic", "roughness", "specular")
+RANGE_SLACK = 1e-6
+
+
+class MaterialError(ValueError):
+    """Raised inside this module; Scene.validate turns it into a SceneError with the material's label."""
+
+
+def check_material(m: Material) -> None:
+    """Raise MaterialError naming the first bad field of m (its layers' fields as 'layer k: field')."""
+    if m.layers:
+        if len(m.layers) > MAX_LAYERS:
+            raise MaterialError(f"has {len(m.layers)} layers, at most {MAX_LAYERS}")
+        for k, layer in enumerate(m.layers):
+            if not isinstance(layer, Material):
+                raise MaterialError(f"layer {k} is not a Material ({type(layer).__name__})")
+            if layer.layers:
+                raise MaterialError(f"layer {k} {layer.name!r} has layers of its own (nest Mix/Add at most once)")
+            try:
+                _check_closure(layer)
+            except MaterialError as exc:
+                raise MaterialError(f"layer {k} {layer.name!r}: {exc}") from None
+        if m.mix is not None:
+            _check_input(m.mix, "mix", colour=False, unit=True)
+    else:
+        _check_closure(m)
+    _check_input(m.emission, "emission", colour=True)
+    if not isinstance(m.emission_strength, int | float) or not math.isfinite(m.emission_strength) \
+            or m.emission_strength < 0:
+        raise MaterialError(f"emission_strength must be finite and >= 0, got {m.emission_strength!r}")
+
+
+def _check_closure(m: Material) -> None:
+    if m.kind not in MATERIAL_KINDS:
+        raise MaterialError(f"kind must be one of {MATERIAL_KINDS}, got {m.kind!r}")
+    if m.distribution not in DISTRIBUTIONS:
+        raise MaterialError(f"distribution must be one of {DISTRIBUTIONS}, got {m.distribution!r}")
+    _check_input(m.albedo, "albedo", colour=True)
+    _check_input(m.specular_tint, "specular_tint", colour=True)
+    for name in UNIT_FIELDS:
+        _check_input(getattr(m, name), name, colour=False, unit=True)
+    if not isinstance(m.ior, int | float) or not math.isfinite(m.ior) or m.ior <= 0:
+        raise MaterialError(f"ior must be finite and > 0, got {m.ior!r}")
+    if m.normal is not None:
+        if not isinstance(m.normal, NormalMap):
+            raise MaterialError(f"normal must be a NormalMap node or None, got {type(m.normal).__name__}")
+        check_node(m.normal, "normal")
+
+
+def _check_input(value: object, what: str, colour: bool, unit: bool = False) -> None:
+    if _is_texture(value):
+        if isinstance(value, NormalMap):
+            raise MaterialError(f"{what}: a NormalMap gives a normal, not a {'colour' if colour else 'value'}")
+        check_node(value, what)
+        return
+    try:
+        a = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise MaterialError(f"{what} must be a number, an rgb triple or a texture node, got {value!r}") from None
+    if colour and a.shape != (3,):
+        raise MaterialError(f"{what} must be 3 numbers (rgb), got {value!r}")
+    if not colour and a.shape not in ((), (1,), (3,)):
+        raise MaterialError(f"{what} must be a number, got {value!r}")
+    if not np.all(np.isfinite(a)):
+        raise MaterialError(f"{what} must be finite, got {value!r}")
+    if np.any(a < 0):
+        raise MaterialError(f"{what} must not be negative, got {value!r}")
+    if unit and np.any(a > 1 + RANGE_SLACK):
+        raise MaterialError(f"{what} must be in [0, 1], got {value!r}")
+
+
+def check_node(node: object, what: str) -> None:
+    """The node's fields and, recursively, its input nodes'; a node reached again through its own inputs is a loop."""
+    _check_node(node, what, [])
+
+
+def _check_node(node: object, what: str, path: list[object]) -> None:
+    if any(p is node for p in path):
+        raise MaterialError(f"{what}: its texture nodes form a loop through a {type(node).__name__}")
+    path = [*path, node]
+    label = f"{what}: {type(node).__name__}"
+    if isinstance(node, ImageTexture | CheckerTexture):
+        if node.coords not in COORDS:
+            raise MaterialError(f"{label}: coords must be one of {COORDS}, got {node.coords!r}")
+        if node.mapping is not None:
+            m = np.asarray(node.mapping, dtype=np.float64)
+            if m.shape != (4, 4) or not np.all(np.isfinite(m)):
+                raise MaterialError(f"{label}: mapping must be a finite 4x4 matrix, got shape {m.shape}")
+    if isinstance(node, ImageTexture):
+        if node.interpolation not in INTERPOLATIONS:
+            raise MaterialError(f"{label}: interpolation must be one of {INTERPOLATIONS}, got {node.interpolation!r}")
+        if node.extension not in EXTENSIONS:
+            raise MaterialError(f"{label}: extension must be one of {EXTENSIONS}, got {node.extension!r}")
+        if not isinstance(node.image, str | Path | np.ndarray):
+            raise MaterialError(f"{label}: image must be an array or a file path, got {type(node.image).__name__}")
+        if not isinstance(node.colorspace, str):
+            raise MaterialError(f"{label}: colorspace must be a name, got {node.colorspace!r}")
+    elif isinstance(node, CheckerTexture):
+        if not isinstance(node.scale, int | float) or not math.isfinite(node.scale):
+            raise MaterialError(f"{label}: scale must be finite, got {node.scale!r}")
+        for name in ("color1", "color2"):
+            _sub(getattr(node, name), f"{label}.{name}", True, path)
+    elif isinstance(node, MixColor):
+        if node.blend not in MIX_BLENDS:
+            raise MaterialError(f"{label}: blend must be one of {MIX_BLENDS}, got {node.blend!r}")
+        _sub(node.a, f"{label}.a", True, path)
+        _sub(node.b, f"{label}.b", True, path)
+        _sub(node.factor, f"{label}.factor", False, path)
+    elif isinstance(node, NormalMap):
+        if not isinstance(node.strength, int | float) or not math.isfinite(node.strength) or node.strength < 0:
+            raise MaterialError(f"{label}: strength must be finite and >= 0, got {node.strength!r}")
+        _sub(node.color, f"{label}.color", True, path)
+
+
+def _sub(value: object, what: str, colour: bool, path: list[object]) -> None:
+    if _is_texture(value):
+        if isinstance(value, NormalMap):
+            raise MaterialError(f"{what}: a NormalMap gives a normal, not a colour")
+        _check_node(value, what, path)
+    else:
+        _check_input(value, what, colour)

@@ -1,0 +1,74 @@
+"""Materials as Blender's shader nodes define them: the Principled BSDF (and the Diffuse and Glossy BSDFs as
+special cases), mixed or added by Mix Shader / Add Shader, with a constant or a texture node
+(restircl.materials.textures) on any input.
+
+A Material with `layers` empty is one closure of `kind`:
+- "principled": Lambertian diffuse under a GGX specular layer (Cycles' Principled BSDF without coat, sheen,
+  subsurface and transmission). `specular` is the Specular IOR Level; the default 0 has no specular layer, so the
+  default Material is the plain diffuse albedo it always was (Blender's Principled default is 0.5: the add-on
+  exports it as it is). `albedo` is the Base Color.
+- "diffuse": the Diffuse BSDF, colour `albedo` (Lambert).
+- "glossy": the Glossy BSDF, GGX with colour `albedo` and no Fresnel.
+A Material with `layers` [a, b] (Materials without layers of their own; at most MAX_LAYERS) is their weighted sum:
+Mix Shader when `mix` is set, (1 - mix) a + mix b, with `mix` a constant or a texture; Add Shader, a + b, when
+`mix` is None. Its own closure fields are then unused. Emission (emission * emission_strength) belongs to the
+Material itself, not to a layer.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .textures import Input
+
+MATERIAL_KINDS = ("principled", "diffuse", "glossy")
+DISTRIBUTIONS = ("multi_ggx", "ggx")
+MAX_LAYERS = 2
+# the inputs that may hold a texture node, by field name (normal: a NormalMap)
+TEXTURABLE = ("albedo", "metallic", "roughness", "specular", "specular_tint", "emission", "normal")
+
+
+@dataclass
+class Material:
+    name: str = "default"
+    albedo: Input = (0.8, 0.8, 0.8)  # Base Color / Color
+    emission: Input = (0.0, 0.0, 0.0)  # colour
+    emission_strength: float = 0.0
+    kind: str = "principled"
+    metallic: Input = 0.0
+    roughness: Input = 0.5
+    ior: float = 1.5
+    specular: Input = 0.0  # Specular IOR Level (0.5: the IOR's own reflectance; 0: none)
+    specular_tint: Input = (1.0, 1.0, 1.0)
+    distribution: str = "multi_ggx"
+    normal: Input | None = None  # a NormalMap node, or None for the mesh's shading normal
+    layers: list[Material] = field(default_factory=list)
+    mix: Input | None = None
+
+    @property
+    def radiance(self) -> np.ndarray:
+        """Emitted radiance of a constant emission colour; a textured emission reports its (1, 1, 1) bound."""
+        col = self.emission if isinstance(self.emission, tuple | list | np.ndarray) else (1.0, 1.0, 1.0)
+        return np.asarray(col, dtype=np.float64) * float(self.emission_strength)
+
+    @property
+    def is_emissive(self) -> bool:
+        return bool(np.any(self.radiance > 0))
+
+    @classmethod
+    def mixed(cls, a: Material, b: Material, factor: Input = 0.5, name: str = "mix") -> Material:
+        """Mix Shader: (1 - factor) a + factor b."""
+        return cls(name=name, layers=[a, b], mix=factor)
+
+    @classmethod
+    def added(cls, a: Material, b: Material, name: str = "add") -> Material:
+        """Add Shader: a + b."""
+        return cls(name=name, layers=[a, b])
+
+
+def material_inputs(m: Material) -> list[object]:
+    """Every input of m (and of its layers) that may hold a texture node, and the Mix factor."""
+    out = [getattr(c, f) for c in [m, *m.layers] for f in TEXTURABLE]
+    return [*out, m.mix]

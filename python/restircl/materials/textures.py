@@ -1,0 +1,83 @@
+"""Texture nodes that feed a material input (restircl.Material): an image, a checker, a colour mix, a normal map.
+
+A material input (base colour, roughness, metallic, ...) is a constant or one of these nodes; a node's own inputs
+may again be nodes (a Mix Color of an image and a checker), as in a Blender node graph. Texture coordinates follow
+Blender's Texture Coordinate node: "uv" (the mesh's UV map, Mesh.uvs), "generated" (the object's bounding box
+mapped to [0, 1]^3) and "object" (object-space position). `mapping` is an optional 4x4 matrix applied to the
+coordinate first (Blender's Mapping node, type Point).
+
+The renderer evaluates these on the device at the primary hit (opencl/texture*.h); images live in one buffer with
+an offset table and a mip chain (python/restircl/upload/textures.py).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Union
+
+import numpy as np
+
+COORDS = ("uv", "generated", "object")
+COLORSPACES = ("sRGB", "Non-Color")
+INTERPOLATIONS = ("Linear", "Closest")
+EXTENSIONS = ("REPEAT", "EXTEND", "CLIP")
+MIX_BLENDS = ("MIX", "MULTIPLY", "ADD", "SUBTRACT", "SCREEN", "DIFFERENCE", "DARKEN", "LIGHTEN", "OVERLAY")
+
+
+@dataclass
+class ImageTexture:
+    """Blender's Image Texture node. `image`: an (H, W) / (H, W, 1..4) array (uint8, uint16 or float; float is taken
+    as stored, integers as value / max) or a path to a PNG/JPEG/EXR/HDR file, read at upload. sRGB images are
+    decoded to linear on upload; `alpha` of the node is not used."""
+
+    image: np.ndarray | str | Path
+    colorspace: str = "sRGB"
+    interpolation: str = "Linear"
+    extension: str = "REPEAT"
+    coords: str = "uv"
+    mapping: np.ndarray | None = None
+    name: str = ""
+
+
+@dataclass
+class CheckerTexture:
+    """Blender's Checker Texture: color1 where floor(s x) + floor(s y) + floor(s z) is even... as Blender defines
+    it (s = scale, on the coordinate offset by a tiny epsilon as Blender does)."""
+
+    color1: Input = (0.8, 0.8, 0.8)
+    color2: Input = (0.2, 0.2, 0.2)
+    scale: float = 5.0
+    coords: str = "generated"
+    mapping: np.ndarray | None = None
+
+
+@dataclass
+class MixColor:
+    """Blender's Mix node in Color mode (and the legacy MixRGB): blend(a, b) by `factor` in [0, 1]."""
+
+    a: Input = (0.5, 0.5, 0.5)
+    b: Input = (0.5, 0.5, 0.5)
+    factor: Input = 0.5
+    blend: str = "MIX"
+    clamp_factor: bool = True
+
+
+@dataclass
+class NormalMap:
+    """Blender's Normal Map node, tangent space of the UV map: `color` (a Non-Color image, usually) -> a shading
+    normal, blended with the interpolated normal by `strength`."""
+
+    color: Input = (0.5, 0.5, 1.0)
+    strength: float = 1.0
+
+
+Texture = ImageTexture | CheckerTexture | MixColor | NormalMap
+# a material or node input: a number, an rgb triple, or a texture node
+Input = Union[float, tuple, Texture]  # noqa: UP007 (the forward references above need Union)
+
+TEXTURE_TYPES = (ImageTexture, CheckerTexture, MixColor, NormalMap)
+
+
+def is_texture(value: object) -> bool:
+    return isinstance(value, TEXTURE_TYPES)

@@ -1,0 +1,49 @@
+"""Scene camera -> device Camera record (opencl/types.h), and the Halton (2, 3) sub-pixel jitter sequence."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..core import layouts as L
+from ..scene.camera import Camera
+from ..scene.scene import Scene
+
+
+def halton(index: int, base: int) -> float:
+    f, r, i = 1.0, 0.0, index
+    while i > 0:
+        f /= base
+        r += f * (i % base)
+        i //= base
+    return r
+
+
+def jitter(frame: int) -> tuple[float, float]:
+    """Sub-pixel offset in [-0.5, 0.5)^2 for `frame` (Halton 2, 3; cycles every 1024 frames)."""
+    k = frame % 1024 + 1
+    return halton(k, 2) - 0.5, halton(k, 3) - 0.5
+
+
+def camera_record(cam: Camera, frame: int, jitter_px: tuple[float, float] = (0.0, 0.0)) -> np.ndarray:
+    m = Scene.at(cam.transforms, frame)
+    right = m[:3, 0] / np.linalg.norm(m[:3, 0])
+    fwd = -m[:3, 2] / np.linalg.norm(m[:3, 2])
+    up = np.cross(right, fwd)
+    up /= np.linalg.norm(up)
+    right = np.cross(fwd, up)
+    rec = np.zeros(1, L.CAMERA)
+    rec["origin"][0, :3] = m[:3, 3]
+    rec["right"][0, :3] = right
+    rec["up"][0, :3] = up
+    rec["forward"][0, :3] = fwd
+    rec["lens"][0] = cam.view_plane()
+    rec["kind"] = L.CAMERA_KINDS.index(cam.type)
+    rec["jitter"][0, :2] = jitter_px
+    rec["width"] = cam.width
+    rec["height"] = cam.height
+    return rec
+
+
+def views_differ(a: Camera, b: Camera, frame: int = 0) -> bool:
+    """Whether two cameras see the scene differently at `frame` (transform, lens, shift, kind or size)."""
+    return camera_record(a, frame).tobytes() != camera_record(b, frame).tobytes()

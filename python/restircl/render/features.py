@@ -1,0 +1,43 @@
+"""Feature flags: what a scene and its settings need, compiled in with -D and nothing more (DESIGN section 6)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+from ..lights.registry import FEATURE_FLAGS
+
+LIGHT_FLAGS = FEATURE_FLAGS  # light type code -> HAS_<TYPE>_LIGHTS, from each type's entry (restircl.lights)
+# HAS_GLOSSY: some material has a specular lobe; HAS_TEXTURES: some material input is a texture node
+MATERIAL_FLAGS = ("HAS_GLOSSY", "HAS_TEXTURES")
+# HAS_LIGHT_TREE: RIS candidates come from the light tree (Settings.light_proposal, lights/tree.py)
+# HAS_CAMERA_LIGHTS: camera rays test the lights visible to the camera that have a shape (lights/camera_visible.py)
+# HAS_PICK_TABLE: still RIS renders pick lights from a per-pixel table (lights/pick_table.py)
+ALL_FLAGS = (*LIGHT_FLAGS.values(), "HAS_MOTION", "HAS_MOVING_OBJECTS", *MATERIAL_FLAGS, "HAS_LIGHT_TREE",
+             "HAS_CAMERA_LIGHTS", "HAS_PICK_TABLE")
+
+
+def derive_flags(light_types: Iterable[int], motion: bool, moving_objects: bool,
+                 materials: dict[str, bool] | None = None, light_tree: bool = False,
+                 camera_lights: bool = False, pick_table: bool = False) -> dict[str, bool]:
+    """Flags for a scene with these light types, whether anything moves between frames, what its materials
+    need (MATERIAL_FLAGS -> bool, python/restircl/upload/materials.py), whether it samples from the light tree,
+    whether the camera sees lights and whether still renders pick lights from the per-pixel table."""
+    types = set(light_types)
+    flags = {name: t in types for t, name in LIGHT_FLAGS.items()}
+    flags["HAS_MOTION"] = bool(motion or moving_objects)
+    flags["HAS_MOVING_OBJECTS"] = bool(moving_objects)
+    for name in MATERIAL_FLAGS:
+        flags[name] = bool((materials or {}).get(name, False))
+    flags["HAS_LIGHT_TREE"] = bool(light_tree)
+    flags["HAS_CAMERA_LIGHTS"] = bool(camera_lights)
+    flags["HAS_PICK_TABLE"] = bool(pick_table)
+    return flags
+
+
+def general_flags() -> dict[str, bool]:
+    """Every feature on: the general build that specialised builds must match."""
+    return dict.fromkeys(ALL_FLAGS, True)
+
+
+def describe(flags: dict[str, bool]) -> list[str]:
+    return [name.removeprefix("HAS_").lower() for name in ALL_FLAGS if flags.get(name)]

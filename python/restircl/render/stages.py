@@ -1,0 +1,314 @@
+"""The stages of a frame (DESIGN section 2), one class each: what it launches, with which buffers and parameters.
+
+A stage reads the frame's state (FrameState: which frames, what history may be reused, how lights are sampled),
+packs its own parameter struct (types.h, core/layouts.py) and launches its kernel with every argument named
+(core/kernels.py). Which stages run, and in what order, is Renderer.render_frame's business (render/pipeline.py).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+import pyopencl as cl
+
+from ..core import layouts as L
+from ..core.buffers import FrameBuffers, alloc
+from ..core.kernels import Kernels
+from ..scene.camera import Camera
+from ..settings.table import BOILING_MODES, TAA_FILTERS
+from ..upload.device_scene import DeviceScene
+from .camera import camera_record
+from .history import History
+
+if TYPE_CHECKING:
+    from ..settings.table import Settings
+
+
+@dataclass
+class FrameState:
+    """What one frame's stages share: decided once at its start (Renderer._begin_frame)."""
+
+    frame: int
+    prev_frame: int  # the frame whose history this one reuses (itself when there is none)
+    next_frame: int  # the Vector pass's next frame
+    history: bool  # last frame's G-buffer and TAA colour belong to this frame's predecessor
+    restir_history: bool  # ... and its reservoirs sample this frame's lights
+    method: str  # the sampler that runs: Settings.method, or light_array for RIS over one light
+    tiles: bool  # RIS candidates from this frame's light tiles
+    frame_params: np.void  # FrameParams
+    sampler: np.void  # SamplerParams
+    jitter: tuple[float, float] = (0.0, 0.0)
+    mis_sample: bool = False  # RIS adds one BSDF sample combined by MIS (Renderer.bsdf_mis_sample, direct/bsdf_mis.h)
+    pick_table: bool = False  # RIS picks lights from the still render's per-pixel table (lights/pick_table.py)
+
+
+def pixel_count(state: FrameState) -> tuple[int]:
+    """The 1D launch size of a per-pixel kernel."""
+    return (int(state.frame_params["pixels"]),)
+
+
+def image_size(state: FrameState) -> tuple[int, int]:
+    """The 2D launch size of a per-pixel kernel."""
+    return (int(state.frame_params["width"]), int(state.frame_params["height"]))
+
+
+@dataclass
+class StageTimer:
+    """Milliseconds per stage; each mark waits for the queue, so a stage's time is its own."""
+
+    queue: cl.CommandQueue
+    ms: dict[str, float] = field(default_factory=dict)
+    t: float = field(default_factory=time.perf_counter)
+
+    def mark(self, name: str) -> None:
+        self.queue.finish()
+        t1 = time.perf_counter()
+        self.ms[name] = self.ms.get(name, 0.0) + (t1 - self.t) * 1e3
+        self.t = t1
+
+
+class Stage:
+    """The device-side state every stage reaches: kernels, the scene's buffers, the frame's and the history's."""
+
+    def __init__(self, kernels: Kernels, scene: DeviceScene, buffers: FrameBuffers, history: History,
+                 settings: Settings) -> None:
+        self.kernels = kernels
+        self.scene = scene
+        self.buffers = buffers
+        self.history = history
+        self.settings = settings
+
+    def _similarity(self) -> np.void:
+        """How far a history or neighbour surface may differ from the pixel's (temporal, spatial, taa)."""
+        s = self.settings
+        return L.pack(L.SIMILARITY_PARAMS, depth_tolerance=s.depth_tolerance,
+                      normal_cos=math.cos(math.radians(s.normal_angle)))
+
+
+class Primary(Stage):
+    """1: camera rays -> this frame's G-buffer and the Vector pass."""
+
+    def run(self, state: FrameState, camera: Camera, prev_camera: Camera | None = None) -> None:
+        """prev_camera: the previous frame's camera where it is another one (an interactive view)."""
+        q, b, h = self.kernels.device.queue, self.buffers, self.history
+        cl.enqueue_copy(q, b.cameras[0], camera_record(camera, state.frame, state.jitter))
+        cl.enqueue_copy(q, b.cameras[1], camera_record(prev_camera or camera, state.prev_frame))
+        cl.enqueue_copy(q, b.cameras[2], camera_record(camera, state.next_frame))
+        self.kernels.launch("primary", image_size(state), cam=b.cameras[0],
+                            prev_cam=b.cameras[1], next_cam=b.cameras[2], **self.scene.geometry,
+                            **self.scene.surface, ggx_tables=self.scene.ggx_tables_buf or b.none,
+                            object_motion=self.scene.motion_buf, lights=self.scene.lights_buf,
+                            camera_lights=self.scene.camera_lights_buf, gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
+                            vector=b.vector)
+
+
+class LightTiles(Stage):
+    """Presampled light tiles (many lights): this frame's RIS candidates are drawn from them."""
+
+    def __init__(self, *args, info_bytes: int) -> None:
+        super().__init__(*args)
+        self.info_bytes = info_bytes
+        self.tile_rec: cl.Buffer | None = None  # allocated when first used
+        self.tile_info: cl.Buffer | None = None
+
+    def run(self, state: FrameState) -> None:
+        s = self.settings
+        entries = s.light_tile_count * s.light_tile_size
+        if self.tile_rec is None or self.tile_rec.size < entries * L.LIGHT.itemsize:
+            context = self.kernels.device.context
+            self.tile_rec = alloc(context, entries * L.LIGHT.itemsize)
+            self.tile_info = alloc(context, entries * self.info_bytes)
+        self.kernels.launch("light_tiles_fill", (entries,), **self.scene.light_sampling, tile_rec=self.tile_rec,
+                            tile_info=self.tile_info, frame_params=state.frame_params, sampler=state.sampler)
+
+    def arguments(self, state: FrameState) -> dict[str, cl.Buffer]:
+        """The tile arguments of the RIS kernels (a placeholder buffer when this frame uses no tiles)."""
+        if not state.tiles:
+            return {"tile_rec": self.buffers.none, "tile_info": self.buffers.none}
+        return {"tile_rec": self.tile_rec, "tile_info": self.tile_info}
+
+
+class Initial(Stage):
+    """2-3: RIS over the light candidates into a reservoir; with visibility reuse, the chosen sample's shadow ray."""
+
+    def run(self, state: FrameState, tiles: dict[str, cl.Buffer]) -> cl.Buffer:
+        s, h = self.settings, self.history
+        params = L.pack(L.INITIAL_PARAMS, sampler=state.sampler, candidates=s.candidates,
+                        visibility_reuse=int(s.visibility_reuse))
+        out = self.buffers.res_initial
+        self.kernels.launch("restir_initial", pixel_count(state), gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
+                            **self.scene.geometry, **self.scene.light_sampling, **self.scene.light_tree_args,
+                            **tiles, tri_light=self.scene.tri_light_buf, out=out, frame_params=state.frame_params,
+                            params=params)
+        return out
+
+
+class Temporal(Stage):
+    """4: merge with last frame's reservoir of the same surface, found by reprojection."""
+
+    def __init__(self, *args, bias_code: int) -> None:
+        super().__init__(*args)
+        self.bias_code = bias_code
+
+    def _permutation(self, state: FrameState) -> int:
+        """The frame's permutation-sampling key (camera/reproject.h): one of the 16, from the frame's random stream."""
+        if not self.settings.temporal_permutation:
+            return 0
+        key = int(state.frame_params["sample"]) * 0x9E3779B1 + int(state.frame_params["seed"]) * 0x85EBCA6B
+        return 16 | ((key & 0xFFFFFFFF) >> 28)
+
+    def _static(self) -> bool:
+        """Whether last frame's shadow tests hold in this frame: no object or light moved or was edited."""
+        ds = self.scene
+        return not (ds.lights_changed or ds.moving_objects or ds.moving_lights or ds.edited)
+
+    def run(self, state: FrameState, current: cl.Buffer) -> cl.Buffer:
+        s, h = self.settings, self.history
+        per_frame = s.candidates + int(state.sampler["bsdf_candidates"])  # the M of an initial reservoir
+        params = L.pack(L.TEMPORAL_PARAMS, m_cap=s.m_cap * per_frame, similar=self._similarity(),
+                        bias_correction=self.bias_code, visibility_reuse=int(s.visibility_reuse),
+                        lights_static=int(not self.scene.lights_changed),
+                        permutation=self._permutation(state), vis_static=int(self._static()),
+                        vis_max_age=s.visibility_max_age, vis_max_distance=s.visibility_max_distance)
+        out = self.buffers.res_temp
+        self.kernels.launch("restir_temporal", image_size(state), cam=self.buffers.cameras[0], gbuf=h.gbuf(h.cur),
+                            prev_gbuf=h.gbuf(h.prev),
+                            glossy=h.glossy(h.cur), prev_glossy=h.glossy(h.prev),
+                            **self.scene.geometry, lights=self.scene.lights_buf, current=current,
+                            previous=h.reservoirs(h.prev), out=out, guards=self.buffers.guards,
+                            frame_params=state.frame_params, params=params)
+        return out
+
+
+class BoilingFilter(Stage):
+    """4b (animation path): empty (or make the history forget) the reservoirs whose weight or contribution stands far
+    above their tile's (restir/boiling.cl, Settings.boiling_mode)."""
+
+    TILE = 8
+
+    def __init__(self, *args) -> None:
+        super().__init__(*args)
+        self._stats: cl.Buffer | None = None
+
+    def run(self, state: FrameState, res: cl.Buffer) -> None:
+        w, h = image_size(state)
+        tiles_x = -(-w // self.TILE)
+        tiles = tiles_x * -(-h // self.TILE)
+        if self._stats is None:
+            self._stats = alloc(self.kernels.device.context, tiles * 8)
+        strength = min(max(float(self.settings.boiling_filter), 1e-6), 1.0)
+        mode = np.int32(BOILING_MODES.index(self.settings.boiling_mode))
+        self.kernels.launch("boiling_tiles", (tiles,), res=res, tile_stats=self._stats,
+                            frame_params=state.frame_params, tiles_x=np.int32(tiles_x), mode=mode)
+        self.kernels.launch("boiling_filter", image_size(state), res=res, tile_stats=self._stats,
+                            frame_params=state.frame_params, tiles_x=np.int32(tiles_x),
+                            threshold=np.float32(10.0 / strength - 9.0), mode=mode)
+
+
+class Spatial(Stage):
+    """5: merge neighbours' reservoirs, `spatial_passes` times, ping-pong between this frame's history slot and
+    whichever scratch buffer does not hold the input."""
+
+    def __init__(self, *args, bias_code: int) -> None:
+        super().__init__(*args)
+        self.bias_code = bias_code
+
+    def run(self, state: FrameState, res: cl.Buffer) -> cl.Buffer:
+        s, h, b = self.settings, self.history, self.buffers
+        bufs = [h.reservoirs(h.cur), b.res_temp if res is not b.res_temp else b.res_initial]
+        for p in range(s.spatial_passes):
+            dst = bufs[p % 2]
+            params = L.pack(L.SPATIAL_PARAMS, spatial_neighbours=s.spatial_neighbours,
+                            spatial_radius=s.spatial_radius, similar=self._similarity(), bias_correction=self.bias_code,
+                            visibility_reuse=int(s.visibility_reuse), pass_index=p,
+                            boost_neighbours=s.disocclusion_boost,
+                            fresh_m=s.candidates + int(state.sampler["bsdf_candidates"]))
+            self.kernels.launch("restir_spatial", image_size(state), gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
+                                **self.scene.geometry,
+                                lights=self.scene.lights_buf, input=res, out=dst,
+                                frame_params=state.frame_params, params=params)
+            res = dst
+        return res
+
+
+class Shade(Stage):
+    """6: one shadow ray to the pixel's sample -> the noisy direct light s_n (ReSTIR's reservoir, a sampler
+    without reuse, or the exhaustive reference)."""
+
+    def __init__(self, *args, method_codes: dict[str, int]) -> None:
+        super().__init__(*args)
+        self.method_codes = method_codes
+
+    def _common(self, state: FrameState) -> dict:
+        h = self.history
+        return {"gbuf": h.gbuf(h.cur), "glossy": h.glossy(h.cur), **self.scene.geometry,
+                "lights": self.scene.lights_buf, "guards": self.buffers.guards, "out": self.buffers.sample,
+                "frame_params": state.frame_params}
+
+    def restir(self, state: FrameState) -> None:
+        """Shade the reservoir this frame leaves as history."""
+        s, h = self.settings, self.history
+        known = s.visibility_reuse and s.bias_correction != "none"
+        params = L.pack(L.SHADE_PARAMS, sampler=state.sampler, visible_known=int(known))
+        self.kernels.launch("restir_shade", pixel_count(state), **self._common(state), res=h.reservoirs(h.cur),
+                            params=params)
+
+    def direct(self, state: FrameState, tiles: dict[str, cl.Buffer], pick_table: cl.Buffer | None = None) -> None:
+        """pick_table: the still render's per-pixel light pick, where state.pick_table says the frame uses it."""
+        params = L.pack(L.SHADE_PARAMS, sampler=state.sampler, method=self.method_codes[state.method],
+                        candidates=self.settings.candidates,
+                        bsdf_mis_sample=int(state.mis_sample))
+        self.kernels.launch("shade_direct", pixel_count(state), **self._common(state), slots=self.scene.slots_buf,
+                            light_pdf=self.scene.light_pdf_buf, **self.scene.light_tree_args, **tiles,
+                            tri_light=self.scene.tri_light_buf, pick_table=pick_table or self.buffers.none,
+                            params=params)
+
+    def reference(self, state: FrameState) -> None:
+        params = L.pack(L.SHADE_PARAMS, sampler=state.sampler)
+        self.kernels.launch("shade_reference", pixel_count(state), **self._common(state), params=params)
+
+
+class RealtimeFilter(Stage):
+    """8 (animation path, realtime_filter): the edge-aware a-trous filter of the TAA output (filter/atrous.cl), into its
+    own buffers: the TAA history stays unfiltered."""
+
+    SIGMA_L = 4.0  # SVGF's luminance edge stop
+    SIGMA_Z = 0.02  # relative depth per pixel of tap spacing
+
+    def __init__(self, *args) -> None:
+        super().__init__(*args)
+        self._bufs: list[cl.Buffer] = []
+
+    def run(self, state: FrameState, taa: cl.Buffer) -> cl.Buffer:
+        w, hgt = image_size(state)
+        if not self._bufs:
+            self._bufs = [alloc(self.kernels.device.context, w * hgt * 16) for _ in range(2)]
+        gbuf = self.history.gbuf(self.history.cur)
+        self.kernels.launch("filter_variance", (w, hgt), sample=self.buffers.sample, taa=taa, out=self._bufs[0],
+                            frame_params=state.frame_params)
+        for k in range(self.settings.filter_iterations):
+            src, dst = self._bufs[k % 2], self._bufs[(k + 1) % 2]
+            params = L.pack(L.ATROUS_PARAMS, step=1 << k, sigma_l=self.SIGMA_L, sigma_z=self.SIGMA_Z)
+            self.kernels.launch("atrous", (w, hgt), input=src, out=dst, gbuf=gbuf,
+                                frame_params=state.frame_params, params=params)
+        return self._bufs[self.settings.filter_iterations % 2]
+
+
+class Taa(Stage):
+    """7: f_n = a s_n + (1 - a) clip(history): blends into this frame's TAA slot, which it returns."""
+
+    def run(self, state: FrameState, moving: bool) -> cl.Buffer:
+        s, h = self.settings, self.history
+        params = L.pack(L.TAA_PARAMS, alpha_min=s.alpha_min, gamma=s.gamma, similar=self._similarity(),
+                        moving=int(moving), max_history=s.max_history, reset=int(not state.history),
+                        filter=TAA_FILTERS.index(s.taa_filter), dilate=int(s.taa_dilation))
+        self.kernels.launch("taa", image_size(state), sample=self.buffers.sample, gbuf=h.gbuf(h.cur),
+                            glossy=h.glossy(h.cur),
+                            prev_gbuf=h.gbuf(h.prev), history_in=h.taa[h.prev], history_out=h.taa[h.cur],
+                            guards=self.buffers.guards, frame_params=state.frame_params, params=params)
+        return h.taa[h.cur]
+

@@ -1,0 +1,97 @@
+"""The scene's camera as Blender describes it: transforms per frame, lens and sensor, shift, perspective or
+orthographic, and the frames at which the animation cuts."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import SceneError
+from .transforms import as_transforms, check_basis
+
+MAX_RESOLUTION = 16384
+
+
+SENSOR_FITS = ("AUTO", "HORIZONTAL", "VERTICAL")
+
+
+CAMERA_TYPES = ("PERSP", "ORTHO")  # layouts.CAMERA_KINDS
+
+
+@dataclass
+class Camera:
+    transforms: np.ndarray | None = None  # (4, 4) or (F, 4, 4) camera-to-world; looks along -Z
+    width: int = 640
+    height: int = 360
+    lens: float = 50.0  # focal length (mm)
+    sensor_width: float = 36.0
+    sensor_height: float = 24.0
+    sensor_fit: str = "AUTO"
+    shift_x: float = 0.0
+    shift_y: float = 0.0
+    cuts: tuple[int, ...] = ()  # frames at which the camera cuts (history is reset)
+    type: str = "PERSP"  # Blender's camera type: PERSP or ORTHO
+    ortho_scale: float = 6.0  # ORTHO: the view's extent (world units) along the fitted axis, as in Blender
+
+    def __post_init__(self) -> None:
+        self.transforms = as_transforms(self.transforms, "camera")
+        self.cuts = tuple(int(c) for c in self.cuts)
+
+    def set_fov(self, fov: float, axis: str = "horizontal") -> None:
+        """Set the field of view (radians) along an axis by choosing the focal length; sensor fit follows."""
+        if axis == "horizontal":
+            self.sensor_fit = "HORIZONTAL"
+            self.lens = self.sensor_width / (2.0 * math.tan(fov / 2.0))
+        else:
+            self.sensor_fit = "VERTICAL"
+            self.lens = self.sensor_height / (2.0 * math.tan(fov / 2.0))
+
+    def tan_half_fov(self) -> tuple[float, float, float, float]:
+        """(tan half horizontal fov, tan half vertical fov, shift x, shift y in tan units), Blender's rules; an
+        orthographic camera's view plane instead (view_plane)."""
+        return self.view_plane()
+
+    def view_plane(self) -> tuple[float, float, float, float]:
+        """Half the view plane (x, y) and its shift (x, y), Blender's rules: in tan units at unit distance for a
+        perspective camera, in world units for an orthographic one."""
+        w, h = float(self.width), float(self.height)
+        fit = self.sensor_fit
+        if fit == "AUTO":
+            fit = "HORIZONTAL" if w >= h else "VERTICAL"
+            sensor = self.sensor_width
+        else:
+            sensor = self.sensor_width if fit == "HORIZONTAL" else self.sensor_height
+        # half the fitted dimension: the tan of half its fov, or half the orthographic scale
+        half = 0.5 * self.ortho_scale if self.type == "ORTHO" else 0.5 * sensor / self.lens
+        if fit == "HORIZONTAL":
+            tx, ty = half, half * h / w
+        else:
+            tx, ty = half * w / h, half
+        # Blender's shift is a fraction of the fitted dimension of the view plane (checked against Blender's
+        # own projection by tests/test_blender_camera.py).
+        return tx, ty, 2.0 * self.shift_x * half, 2.0 * self.shift_y * half
+
+    def validate(self) -> None:
+        """Raise SceneError naming the bad field."""
+        # attributes may have been replaced after construction: normalise their shapes again
+        self.transforms = as_transforms(self.transforms, "camera")
+        for what, v in (("width", self.width), ("height", self.height)):
+            if not isinstance(v, (int, np.integer)) or not 1 <= int(v) <= MAX_RESOLUTION:
+                raise SceneError(f"camera: {what} must be an integer in 1..{MAX_RESOLUTION}, got {v!r}")
+        if not np.all(np.isfinite(self.transforms)):
+            raise SceneError("camera: transform contains NaN or Inf")
+        for what, v in (("lens", self.lens), ("sensor_width", self.sensor_width),
+                        ("sensor_height", self.sensor_height)):
+            if not math.isfinite(v) or v <= 0:
+                raise SceneError(f"camera: {what} must be finite and positive, got {v!r}")
+        if not (math.isfinite(self.shift_x) and math.isfinite(self.shift_y)):
+            raise SceneError("camera: shift is not finite")
+        if self.type not in CAMERA_TYPES:
+            raise SceneError(f"camera: type must be one of {CAMERA_TYPES}, got {self.type!r}")
+        if self.type == "ORTHO" and not (math.isfinite(self.ortho_scale) and self.ortho_scale > 0):
+            raise SceneError(f"camera: ortho_scale must be finite and positive, got {self.ortho_scale!r}")
+        if self.sensor_fit not in SENSOR_FITS:
+            raise SceneError(f"camera: sensor_fit must be one of {SENSOR_FITS}, got {self.sensor_fit!r}")
+        check_basis(self.transforms, "camera")

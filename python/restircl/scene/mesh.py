@@ -1,0 +1,55 @@
+"""A triangle mesh: object-space vertices, triangles with a material id each, transforms per frame, and optional
+per-corner UVs and shading normals."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import SceneError
+from .transforms import as_transforms
+
+
+@dataclass
+class Mesh:
+    name: str
+    vertices: np.ndarray  # (V, 3) object space
+    triangles: np.ndarray  # (T, 3) vertex indices
+    material_ids: np.ndarray | int = 0  # (T,) or one id for all triangles
+    transforms: np.ndarray | None = None  # (4, 4) or (F, 4, 4) object-to-world
+    uvs: np.ndarray | None = None  # (T, 3, 2) per-corner UV map (texture coordinates "uv", normal maps)
+    normals: np.ndarray | None = None  # (T, 3, 3) per-corner object-space shading normals (smooth shading)
+
+    def __post_init__(self) -> None:
+        self.vertices = np.asarray(self.vertices, dtype=np.float64).reshape(-1, 3)
+        self.triangles = np.asarray(self.triangles, dtype=np.int64).reshape(-1, 3)
+        ids = np.asarray(self.material_ids, dtype=np.int64)
+        self.material_ids = np.full(len(self.triangles), int(ids), np.int64) if ids.ndim == 0 else ids.reshape(-1)
+        self.transforms = as_transforms(self.transforms, f"mesh {self.name!r}")
+
+    @property
+    def animated(self) -> bool:
+        return self.transforms.shape[0] > 1 and not np.allclose(self.transforms, self.transforms[:1])
+
+    def validate(self, material_count: int) -> None:
+        """Raise SceneError naming the mesh and the bad field."""
+        self.transforms = as_transforms(self.transforms, f"mesh {self.name!r}")
+        label = f"mesh {self.name!r}"
+        if not np.all(np.isfinite(self.vertices)):
+            raise SceneError(f"{label}: vertices contain NaN or Inf")
+        if not np.all(np.isfinite(self.transforms)):
+            raise SceneError(f"{label}: transform contains NaN or Inf")
+        t = self.triangles
+        if len(t) and (t.min() < 0 or t.max() >= len(self.vertices)):
+            raise SceneError(f"{label}: triangle vertex index out of range 0..{len(self.vertices) - 1}")
+        ids = self.material_ids
+        if len(ids) != len(t):
+            raise SceneError(f"{label}: {len(ids)} material ids for {len(t)} triangles")
+        if len(ids) and (ids.min() < 0 or ids.max() >= material_count):
+            raise SceneError(f"{label}: material id out of range 0..{material_count - 1}")
+        for what, corner in (("uvs", 2), ("normals", 3)):
+            a = getattr(self, what)
+            if a is not None and (np.shape(a) != (len(t), 3, corner) or not np.all(np.isfinite(a))):
+                raise SceneError(f"{label}: {what} must be finite, shape ({len(t)}, 3, {corner}), "
+                                 f"got shape {np.shape(a)}")

@@ -1,0 +1,136 @@
+"""Shared set-up of the Blender tests (add-on registration, EXR reading, test scenes), and tests of it.
+
+The other tests/test_blender_*.py import from here after skipping themselves when bpy is missing.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+
+ROOT = Path(__file__).resolve().parents[2]
+for _p in (ROOT / "addon", ROOT / "blend"):
+    if str(_p) not in sys.path:
+        sys.path.insert(0, str(_p))
+
+import scenes  # noqa: E402  (blend/scenes.py)
+from restircl.render.passes import PASSES  # noqa: E402
+
+pytestmark = pytest.mark.blender
+
+CHANNEL_ORDER = {name: p.channels for p in PASSES for name in {p.blender, p.blender_4} if name}
+
+
+def ensure_registered():
+    """Register the add-on once per process (as docs/blender.md says: sys.path + register())."""
+    import restircl_blender
+
+    if not hasattr(bpy.types.Scene, "restircl"):
+        restircl_blender.register()
+    return restircl_blender
+
+
+def has_renderer() -> bool:
+    try:
+        import restircl
+    except ImportError:
+        return False
+    return hasattr(restircl, "Renderer")
+
+
+needs_renderer = pytest.mark.skipif(not has_renderer(), reason="restircl.Renderer is not available")
+
+
+def read_exr_passes(path: str | Path) -> dict[str, np.ndarray]:
+    """Passes of a (multi-part) multilayer EXR written by Blender: name -> (H, W, C) float32, rows top first."""
+    import OpenEXR
+
+    chans: dict[str, np.ndarray] = {}
+    with OpenEXR.File(str(path), separate_channels=True) as f:
+        for part in f.parts:
+            for name, ch in part.channels.items():
+                chans[name] = np.asarray(ch.pixels, dtype=np.float32)
+    passes: dict[str, dict[str, np.ndarray]] = {}
+    for name, px in chans.items():
+        parts = name.split(".")
+        if len(parts) < 2:
+            passes.setdefault("", {})[parts[-1]] = px
+            continue
+        pass_name, chan = parts[-2], parts[-1]
+        passes.setdefault(pass_name, {})[chan] = px
+    out = {}
+    for pass_name, cs in passes.items():
+        order = CHANNEL_ORDER.get(pass_name) or "".join(sorted(cs))
+        out[pass_name] = np.stack([cs[c] for c in order if c in cs], axis=-1)
+    return out
+
+
+def relmse(ours: np.ndarray, ref: np.ndarray, eps: float = 1e-2) -> float:
+    ours = np.asarray(ours, dtype=np.float64)[..., :3]
+    ref = np.asarray(ref, dtype=np.float64)[..., :3]
+    return float(np.mean((ours - ref) ** 2 / (ref * ref + eps)))
+
+
+def cycles_and_ours(tmp_path: Path, sc, cycles_samples: int, our_samples: int, label: str,
+                    **settings) -> tuple[float, float]:
+    """Render `sc` with Cycles (direct light only) and with restircl's reference method (`settings`: more
+    scene.restircl properties); (relMSE, sum ours / sum Cycles)."""
+    ensure_registered()
+    scenes.cycles_direct_only(sc, samples=cycles_samples, seed=1, threads=2)
+    render_to(sc, tmp_path / "cycles.exr")
+    sc.render.engine = "RESTIRCL"
+    sc.restircl.method = "reference"
+    sc.restircl.samples = our_samples
+    for name, value in settings.items():
+        setattr(sc.restircl, name, value)
+    render_to(sc, tmp_path / "ours.exr")
+    cyc = read_exr_passes(tmp_path / "cycles.exr")["Combined"]
+    ours = read_exr_passes(tmp_path / "ours.exr")["Combined"]
+    err = relmse(ours, cyc)
+    ratio = float(ours[..., :3].sum() / cyc[..., :3].sum())
+    print(f"{label}: relMSE {100 * err:.3f} %  sum ours/cycles {ratio:.4f}")
+    assert cyc[..., :3].mean() > 0.01, "the comparison scene is dark: nothing is tested"
+    return err, ratio
+
+
+def render_to(scene, path: Path, animation: bool = False) -> None:
+    scenes.exr_output(scene, str(path))
+    if animation:
+        bpy.ops.render.render(animation=True)
+    else:
+        bpy.ops.render.render(write_still=True)
+
+
+LIGHT_KINDS = scenes.LIGHT_KINDS
+comparison_scene = scenes.comparison_scene
+
+
+# ---- tests of the helpers -------------------------------------------------------------------------------
+
+
+def test_new_scene_is_empty_with_black_world():
+    sc = scenes.new_scene(32, 24)
+    assert len(sc.objects) == 0
+    bg = sc.world.node_tree.nodes["Background"]
+    assert bg.inputs["Strength"].default_value == 0.0
+    assert (sc.render.resolution_x, sc.render.resolution_y) == (32, 24)
+
+
+def test_read_exr_passes_roundtrip(tmp_path):
+    """Blender 5 writes multilayer EXRs as multi-part files; the reader must see every part."""
+    sc = comparison_scene("sun", 16, 12)
+    scenes.cycles_direct_only(sc, samples=4, threads=2)
+    vl = sc.view_layers[0]
+    vl.use_pass_z = True
+    vl.use_pass_normal = True
+    render_to(sc, tmp_path / "cycles.exr")
+    passes = read_exr_passes(tmp_path / "cycles.exr")
+    assert passes["Combined"].shape == (12, 16, 4)
+    assert passes["Depth"].shape == (12, 16, 1)
+    assert passes["Normal"].shape == (12, 16, 3)
+    assert np.all(np.isfinite(passes["Combined"]))

@@ -1,0 +1,58 @@
+"""Kernel launches by argument name (core/kernels.py): the names come from the kernels' declarations, and a launch
+that misses, misspells or adds an argument is an error naming the kernel and the argument."""
+
+import numpy as np
+import pytest
+from restircl import Renderer, Settings, scenes
+from restircl.core.kernels import KernelArgumentError, declared_parameters, parse_kernel_parameters
+from restircl.render.pipeline import KERNELS
+
+
+def test_parameters_parsed_from_the_declaration():
+    src = """/* __kernel void not_this(int a) */
+    __kernel void k(const __global float4* in, // the input
+                    __global float4* out, FrameParams frame_params, int in_half) { }"""
+    assert parse_kernel_parameters(src) == {"k": ("in", "out", "frame_params", "in_half")}
+
+
+def test_declared_names_match_the_built_kernels(device):
+    """Every kernel the renderer launches has as many parsed names as the compiler counts arguments."""
+    r = Renderer(scenes.cornell_box(width=8, height=8), Settings(method="restir"), device)
+    declared = declared_parameters()
+    for name in KERNELS:
+        assert len(declared[name]) == r.kernels.k[name].num_args, name
+
+
+@pytest.fixture(scope="module")
+def renderer(device):
+    return Renderer(scenes.cornell_box(width=8, height=8), Settings(method="restir"), device)
+
+
+def _accumulate_args(r: Renderer) -> dict:
+    return {"sample": r.buffers.sample, "sum": r.still.sum, "sum_half": r.still.sum_half,
+            "frame_params": r.frame_params(), "in_half": np.int32(0)}
+
+
+def test_a_named_launch_runs(renderer):
+    renderer.kernels.launch("accumulate", (renderer.pixels,), **_accumulate_args(renderer))
+    renderer.device.queue.finish()
+
+
+def test_missing_argument_is_named(renderer):
+    args = _accumulate_args(renderer)
+    del args["sum_half"]
+    with pytest.raises(KernelArgumentError, match=r"kernel accumulate: missing sum_half"):
+        renderer.kernels.launch("accumulate", (renderer.pixels,), **args)
+
+
+def test_misspelled_and_extra_arguments_are_named(renderer):
+    args = _accumulate_args(renderer)
+    args["sum_halve"] = args.pop("sum_half")
+    args["extra"] = np.int32(1)
+    with pytest.raises(KernelArgumentError, match=r"kernel accumulate: missing sum_half; unknown sum_halve, extra"):
+        renderer.kernels.launch("accumulate", (renderer.pixels,), **args)
+
+
+def test_unknown_kernel_is_named(renderer):
+    with pytest.raises(KernelArgumentError, match="no kernel named 'acumulate'"):
+        renderer.kernels.launch("acumulate", (1,))
