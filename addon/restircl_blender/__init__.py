@@ -8,8 +8,9 @@ as a plain package in any bpy process:
     restircl_blender.register()
     bpy.context.scene.render.engine = "RESTIRCL"
 
-The engine class is thin; the work is in engine.py (render), viewport.py (the Rendered viewport), export/
-(depsgraph -> restircl.Scene), properties.py (settings) and ui.py (panels).
+The engine class is thin; the work is in engine.py (render jobs), render_result.py (a frame into the Render
+Result), passes.py (the passes a view layer has on), preview.py (material previews), viewport.py (the Rendered
+viewport), export/ (depsgraph -> restircl.Scene), properties.py (settings) and ui.py (panels).
 """
 
 from __future__ import annotations
@@ -17,7 +18,7 @@ from __future__ import annotations
 import bpy
 from bpy.app.handlers import persistent
 
-from . import engine, properties, ui, viewport
+from . import engine, passes, properties, ui, viewport
 
 bl_info = {  # for installing the folder as a legacy add-on; the extension uses blender_manifest.toml
     "name": "restircl",
@@ -53,7 +54,7 @@ class RestirclRenderEngine(bpy.types.RenderEngine):
         viewport.view_draw(self, context, depsgraph)
 
     def update_render_passes(self, scene=None, renderlayer=None):
-        engine.register_passes(self, scene, renderlayer)
+        passes.register_passes(self, scene, renderlayer)
 
     def render(self, depsgraph):
         engine.render(self, depsgraph)

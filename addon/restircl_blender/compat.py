@@ -48,3 +48,10 @@ def import_error_hint(version: tuple[int, ...]) -> str:
         return ("this Blender chooses an extension's wheels by platform only: install the zip built with "
                 "`tools/build_extension.py --python-version 3.11`, or Blender 4.2.13 or newer")
     return "install the extension with its bundled wheels, or `pip install restircl` into Blender's Python"
+
+
+def blender_version() -> tuple[int, ...]:
+    """The running Blender's version, e.g. (5, 0, 1)."""
+    import bpy
+
+    return tuple(bpy.app.version)

@@ -14,7 +14,8 @@ from __future__ import annotations
 
 import warnings
 
-from . import export
+from . import export, render_result
+from .properties import make_settings
 
 
 def user_props(depsgraph):
@@ -31,8 +32,6 @@ def user_props(depsgraph):
 
 def render_preview(engine, depsgraph, restircl, known: tuple) -> None:
     """RenderEngine.render of a preview job; errors of the scene go to engine.report, others are raised."""
-    from .engine import make_settings, write_result
-
     scene = depsgraph.scene
     props = user_props(depsgraph)
     width, height = export.render_resolution(scene)
@@ -55,4 +54,4 @@ def render_preview(engine, depsgraph, restircl, known: tuple) -> None:
         engine.report({"ERROR"}, f"restircl: material preview: {exc}")
         return
     if result is not None and not engine.test_break():
-        write_result(engine, result, width, height, depsgraph.view_layer, scene.render.film_transparent)
+        render_result.write_result(engine, result, width, height, depsgraph.view_layer, scene.render.film_transparent)

@@ -109,6 +109,12 @@ RestirclViewLayerSettings = _group("RestirclViewLayerSettings", declared(ViewLay
 CLASSES = (RestirclRenderSettings, RestirclViewLayerSettings)
 
 
+def make_settings(restircl, props):
+    """restircl.Settings from scene.restircl (its properties are generated from the same table); `restircl` is the
+    package the caller imported, so that the engine, the viewport and the previews report a missing one alike."""
+    return restircl.Settings(**props.settings_kwargs())
+
+
 def register() -> None:
     for cls in CLASSES:
         bpy.utils.register_class(cls)

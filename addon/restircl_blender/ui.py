@@ -6,7 +6,7 @@ from __future__ import annotations
 import bpy
 from restircl.render.passes import PASSES
 
-from . import engine, properties
+from . import engine, passes, properties
 
 ENGINE = "RESTIRCL"
 # Built-in panels whose settings restircl reads (light type/colour/power/shape, material surface nodes).
@@ -113,7 +113,7 @@ class RESTIRCL_PT_passes(RestirclPanel, bpy.types.Panel):
             col = layout.column(heading=heading, align=True)
             for p in PASSES:
                 if p.blender_toggle is not None and (p.blender_type == "COLOR") == light:
-                    owner, name = engine.toggle_owner(vl, p.blender_toggle)
+                    owner, name = passes.toggle_owner(vl, p.blender_toggle)
                     col.prop(owner, name)
 
 

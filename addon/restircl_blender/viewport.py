@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 from . import export
 from .export.convert import matrix
+from .properties import make_settings
 from .viewport_edit import SceneEdit
 from .viewport_session import ViewportSession, scaled_size, view_camera
 
@@ -57,8 +58,6 @@ def view_update(engine, context, depsgraph) -> None:
 
 def _view_update(engine, depsgraph) -> None:
     import restircl
-
-    from .engine import make_settings
 
     props = depsgraph.scene.restircl
     key = _settings_key(props)

@@ -63,7 +63,7 @@ def test_settings_reach_restircl():
     if not hasattr(restircl, "Settings"):
         pytest.skip("restircl.Settings is not available")
     ensure_registered()
-    from restircl_blender import engine
+    from restircl_blender.properties import make_settings
 
     sc = scenes.new_scene(8, 8)
     p = sc.restircl
@@ -78,7 +78,7 @@ def test_settings_reach_restircl():
     p.alpha_min = 0.25
     p.seed = 9
     p.light_tiles = "off"
-    s = engine.make_settings(restircl, p)
+    s = make_settings(restircl, p)
     assert (s.method, s.candidates, s.temporal, s.spatial_neighbours, s.spatial_radius) == ("ris", 5, False, 4, 12.0)
     assert (s.bias_correction, s.m_cap, s.taa, s.alpha_min, s.seed, s.light_tiles) == ("none", 7.0, False, 0.25, 9,
                                                                                          "off")
@@ -130,7 +130,7 @@ def test_every_value_the_addon_allows_at_its_limits_validates():
     ensure_registered()
     from restircl import Settings
     from restircl.settings.table import JOINT_LIMITS
-    from restircl_blender import engine
+    from restircl_blender.properties import make_settings
 
     sc = scenes.new_scene(8, 8)
     p = sc.restircl
@@ -146,7 +146,7 @@ def test_every_value_the_addon_allows_at_its_limits_validates():
                         if name != d.name:
                             setattr(p, name, rna[name].hard_min)
             setattr(p, d.name, getattr(rna[d.name], end))
-            engine.make_settings(restircl, p).validate()
+            make_settings(restircl, p).validate()
     for d in numbers:
         setattr(p, d.name, d.default)
 
@@ -192,13 +192,14 @@ def test_every_pass_reaches_blender():
     ensure_registered()
     import numpy as np
     from restircl.render.passes import PASSES, blender_name
-    from restircl_blender import engine
+    from restircl_blender.passes import register_passes, toggle_owner
+    from restircl_blender.render_result import write_result
 
     sc = scenes.new_scene(4, 3)
     vl = sc.view_layers[0]
     for p in PASSES:
         if p.blender_toggle is not None:
-            owner, name = engine.toggle_owner(vl, p.blender_toggle)
+            owner, name = toggle_owner(vl, p.blender_toggle)
             setattr(owner, name, True)
 
     class Rp:
@@ -219,11 +220,11 @@ def test_every_pass_reaches_blender():
             pass
 
     fake = FakeEngine()
-    engine.register_passes(fake, sc, vl)  # Denoise off: no Noisy Image pass, as in Cycles
+    register_passes(fake, sc, vl)  # Denoise off: no Noisy Image pass, as in Cycles
     assert "Noisy Image" not in [rp.name for rp in fake.passes]
     sc.restircl.denoise = True
     fake = FakeEngine()
-    engine.register_passes(fake, sc, vl)
+    register_passes(fake, sc, vl)
     sc.restircl.denoise = False
     names = [blender_name(p, bpy.app.version) for p in PASSES]
     assert [rp.name for rp in fake.passes] == names
@@ -232,7 +233,7 @@ def test_every_pass_reaches_blender():
     frame = type("Frame", (), {p.attr: np.full((3, 4, len(p.channels)), k + 1.0, np.float32)
                                for k, p in enumerate(PASSES)})
     frame.depth = np.full((3, 4), np.inf, np.float32)
-    engine.write_result(fake, frame, 4, 3, vl, False)
+    write_result(fake, frame, 4, 3, vl, False)
     for k, (p, rp) in enumerate(zip(PASSES, fake.passes, strict=True)):
         assert rp.rect is not None and rp.rect.shape == (12, len(p.channels)), p.blender
         if p.attr != "color":

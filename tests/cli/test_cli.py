@@ -6,7 +6,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 from restircl import read_exr
-from restircl.cli.main import build_parser, main, settings_from_args
+from restircl.cli.arguments import settings_from_args
+from restircl.cli.main import build_parser, main
 
 ROOT = Path(__file__).resolve().parents[2]
 

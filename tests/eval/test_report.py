@@ -230,20 +230,20 @@ def test_moving_report(tmp_path, device):
 
 
 def test_cli_report(tmp_path, capsys, device):
-    from restircl.cli.main import main as cli
+    from restircl.cli.main import main
 
     args = ["report", "cornell_box", "--width", "16", "--height", "16", "--methods", "ris,light_array",
             "--budgets", "0.02,0.05", "--modes", "accumulate", "--no-cycles", "--reference-seconds", "1",
             "--cache-dir", str(tmp_path / "refs"), "--out", str(tmp_path / "out")]
-    assert cli.main(args) == 0
+    assert main(args) == 0
     out = capsys.readouterr().out
     assert "relMSE" in out and "slope" in out
     assert (tmp_path / "out" / "report_cornell_box_16x16.csv").exists()
-    assert cli.main(["report", "cornell_box", "--methods", "nope", "--no-cycles"]) == 2
+    assert main(["report", "cornell_box", "--methods", "nope", "--no-cycles"]) == 2
     args = ["report", "many_lights", "--moving", "--frames", "3", "--every", "2", "--width", "16", "--height",
             "9", "--methods", "light_array", "--reference-seconds", "0.5", "--cache-dir", str(tmp_path / "refs"),
             "--out", str(tmp_path / "out")]
-    assert cli.main(args) == 0
+    assert main(args) == 0
     assert (tmp_path / "out" / "report_moving_many_lights_16x9.json").exists()
 
 

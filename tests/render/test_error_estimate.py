@@ -129,10 +129,10 @@ def test_still_restir_keeps_its_history_after_two_chains(refs, device):
 
 
 def test_cli_render_target_error(tmp_path, capsys, device):
-    from restircl.cli.main import main as cli
+    from restircl.cli.main import main
 
-    rc = cli.main(["render", "cornell_box", "--width", "32", "--height", "32", "--frames", "50000", "--method",
-                   "ris", "--target-error", "3e-3", "--out", str(tmp_path)])
+    rc = main(["render", "cornell_box", "--width", "32", "--height", "32", "--frames", "50000", "--method",
+               "ris", "--target-error", "3e-3", "--out", str(tmp_path)])
     assert rc == 0
     out = capsys.readouterr().out
     assert "stopped after" in out and "reached the target 0.003" in out

@@ -13,7 +13,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 from restircl import SettingError, Settings
-from restircl.cli.main import build_parser, settings_from_args
+from restircl.cli.arguments import settings_from_args
+from restircl.cli.main import build_parser
 from restircl.core.program import build_program, opencl_dir
 from restircl.render import pipeline
 from restircl.settings.spec import Range, declared

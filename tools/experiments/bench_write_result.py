@@ -47,20 +47,20 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--passes", choices=("all", "none"), default="all")
     a = ap.parse_args(argv)
     import restircl_blender
-    from restircl_blender import engine
+    from restircl_blender import render_result
 
     if not hasattr(bpy.types.Scene, "restircl"):
         restircl_blender.register()
     sc = build(a.width, a.height, a.frames, a.passes == "all")
     times: dict[str, list[float]] = {"render_frame": [], "write_result": []}
-    original_write = engine.write_result
+    original_write = render_result.write_result
 
     def timed_write(*args, **kwargs):
         t0 = time.perf_counter()
         original_write(*args, **kwargs)
         times["write_result"].append((time.perf_counter() - t0) * 1e3)
 
-    engine.write_result = timed_write
+    render_result.write_result = timed_write
     import restircl
 
     renderer_cls = restircl.Renderer
@@ -78,7 +78,7 @@ def main(argv: list[str] | None = None) -> int:
         t0 = time.perf_counter()
         bpy.ops.render.render(animation=True)
         wall = time.perf_counter() - t0
-    engine.write_result = original_write
+    render_result.write_result = original_write
     renderer_cls.render_frame = original_frame
     print(f"{a.width}x{a.height}, {a.frames} frames, passes {a.passes}: {wall / a.frames * 1e3:.1f} ms of wall time "
           "per frame (bpy.ops.render.render, EXR writes included)")

@@ -111,11 +111,6 @@ def resolve(socket, stack: tuple = ()) -> Source:
             return Source(out, node, stack)
 
 
-def input_of(src: Source, names: Sequence[str]):
-    """An input of the node `src` points at (None if it has none of `names`)."""
-    return find_input(src.node, names) if src.node is not None else None
-
-
 def default_rgb(socket) -> tuple[float, float, float]:
     v = socket.default_value
     if hasattr(v, "__len__"):

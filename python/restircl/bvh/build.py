@@ -19,6 +19,7 @@ import numpy as np
 
 from ..core import layouts
 from . import packets as bvh_packets
+from .binning import bin_sah
 from .wide import COST_TRI, binary_sah_cost, depth_first, empty_slots, wide_nodes
 
 #: SAH bins per axis
@@ -50,7 +51,7 @@ def device_vertices(v0: np.ndarray, v1: np.ndarray, v2: np.ndarray):
     whenever the difference is a float32 (always when the coordinates are within a factor 2 of each other, as
     for small triangles far from the origin): a vertex shared by two triangles then has the same value in both,
     which the watertight intersection test needs. Otherwise it is off by at most one float32 step of the
-    triangle's coordinates, which the device's edge tolerance (BVH_EDGE_TOL in bvh/traverse.h) covers. The node boxes
+    triangle's coordinates, which the device's edge tolerance (BVH_EDGE_TOL in bvh/intersect.h) covers. The node boxes
     are computed from these reconstructed vertices, so they hold what the device intersects.
     """
     a = np.asarray(v0, dtype=np.float32)
@@ -103,65 +104,6 @@ class _Nodes:
         return np.arange(first, self.count, dtype=np.int64)
 
 
-def _prefix(x: np.ndarray, op) -> np.ndarray:
-    """Running op over the rows of x (row by row: numpy's accumulate along axis 0 is strided and slow)."""
-    out = np.empty_like(x)
-    out[0] = x[0]
-    for i in range(1, len(x)):
-        op(out[i - 1], x[i], out=out[i])
-    return out
-
-
-def _suffix(x: np.ndarray, op) -> np.ndarray:
-    out = np.empty_like(x)
-    out[-1] = x[-1]
-    for i in range(len(x) - 2, -1, -1):
-        op(out[i + 1], x[i], out=out[i])
-    return out
-
-
-def _bin_sah(axis, single, ext, c_lo, ce_ax, lo_ax, hi_ax, seg, seg_count, S, rows, bins):
-    """Bin every segment's centroids along `axis` (per segment; `single`: the same axis for all) and sweep the
-    SAH over the bins - 1 planes. Returns, per segment, the best plane, its cost, the left count and the
-    children's boxes (lo, hi: (S, 3) for left and right), and the bin of every triangle."""
-    e_ax = ext[rows, axis].astype(np.float64)
-    scale = np.where(e_ax > 0, bins * (1.0 - 1e-6) / np.where(e_ax > 0, e_ax, 1.0), 0.0).astype(np.float32)
-    lo_sel = c_lo[rows, axis]
-    c_sel = ce_ax[single] if single is not None else np.choose(axis[seg], ce_ax)
-    bk = ((c_sel - lo_sel[seg]) * scale[seg]).astype(np.int32)
-    np.clip(bk, 0, bins - 1, out=bk)
-    # Per (bin, segment): triangle count and box; bin-major, so that the sweeps run over contiguous rows.
-    nb = S * bins
-    key = bk * np.int32(S) + seg
-    cnt = np.bincount(key, minlength=nb).reshape(bins, S)
-    nl = np.cumsum(cnt[:-1], axis=0, dtype=np.int64)
-    nr = seg_count[None, :] - nl
-    pre_lo, pre_hi, suf_lo, suf_hi = [], [], [], []
-    for j in range(3):
-        t = np.full(nb, np.inf, np.float32)
-        np.minimum.at(t, key, lo_ax[j])
-        t = t.reshape(bins, S)
-        u = np.full(nb, -np.inf, np.float32)
-        np.maximum.at(u, key, hi_ax[j])
-        u = u.reshape(bins, S)
-        pre_lo.append(_prefix(t, np.minimum))
-        pre_hi.append(_prefix(u, np.maximum))
-        suf_lo.append(_suffix(t, np.minimum))
-        suf_hi.append(_suffix(u, np.maximum))
-    with np.errstate(invalid="ignore", over="ignore"):
-        dl = [pre_hi[j][:-1] - pre_lo[j][:-1] for j in range(3)]
-        dr = [suf_hi[j][1:] - suf_lo[j][1:] for j in range(3)]
-        al = dl[0] * dl[1] + dl[1] * dl[2] + dl[2] * dl[0]
-        ar = dr[0] * dr[1] + dr[1] * dr[2] + dr[2] * dr[0]
-        costs = al * nl + ar * nr
-    costs[(nl == 0) | (nr == 0)] = np.inf
-    plane = np.argmin(costs, axis=0)
-    pr = np.minimum(plane + 1, bins - 1)
-    boxes = tuple(np.stack([a[j][p, rows] for j in range(3)], 1)
-                  for a, p in ((pre_lo, plane), (pre_hi, plane), (suf_lo, pr), (suf_hi, pr)))
-    return plane, costs[plane, rows], nl[np.minimum(plane, bins - 2), rows], boxes, bk
-
-
 def _segment_ids(counts: np.ndarray) -> np.ndarray:
     return np.repeat(np.arange(len(counts), dtype=np.int32), counts)
 
@@ -185,6 +127,35 @@ def build_bvh(
     (no ray hits anything).
     """
     t_start = time.perf_counter()
+    v0, v1, v2 = _checked_vertices(v0, v1, v2)
+    n = len(v0)
+    leaf_max = max(1, int(bvh_packets.leaf_max() if leaf_max is None else leaf_max))
+    bins = max(2, int(BINS if bins is None else bins))
+    level = _Level.of_triangles(v0, v1, v2)
+    if n <= 1:
+        return BVH(_root_only(level), np.arange(n, dtype=np.int64), time.perf_counter() - t_start, 0, n,
+                   float(n) * COST_TRI)
+
+    # From this depth on every node is split in halves: the binary tree has at most 60 levels, so the traversal
+    # stack (3 entries per 4-wide level, at most MAX_DEPTH4 levels: see bvh/wide.py) cannot overflow.
+    depth_limit = max(1, 60 - int(np.ceil(np.log2(n))))
+    builder = _Builder(n, leaf_max, bins, all_axes)
+    depth = 0
+    while (inner := builder.split(level, halve_all=depth >= depth_limit)) is not None:
+        level = inner
+        depth += 1
+
+    assert builder.cursor == n
+    meta = builder.nodes.meta[: builder.nodes.count]
+    box = builder.nodes.box[: builder.nodes.count]
+    meta, box, order = depth_first(meta, box, builder.order)
+    sah = binary_sah_cost(meta, box)
+    out, _ = wide_nodes(meta, box)
+    return BVH(out, order, time.perf_counter() - t_start, depth + 1, builder.leaf_count, sah)
+
+
+def _checked_vertices(v0: np.ndarray, v1: np.ndarray, v2: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The vertex arrays as (T, 3) float64, after the checks the device's 32-bit indices and the build need."""
     v0 = np.asarray(v0, dtype=np.float64).reshape(-1, 3)
     v1 = np.asarray(v1, dtype=np.float64).reshape(-1, 3)
     v2 = np.asarray(v2, dtype=np.float64).reshape(-1, 3)
@@ -195,60 +166,126 @@ def build_bvh(
         raise ValueError("too many triangles for 32-bit indices")
     if n and not (np.all(np.isfinite(v0)) and np.all(np.isfinite(v1)) and np.all(np.isfinite(v2))):
         raise ValueError("triangle vertices contain NaN or Inf")
-    leaf_max = max(1, int(bvh_packets.leaf_max() if leaf_max is None else leaf_max))
-    bins = max(2, int(BINS if bins is None else bins))
+    return v0, v1, v2
 
-    # Boxes of the triangles as the device sees them (float32 v0 + e1, v0 + e2).
-    a, _, _, b, c = device_vertices(v0, v1, v2)
-    lo = np.minimum(np.minimum(a, b), c)
-    hi = np.maximum(np.maximum(a, b), c)
-    del a, b, c
-    # Per-triangle data of the triangles still to be placed, grouped by node (segments), structure of arrays.
-    lo_ax = [np.ascontiguousarray(lo[:, k]) for k in range(3)]
-    hi_ax = [np.ascontiguousarray(hi[:, k]) for k in range(3)]
-    ce_ax = [0.5 * lo_ax[k] + 0.5 * hi_ax[k] for k in range(3)]
-    ids = np.arange(n, dtype=np.int32)
-    del lo, hi
 
-    order = np.empty(n, dtype=np.int64)
-    nodes = _Nodes(max(16, (2 * n) // leaf_max + 16))
-    if n <= 1:
-        out = np.zeros(1, dtype=layouts.BVH_NODE)
-        empty_slots(out)
-        if n:  # one leaf in slot 0
-            order[0] = 0
-            out["child"][0, 0] = -1
-            out["count"][0, 0] = 1
-            for k, ax in enumerate("xyz"):
-                out["min" + ax][0, 0] = lo_ax[k][0]
-                out["max" + ax][0, 0] = hi_ax[k][0]
-        return BVH(out, order, time.perf_counter() - t_start, 0, n, float(n) * COST_TRI)
+@dataclass
+class _Level:
+    """The triangles still to be placed, grouped by node: one segment per node of the current level of the binary
+    tree, in order. Per triangle (structure of arrays, one array per axis): box and centroid, and input index."""
 
-    # From this depth on every node is split in halves: the binary tree has at most 60 levels, so the traversal
-    # stack (3 entries per 4-wide level, at most MAX_DEPTH4 levels: see bvh/wide.py) cannot overflow.
-    depth_limit = max(1, 60 - int(np.ceil(np.log2(n))))
-    cursor = 0                                    # next free leaf position in `order`
-    seg_count = np.array([n], dtype=np.int64)     # one segment per node of the current level, all inner
-    seg_node = np.array([0], dtype=np.int64)      # the node each segment becomes
-    depth = 0
-    leaf_count = 0
-    while len(seg_count):
-        S = len(seg_count)
-        m = len(ids)
-        starts = np.zeros(S, dtype=np.int64)
-        np.cumsum(seg_count[:-1], out=starts[1:])
-        seg = _segment_ids(seg_count)
+    lo: list[np.ndarray]
+    hi: list[np.ndarray]
+    ce: list[np.ndarray]
+    ids: np.ndarray         # int32: input triangle index
+    count: np.ndarray       # int64: triangles per segment, each more than leaf_max
+    node: np.ndarray        # int64: the node each segment becomes
+
+    @classmethod
+    def of_triangles(cls, v0: np.ndarray, v1: np.ndarray, v2: np.ndarray) -> _Level:
+        """All triangles in one segment, the root; their boxes as the device sees them (float32 v0 + e1, v0 + e2)."""
+        a, _, _, b, c = device_vertices(v0, v1, v2)
+        lo = np.minimum(np.minimum(a, b), c)
+        hi = np.maximum(np.maximum(a, b), c)
+        lo_ax = [np.ascontiguousarray(lo[:, k]) for k in range(3)]
+        hi_ax = [np.ascontiguousarray(hi[:, k]) for k in range(3)]
+        ce_ax = [0.5 * lo_ax[k] + 0.5 * hi_ax[k] for k in range(3)]
+        n = len(v0)
+        return cls(lo_ax, hi_ax, ce_ax, np.arange(n, dtype=np.int32), np.array([n], dtype=np.int64),
+                   np.array([0], dtype=np.int64))
+
+
+def _root_only(level: _Level) -> np.ndarray:
+    """The 4-wide root of a scene of at most one triangle: all slots unused but, with one triangle, a leaf in slot 0."""
+    out = np.zeros(1, dtype=layouts.BVH_NODE)
+    empty_slots(out)
+    if len(level.ids):
+        out["child"][0, 0] = -1
+        out["count"][0, 0] = 1
+        for k, ax in enumerate("xyz"):
+            out["min" + ax][0, 0] = level.lo[k][0]
+            out["max" + ax][0, 0] = level.hi[k][0]
+    return out
+
+
+class _Builder:
+    """The binary tree under construction: its nodes, the leaf order of the triangles placed so far."""
+
+    def __init__(self, n: int, leaf_max: int, bins: int, all_axes: bool) -> None:
+        self.leaf_max, self.bins, self.all_axes = leaf_max, bins, all_axes
+        self.nodes = _Nodes(max(16, (2 * n) // leaf_max + 16))
+        self.order = np.empty(n, dtype=np.int64)
+        self.cursor = 0  # next free leaf position in `order`
+        self.leaf_count = 0
+
+    def split(self, level: _Level, halve_all: bool) -> _Level | None:
+        """Split every node of `level` in two (in halves where `halve_all`), write the nodes, place the triangles of
+        the children that are leaves; the next level (the inner children), or None when there is none."""
+        starts = np.zeros(len(level.count), dtype=np.int64)
+        np.cumsum(level.count[:-1], out=starts[1:])
+        seg = _segment_ids(level.count)
+        right, n_left, boxes = self._partition(level, starts, seg, halve_all)
+        n_right = level.count - n_left
+        child_count = np.stack([n_left, n_right], 1).reshape(-1)
+        child_leaf = child_count <= self.leaf_max
+        ref, leaf_first = self._link(level.node, n_left, n_right, boxes, child_count, child_leaf)
+
+        # Rank of every triangle within its child (stable), then its destination: the next level's arrays for
+        # inner children, the leaf order for leaves.
+        m = len(level.ids)
+        left = ~right
+        cl = np.cumsum(left, dtype=np.int64)
+        cl -= left
+        rank = np.where(right, np.arange(m, dtype=np.int64) - starts[seg] - (cl - cl[starts][seg]),
+                        cl - cl[starts][seg])
+        child = 2 * seg.astype(np.int64) + right
+        is_leaf_p = child_leaf[child]
+        self._place_leaves(level.ids, child, rank, is_leaf_p, leaf_first, child_count, child_leaf)
+        inner_c = np.nonzero(~child_leaf)[0]
+        if len(inner_c) == 0:
+            return None
+        ic = np.where(child_leaf, 0, child_count)
+        new_start = np.cumsum(ic) - ic
+        src = np.nonzero(~is_leaf_p)[0]
+        perm = np.empty(len(src), dtype=np.int64)
+        perm[new_start[child[src]] + rank[src]] = src
+        return _Level([x[perm] for x in level.lo], [x[perm] for x in level.hi], [x[perm] for x in level.ce],
+                      level.ids[perm], child_count[inner_c], ref[inner_c])
+
+    def _partition(self, level: _Level, starts: np.ndarray, seg: np.ndarray, halve_all: bool):
+        """Per triangle, whether it goes to the right child; per segment, the left child's count and the children's
+        boxes (l_lo, l_hi, r_lo, r_hi: (S, 3) each)."""
+        plane, cost_best, n_left, (l_lo, l_hi, r_lo, r_hi), bk = self._best_planes(level, starts, seg)
+        # No plane separates the triangles only when all centroids coincide: split by position then (the children
+        # get the whole box). Also below the depth limit, to bound the depth.
+        halves = ~np.isfinite(cost_best)
+        if halve_all:
+            halves[:] = True
+        right = bk > plane[seg]
+        if np.any(halves):
+            h = halves[seg]
+            pos = np.arange(len(level.ids), dtype=np.int64) - starts[seg]
+            right[h] = pos[h] >= (level.count[seg][h] // 2)
+            w_lo = np.minimum(l_lo, r_lo)
+            w_hi = np.maximum(l_hi, r_hi)
+            hh = halves[:, None]
+            l_lo, r_lo = np.where(hh, w_lo, l_lo), np.where(hh, w_lo, r_lo)
+            l_hi, r_hi = np.where(hh, w_hi, l_hi), np.where(hh, w_hi, r_hi)
+        n_left = np.where(halves, level.count // 2, n_left)
+        return right, n_left, (l_lo, l_hi, r_lo, r_hi)
+
+    def _best_planes(self, level: _Level, starts: np.ndarray, seg: np.ndarray):
+        """bin_sah's answer per segment on the axis of lowest cost (all three, or the largest centroid extent)."""
+        S = len(level.count)
         rows = np.arange(S)
-
-        # Bin the centroids along the axis of largest centroid extent of each segment.
-        c_lo = np.stack([np.minimum.reduceat(ce_ax[k], starts) for k in range(3)], 1)
-        c_hi = np.stack([np.maximum.reduceat(ce_ax[k], starts) for k in range(3)], 1)
+        c_lo = np.stack([np.minimum.reduceat(level.ce[k], starts) for k in range(3)], 1)
+        c_hi = np.stack([np.maximum.reduceat(level.ce[k], starts) for k in range(3)], 1)
         ext = c_hi - c_lo
-        axes = [np.full(S, k) for k in range(3)] if all_axes else [np.argmax(ext, axis=1)]
+        axes = [np.full(S, k) for k in range(3)] if self.all_axes else [np.argmax(ext, axis=1)]
         best = None
         for i, axis in enumerate(axes):
-            r = _bin_sah(axis, i if all_axes else None, ext, c_lo, ce_ax, lo_ax, hi_ax, seg, seg_count, S, rows,
-                         bins)
+            r = bin_sah(axis, i if self.all_axes else None, ext, c_lo, level.ce, level.lo, level.hi, seg,
+                         level.count, S, rows, self.bins)
             if best is None:
                 best = list(r)
                 continue
@@ -258,82 +295,43 @@ def build_bvh(
             best[2] = np.where(better, r[2], best[2])
             best[3] = tuple(np.where(better[:, None], x, y) for x, y in zip(r[3], best[3], strict=True))
             best[4] = np.where(better[seg], r[4], best[4])
-        plane, cost_best, n_left, (l_lo, l_hi, r_lo, r_hi), bk = best
-        # No plane separates the triangles only when all centroids coincide: split by position then (the children
-        # get the whole box). Also below depth_limit, to bound the depth.
-        halves = ~np.isfinite(cost_best)
-        if depth >= depth_limit:
-            halves[:] = True
-        right = bk > plane[seg]
-        if np.any(halves):
-            h = halves[seg]
-            pos = np.arange(m, dtype=np.int64) - starts[seg]
-            right[h] = pos[h] >= (seg_count[seg][h] // 2)
-            w_lo = np.minimum(l_lo, r_lo)
-            w_hi = np.maximum(l_hi, r_hi)
-            hh = halves[:, None]
-            l_lo, r_lo = np.where(hh, w_lo, l_lo), np.where(hh, w_lo, r_lo)
-            l_hi, r_hi = np.where(hh, w_hi, l_hi), np.where(hh, w_hi, r_hi)
-        n_left = np.where(halves, seg_count // 2, n_left)
-        n_right = seg_count - n_left
-        child_count = np.stack([n_left, n_right], 1).reshape(-1)
-        child_leaf = child_count <= leaf_max
+        assert best is not None
+        return best
+
+    def _link(self, seg_node: np.ndarray, n_left: np.ndarray, n_right: np.ndarray, boxes, child_count: np.ndarray,
+              child_leaf: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Write the level's nodes: the children's boxes, and their references: new nodes for inner children, leaf
+        ranges (from the cursor on) for the others. Returns every child's reference and the leaves' first
+        positions."""
+        l_lo, l_hi, r_lo, r_hi = boxes
+        nodes = self.nodes
         for j in range(3):
             nodes.box[seg_node, j, 0] = l_lo[:, j]
             nodes.box[seg_node, j, 2] = l_hi[:, j]
             nodes.box[seg_node, j, 1] = r_lo[:, j]
             nodes.box[seg_node, j, 3] = r_hi[:, j]
-
-        # References: new nodes for inner children, leaf ranges for the others.
         inner_c = np.nonzero(~child_leaf)[0]
         leaf_c = np.nonzero(child_leaf)[0]
-        ref = np.empty(2 * S, dtype=np.int64)
+        ref = np.empty(len(child_count), dtype=np.int64)
         ref[inner_c] = nodes.alloc(len(inner_c))
         lc = child_count[leaf_c]
-        leaf_first = cursor + np.cumsum(lc) - lc
+        leaf_first = self.cursor + np.cumsum(lc) - lc
         ref[leaf_c] = ~leaf_first
         nodes.meta[seg_node, 0] = ref[0::2]
         nodes.meta[seg_node, 1] = ref[1::2]
         nodes.meta[seg_node, 2] = np.where(child_leaf[0::2], n_left, 0)
         nodes.meta[seg_node, 3] = np.where(child_leaf[1::2], n_right, 0)
+        return ref, leaf_first
 
-        # Rank of every triangle within its child (stable), then its destination: the next level's arrays for
-        # inner children, the leaf order for leaves.
-        left = ~right
-        cl = np.cumsum(left, dtype=np.int64)
-        cl -= left
-        rank = np.where(right, np.arange(m, dtype=np.int64) - starts[seg] - (cl - cl[starts][seg]),
-                        cl - cl[starts][seg])
-        child = 2 * seg.astype(np.int64) + right
-        is_leaf_p = child_leaf[child]
-        k_leaf = int(lc.sum())
+    def _place_leaves(self, ids: np.ndarray, child: np.ndarray, rank: np.ndarray, is_leaf_p: np.ndarray,
+                      leaf_first: np.ndarray, child_count: np.ndarray, child_leaf: np.ndarray) -> None:
+        """The triangles of the leaf children into the leaf order, each leaf's in the order of the level."""
+        leaf_c = np.nonzero(child_leaf)[0]
+        k_leaf = int(child_count[leaf_c].sum())
         if k_leaf:
-            out_pos = leaf_first_full = np.zeros(2 * S, dtype=np.int64)
+            leaf_first_full = np.zeros(len(child_count), dtype=np.int64)
             leaf_first_full[leaf_c] = leaf_first
             out_pos = leaf_first_full[child[is_leaf_p]] + rank[is_leaf_p]
-            order[out_pos] = ids[is_leaf_p]
-            cursor += k_leaf
-            leaf_count += len(leaf_c)
-        if len(inner_c) == 0:
-            break
-        ic = np.where(child_leaf, 0, child_count)
-        new_start = np.cumsum(ic) - ic
-        keep = ~is_leaf_p
-        src = np.nonzero(keep)[0]
-        perm = np.empty(len(src), dtype=np.int64)
-        perm[new_start[child[src]] + rank[src]] = src
-        for arrs in (lo_ax, hi_ax, ce_ax):
-            for k in range(3):
-                arrs[k] = arrs[k][perm]
-        ids = ids[perm]
-        seg_count = child_count[inner_c]
-        seg_node = ref[inner_c]
-        depth += 1
-
-    assert cursor == n
-    meta = nodes.meta[: nodes.count]
-    box = nodes.box[: nodes.count]
-    meta, box, order = depth_first(meta, box, order)
-    sah = binary_sah_cost(meta, box)
-    out, _ = wide_nodes(meta, box)
-    return BVH(out, order, time.perf_counter() - t_start, depth + 1, leaf_count, sah)
+            self.order[out_pos] = ids[is_leaf_p]
+            self.cursor += k_leaf
+            self.leaf_count += len(leaf_c)

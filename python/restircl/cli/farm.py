@@ -14,7 +14,8 @@ from ..farm.chunks import FrameRange, default_chunk_size, plan_chunks
 from ..farm.worker import Job, SceneSource, render_chunk
 from ..io.frame_files import written_frames
 from ..settings.table import Settings
-from .main import COUNT, Progress, load_scene
+from .arguments import COUNT, load_scene
+from .progress import Progress
 
 
 def add_farm_arguments(p: argparse.ArgumentParser) -> None:

@@ -19,7 +19,6 @@ from typing import Union
 import numpy as np
 
 COORDS = ("uv", "generated", "object")
-COLORSPACES = ("sRGB", "Non-Color")
 INTERPOLATIONS = ("Linear", "Closest")
 EXTENSIONS = ("REPEAT", "EXTEND", "CLIP")
 MIX_BLENDS = ("MIX", "MULTIPLY", "ADD", "SUBTRACT", "SCREEN", "DIFFERENCE", "DARKEN", "LIGHTEN", "OVERLAY")

@@ -66,14 +66,12 @@ LIGHT_PROPOSAL_CHOICES = (
            "probabilities, from every light's unshadowed contribution estimated once per render; else the light "
            "array", 3),
 )
-LIGHT_PROPOSALS = tuple(c.id for c in LIGHT_PROPOSAL_CHOICES)
 BSDF_SAMPLING_CHOICES = (
     Choice("auto", "Auto", "BSDF-sampled candidates at the pixels whose material has a specular lobe", 0),
     Choice("on", "On", "BSDF-sampled candidates for every scene (also diffuse ones, e.g. with large or mesh lights)",
            1),
     Choice("off", "Off", "Light candidates only", 2),
 )
-BSDF_SAMPLING = tuple(c.id for c in BSDF_SAMPLING_CHOICES)
 STILL_METHOD_CHOICES = (
     Choice("auto", "Auto", "Still renders replace ReSTIR's reuse, which converges slower on a still camera, by the "
            "estimator that converged fastest per second on stills of the scene's kind (render/still_method.py); the "
@@ -91,14 +89,12 @@ SAMPLER_CHOICES = (
     Choice("sobol", "Sobol", "Scrambled Sobol numbers for every RIS frame (stills, animation and viewport); "
            "ReSTIR keeps random numbers", 2),
 )
-SAMPLERS = tuple(c.id for c in SAMPLER_CHOICES)
 AREA_SAMPLING_CHOICES = (
     Choice("auto", "Auto", "Solid angle where an area light looks large from the shaded point, area elsewhere", 0),
     Choice("solid_angle", "Solid Angle", "Area lights, emissive triangles and soft point lights sampled uniformly "
            "in the solid angle they subtend (where float32 allows)", 1),
     Choice("area", "Area", "Area lights and emissive triangles sampled uniformly in area", 2),
 )
-AREA_SAMPLING = tuple(c.id for c in AREA_SAMPLING_CHOICES)
 #: BSDF rays are tested against at most this many analytic lights (a loop per ray); beyond it the BSDF strategy
 #: leaves them to light sampling (pdf 0 in the MIS weights, which stay correct)
 BSDF_ANALYTIC_MAX = 64

@@ -175,23 +175,6 @@ def add_cycles(report: Report, scene: Scene | None, budgets, ref: np.ndarray, lo
     return True
 
 
-def relmse_single_frames(scene: Scene, methods: list[str], reference: np.ndarray, frames: int = 8, warmup: int = 8,
-                         device=None) -> dict[str, tuple[float, float]]:
-    """(mean relMSE of single frames after warm-up, ms per frame) per method."""
-    out = {}
-    for name in methods:
-        r = Renderer(scene, Settings(**METHODS[name], seed=77, taa=False), device)
-        for _ in range(warmup):
-            r.render_frame(0, still=True, aovs=False)
-        errs, ms = [], []
-        for _ in range(frames):
-            f = r.render_frame(0, still=True, aovs=False)
-            errs.append(rel_mse(f.noisy, reference))
-            ms.append(f.ms)
-        out[name] = (float(np.mean(errs)), float(np.median(ms)))
-    return out
-
-
 def slope(rows: list[Row]) -> float:
     """Least-squares slope of log(relMSE) against log(seconds)."""
     if len(rows) < 2:

@@ -21,8 +21,6 @@ METHODS: dict[str, dict] = {
     "restir_bsdf": dict(method="restir", bsdf_sampling="on"),
     "restir_no_bsdf": dict(method="restir", bsdf_sampling="off"),
 }
-UNBIASED = ("uniform", "light_array", "ris", "restir_temporal", "restir_spatial", "restir", "cycles", "ris_bsdf",
-            "ris_no_bsdf", "restir_bsdf", "restir_no_bsdf")
 
 
 def method_settings(name: str, base: Settings | None, seed: int) -> Settings:

@@ -99,8 +99,3 @@ def get_reference(scene: Scene, frame: int = 0, seconds_hint: float = 60.0, fram
     log(f"reference: saved {path} ({seconds:.0f} s, its estimated relMSE {est})")
     return Reference(img, settings.method, frames, seconds, out.error_estimate, str(path))
 
-
-def reference_image(scene: Scene, seconds_hint: float = 60.0, frames: int | None = None, device=None,
-                    cache_dir: Path | None = None, log: Callable[[str], None] = print, frame: int = 0) -> np.ndarray:
-    """The image of get_reference(...)."""
-    return get_reference(scene, frame, seconds_hint, frames, device, cache_dir, log).image

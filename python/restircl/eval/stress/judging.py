@@ -126,10 +126,10 @@ def _settings(case: Case, method: str, seed: int) -> Settings:
 
 
 def _judge(case: Case, method: str, values: np.ndarray, ref: Reference, nonfinite: int, max_value: float,
-           seconds: float, samples: int, notes: list[str], dof: int | None = None) -> Result:
+           seconds: float, samples: int, notes: list[str]) -> Result:
     """values: (runs or batches, H, W, 3) independent estimates of the reference."""
     k = values.shape[0]
-    dof = k - 1 if dof is None else dof
+    dof = k - 1
     mean = values.mean(axis=0)
     se = values.std(axis=0, ddof=1) / math.sqrt(k)
     rel = float(np.mean((mean - ref.mean) ** 2 / (ref.mean**2 + 0.01)))
@@ -185,110 +185,141 @@ def _judge(case: Case, method: str, values: np.ndarray, ref: Reference, nonfinit
 def run_method(case: Case, method: str, ref: Reference, device=None, seed: int = 0) -> Result:
     t0 = time.perf_counter()
     notes: list[str] = []
-    nonfinite = 0
-    max_value = 0.0
-    samples = 0
     seed0 = 1000 * (list(METHODS).index(method) + 1) + 100_000 * seed
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # degenerate triangles are dropped with a warning: expected here
         r = Renderer(case.scene, _settings(case, method, seed0), device)
-
-    def seen(f: Frame) -> None:
-        nonlocal nonfinite, max_value
-        nonfinite += _nonfinite(f)
-        max_value = max(max_value, float(np.nanmax(f.color[..., :3])), float(np.nanmax(f.noisy)))
-
-    values = []
-    dof = None
+    seen = _Seen()
     if case.kind == "still":
-        for k in range(case.runs):
-            r.reset()
-            r.settings.seed = seed0 + k
-            f = r.render_still(case.eval_frame, case.frames * FRAMES_FACTOR.get(method, 1))
-            seen(f)
-            values.append(f.color[..., :3].astype(np.float64))
-            samples += f.samples
+        values, samples = _still_runs(case, method, r, seed0, seen)
     elif case.kind == "sequence":
-        for k in range(case.runs):
-            r.reset()
-            r.settings.seed = seed0 + k
-            for fr in case.before:
-                seen(r.render_frame(fr))
-            f = r.render_frame(case.eval_frame)
-            seen(f)
-            if case.cut_expected and "temporal" in f.stage_ms:
-                notes.append("temporal reuse across a cut")
-            value = f.noisy.astype(np.float64)
-            # a method without history gives independent samples of the frame under test: average a few
-            repeats = 1 if r.settings.method == "restir" else case.eval_repeats
-            for _ in range(repeats - 1):
-                f = r.render_frame(case.eval_frame)
-                seen(f)
-                value += f.noisy
-            values.append(value / repeats)
-            samples += len(case.before) + repeats
-            for fr in case.zero_after:
-                fz = r.render_frame(fr)
-                seen(fz)
-                if not (np.all(fz.noisy == 0) and np.all(fz.color[..., :3] == 0)):
-                    notes.append(f"frame {fr} not exactly 0")
-        if case.no_ghost:  # with TAA: the frame under test must be its own sample everywhere
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                rt = Renderer(case.scene, Settings(**{**r.settings.__dict__, "taa": True}), device)
-            for fr in case.before:
-                seen(rt.render_frame(fr))
-            f = rt.render_frame(case.eval_frame)
-            seen(f)
-            if not np.array_equal(f.color[..., :3], f.noisy):
-                notes.append(f"TAA kept history after the jump ({int((f.color[..., :3] != f.noisy).any(-1).sum())}"
-                             " px)")
-            nonfinite += sum(rt.guard_totals.values())
-    else:  # long
-        b = case.long_batch
-        n_batches = (case.frames - case.long_warmup) // b
-        start = case.frames - n_batches * b
-        m_bound = _m_bound(r.settings)
-        acc = np.zeros((r.height, r.width, 3))
-        last: list[np.ndarray] = []
-        max_m = 0.0
-        max_n = 0.0
-        for fr in range(case.frames):
-            f = r.render_frame(fr)
-            seen(f)
-            samples += 1
-            if fr >= case.frames - FLICKER_FRAMES:
-                last.append(f.color[..., :3].copy())
-            if fr >= start:  # ReSTIR's estimate: TAA's 1/n blend of a still camera spans more than a batch
-                acc += f.noisy
-                if (fr - start + 1) % b == 0:
-                    values.append(acc / b)
-                    acc = np.zeros_like(acc)
-            if fr % 50 == 49 or fr == case.frames - 1:
-                if r.settings.method == "restir":
-                    max_m = max(max_m, float(_reservoir_m(r).max()))
-                max_n = max(max_n, float(r.history_length().max()))
-        if max_m > m_bound:
-            notes.append(f"ReSTIR M reached {max_m:g} > bound {m_bound:g}")
-        if max_n > r.settings.max_history:
-            notes.append(f"TAA history length reached {max_n:g} > {r.settings.max_history}")
-        if case.frames > r.settings.max_history and max_n < r.settings.max_history:
-            notes.append(f"TAA history length only reached {max_n:g}")
-        if r.settings.method == "restir":
-            notes.append(f"max M {max_m:g} (bound {m_bound:g})")
-        notes.append(f"max TAA n {max_n:g}")
+        values, samples = _sequence_runs(case, r, seed0, seen, notes)
+        if case.no_ghost:
+            _check_no_ghost(case, r.settings, device, seen, notes)
+    else:
+        values, samples, last = _long_run(case, r, seen, notes)
     if case.kind != "long":
         last, guards = _flicker_outputs(case, r.settings, device, seen)
-        nonfinite += guards
-    nonfinite += sum(r.guard_totals.values())
-    res = _judge(case, method, np.stack(values), ref, nonfinite, max_value, time.perf_counter() - t0, samples,
-                 notes, dof)
+        seen.nonfinite += guards
+    seen.nonfinite += sum(r.guard_totals.values())
+    res = _judge(case, method, np.stack(values), ref, seen.nonfinite, seen.max_value, time.perf_counter() - t0,
+                 samples, notes)
     st = flicker_stats(method, "still", last, [ref.mean] * len(last))
     res.flicker, res.flicker_error, res.flicker_ratio, res.boiling = st.flicker, st.error, st.ratio, st.boiling
     bad = [n for n in notes if not n.startswith("max ")]
     if bad and res.passed:
         res.passed = False
     return res
+
+
+class _Seen:
+    """What every frame a case renders adds to its verdict: NaN/Inf values and the largest value."""
+
+    def __init__(self) -> None:
+        self.nonfinite = 0
+        self.max_value = 0.0
+
+    def __call__(self, f: Frame) -> None:
+        self.nonfinite += _nonfinite(f)
+        self.max_value = max(self.max_value, float(np.nanmax(f.color[..., :3])), float(np.nanmax(f.noisy)))
+
+
+def _still_runs(case: Case, method: str, r: Renderer, seed0: int, seen: _Seen) -> tuple[list[np.ndarray], int]:
+    """A still case: `runs` independent still renders of the frame under test; the images and the sample count."""
+    values = []
+    samples = 0
+    for k in range(case.runs):
+        r.reset()
+        r.settings.seed = seed0 + k
+        f = r.render_still(case.eval_frame, case.frames * FRAMES_FACTOR.get(method, 1))
+        seen(f)
+        values.append(f.color[..., :3].astype(np.float64))
+        samples += f.samples
+    return values, samples
+
+
+def _sequence_runs(case: Case, r: Renderer, seed0: int, seen: _Seen,
+                   notes: list[str]) -> tuple[list[np.ndarray], int]:
+    """A sequence case, `runs` times from a fresh history: the frames before, the frame under test (its 1-sample
+    image), then the frames that must be exactly 0; the images and the sample count."""
+    values = []
+    samples = 0
+    for k in range(case.runs):
+        r.reset()
+        r.settings.seed = seed0 + k
+        for fr in case.before:
+            seen(r.render_frame(fr))
+        f = r.render_frame(case.eval_frame)
+        seen(f)
+        if case.cut_expected and "temporal" in f.stage_ms:
+            notes.append("temporal reuse across a cut")
+        value = f.noisy.astype(np.float64)
+        # a method without history gives independent samples of the frame under test: average a few
+        repeats = 1 if r.settings.method == "restir" else case.eval_repeats
+        for _ in range(repeats - 1):
+            f = r.render_frame(case.eval_frame)
+            seen(f)
+            value += f.noisy
+        values.append(value / repeats)
+        samples += len(case.before) + repeats
+        for fr in case.zero_after:
+            fz = r.render_frame(fr)
+            seen(fz)
+            if not (np.all(fz.noisy == 0) and np.all(fz.color[..., :3] == 0)):
+                notes.append(f"frame {fr} not exactly 0")
+    return values, samples
+
+
+def _check_no_ghost(case: Case, settings: Settings, device, seen: _Seen, notes: list[str]) -> None:
+    """With TAA, the frame under test after the case's jump must be its own sample everywhere."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        rt = Renderer(case.scene, Settings(**{**settings.__dict__, "taa": True}), device)
+    for fr in case.before:
+        seen(rt.render_frame(fr))
+    f = rt.render_frame(case.eval_frame)
+    seen(f)
+    if not np.array_equal(f.color[..., :3], f.noisy):
+        notes.append(f"TAA kept history after the jump ({int((f.color[..., :3] != f.noisy).any(-1).sum())} px)")
+    seen.nonfinite += sum(rt.guard_totals.values())
+
+
+def _long_run(case: Case, r: Renderer, seen: _Seen, notes: list[str]) -> tuple[list[np.ndarray], int, list]:
+    """A long case: `frames` frames of one history; the batch means of the 1-sample images after the warm-up, the
+    sample count and the last FLICKER_FRAMES TAA outputs. Notes the largest ReSTIR M and TAA history length."""
+    b = case.long_batch
+    n_batches = (case.frames - case.long_warmup) // b
+    start = case.frames - n_batches * b
+    m_bound = _m_bound(r.settings)
+    acc = np.zeros((r.height, r.width, 3))
+    values: list[np.ndarray] = []
+    last: list[np.ndarray] = []
+    max_m = 0.0
+    max_n = 0.0
+    for fr in range(case.frames):
+        f = r.render_frame(fr)
+        seen(f)
+        if fr >= case.frames - FLICKER_FRAMES:
+            last.append(f.color[..., :3].copy())
+        if fr >= start:  # ReSTIR's estimate: TAA's 1/n blend of a still camera spans more than a batch
+            acc += f.noisy
+            if (fr - start + 1) % b == 0:
+                values.append(acc / b)
+                acc = np.zeros_like(acc)
+        if fr % 50 == 49 or fr == case.frames - 1:
+            if r.settings.method == "restir":
+                max_m = max(max_m, float(_reservoir_m(r).max()))
+            max_n = max(max_n, float(r.history_length().max()))
+    if max_m > m_bound:
+        notes.append(f"ReSTIR M reached {max_m:g} > bound {m_bound:g}")
+    if max_n > r.settings.max_history:
+        notes.append(f"TAA history length reached {max_n:g} > {r.settings.max_history}")
+    if case.frames > r.settings.max_history and max_n < r.settings.max_history:
+        notes.append(f"TAA history length only reached {max_n:g}")
+    if r.settings.method == "restir":
+        notes.append(f"max M {max_m:g} (bound {m_bound:g})")
+    notes.append(f"max TAA n {max_n:g}")
+    return values, case.frames, last
 
 
 def _flicker_outputs(case: Case, settings: Settings, device,

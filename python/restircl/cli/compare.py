@@ -1,0 +1,40 @@
+"""`restircl compare`: ours against Cycles at equal wall time on the held-out scenes (restircl/eval/cycles, imported
+when the command runs; needs bpy)."""
+
+from __future__ import annotations
+
+import argparse
+
+from .arguments import COUNT, POSITIVE, SECONDS
+
+
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    c = sub.add_parser("compare", help="ours against Cycles at equal wall time on the held-out scenes (needs bpy)",
+                       description="Render the held-out scenes (studio, neon, garden; sky, an HDRI world, with "
+                                   "--kinds) with Cycles (direct light only) and our methods (default: ReSTIR as "
+                                   "for an animation; auto: F12's still estimator; ris and the other still "
+                                   "candidates of eval/cycles_compare.OURS) for each wall-time budget, and "
+                                   "compare their relMSE against a cached 2 x N-spp Cycles image: tables, CSV/JSON, "
+                                   "plot.")
+    c.add_argument("--kinds", default="studio,neon,garden")
+    c.add_argument("--methods", default="cycles,default,auto,ris")
+    c.add_argument("--budgets", type=POSITIVE.parse_list, default="1,4,16", help="seconds (%(default)s)")
+    c.add_argument("--reps", type=COUNT, default=3, help="repetitions of every budget (%(default)s)")
+    c.add_argument("--width", type=COUNT, default=192)
+    c.add_argument("--height", type=COUNT, default=108)
+    c.add_argument("--reference-spp", type=COUNT, default=1024, help="samples of each of the two reference halves")
+    c.add_argument("--agreement-seconds", type=SECONDS, default=60.0, help="time for our converged image")
+    c.add_argument("--threads", type=COUNT, default=2, help="Cycles' render threads (%(default)s)")
+    c.add_argument("--cycles-world-map", type=int, default=0, metavar="N",
+                   help="the timed Cycles renders' world importance map: Manual at N (default 0: Blender's "
+                        "Automatic, built in every render call)")
+    c.add_argument("--cache-dir", default=None, help="reference cache (default: ~/.cache/restircl)")
+    c.add_argument("--out", default="out", help="writes OUT/data/compare_cycles_WxH.* and OUT/img/...png")
+    c.add_argument("--device", default=None)
+    c.set_defaults(func=run)
+
+
+def run(a: argparse.Namespace) -> int:
+    from ..eval.cycles import compare_report as cycles_compare_report
+
+    return cycles_compare_report.main(a)
