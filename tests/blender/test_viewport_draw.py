@@ -23,7 +23,7 @@ from .test_blender_support import needs_renderer  # noqa: E402
 
 pytestmark = pytest.mark.blender
 
-SCRIPT = Path(__file__).with_name("blender/viewport_draw_script.py")
+SCRIPT = Path(__file__).with_name("viewport_draw_script.py")
 HALF = 2.0**-10  # relative step of a half float near 1: two roundings (texture, colour buffer) stay below it
 
 

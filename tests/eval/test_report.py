@@ -230,7 +230,7 @@ def test_moving_report(tmp_path, device):
 
 
 def test_cli_report(tmp_path, capsys, device):
-    from restircl.cli.main import main as cli
+    from restircl.cli import main as cli
 
     args = ["report", "cornell_box", "--width", "16", "--height", "16", "--methods", "ris,light_array",
             "--budgets", "0.02,0.05", "--modes", "accumulate", "--no-cycles", "--reference-seconds", "1",
