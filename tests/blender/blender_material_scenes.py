@@ -7,8 +7,7 @@ import math
 
 import bpy
 import numpy as np
-
-from .test_blender_support import scenes
+from restircl.eval import blender_scenes as scenes
 
 
 def _principled(name: str, **inputs):

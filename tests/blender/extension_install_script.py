@@ -4,8 +4,9 @@ scene with restircl and with Cycles. Run by tests/blender/test_blender_extension
     python -S tests/blender/extension_install_script.py ZIP OUTDIR SITE
 
 SITE holds only bpy and the modules bpy needs (-S leaves out the rest of site-packages), so restircl, pyopencl,
-PoCL, OpenEXR and Pillow can come only from the wheels in the zip. The caller points BLENDER_USER_* at empty
-folders before this starts, since bpy reads them when it is imported. Prints one JSON line last.
+PoCL, OpenEXR and Pillow can come only from the wheels in the zip; so does the scene builder this uses
+(restircl.eval.blender_scenes, part of the restircl wheel). The caller points BLENDER_USER_* at empty folders
+before this starts, since bpy reads them when it is imported. Prints one JSON line last.
 """
 
 from __future__ import annotations
@@ -19,8 +20,6 @@ zip_path, outdir, site = sys.argv[1], Path(sys.argv[2]), sys.argv[3]
 sys.path.insert(0, site)
 import bpy  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "blend"))
 report: dict = {"blender": bpy.app.version_string, "python": sys.version.split()[0]}
 bpy.ops.wm.read_factory_settings(use_empty=True)  # before installing: factory settings disable extensions
 repo = Path(bpy.utils.user_resource("EXTENSIONS")) / "user_default"
@@ -34,11 +33,10 @@ engines = {getattr(c, "bl_idname", None) for c in bpy.types.RenderEngine.__subcl
 report["engine"] = "RESTIRCL" in engines
 import pyopencl  # noqa: E402
 import restircl  # noqa: E402
+from restircl.eval import blender_scenes as scenes  # noqa: E402
 
-report["modules"] = {m.__name__: m.__file__ for m in (restircl, pyopencl)}
+report["modules"] = {m.__name__: m.__file__ for m in (restircl, pyopencl, scenes)}
 report["extensions_dir"] = bpy.utils.user_resource("EXTENSIONS")
-
-import scenes  # noqa: E402  (blend/scenes.py; its Cycles settings come from the installed restircl)
 
 sc = scenes.comparison_scene("mixed", 48, 36, reset=False)
 scenes.cycles_direct_only(sc, samples=256, seed=1, threads=2)

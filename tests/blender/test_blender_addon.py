@@ -6,9 +6,10 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
+from restircl.eval import blender_scenes as scenes  # noqa: E402
 from restircl.settings.spec import declared  # noqa: E402
 
-from .test_blender_support import ensure_registered, needs_renderer, read_exr_passes, render_to, scenes  # noqa: E402
+from .test_blender_support import ensure_registered, needs_renderer, read_exr_passes, render_to  # noqa: E402
 
 pytestmark = pytest.mark.blender
 

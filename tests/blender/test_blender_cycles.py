@@ -12,7 +12,9 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from .test_blender_support import LIGHT_KINDS, comparison_scene, cycles_and_ours, needs_renderer  # noqa: E402
+from restircl.eval.blender_scenes import LIGHT_KINDS, comparison_scene  # noqa: E402
+
+from .test_blender_support import cycles_and_ours, needs_renderer  # noqa: E402
 
 pytestmark = [pytest.mark.blender, needs_renderer]
 

@@ -13,13 +13,9 @@ from restircl.eval.cycles.bridge import node_material
 bpy = pytest.importorskip("bpy")
 restircl = pytest.importorskip("restircl")
 
-from .test_blender_support import (  # noqa: E402
-    ensure_registered,
-    needs_renderer,
-    read_exr_passes,
-    render_to,
-    scenes,
-)
+from restircl.eval import blender_scenes as scenes  # noqa: E402
+
+from .test_blender_support import ensure_registered, needs_renderer, read_exr_passes, render_to  # noqa: E402
 
 pytestmark = pytest.mark.blender
 

@@ -11,34 +11,17 @@ sphere (Cycles' alpha 1) for the material below: the mean display value per chan
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from .test_blender_support import ensure_registered, needs_renderer, scenes  # noqa: E402
+from restircl.eval import blender_scenes as scenes  # noqa: E402
+
+from .test_blender_support import ensure_registered, needs_renderer  # noqa: E402
 
 pytestmark = [pytest.mark.blender, needs_renderer]
 BOUND = 0.02  # relative difference of the sphere's mean display value per channel
-
-
-def icon(material, engine: str, timeout: float = 300.0) -> np.ndarray:
-    """The icon preview (H, W, 4) that `engine` renders of a copy of `material` (a fresh preview each time). The
-    job runs on a thread of its own: wait (sleeping, so the job gets Python) until its pixels arrive."""
-    bpy.context.scene.render.engine = engine
-    mat = material.copy()
-    mat.asset_generate_preview()  # ed.lib_id_generate_preview's job; that operator's poll fails in 5.3
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        time.sleep(0.05)
-        w, h = mat.preview.image_size
-        px = np.array(mat.preview.image_pixels_float[:], np.float32).reshape(h, w, 4)
-        if px[..., 3].sum() > 0:  # the film is transparent: alpha arrives with the render
-            time.sleep(0.2)  # the job's last writes
-            return np.array(mat.preview.image_pixels_float[:], np.float32).reshape(h, w, 4)
-    raise AssertionError(f"no {engine} preview of {material.name} within {timeout} s")
 
 
 @pytest.fixture(scope="module")
@@ -48,11 +31,11 @@ def previews():
     mat = scenes.diffuse_material("PreviewOrange", (0.8, 0.3, 0.1))
     props = bpy.context.scene.restircl
     props.preview_samples = 16
-    ours = icon(mat, "RESTIRCL")
+    ours = scenes.preview_icon(mat, "RESTIRCL")
     props.preview_samples = 1
-    one = icon(mat, "RESTIRCL")
+    one = scenes.preview_icon(mat, "RESTIRCL")
     props.preview_samples = 16
-    cycles = icon(mat, "CYCLES")
+    cycles = scenes.preview_icon(mat, "CYCLES")
     bpy.context.scene.render.engine = "RESTIRCL"
     return ours, one, cycles
 

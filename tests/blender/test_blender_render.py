@@ -1,22 +1,20 @@
-"""Rendering through bpy.ops.render.render with the RESTIRCL engine: EXR outputs and passes, animation history,
-and bad scenes that must give a report (RuntimeError from the operator), never an unhandled exception."""
+"""Rendering through bpy.ops.render.render with the RESTIRCL engine: EXR outputs and passes, a still's Target Error
+and stats line, animation history, and bad scenes that must give a report (RuntimeError from the operator), never
+an unhandled exception."""
 
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from .test_blender_support import (  # noqa: E402
-    ensure_registered,
-    needs_renderer,
-    read_exr_passes,
-    render_to,
-    scenes,
-)
+from restircl.eval import blender_scenes as scenes  # noqa: E402
+
+from .test_blender_support import ensure_registered, needs_renderer, read_exr_passes, render_to  # noqa: E402
 
 pytestmark = [pytest.mark.blender, needs_renderer]
 
@@ -127,6 +125,42 @@ def test_still_render_uses_the_still_estimator_and_the_user_can_override_it(tmp_
     check_passes(read_exr_passes(tmp_path / "as_set.exr"))
 
 
+def test_target_error_and_stats_line(tmp_path, monkeypatch):
+    """The add-on's Target Error stops a still render (F12), and the stats line shows the estimate and the
+    compiled features (the estimate itself: tests/render/test_error_estimate.py)."""
+    addon = ensure_registered()
+    stats, reports = [], []
+
+    class Recorder:
+        def __init__(self, engine):
+            self._engine = engine
+
+        def update_stats(self, a, b):
+            stats.append(b)
+            self._engine.update_stats(a, b)
+
+        def report(self, kind, msg):
+            reports.append(msg)
+            self._engine.report(kind, msg)
+
+        def __getattr__(self, name):
+            return getattr(self._engine, name)
+
+    real = addon.engine.render
+    monkeypatch.setattr(addon.engine, "render", lambda engine, depsgraph: real(Recorder(engine), depsgraph))
+    sc = small_scene("ris", samples=20_000)
+    sc.restircl.target_error = 3e-3
+    render_to(sc, tmp_path / "target.exr")
+    assert np.all(np.isfinite(read_exr_passes(tmp_path / "target.exr")["Combined"]))
+    stopped = [m for m in reports if "stopped after" in m]
+    assert stopped, reports
+    assert int(stopped[0].split("stopped after ")[1].split()[0]) < 20_000
+    assert any("est. relMSE" in s for s in stats), stats[-3:]
+    assert any("compiled:" in s for s in stats), stats[-3:]
+    est = float(stats[-1].split("est. relMSE ")[1].split()[0])
+    assert est <= 3e-3 and math.isfinite(est)
+
+
 def test_animation_without_gbuffer_passes_writes_the_image(tmp_path):
     sc = small_scene()
     vl = sc.view_layers[0]
@@ -206,7 +240,7 @@ def test_example_scenes_render(tmp_path, name):
         getattr(scenes, f"{name}_scene")()
         bpy.context.scene.render.engine = "RESTIRCL"
     elif not path.exists():
-        pytest.skip(f"{path} not built (python blend/scenes.py)")
+        pytest.skip(f"{path} not built (python -m restircl.eval.blender_scenes)")
     else:
         bpy.ops.wm.open_mainfile(filepath=str(path))
     sc = bpy.context.scene
@@ -218,10 +252,9 @@ def test_example_scenes_render(tmp_path, name):
     assert np.all(np.isfinite(c)) and c[..., :3].mean() > 0.005
 
 
-def scenes_dir():
-    from pathlib import Path
-
-    return Path(scenes.__file__).resolve().parent
+def scenes_dir() -> Path:
+    """The checkout's blend/ folder, which holds the example .blend files."""
+    return Path(__file__).resolve().parents[2] / "blend"
 
 
 # ---- bad scenes: a report, not an exception -------------------------------------------------------------

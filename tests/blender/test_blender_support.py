@@ -1,11 +1,12 @@
 """Shared set-up of the Blender tests (add-on registration, EXR reading, test scenes), and tests of it.
 
-The other tests/test_blender_*.py import from here after skipping themselves when bpy is missing.
+The other tests/blender/test_*.py import from here after skipping themselves when bpy is missing. Importing this
+module makes the add-on importable as `restircl_blender` (restircl.io.blend.addon_module: an installed extension,
+else the checkout's addon/ folder), so the tests import its modules by name.
 """
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -13,13 +14,11 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-ROOT = Path(__file__).resolve().parents[2]
-for _p in (ROOT / "addon", ROOT / "blend"):
-    if str(_p) not in sys.path:
-        sys.path.insert(0, str(_p))
-
-import scenes  # noqa: E402  (blend/scenes.py)
+from restircl.eval import blender_scenes as scenes  # noqa: E402
+from restircl.io.blend import addon_module  # noqa: E402
 from restircl.render.passes import PASSES  # noqa: E402
+
+ADDON = addon_module()
 
 pytestmark = pytest.mark.blender
 
@@ -27,12 +26,10 @@ CHANNEL_ORDER = {name: p.channels for p in PASSES for name in {p.blender, p.blen
 
 
 def ensure_registered():
-    """Register the add-on once per process (as docs/blender.md says: sys.path + register())."""
-    import restircl_blender
-
+    """Register the add-on once per process (its register(), as docs/blender.md says)."""
     if not hasattr(bpy.types.Scene, "restircl"):
-        restircl_blender.register()
-    return restircl_blender
+        ADDON.register()
+    return ADDON
 
 
 def has_renderer() -> bool:
@@ -106,10 +103,6 @@ def render_to(scene, path: Path, animation: bool = False) -> None:
         bpy.ops.render.render(write_still=True)
 
 
-LIGHT_KINDS = scenes.LIGHT_KINDS
-comparison_scene = scenes.comparison_scene
-
-
 # ---- tests of the helpers -------------------------------------------------------------------------------
 
 
@@ -123,7 +116,7 @@ def test_new_scene_is_empty_with_black_world():
 
 def test_read_exr_passes_roundtrip(tmp_path):
     """Blender 5 writes multilayer EXRs as multi-part files; the reader must see every part."""
-    sc = comparison_scene("sun", 16, 12)
+    sc = scenes.comparison_scene("sun", 16, 12)
     scenes.cycles_direct_only(sc, samples=4, threads=2)
     vl = sc.view_layers[0]
     vl.use_pass_z = True

@@ -11,7 +11,9 @@ import pytest
 bpy = pytest.importorskip("bpy")
 restircl = pytest.importorskip("restircl")
 
-from .test_blender_support import ensure_registered, scenes  # noqa: E402
+from restircl.eval import blender_scenes as scenes  # noqa: E402
+
+from .test_blender_support import ensure_registered  # noqa: E402
 
 pytestmark = [pytest.mark.blender,
               pytest.mark.skipif(not hasattr(restircl, "Environment"), reason="restircl has no Environment")]

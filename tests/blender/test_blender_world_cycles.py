@@ -12,9 +12,10 @@ import pytest
 bpy = pytest.importorskip("bpy")
 restircl = pytest.importorskip("restircl")
 
+from restircl.eval import blender_scenes as scenes  # noqa: E402
 from restircl.render.features import ALL_FLAGS  # noqa: E402
 
-from .test_blender_support import cycles_and_ours, needs_renderer, scenes  # noqa: E402
+from .test_blender_support import cycles_and_ours, needs_renderer  # noqa: E402
 
 pytestmark = [pytest.mark.blender, needs_renderer,
               pytest.mark.skipif("HAS_ENVIRONMENT" not in ALL_FLAGS, reason="no environment light in this build")]

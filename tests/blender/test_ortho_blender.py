@@ -10,7 +10,9 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from .test_blender_support import ensure_registered, needs_renderer, read_exr_passes, render_to, scenes  # noqa: E402
+from restircl.eval import blender_scenes as scenes  # noqa: E402
+
+from .test_blender_support import ensure_registered, needs_renderer, read_exr_passes, render_to  # noqa: E402
 
 pytestmark = pytest.mark.blender
 ensure_registered()

@@ -14,7 +14,9 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from .test_blender_support import ensure_registered, needs_renderer, scenes  # noqa: E402
+from restircl.eval import blender_scenes as scenes  # noqa: E402
+
+from .test_blender_support import ensure_registered, needs_renderer  # noqa: E402
 
 pytestmark = pytest.mark.blender
 

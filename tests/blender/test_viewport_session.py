@@ -15,7 +15,7 @@ import pytest
 
 pytest.importorskip("bpy")  # the add-on package imports bpy (the session module itself does not use it)
 
-from .test_blender_support import ensure_registered  # noqa: E402  (puts addon/ on sys.path)
+from .test_blender_support import ensure_registered  # noqa: E402  (makes restircl_blender importable)
 
 ensure_registered()
 

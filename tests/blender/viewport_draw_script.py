@@ -8,19 +8,17 @@ real RenderEngine instance, which Python cannot make on its own. The offscreen g
 Blender sets up for view_draw (an orthographic projection over the region, identity model-view).
 
     python tests/blender/viewport_draw_script.py OUT.npz     (prints one line: "viewport-draw: ok|skip <why>")
+
+restircl comes from the environment, as in the tests; the add-on through restircl.io.blend.addon_module.
 """
 
 from __future__ import annotations
 
 import sys
-from pathlib import Path
 from types import SimpleNamespace
 
-ROOT = Path(__file__).resolve().parents[2]
-sys.path[:0] = [str(ROOT / "python"), str(ROOT / "addon"), str(ROOT / "blend")]
-
-import bpy  # noqa: E402
-import numpy as np  # noqa: E402
+import bpy
+import numpy as np
 
 W, H = 8, 6  # the region drawn into
 
@@ -142,10 +140,10 @@ def main(out_path: str) -> None:
     if device is None:
         print("viewport-draw: skip bpy made no GPU context in background mode")
         return
-    import restircl_blender
-    import scenes
+    from restircl.eval import blender_scenes as scenes
+    from restircl.io.blend import addon_module
 
-    restircl_blender.register()
+    addon_module().register()
     bpy.utils.register_class(DrawProbe)
     sc = scenes.new_scene(W, H, engine="RESTIRCL")
     scenes.quad("Floor", 10.0, 10.0, scenes.diffuse_material("Floor", (0.8, 0.8, 0.8)))

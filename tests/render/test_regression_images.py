@@ -7,6 +7,8 @@ hashes were recorded on (same device name and driver version) the images must be
 PoCL's code generation may round differently (vector width, math library), so there the images are compared with
 the stored ones (tests/data/regression_images.npz) to a tolerance at floating-point level instead.
 
+With `-m slow`, every case also renders bit-identical buffers with BVH leaf packets on and off (on any device).
+
 Record anew (only when an image is meant to change): RESTIRCL_RECORD_REGRESSION=1 pytest
 tests/render/test_regression_images.py
 """
@@ -21,6 +23,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from restircl import Renderer, Settings, scenes
+from restircl.bvh import packets as bvh_packets
 
 from ..helpers import mixed_lights_scene, occluder_scene
 
@@ -124,6 +127,21 @@ def test_images_unchanged(scene_name, config, device, recorded):
     if not same_device:
         # resampling amplifies the last bit of a difference into another pick: colours compare on the device only
         pytest.skip(f"colours recorded on {recorded['device']!r}, not this device: only the AOVs were compared")
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("scene_name", "config"), CASES, ids=[f"{s}-{c}" for s, c in CASES])
+def test_images_unchanged_by_leaf_packets(scene_name, config, device, monkeypatch):
+    """Leaf packets on and off (bvh.packets.ENABLED: the packet test or the one-by-one leaf test, each on the
+    leaf size bvh.packets.leaf_max gives it): every buffer bit for bit the same. Unlike the recorded hashes, this
+    holds on any device."""
+    images = {}
+    for packets in (False, True):
+        monkeypatch.setattr(bvh_packets, "ENABLED", packets)
+        images[packets] = _render(scene_name, config, device)
+    assert images[False].keys() == images[True].keys()
+    differ = [k for k, v in images[False].items() if _hash(v) != _hash(images[True][k])]
+    assert differ == [], f"differ between leaf packets on and off: {differ}"
 
 
 def test_zz_write_recording(device, recorded):

@@ -5,7 +5,7 @@ reference is the cache's one image of the kind at 192x108 (its key, the scene fi
 format even where the scene does not; the area-sampling RIS figure at 64 frames against
 docs/measurements/error-vs-time.md's is the check that it still fits).
 
-    python tools/experiments/area_sampling_measure.py --cache-dir /work/cache-compare23/refs --kinds studio,neon
+    python -m tools.experiments.area_sampling_measure --cache-dir /work/cache-compare23/refs --kinds studio,neon
 """
 
 from __future__ import annotations

@@ -2,7 +2,7 @@
 `render_frame` (the renderer's frame with its read-back) and `write_result` (the Frame into Blender's Render
 Result), per frame, median over the frames after the first.
 
-    python tools/experiments/bench_write_result.py [--width 192 --height 108 --frames 24] [--passes all|none]
+    python -m tools.experiments.bench_write_result [--width 192 --height 108 --frames 24] [--passes all|none]
 
 `--passes all` turns on every pass the add-on writes (Depth, Normal, Vector, Noisy Direct, Diffuse Color), `none`
 turns them off (Combined only). Needs bpy and a device (PoCL).
@@ -12,17 +12,14 @@ from __future__ import annotations
 
 import argparse
 import statistics
-import sys
 import tempfile
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
-for _p in (ROOT / "addon", ROOT / "blend", ROOT / "python"):
-    sys.path.insert(0, str(_p))
-
-import bpy  # noqa: E402
-import scenes  # noqa: E402  (blend/scenes.py)
+import bpy
+import restircl
+from restircl.eval import blender_scenes as scenes
+from restircl.io.blend import addon_module
 
 
 def build(width: int, height: int, frames: int, all_passes: bool):
@@ -46,11 +43,10 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--frames", type=int, default=24)
     ap.add_argument("--passes", choices=("all", "none"), default="all")
     a = ap.parse_args(argv)
-    import restircl_blender
-    from restircl_blender import render_result
-
+    addon = addon_module()
+    render_result = addon.render_result
     if not hasattr(bpy.types.Scene, "restircl"):
-        restircl_blender.register()
+        addon.register()
     sc = build(a.width, a.height, a.frames, a.passes == "all")
     times: dict[str, list[float]] = {"render_frame": [], "write_result": []}
     original_write = render_result.write_result
@@ -61,8 +57,6 @@ def main(argv: list[str] | None = None) -> int:
         times["write_result"].append((time.perf_counter() - t0) * 1e3)
 
     render_result.write_result = timed_write
-    import restircl
-
     renderer_cls = restircl.Renderer
     original_frame = renderer_cls.render_frame
 

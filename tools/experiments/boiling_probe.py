@@ -4,7 +4,7 @@ describes each boiling pixel of the kept frames: where its excess came from (one
 reservoir (W, M, target, the contribution target x W against its neighbourhood's), where that sample came from
 (this frame's candidates, the temporal history or a spatial neighbour) and how many frames it has been held.
 
-    python tools/experiments/boiling_probe.py [many_lights|cornell_box] [--moving] [--npz out/boiling_probe.npz]
+    python -m tools.experiments.boiling_probe [many_lights|cornell_box] [--moving] [--npz out/boiling_probe.npz]
 """
 
 from __future__ import annotations

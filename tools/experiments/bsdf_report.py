@@ -1,7 +1,7 @@
 """Error against run time with and without BSDF-sampled candidates (docs/measurements/error-vs-time.md, "BSDF
 candidates").
 
-    python tools/experiments/bsdf_report.py neon|glossy_many_lights|SCENE.npz OUT_DIR REFERENCE_SECONDS METHODS
+    python -m tools.experiments.bsdf_report neon|glossy_many_lights|SCENE.npz OUT_DIR REFERENCE_SECONDS METHODS
 
 The scene is built in-process (restircl.eval.scenes.bsdf: scene files do not keep glossy inputs yet), at 160x90;
 the reference is RIS with 32 light candidates and one BSDF candidate (both unbiased:

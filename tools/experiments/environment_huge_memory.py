@@ -1,7 +1,7 @@
 """The 16384 x 8192 environment stress case (tests/environment/test_stress.py::test_16384_by_8192_map_renders) with
 a chosen texel format, for its peak memory: run it under /usr/bin/time -v and read "Maximum resident set size".
 
-    /usr/bin/time -v python tools/experiments/environment_huge_memory.py half|float|auto
+    /usr/bin/time -v python -m tools.experiments.environment_huge_memory half|float|auto
 """
 
 from __future__ import annotations

@@ -4,8 +4,8 @@
 docs/measurements/temporal-stability.md. The variants include the boiling filter's two measures and lower history
 caps (m_cap).
 
-    python tools/experiments/flicker_variants.py [--scenes \
-        many_lights_still,many_lights_moving,cornell_box,material_balls]
+    python -m tools.experiments.flicker_variants \
+        [--scenes many_lights_still,many_lights_moving,cornell_box,material_balls]
 """
 
 import argparse

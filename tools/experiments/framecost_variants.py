@@ -1,7 +1,7 @@
 """Issue 23, the cost of the default ReSTIR + TAA frame: which reuse settings pay, measured side by side in one run.
 
-    python tools/experiments/framecost_variants.py timing [--width 640 --height 360 --rounds 2]
-    python tools/experiments/framecost_variants.py error [--scene many_lights|garden] [--width 192 --height 108]
+    python -m tools.experiments.framecost_variants timing [--width 640 --height 360 --rounds 2]
+    python -m tools.experiments.framecost_variants error [--scene many_lights|garden] [--width 192 --height 108]
 
 `timing`: the median wall ms and CPU ms (all threads) per frame of each variant on many_lights, the variants
 interleaved round by round so that a change of the shared machine's load hits them all.

@@ -4,7 +4,7 @@ flythrough and of its still frame 0, with TAA on and off, ReSTIR and RIS, and TA
 level of the 1-sample estimates TAA blends (ReSTIR's own bias), `taa` is the output's over the noisy's (TAA's own). The
 deficit is split between the pixels the reference has brightest (the top 1 %: the lamps seen directly) and the rest.
 
-    python tools/experiments/level_probe.py [--seeds 4242,7] [--variants restir,ris,...] [--cameras moving,still]
+    python -m tools.experiments.level_probe [--seeds 4242,7] [--variants restir,ris,...] [--cameras moving,still]
                                 [--define TAA_CLIP_RADIUS=2]   # an -D option for every kernel build
 """
 

@@ -5,8 +5,8 @@ held-out garden and neon, never re-rendered: pass their cache dir; our own conve
 in --own-cache), the error at equal wall time, the frame time and the tree's build time, with the load average
 before and after.
 
-    python tools/experiments/light_proposal_figures.py --cache-dir /work/cache-compare23/refs --kinds \
-        garden,neon,many_lights
+    python -m tools.experiments.light_proposal_figures --cache-dir /work/cache-compare23/refs \
+        --kinds garden,neon,many_lights
 """
 
 from __future__ import annotations

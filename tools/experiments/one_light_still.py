@@ -2,7 +2,7 @@
 reference, mean over 4 seeds, and the median seconds per 64-frame still. Run it with PYTHONPATH of each checkout
 to compare them (docs/measurements/error-vs-time.md, "One light").
 
-    python tools/experiments/one_light_still.py NAME [CANDIDATES]
+    python -m tools.experiments.one_light_still NAME [CANDIDATES]
 """
 
 from __future__ import annotations

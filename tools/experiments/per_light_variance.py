@@ -5,7 +5,7 @@ of one N-sample image estimated from the pair: mean((a - b)^2 / 2 / (r^2 + 0.01)
 that light set (a denominator only), and the same variance over the all-lights image's r^2 (its share of the full
 scene's error). No reference needed; both renderers' estimators are unbiased.
 
-    python tools/experiments/per_light_variance.py [--samples 64] [--lights all,square,...] [--no-cycles]
+    python -m tools.experiments.per_light_variance [--samples 64] [--lights all,square,...] [--no-cycles]
 """
 
 from __future__ import annotations

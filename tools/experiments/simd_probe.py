@@ -3,7 +3,7 @@
 pixels per work-item in float8 lanes (light records gathered by scalar loads, branch-free selects). The random
 numbers are keyed by the pixel, so both must give the same results.
 
-    python tools/experiments/simd_probe.py
+    python -m tools.experiments.simd_probe
 """
 
 import time

@@ -4,7 +4,7 @@ luminance against the cached 2 x 1024-spp Cycles reference, averaged over two se
 reference's brightness (the darkest deciles are the shadows, lit by the sky alone). Needs bpy and the reference
 (`restircl compare --kinds sky`).
 
-    python tools/experiments/sky_error_by_brightness.py [--samples 64]
+    python -m tools.experiments.sky_error_by_brightness [--samples 64]
 """
 
 from __future__ import annotations

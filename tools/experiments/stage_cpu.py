@@ -2,8 +2,8 @@
 round by round in one process. CPU time is steadier than wall time on the shared machine; it counts what the
 device's threads spent on a stage, not how long it waited for a core.
 
-    python tools/experiments/stage_cpu.py '{"default": {}, "ris8": {"settings": {"method": "ris"}}, "l256": \
-        {"local": 256}}'
+    python -m tools.experiments.stage_cpu \
+        '{"default": {}, "ris8": {"settings": {"method": "ris"}}, "l256": {"local": 256}}' \
         [--rounds 3] [--frames 4] [--width 640 --height 360]
 
 A variant is {"settings": Settings keywords, "local": work-items per work-group (kernels.LOCAL_ITEMS; 8x8 stays

@@ -3,7 +3,7 @@
 one Sobol point"). Run it with PYTHONPATH at another checkout's python/ for the before side. Needs bpy and the
 references.
 
-    python tools/experiments/still_kinds_equal_frames.py studio,garden,neon,sky
+    python -m tools.experiments.still_kinds_equal_frames studio,garden,neon,sky
 """
 
 from __future__ import annotations

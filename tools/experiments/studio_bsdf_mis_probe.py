@@ -2,7 +2,7 @@
 sequence) and with 1 candidate: relMSE against the cached Cycles reference at 128 and 512 frames, CPU ms per frame
 (docs/measurements/error-vs-time.md, "A world alone: one candidate", last paragraph). Needs bpy and the reference.
 
-    python tools/experiments/studio_bsdf_mis_probe.py
+    python -m tools.experiments.studio_bsdf_mis_probe
 """
 
 from __future__ import annotations

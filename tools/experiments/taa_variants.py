@@ -1,5 +1,8 @@
 """TAA relMSE of a moving many_lights camera (160x90, 24 frames) with each TAA / reuse option, against per-frame
-references (every 4th frame), 3 seeds: docs/measurements/temporal-stability.md."""
+references (every 4th frame), 3 seeds: docs/measurements/temporal-stability.md.
+
+    python -m tools.experiments.taa_variants
+"""
 
 import numpy as np
 from restircl import Renderer, Settings, scenes

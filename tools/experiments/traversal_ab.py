@@ -1,8 +1,8 @@
 """Issue 23: variants of the traversal (opencl/bvh/traverse.h -D flags, build_bvh keywords) side by side on the rays
 of the traversal benchmark, interleaved round by round in one process; Mrays per CPU-second of all threads.
 
-    python tools/experiments/traversal_ab.py '{"base": {}, "x": {"defines": {"BVH_X": 1}}, "scalar": {"packets": \
-        false}}'
+    python -m tools.experiments.traversal_ab \
+        '{"base": {}, "x": {"defines": {"BVH_X": 1}}, "scalar": {"packets": false}}' \
         [--scene light_cloud --triangles 10000] [--rounds 5] [--width 640 --height 360]
 
 Every variant traces the same rays (the benchmark's camera rays and, from the first variant's hits, its shadow

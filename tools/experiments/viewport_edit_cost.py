@@ -2,7 +2,7 @@
 (export.export_materials) against the whole re-export (export.export_scene) that such an edit cost before, on a
 scene of smooth UV spheres sharing one Principled material: docs/blender.md ("Edits").
 
-    python tools/experiments/viewport_edit_cost.py --spheres 4      # 4 x 65,024 triangles
+    python -m tools.experiments.viewport_edit_cost --spheres 4      # 4 x 65,024 triangles
 """
 
 from __future__ import annotations
@@ -10,20 +10,15 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import sys
 import time
-from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
-sys.path[:0] = [str(ROOT / "python"), str(ROOT / "addon"), str(ROOT / "blend")]
-
-import bpy  # noqa: E402
-import numpy as np  # noqa: E402
+import bpy
+import numpy as np
+from restircl.eval import blender_scenes as scenes
+from restircl.io.blend import addon_module
 
 
 def build(spheres: int) -> None:
-    import scenes
-
     scenes.new_scene(32, 24, engine="RESTIRCL")
     scenes.quad("Floor", 10.0, 10.0, scenes.diffuse_material("Floor", (0.8, 0.8, 0.8)))
     paint = scenes.principled_material("Paint", (0.8, 0.05, 0.05))
@@ -40,10 +35,10 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--spheres", type=int, default=4)
     ap.add_argument("--repeats", type=int, default=5)
     a = ap.parse_args(argv)
-    import restircl_blender
-    from restircl_blender import export
-
-    restircl_blender.register()
+    addon = addon_module()
+    export = addon.export
+    if not hasattr(bpy.types.Scene, "restircl"):
+        addon.register()
     build(a.spheres)
     bpy.context.view_layer.update()
     dg = bpy.context.evaluated_depsgraph_get()

@@ -2,9 +2,8 @@
 orbit of many_lights, at the render size of a 3D view, for settings variants measured side by side (one frame of
 each variant per view, in turn), with the load: docs/blender.md ("Frame time").
 
-    python tools/experiments/viewport_frame_time.py --size 480x270 --size 960x540            # 960x540 at pixel size \
-        2 and 1
-    python tools/experiments/viewport_frame_time.py --size 480x270 --variant cheap=candidates=4,spatial_neighbours=1
+    python -m tools.experiments.viewport_frame_time --size 480x270 --size 960x540   # 960x540 at pixel size 2 and 1
+    python -m tools.experiments.viewport_frame_time --size 480x270 --variant cheap=candidates=4,spatial_neighbours=1
 
 Each variant is a ViewportSession of its own driven like view_draw drives one (set_view, then the worker renders
 the frame); a frame's time is the worker's (ViewFrame.ms: render, read-back, the copy for the texture) and this
@@ -17,17 +16,13 @@ import argparse
 import json
 import os
 import subprocess
-import sys
 import time
 from pathlib import Path
 
 import numpy as np
-
-ROOT = Path(__file__).resolve().parent.parent
-sys.path[:0] = [str(ROOT / "python"), str(ROOT / "addon")]
-
-from restircl import Settings  # noqa: E402
-from restircl.eval.report.viewport_orbit import orbit_scene, view_at  # noqa: E402
+from restircl import Settings
+from restircl.eval.report.viewport_orbit import orbit_scene, view_at
+from restircl.io.blend import addon_module
 
 
 def parse_variant(text: str) -> tuple[str, dict]:
@@ -43,14 +38,11 @@ def parse_variant(text: str) -> tuple[str, dict]:
 
 def session_of(scene, kw: dict):
     # the add-on package imports bpy; the session module itself does not use it
-    from restircl_blender.viewport_session import ViewportSession
-
-    return ViewportSession(scene, Settings(**kw), samples=1).start()
+    return addon_module().viewport_session.ViewportSession(scene, Settings(**kw), samples=1).start()
 
 
 def measure(width: int, height: int, variants: dict[str, dict], frames: int, step_deg: float) -> dict:
-    from restircl_blender.viewport_session import view_camera
-
+    view_camera = addon_module().viewport_session.view_camera
     scene = orbit_scene(width, height, frames + 2, step_deg)
     cams = [view_at(scene, k) for k in range(scene.frames)]
     sessions = {name: session_of(scene, kw) for name, kw in variants.items()}
@@ -92,7 +84,7 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--step", type=float, default=1.0, help="degrees of orbit per frame (%(default)s)")
     a = ap.parse_args(argv)
     variants = {"default": {}, **dict(parse_variant(v) for v in a.variant)}
-    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
+    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=Path(__file__).parent, capture_output=True,
                             text=True).stdout.strip()
     for size in a.size or ["480x270"]:
         w, h = (int(v) for v in size.lower().split("x"))

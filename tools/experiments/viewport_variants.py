@@ -4,7 +4,7 @@ settings variants that make a frame cheaper, each given the default's mean time 
 many frames of that view as fit; relMSE of every 4th view against its converged reference, per seed:
 docs/blender.md ("Frame time").
 
-    python tools/experiments/viewport_variants.py --variant novis=visibility_reuse=false --seeds 7 8 9
+    python -m tools.experiments.viewport_variants --variant novis=visibility_reuse=false --seeds 7 8 9
 """
 
 from __future__ import annotations
@@ -12,19 +12,14 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import sys
-from pathlib import Path
 
 import numpy as np
+from restircl import Settings
+from restircl.eval.metrics import rel_mse
+from restircl.eval.report.reference import get_reference
+from restircl.eval.report.viewport_orbit import orbit_scene, policy_rows
 
-ROOT = Path(__file__).resolve().parent.parent
-sys.path[:0] = [str(ROOT / "python"), str(ROOT / "tools")]
-
-from restircl import Settings  # noqa: E402
-from restircl.eval.metrics import rel_mse  # noqa: E402
-from restircl.eval.report.reference import get_reference  # noqa: E402
-from restircl.eval.report.viewport_orbit import orbit_scene, policy_rows  # noqa: E402
-from viewport_frame_time import parse_variant  # noqa: E402
+from tools.experiments.viewport_frame_time import parse_variant
 
 
 def main(argv: list[str] | None = None) -> None:

@@ -1,7 +1,7 @@
 """Issue 23: the bias of the visibility shortcut (Settings.visibility_max_age) on a still, converging camera.
 
-    python tools/experiments/visibility_bias.py [--scene many_lights|garden] [--frames 256] [--runs 4] [--width 192 \
-        --height 108]
+    python -m tools.experiments.visibility_bias [--scene many_lights|garden] [--frames 256] [--runs 4] \
+        [--width 192 --height 108]
 
 Each variant renders `runs` independent runs (own seeds) of `frames` frames of a still camera (jitter on, as the
 viewport), and the mean of each run's noisy frames is its image. Against the unshortcut default ("off", unbiased)

@@ -4,12 +4,11 @@ light candidates from the alias or the cumulative table: relMSE at 64 and 256 fr
 share of it in the darkest 30 % of the reference's pixels (the shadows, where RIS's unshadowed target sends the one
 shadow ray towards an occluded sun).
 
-    python tools/experiments/world_alone_candidates.py --world sunny   # the held-out sky, against the cached Cycles \
-        reference
-    python tools/experiments/world_alone_candidates.py --world grey    # the same sky without its sun, against our \
-        own RIS
-                                                           # reference (4096 random frames, 4 candidates)
-    [--variants alias:4,alias:1,alias:2,cdf:1] [--rounds 2] [--seeds 7,8]
+    python -m tools.experiments.world_alone_candidates --world sunny|grey \
+        [--variants alias:4,alias:1,alias:2,cdf:1] [--rounds 2] [--seeds 7,8]
+
+`--world sunny`: the held-out sky, against the cached Cycles reference; `--world grey`: the same sky without its
+sun, against our own RIS reference (4096 random frames, 4 candidates).
 """
 
 from __future__ import annotations

@@ -16,7 +16,7 @@ def addon_module():
     try:
         import restircl_blender
     except ImportError:
-        addon_dir = Path(__file__).resolve().parents[2] / "addon"
+        addon_dir = Path(__file__).resolve().parents[3] / "addon"  # python/restircl/io/blend.py -> the checkout
         if not (addon_dir / "restircl_blender").is_dir():
             raise
         sys.path.insert(0, str(addon_dir))

@@ -1,18 +1,26 @@
-"""Build Blender scenes with bpy: small helpers (used by tests/test_blender_*.py too) and the example scenes.
+"""Blender scenes built with bpy: small helpers (the Blender tests and probes build their scenes with them), the
+scene the Cycles agreement tests use, the example scenes, and the icon preview of a material.
 
-    python blend/scenes.py [outdir]      # writes many_lights.blend and area_interior.blend (default: blend/)
+    python -m restircl.eval.blender_scenes [outdir]   # writes many_lights.blend and area_interior.blend (blend/)
 
-Needs the bpy module (Blender 4.2 to 5.3: pip install -e '.[blender]') and restircl (its Cycles settings and
-material helpers). The helpers build everything from data (no operators that need a window), so they work headless.
+Needs the bpy module (Blender 4.2 to 5.3: pip install -e '.[blender]'). The helpers build everything from data (no
+operators that need a window), so they work headless. Part of the evaluation tools: the library core never
+imports it (tests/eval/test_eval_imports.py), and it goes into the extension's wheel with the rest of restircl.
 """
 
 from __future__ import annotations
 
+import colorsys
 import math
 import sys
+import time
 from pathlib import Path
 
 import bpy
+import numpy as np
+
+from ..io.blend import addon_module
+from .cycles.bridge import black_world, direct_only, node_material
 
 # ---- scene and render settings ------------------------------------------------------------------------
 
@@ -25,20 +33,14 @@ def new_scene(width: int = 64, height: int = 48, engine: str = "CYCLES", reset: 
     sc = bpy.context.scene
     sc.render.resolution_x, sc.render.resolution_y = width, height
     sc.render.resolution_percentage = 100
-    from restircl.eval.cycles.bridge import black_world  # shared with the scenes `restircl report` writes for Cycles
-
-    black_world(bpy, sc)
+    black_world(bpy, sc)  # shared with the scenes `restircl report` writes for Cycles
     sc.render.engine = engine
     return sc
 
 
 def cycles_direct_only(sc: bpy.types.Scene, samples: int = 1024, seed: int = 0, threads: int = 0) -> None:
     """Cycles as the reference for direct light: no bounces, box filter 1 px, light threshold 0, no adaptive
-    sampling, no denoising, no clamping."""
-    from restircl.eval.cycles.bridge import (  # one definition of these settings, shared with `restircl report`
-        direct_only,
-    )
-
+    sampling, no denoising, no clamping (one definition of these settings, shared with `restircl report`)."""
     direct_only(sc, samples, seed, threads)
 
 
@@ -59,9 +61,7 @@ def exr_output(sc: bpy.types.Scene, path: str, multilayer: bool = True) -> None:
 
 
 def _material(name: str) -> tuple[bpy.types.Material, bpy.types.NodeTree, bpy.types.Node]:
-    from restircl.eval.cycles.bridge import node_material  # shared with the scenes `restircl report` writes for Cycles
-
-    return node_material(bpy, name)
+    return node_material(bpy, name)  # shared with the scenes `restircl report` writes for Cycles
 
 
 def diffuse_material(name: str, colour=(0.8, 0.8, 0.8)) -> bpy.types.Material:
@@ -251,8 +251,6 @@ def many_lights_scene(n_side: int = 12, frames: int = 48, width: int = 320, heig
     for i in range(5):
         for j in range(5):
             box(f"Pillar.{i}{j}", (0.8, 0.8, 3.0), stone, location=(-12 + 6 * i, -12 + 6 * j, 1.5))
-    import colorsys
-
     for i in range(n_side):
         for j in range(n_side):
             hue = ((i * n_side + j) * 0.618034) % 1.0
@@ -299,16 +297,38 @@ def area_interior_scene(width: int = 320, height: int = 240) -> bpy.types.Scene:
     return sc
 
 
-def main(argv: list[str]) -> None:
-    outdir = Path(argv[0]) if argv else Path(__file__).resolve().parent
-    outdir.mkdir(parents=True, exist_ok=True)
-    addon = Path(__file__).resolve().parent.parent / "addon"
-    if str(addon) not in sys.path:
-        sys.path.insert(0, str(addon))
-    try:
-        import restircl_blender
+# ---- material previews --------------------------------------------------------------------------------
 
-        restircl_blender.register()
+
+def preview_icon(material: bpy.types.Material, engine: str, timeout: float = 300.0) -> np.ndarray:
+    """The icon preview (H, W, 4) that `engine` renders of a copy of `material` (a fresh preview each time), through
+    Blender's own preview job. The job runs on a thread of its own: wait (sleeping, so the job gets Python) until
+    its pixels arrive."""
+    bpy.context.scene.render.engine = engine
+    mat = material.copy()
+    mat.asset_generate_preview()  # ed.lib_id_generate_preview's job; that operator's poll fails in 5.3
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        time.sleep(0.05)
+        w, h = mat.preview.image_size
+        px = np.array(mat.preview.image_pixels_float[:], np.float32).reshape(h, w, 4)
+        if px[..., 3].sum() > 0:  # the film is transparent: alpha arrives with the render
+            time.sleep(0.2)  # the job's last writes
+            return np.array(mat.preview.image_pixels_float[:], np.float32).reshape(h, w, 4)
+    raise AssertionError(f"no {engine} preview of {material.name} within {timeout} s")
+
+
+# ---- the example .blend files -------------------------------------------------------------------------
+
+
+def main(argv: list[str]) -> None:
+    """Write the example scenes into argv[0] (default: blend/ of the working directory, the repository root)."""
+    outdir = Path(argv[0]) if argv else Path("blend")
+    outdir.mkdir(parents=True, exist_ok=True)
+    try:
+        addon = addon_module()
+        if not hasattr(bpy.types.Scene, "restircl"):
+            addon.register()
     except Exception as exc:  # the scenes are still useful with Cycles
         print(f"restircl add-on not registered ({exc}); scenes use Cycles")
     for name, build in (("many_lights", many_lights_scene), ("area_interior", area_interior_scene)):
