@@ -4,6 +4,8 @@
 #ifndef RESTIRCL_TYPES_H
 #define RESTIRCL_TYPES_H
 
+#include "codes.h"  /* the codes and constants these structs hold (generated: python/restircl/upload/codes.py) */
+
 /* ---- geometry -------------------------------------------------------------------------------- */
 
 /* One triangle in world space, in BVH leaf order. */
@@ -42,15 +44,6 @@ typedef struct {
                           constant); w: MATERIAL_* flags (informative: each closure carries its own weight) */
 } Material;            /* 48 bytes */
 
-#define MAX_LAYERS 2   /* closures per material (python/restircl/materials/material.py MAX_LAYERS) */
-#define MATERIAL_MIX 1 /* the two closures are mixed by closure 1's weight w (1 - w, w); else added */
-
-#define CLOSURE_PRINCIPLED 0
-#define CLOSURE_DIFFUSE    1
-#define CLOSURE_GLOSSY     2
-
-#define TEX_NONE (-1)
-
 /* One closure's inputs: a constant each, replaced by a texture node's value where its index in tex / tex2 is not
  * TEX_NONE (opencl/textures/closure_inputs.h evaluates them). */
 typedef struct {
@@ -86,10 +79,6 @@ typedef struct {
     float4 gen_scale;  /* xyz: 1 / (2 half size): generated = (p - mid) * scale + 0.5; w: unused */
 } ObjectInfo;          /* 32 bytes */
 
-#define OBJECT_ATTRIBUTES 1  /* its triangles have TriAttr records (the buffer exists) */
-#define OBJECT_NORMALS    2  /* its TriAttr normals are Mesh.normals: shade smooth */
-#define OBJECT_UVS        4  /* it has a UV map */
-
 /* One node of a texture program. An input refers to an earlier node (in) or holds a constant (a, b, p.x). A
  * material input's program is the contiguous run of nodes blk.x .. its own index, evaluated in order. */
 typedef struct {
@@ -116,29 +105,7 @@ typedef struct {
     int levels;
 } TexImage;            /* 16 bytes */
 
-#define TEXNODE_IMAGE      0
-#define TEXNODE_CHECKER    1
-#define TEXNODE_MIX        2
-#define TEXNODE_NORMAL_MAP 3
-#define TEXINTERP_LINEAR   0
-#define TEXINTERP_CLOSEST  1
-#define TEXEXT_REPEAT      0
-#define TEXEXT_EXTEND      1
-#define TEXEXT_CLIP        2
-#define TEXCOORD_UV        0
-#define TEXCOORD_GENERATED 1
-#define TEXCOORD_OBJECT    2
-#define TEXMIX_MIX         0
-#define TEXMIX_MULTIPLY    1
-#define TEXMIX_ADD         2
-#define TEXMIX_SUBTRACT    3
-#define TEXMIX_SCREEN      4
-#define TEXMIX_DIFFERENCE  5
-#define TEXMIX_DARKEN      6
-#define TEXMIX_LIGHTEN     7
-#define TEXMIX_OVERLAY     8
 #ifndef MAX_TEX_PROGRAM
-#define MAX_TEX_PROGRAM    16  /* nodes in one input's program: the registers it is evaluated into */
 #endif
 
 /* One packed 64-byte record per light: a candidate costs one cache line, even with 1e6 lights. Every type keeps
@@ -161,9 +128,6 @@ typedef struct {
 } LightTreeNode; /* 64 bytes */
 
 /* ---- camera ----------------------------------------------------------------------------------- */
-
-#define CAMERA_PERSP 0  /* python/restircl/core/layouts.py CAMERA_KINDS */
-#define CAMERA_ORTHO 1
 
 /* A pinhole (kind CAMERA_PERSP) or orthographic (CAMERA_ORTHO) camera. With a = nx * lens.x + lens.z and
  * b = ny * lens.y + lens.w at normalised device coordinates (nx, ny) in [-1, 1]^2, the perspective ray leaves the
@@ -339,9 +303,5 @@ typedef struct {
 } AtrousParams;            /* 16 bytes */
 
 /* Counters of numerical guards, accumulated by the kernels with atomic_inc. */
-#define GUARD_NONFINITE_SAMPLE   0  /* a shading result was NaN/Inf and replaced by 0 */
-#define GUARD_NONFINITE_HISTORY  1  /* a NaN/Inf reached the TAA history write and was replaced */
-#define GUARD_NONFINITE_RESERVOIR 2 /* a reservoir weight was NaN/Inf and the reservoir was emptied */
-#define GUARD_COUNT              4
 
 #endif

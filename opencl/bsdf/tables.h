@@ -4,11 +4,7 @@
 #ifndef RESTIRCL_BSDF_TABLES_H
 #define RESTIRCL_BSDF_TABLES_H
 
-#define GGX_E_SIZE 32
-#define GGX_S_SIZE 16
-#define GGX_E_OFFSET 0
-#define GGX_E_AVG_OFFSET (GGX_E_SIZE * GGX_E_SIZE)
-#define GGX_S_OFFSET (GGX_E_AVG_OFFSET + GGX_E_SIZE)
+#include "codes.h"
 
 /* the grid cell of parameter x in [0, 1] on n points: *i and *i + 1, *t the weight of *i + 1 */
 inline void table_cell(float x, int n, int* i, float* t)

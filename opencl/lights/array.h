@@ -4,6 +4,8 @@
 #ifndef RESTIRCL_LIGHT_ARRAY_H
 #define RESTIRCL_LIGHT_ARRAY_H
 
+#include "codes.h"
+
 /* The lights in n slots and their pick probabilities slots / M: every slot is read first, then every pdf, so that
  * with a million lights (each read a cache miss) the misses of a batch overlap instead of each waiting behind the
  * last. light_array_pick is this for one slot; direct/ris.h runs it for a batch of candidates. */
@@ -31,10 +33,6 @@ inline int light_uniform_pick(int n, uint* rng, float* pdf)
     *pdf = 1.0f / (float)n;
     return (int)rng_below(rng, (uint)n);
 }
-
-#define METHOD_UNIFORM 0
-#define METHOD_LIGHT_ARRAY 1
-#define METHOD_RIS 2
 
 /* Draw one light (uniformly or from the array) and a point on it for shading point x: returns the light and the
  * sample's uv; *pdf is the joint source pdf (light pick times the point's density in the light's measure). */

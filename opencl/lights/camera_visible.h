@@ -14,7 +14,8 @@
 #ifndef RESTIRCL_CAMERA_LIGHTS_H
 #define RESTIRCL_CAMERA_LIGHTS_H
 
-#define CAMERA_LIGHT_ROWS 7
+#include "codes.h"
+
 #define CAMERA_LIGHT_PRIM(light) (-2 - (light))
 
 /* The radiance the unit ray o + t d sees of light l where it meets it, at distance *dist (INFINITY for the sun),

@@ -11,8 +11,6 @@
 #include "lights/spherical_rect.h"
 #include "sampling/warps.h"
 
-#define LIGHT_DISK 2
-
 inline bool disk_eval(const __global Light* l, float u, float v, float3 x, float3 n, LightEval* e)
 {
     PlanarLight pl = planar_light(l);

@@ -16,18 +16,16 @@
 #ifndef RESTIRCL_LIGHTS_ENVIRONMENT_H
 #define RESTIRCL_LIGHTS_ENVIRONMENT_H
 
+#include "codes.h"
+
 #include "lights/eval.h"
 #include "lights/record.h"
 #include "sampling/warps.h"
 
-#define LIGHT_ENVIRONMENT 6
 /* L.w flags: camera rays that miss the geometry see it (Film > Transparent leaves alpha 0 either way) */
-#define ENV_FLAG_CAMERA 2
 /* the sampling table is the pair of cumulative distributions (else the alias tables) */
-#define ENV_FLAG_CDF 4
 /* the texels are RGB half floats (else float32): radiance / 2^k, the record's radiance holds the 2^k
  * (python/restircl/environment/pack.py) */
-#define ENV_FLAG_HALF 8
 
 typedef struct {
     const __global float* texels;  /* p.x: offset in floats from the record; W x H RGB triples, row 0 up */

@@ -13,9 +13,9 @@
 #ifndef RESTIRCL_LIGHT_PICK_TABLE_H
 #define RESTIRCL_LIGHT_PICK_TABLE_H
 
-#define PICK_TABLE_MAX 16           /* lights/pick_table.py MAX_LIGHTS: at most this many lights per row */
+#include "codes.h"
+
 #define PICK_TABLE_ONE 65536u
-#define PICK_TABLE_FLOOR 0.25f      /* lights/pick_table.py FLOOR: the light array's share of each probability */
 #define PICK_TABLE_POINTS 4         /* points per light of the estimate (2 x 2 strata) */
 
 /* The light of the word `bits` in row `row` of n lights, *pdf its probability. */

@@ -8,8 +8,6 @@
 #include "lights/solid_angle.h"
 #include "lights/spherical_rect.h"
 
-#define LIGHT_QUAD 1
-
 inline bool quad_eval(const __global Light* l, float u, float v, float3 x, float3 n, LightEval* e)
 {
     PlanarLight pl = planar_light(l);

@@ -7,7 +7,6 @@
 #include "types.h"
 
 /* Any area emitter (triangle, quad, disk) emits on both sides; the host sets it for emissive triangles. */
-#define LIGHT_FLAG_TWO_SIDED 1
 
 inline int light_type(const __global Light* l) { return as_int(l->p.w); }
 

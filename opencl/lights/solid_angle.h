@@ -5,12 +5,11 @@
 #ifndef RESTIRCL_LIGHTS_SOLID_ANGLE_H
 #define RESTIRCL_LIGHTS_SOLID_ANGLE_H
 
+#include "codes.h"
+
 #include "lights/eval.h"
 #include "lights/record.h"
 #include "numerics.h"
-
-#define LIGHT_FLAG_SOLID_ANGLE 4  /* sample by solid angle where float32 allows, else by area */
-#define LIGHT_FLAG_SA_AUTO 8      /* ... and only where the light looks large from the shading point */
 
 /* `auto`: solid angle where the light's bounding radius exceeds this fraction of its distance; below it cos_l / d^2
  * varies little over the light, so area sampling is about as good and cheaper. */

@@ -12,10 +12,6 @@
 #include "lights/solid_angle.h"
 #include "sampling/warps.h"
 
-#define LIGHT_SPHERE 3
-
-#define LIGHT_FLAG_SOFT_FALLOFF 2  /* radius > 0: a disk facing the shading point (Blender's default) */
-
 typedef struct {
     float3 centre;       /* p.xyz */
     float radius;        /* a.w; 0: a point */

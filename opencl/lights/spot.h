@@ -5,8 +5,6 @@
 
 #include "lights/sphere.h"
 
-#define LIGHT_SPOT 4
-
 typedef struct {
     float3 axis;         /* a.xyz: unit direction the spot shines along */
     float cos_outer;     /* b.x: cos of half the cone angle */

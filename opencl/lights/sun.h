@@ -7,8 +7,6 @@
 #include "lights/record.h"
 #include "sampling/warps.h"
 
-#define LIGHT_SUN 5
-
 typedef struct {
     float3 dir;       /* a.xyz: unit direction towards the sun */
     float cos_half;   /* b.x: cos of half the angular diameter */

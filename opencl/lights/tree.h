@@ -14,12 +14,11 @@
 #ifndef RESTIRCL_LIGHT_TREE_H
 #define RESTIRCL_LIGHT_TREE_H
 
+#include "codes.h"
+
 #include "lights/array.h"  /* light_pick_lights falls back to the array (and picks the distant lights by it) */
 #include "lights/pick_table.h"
 
-#define LIGHT_TREE_FLOOR 0.1f       /* lights/tree.py FLOOR */
-#define LIGHT_TREE_TWO_SIDED 1      /* LightTreeNode.meta.y: a light below emits on both sides */
-#define LIGHT_TREE_MIN_BRANCH (1.0f / 4096.0f)  /* lights/tree.py MIN_BRANCH */
 #define LIGHT_TREE_MEMO 15          /* the top four levels' branches are computed once per pixel and batch */
 
 /* Where a light pick comes from, and what it needs to give the pick pdf of any light: the light array, or

@@ -9,8 +9,6 @@
 #include "lights/solid_angle.h"
 #include "lights/spherical_tri.h"
 
-#define LIGHT_TRIANGLE 0
-
 /* (u, v) -> barycentrics (sqrt(u) (1 - v), sqrt(u) v): uniform in area. */
 inline bool triangle_eval(const __global Light* l, float u, float v, float3 x, float3 n, LightEval* e)
 {

@@ -21,9 +21,7 @@
 #ifndef RESTIRCL_RESTIR_PAIRWISE_H
 #define RESTIRCL_RESTIR_PAIRWISE_H
 
-#define BIAS_NONE 0
-#define BIAS_Z_COUNT 1
-#define BIAS_PAIRWISE 2
+#include "codes.h"
 
 typedef struct {
     float k;         /* number of neighbour inputs */

@@ -31,9 +31,6 @@ inline float3 clip_to_box(float3 h, float3 centre, float3 extent)
 #define TAA_CLIP_RADIUS 1
 #endif
 
-#define TAA_BILINEAR 0
-#define TAA_CATMULL_ROM 1
-
 /* Catmull-Rom weights of the four taps at -1, 0, 1, 2 around a sample at fraction f of the way from tap 0 to 1. */
 inline float4 catmull_rom_weights(float f)
 {

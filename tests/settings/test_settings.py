@@ -18,7 +18,7 @@ from restircl.cli.main import build_parser
 from restircl.core.program import build_program, opencl_dir
 from restircl.render import pipeline
 from restircl.settings.spec import Range, declared
-from restircl.settings.table import BIAS_CORRECTIONS, JOINT_LIMITS, METHODS, kernel_defines
+from restircl.settings.table import JOINT_LIMITS, METHODS, kernel_defines
 
 # the fields, defaults and order of Settings before the table (scripts pass them by keyword and by position); new
 # fields come last
@@ -65,14 +65,6 @@ def test_every_field_is_declared_once_with_its_checks_and_a_flag():
             assert d.default in d.spec.choice_ids(), d.name
     flags = [d.spec.flag for d in decl]
     assert len(set(flags)) == len(flags)
-
-
-def test_bias_codes_are_the_kernels():
-    """BIAS_CORRECTIONS.index(mode) is what the kernels compare with their BIAS_* defines."""
-    defines = {}
-    for path in opencl_dir().rglob("*.h"):
-        defines.update(re.findall(r"#define BIAS_(\w+) (\d+)", path.read_text()))
-    assert {k.lower(): int(v) for k, v in defines.items()} == {m: i for i, m in enumerate(BIAS_CORRECTIONS)}
 
 
 def _parse(*argv: str) -> argparse.Namespace:

@@ -37,7 +37,6 @@ CAMERA = np.dtype(
         ("pad1", np.int32),
     ]
 )
-CAMERA_KINDS = ("PERSP", "ORTHO")  # Camera.kind: the index (types.h CAMERA_PERSP, CAMERA_ORTHO)
 GSAMPLE = np.dtype(
     [("pos", F4), ("normal", F4), ("gnormal", F4), ("albedo", F4), ("emission", F4), ("motion", F4)]
 )
@@ -115,7 +114,8 @@ STRUCTS: dict[str, np.dtype] = {
     "TaaParams": TAA_PARAMS,
 }
 
-# Constants from types.h that the host needs.
+# The guard counters (GUARD_* in opencl/codes.h, generated from GUARD_NAMES): a shading result, a TAA history write
+# or a reservoir weight that was NaN/Inf and was replaced (by 0, or an emptied reservoir).
 GUARD_NONFINITE_SAMPLE, GUARD_NONFINITE_HISTORY, GUARD_NONFINITE_RESERVOIR = range(3)
 GUARD_COUNT = 4
 GUARD_NAMES = ("nonfinite_sample", "nonfinite_history", "nonfinite_reservoir", "unused")

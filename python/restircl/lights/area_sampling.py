@@ -11,7 +11,8 @@ import numpy as np
 
 from . import disk, quad, sphere, spot, triangle
 
-#: opencl/lights/solid_angle.h LIGHT_FLAG_SOLID_ANGLE, LIGHT_FLAG_SA_AUTO
+#: LIGHT_FLAG_SOLID_ANGLE, LIGHT_FLAG_SA_AUTO (opencl/codes.h; read by opencl/lights/solid_angle.h): sample by solid
+#: angle where float32 allows, else by area; ... and only where the light looks large from the shading point
 FLAG_SOLID_ANGLE = 4
 FLAG_SA_AUTO = 8
 _MODE_FLAGS = {"area": 0, "solid_angle": FLAG_SOLID_ANGLE, "auto": FLAG_SOLID_ANGLE | FLAG_SA_AUTO}

@@ -12,7 +12,7 @@ from ..scene.scene import Scene
 
 # A camera ray tests every light of the table: past this many, the rest are not seen (and a warning says so).
 CAMERA_LIGHTS_MAX = 256
-ROWS = 7  # opencl/lights/camera_visible.h CAMERA_LIGHT_ROWS
+ROWS = 7  # rows per light of the table (CAMERA_LIGHT_ROWS in opencl/codes.h)
 
 
 def has_shape(lt: Light) -> bool:

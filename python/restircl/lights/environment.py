@@ -31,9 +31,8 @@ from .light_type import LightType
 from .record import LUMINANCE, lanes
 
 TYPE = LightType("environment", code=6, flag="HAS_ENVIRONMENT")
-FLAG_CAMERA = 2  # ENV_FLAG_CAMERA
-FLAG_CDF = 4  # ENV_FLAG_CDF
-FLAG_HALF = 8  # ENV_FLAG_HALF
+#: ENV_FLAG_* (opencl/codes.h): the camera sees the world; the cdf table (else alias); half-float texels
+FLAG_CAMERA, FLAG_CDF, FLAG_HALF = 2, 4, 8
 #: the sampling table of new scenes: "alias" or "cdf" (environment/table.py; measured in
 #: docs/measurements/benchmarks.md)
 TABLE_KIND = "alias"

@@ -10,7 +10,7 @@ import numpy as np
 LANES = 16
 LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
 
-#: opencl/lights/record.h LIGHT_FLAG_TWO_SIDED: an area emitter that emits on both sides
+#: LIGHT_FLAG_TWO_SIDED (opencl/codes.h): an area emitter that emits on both sides
 FLAG_TWO_SIDED = 1
 
 Vec = np.ndarray | Sequence[float] | float

@@ -13,7 +13,7 @@ from ..scene.light import Light
 from .light_type import PlacedLight, SceneLightType
 from .record import LUMINANCE, lanes
 
-#: opencl/lights/sphere.h LIGHT_FLAG_SOFT_FALLOFF
+#: LIGHT_FLAG_SOFT_FALLOFF (opencl/codes.h): radius > 0 and a disk facing the shading point (Blender's default)
 FLAG_SOFT_FALLOFF = 2
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import layouts as L
-from ..scene.camera import Camera
+from ..scene.camera import CAMERA_TYPES, Camera
 from ..scene.scene import Scene
 
 
@@ -37,7 +37,7 @@ def camera_record(cam: Camera, frame: int, jitter_px: tuple[float, float] = (0.0
     rec["up"][0, :3] = up
     rec["forward"][0, :3] = fwd
     rec["lens"][0] = cam.view_plane()
-    rec["kind"] = L.CAMERA_KINDS.index(cam.type)
+    rec["kind"] = CAMERA_TYPES.index(cam.type)
     rec["jitter"][0, :2] = jitter_px
     rec["width"] = cam.width
     rec["height"] = cam.height

@@ -42,6 +42,7 @@ from ..settings.table import (  # noqa: F401  (restircl.settings.table.Settings 
     LIGHT_TILES_AUTO,
     MAX_LIGHT_TILE_ENTRIES,
     METHODS,
+    SHADE_METHODS,
     TILE_INFO_BYTES,
     Settings,
 )
@@ -69,7 +70,7 @@ from .still import StillAccumulation, render_still
 
 __all__ = ["LOCAL_ITEMS", "Frame", "Renderer", "Settings", "local_size"]
 
-_METHOD_CODE = {"uniform": 0, "light_array": 1, "ris": 2}
+_METHOD_CODE = {m: i for i, m in enumerate(SHADE_METHODS)}  # METHOD_* (opencl/codes.h)
 
 
 KERNELS = ("primary", "light_tiles_fill", "light_pick_table", "shade_direct", "shade_reference", "accumulate",

@@ -17,7 +17,7 @@ MAX_RESOLUTION = 16384
 SENSOR_FITS = ("AUTO", "HORIZONTAL", "VERTICAL")
 
 
-CAMERA_TYPES = ("PERSP", "ORTHO")  # layouts.CAMERA_KINDS
+CAMERA_TYPES = ("PERSP", "ORTHO")  # Blender's camera types; Camera.kind on the device is the index (CAMERA_*)
 
 
 @dataclass

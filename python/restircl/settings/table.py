@@ -38,6 +38,8 @@ LIGHT_TILE_CHOICES = (
     Choice("off", "Off", "Draw the RIS candidates from the whole light array", 2),
 )
 LIGHT_TILES = tuple(c.id for c in LIGHT_TILE_CHOICES)
+#: the one-sample methods of the direct pass (opencl/direct/direct.cl), by their device code (METHOD_*)
+SHADE_METHODS = ("uniform", "light_array", "ris")
 TAA_FILTER_CHOICES = (
     Choice("bilinear", "Bilinear", "History fetched from the 2x2 taps around its reprojected position", 0),
     Choice("catmull_rom", "Catmull-Rom", "History fetched with a 4x4 Catmull-Rom filter: sharper under motion "

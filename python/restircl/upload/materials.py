@@ -16,8 +16,11 @@ from ..core import layouts as L
 from ..materials.material import Material, material_inputs
 from ..materials.textures import Input, is_texture
 
+#: an input without a texture node (TEX_NONE in opencl/codes.h)
 TEX_NONE = -1
+#: closure kinds by their device code (CLOSURE_* in opencl/codes.h)
 KIND_CODE = {"principled": 0, "diffuse": 1, "glossy": 2}
+#: Material.info.w: the two closures are mixed by closure 1's weight w (1 - w, w); else added
 MATERIAL_MIX = 1
 
 # a texture node -> its index in the texture program (python/restircl/upload/textures.py)

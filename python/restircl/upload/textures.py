@@ -37,9 +37,11 @@ from ..materials.textures import (
 from ..scene.errors import SceneError
 from .materials import constant_float, constant_rgb
 
-MAX_TEX_PROGRAM = 16  # opencl/types.h: the registers of one input's program
+MAX_TEX_PROGRAM = 16  # nodes in one input's program, the registers it is evaluated into (opencl/codes.h)
 MAGENTA = (1.0, 0.0, 1.0, 1.0)
-NODE_CODE = {ImageTexture: 0, CheckerTexture: 1, MixColor: 2, NormalMap: 3}
+#: the texture node kinds by their device code (TEXNODE_<NAME>, opencl/codes.h)
+NODE_KINDS = (("IMAGE", ImageTexture), ("CHECKER", CheckerTexture), ("MIX", MixColor), ("NORMAL_MAP", NormalMap))
+NODE_CODE = {cls: code for code, (_, cls) in enumerate(NODE_KINDS)}
 MAX_TEXELS = 2**31 - 1  # int offsets on the device
 
 

@@ -11,6 +11,8 @@ from ..core import layouts as L
 from ..scene.mesh import Mesh
 from ..scene.scene import Scene, WorldTriangles
 
+#: ObjectInfo flags (OBJECT_* in opencl/codes.h): its triangles have TriAttr records; its TriAttr normals are
+#: Mesh.normals (shade smooth); it has a UV map
 OBJECT_ATTRIBUTES, OBJECT_NORMALS, OBJECT_UVS = 1, 2, 4
 LOD_FLOOR = -60.0  # 0.5 log2 of a vanishing area ratio: the finest level, never -inf
 
