@@ -10,8 +10,8 @@ import pytest
 from restircl import Renderer
 from restircl.lights.pick_table import FLOOR, MAX_LIGHTS, ONE, uses_table
 
+from .. import helpers as h
 from ..render.test_estimators import SIZES
-from . import helpers as h
 
 W, H = 16, 12
 

@@ -7,10 +7,10 @@ of the light a BSDF ray met (light_pick_pdf)."""
 import numpy as np
 import pytest
 
+from .. import helpers as h
 from ..render.test_estimators import SIZES as RIS_SIZES
 from ..render.test_restir import SIZE_PARAMS, assert_matches
 from ..render.test_restir import SIZES as RESTIR_SIZES
-from . import helpers as h
 
 W, H = 16, 12
 TREE = dict(light_proposal="tree", jitter=False)

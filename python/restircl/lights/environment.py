@@ -27,10 +27,12 @@ from ..environment.pack import (
 )
 from ..environment.table import fill_table, table_floats
 from ..environment.world import Environment
-from .light_type import LightType
+from .bounds import DISTANT
+from .light_type import LightType, no_closed_form, no_solid_angle
 from .record import LUMINANCE, lanes
 
-TYPE = LightType("environment", code=6, flag="HAS_ENVIRONMENT")
+TYPE = LightType("environment", code=6, flag="HAS_ENVIRONMENT",
+                 bounds=DISTANT, solid_angle=no_solid_angle, analytic=no_closed_form("environments"))
 FLAG_CAMERA = 2  # ENV_FLAG_CAMERA
 FLAG_CDF = 4  # ENV_FLAG_CDF
 FLAG_HALF = 8  # ENV_FLAG_HALF
