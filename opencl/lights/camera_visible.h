@@ -1,12 +1,17 @@
 /* Lights the camera sees (HAS_CAMERA_LIGHTS), as Cycles shows them with Ray Visibility > Camera on: area lights as
  * their shape, from the emitting side only; points and spots with a radius as a disk of that radius facing the
  * camera (Cycles draws the sphere so: its radiance is uniform out to the silhouette); a spot only from inside its
- * cone, masked by it; a sun with an angle as a disk of directions where the ray meets no geometry. Delta lights are
- * not in the table (the host leaves them out).
+ * cone, masked by it; a sun with an angle as a disk of directions where the ray meets no geometry.
  *
- * The table (python/restircl/lights/camera_visible.py), float4 rows: row 0 x = the entry count (int bits); then per entry
- * 7 rows: x of the first = the light's index (int bits), then 3 rows of M_prev M_cur^-1 and 3 of M_next M_cur^-1 of
- * the light's transform (its own motion, for the motion vectors).
+ * Which lights is the host's decision alone (python/restircl/lights/camera_visible.py: those visible to the camera
+ * whose type has a shape, SceneLightType.has_shape): the table lists them, and this header has no rule of its own
+ * and no per-type code. What a ray sees of a listed light is its type's: where the ray hits it (light_hit), whether
+ * that point faces the ray (light_eval) and the radiance it sends back (light_hit_radiance: a spot's is masked by its
+ * cone), all in lights/<type>.h through lights/hit.h.
+ *
+ * The table (python/restircl/lights/camera_visible.py), float4 rows: row 0 x = the entry count (int bits); then per
+ * entry 7 rows: x of the first = the light's index (int bits), then 3 rows of M_prev M_cur^-1 and 3 of
+ * M_next M_cur^-1 of the light's transform (its own motion, for the motion vectors).
  *
  * A pixel that sees a light is written like a surface (position, depth, normal facing the camera, motion) with the
  * light's radiance as its emission, no albedo and prim = CAMERA_LIGHT_PRIM(light) (below -1: not shaded, but
@@ -24,22 +29,14 @@ inline bool camera_light_radiance(const __global Light* l, float3 o, float3 d, f
 {
     int type = light_type(l);
     float2 uv;
-    if (type == LIGHT_TRIANGLE || !light_hit(l, type, o, d, &uv)) return false;
+    if (!light_hit(l, type, o, d, &uv)) return false;
     LightEval e;
-    /* the point of the hit and whether it faces o (one-sided shapes); the normal d makes cos_x > 0 */
+    /* the point of the hit and whether it faces o (one-sided shapes; a spot's cone); the normal d makes cos_x > 0 */
     if (!light_eval(l, uv.x, uv.y, o, d, &e)) return false;
-    float mask = 1.0f;
-#ifdef HAS_SPOT_LIGHTS
-    if (type == LIGHT_SPOT) {
-        float3 out = o - sphere_light(l).centre;
-        float len = len3(out);
-        mask = len > 0.0f ? spot_mask(spot_cone(l), out / len) : 0.0f;
-    }
-#endif
-    *Le = light_radiance(l) * mask;
+    *Le = light_hit_radiance(l, type, o, uv);
     *dist = e.dist;
     *nl = e.nl;
-    return mask > 0.0f;
+    return true;
 }
 
 inline float3 camera_light_motion(const __global float4* m, float3 p)

@@ -60,4 +60,8 @@ inline bool disk_hit(const __global Light* l, float3 x, float3 wi, float2* uv)
     return true;
 }
 
+inline bool disk_hittable(const __global Light* l) { return planar_hittable(l); }
+
+inline float3 disk_hit_radiance(const __global Light* l, float3 x, float2 uv) { return planar_hit_radiance(l, x, uv); }
+
 #endif

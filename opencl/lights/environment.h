@@ -183,8 +183,9 @@ inline bool environment_eval(const __global Light* l, float u, float v, float3 x
 }
 
 /* light_sample's density of the direction e->wi (solid angle). */
-inline float environment_point_pdf(const __global Light* l, const LightEval* e)
+inline float environment_point_pdf(const __global Light* l, float3 x, const LightEval* e)
 {
+    (void)x;
     EnvLight env = environment_light(l);
     float2 uv = environment_uv(&env, e->wi);
     return environment_texel_pdf(&env, environment_texel(&env, uv.x, uv.y));
@@ -202,6 +203,16 @@ inline bool environment_hit(const __global Light* l, float3 x, float3 wi, float2
     EnvLight env = environment_light(l);
     *uv = environment_uv(&env, wi);
     return true;
+}
+
+inline bool environment_hittable(const __global Light* l) { return environment_emits(l); }
+
+/* The radiance arriving from the direction of sample (u, v). */
+inline float3 environment_hit_radiance(const __global Light* l, float3 x, float2 uv)
+{
+    (void)x;
+    EnvLight env = environment_light(l);
+    return light_radiance(l) * environment_texel_rgb(&env, environment_texel(&env, uv.x, uv.y));
 }
 
 /* What a camera ray of direction d that meets no geometry sees: the environment when the scene has one that

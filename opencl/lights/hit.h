@@ -1,15 +1,20 @@
-/* What a ray from a shading point meets of the lights, for the BSDF-sampled candidates (direct/bsdf_candidates.h): per
- * type, the sample (u, v) of the point a ray hits (the inverse of the type's map, lights/<type>.h), the density
- * with which light sampling (light_sample) produces that point, and whether a ray can hit the light at all (delta
- * lights cannot: points and a sun of angle 0). Emissive triangles are geometry: the BVH finds them, and
- * tri_light maps a hit triangle (leaf order) to its light. */
+/* What a ray from a shading point meets of the lights, for the BSDF-sampled candidates (direct/bsdf_candidates.h) and
+ * the lights the camera sees (lights/camera_visible.h): per type, the sample (u, v) of the point a ray hits (the
+ * inverse of the type's map), the density with which light sampling (light_sample) produces that point, whether a
+ * ray can hit the light at all (delta lights cannot: points and a sun of angle 0) and the radiance the hit point
+ * sends back along the ray. Each is the type's own function in lights/<type>.h; this header only dispatches on the
+ * type, each case behind the type's feature flag. Emissive triangles are geometry: the BVH finds them, and
+ * tri_light maps a hit triangle (leaf order) to its light (triangle_hit is never one). */
 #ifndef RESTIRCL_LIGHT_HIT_H
 #define RESTIRCL_LIGHT_HIT_H
 
-/* The sample (u, v) of analytic light l (not a triangle) that the unit ray x + t wi, t > 0, hits. */
+/* The sample (u, v) of light l that the unit ray x + t wi, t > 0, hits. */
 inline bool light_hit(const __global Light* l, int type, float3 x, float3 wi, float2* uv)
 {
     switch (type) {
+#ifdef HAS_TRIANGLE_LIGHTS
+    case LIGHT_TRIANGLE: return triangle_hit(l, x, wi, uv);
+#endif
 #ifdef HAS_QUAD_LIGHTS
     case LIGHT_QUAD: return quad_hit(l, x, wi, uv);
 #endif
@@ -28,7 +33,7 @@ inline bool light_hit(const __global Light* l, int type, float3 x, float3 wi, fl
 #ifdef HAS_ENVIRONMENT
     case LIGHT_ENVIRONMENT: return environment_hit(l, x, wi, uv);
 #endif
-    default: break;
+    default: break;  /* a type this build leaves out: the scene has none */
     }
     return false;
 }
@@ -46,11 +51,17 @@ inline float light_point_pdf(const __global Light* l, int type, float3 x, const 
 #ifdef HAS_DISK_LIGHTS
     case LIGHT_DISK: return disk_point_pdf(l, x, e);
 #endif
-    case LIGHT_SPHERE:
-    case LIGHT_SPOT: return sphere_point_pdf(l, x, e);
-    case LIGHT_SUN: { float pdf; sun_sample(l, x, 0.0f, 0.0f, &pdf); return pdf; }
+#ifdef HAS_SPHERE_LIGHTS
+    case LIGHT_SPHERE: return sphere_point_pdf(l, x, e);
+#endif
+#ifdef HAS_SPOT_LIGHTS
+    case LIGHT_SPOT: return spot_point_pdf(l, x, e);
+#endif
+#ifdef HAS_SUN_LIGHTS
+    case LIGHT_SUN: return sun_point_pdf(l, x, e);
+#endif
 #ifdef HAS_ENVIRONMENT
-    case LIGHT_ENVIRONMENT: return environment_point_pdf(l, e);
+    case LIGHT_ENVIRONMENT: return environment_point_pdf(l, x, e);
 #endif
     default: break;
     }
@@ -59,15 +70,66 @@ inline float light_point_pdf(const __global Light* l, int type, float3 x, const 
 
 /* Can a ray hit light `index` (of type `type`)? Triangles when the BSDF candidates look for them (triangles: 1);
  * analytic lights when their index is below `analytic` (the BSDF candidates test that many, the scene's lights
- * coming first in the light array) and they are not a delta. */
+ * coming first in the light array); then as the type says (not a delta, emits). */
 inline bool light_hittable(const __global Light* l, int type, int index, int analytic, int triangles)
 {
-    if (type == LIGHT_TRIANGLE) return triangles != 0;
-    if (index >= analytic) return false;
-    if (type == LIGHT_SPHERE || type == LIGHT_SPOT) return sphere_light(l).radius > 0.0f;
-    if (type == LIGHT_SUN) return sun_light(l).omc > 0.0f;
-    if (type == LIGHT_ENVIRONMENT) return environment_emits(l);
-    return true;
+    if (type == LIGHT_TRIANGLE ? triangles == 0 : index >= analytic) return false;
+    switch (type) {
+#ifdef HAS_TRIANGLE_LIGHTS
+    case LIGHT_TRIANGLE: return triangle_hittable(l);
+#endif
+#ifdef HAS_QUAD_LIGHTS
+    case LIGHT_QUAD: return quad_hittable(l);
+#endif
+#ifdef HAS_DISK_LIGHTS
+    case LIGHT_DISK: return disk_hittable(l);
+#endif
+#ifdef HAS_SPHERE_LIGHTS
+    case LIGHT_SPHERE: return sphere_hittable(l);
+#endif
+#ifdef HAS_SPOT_LIGHTS
+    case LIGHT_SPOT: return spot_hittable(l);
+#endif
+#ifdef HAS_SUN_LIGHTS
+    case LIGHT_SUN: return sun_hittable(l);
+#endif
+#ifdef HAS_ENVIRONMENT
+    case LIGHT_ENVIRONMENT: return environment_hittable(l);
+#endif
+    default: break;
+    }
+    return false;
+}
+
+/* The radiance that reaches x from the point (u, v) of l that a ray from x hit (light_hit): what a camera ray sees
+ * there. */
+inline float3 light_hit_radiance(const __global Light* l, int type, float3 x, float2 uv)
+{
+    switch (type) {
+#ifdef HAS_TRIANGLE_LIGHTS
+    case LIGHT_TRIANGLE: return triangle_hit_radiance(l, x, uv);
+#endif
+#ifdef HAS_QUAD_LIGHTS
+    case LIGHT_QUAD: return quad_hit_radiance(l, x, uv);
+#endif
+#ifdef HAS_DISK_LIGHTS
+    case LIGHT_DISK: return disk_hit_radiance(l, x, uv);
+#endif
+#ifdef HAS_SPHERE_LIGHTS
+    case LIGHT_SPHERE: return sphere_hit_radiance(l, x, uv);
+#endif
+#ifdef HAS_SPOT_LIGHTS
+    case LIGHT_SPOT: return spot_hit_radiance(l, x, uv);
+#endif
+#ifdef HAS_SUN_LIGHTS
+    case LIGHT_SUN: return sun_hit_radiance(l, x, uv);
+#endif
+#ifdef HAS_ENVIRONMENT
+    case LIGHT_ENVIRONMENT: return environment_hit_radiance(l, x, uv);
+#endif
+    default: break;
+    }
+    return (float3)(0.0f);
 }
 
 #endif

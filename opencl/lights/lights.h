@@ -3,9 +3,9 @@
  * area for triangle, quad, disk and sphere lights, solid angle for the sun and the environment, a delta for points (radius 0) and a
  * sun of angle 0. light_sample() draws (u, v) at a shading point with its pdf in that measure; light_eval() gives
  * the unshadowed contribution Le * cos_x * G in the same measure (the BRDF is applied by the caller).
- * This header only dispatches on the record's type: each type's code and the meaning of its record lanes are in
- * lights/<type>.h. Feature flags HAS_<TYPE>_LIGHTS (set by the host from the scene) compile only the types a scene
- * has. */
+ * This header only dispatches on the record's type: each type's code, functions and the meaning of its record lanes
+ * are in lights/<type>.h (what a ray meets of a light is dispatched by lights/hit.h). Feature flags HAS_<TYPE>_LIGHTS
+ * (set by the host from the scene) compile only the types a scene has. */
 #ifndef RESTIRCL_LIGHTS_H
 #define RESTIRCL_LIGHTS_H
 

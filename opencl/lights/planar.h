@@ -44,6 +44,21 @@ inline float planar_sa_pdf(PlanarLight pl, float2 ab, float3 x, float S)
     return (cos_l > 0.0f && dist > 0.0f) ? cos_l / (dist * dist * S) : 0.0f;
 }
 
+/* Every planar shape has an area that rays meet (a triangle's through the BVH). */
+inline bool planar_hittable(const __global Light* l)
+{
+    (void)l;
+    return true;
+}
+
+/* Uniform radiance over the emitting side (the type's eval rejects the other side of a one-sided shape). */
+inline float3 planar_hit_radiance(const __global Light* l, float3 x, float2 uv)
+{
+    (void)x;
+    (void)uv;
+    return light_radiance(l);
+}
+
 /* Where the ray x + t wi (t > 0) meets the plane of pl: the point's coordinates (a, b) with
  * point = origin + a span_u + b span_v; false when the ray is parallel to the plane or the plane is behind x. */
 inline bool planar_ray_coords(PlanarLight pl, float3 x, float3 wi, float2* ab)

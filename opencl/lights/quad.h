@@ -52,4 +52,8 @@ inline bool quad_hit(const __global Light* l, float3 x, float3 wi, float2* uv)
     return ab.x >= 0.0f && ab.x < 1.0f && ab.y >= 0.0f && ab.y < 1.0f;
 }
 
+inline bool quad_hittable(const __global Light* l) { return planar_hittable(l); }
+
+inline float3 quad_hit_radiance(const __global Light* l, float3 x, float2 uv) { return planar_hit_radiance(l, x, uv); }
+
 #endif

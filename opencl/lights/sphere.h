@@ -200,4 +200,16 @@ inline float sphere_point_pdf(const __global Light* l, float3 x, const LightEval
     return cos_l > 0.0f ? cos_l / (e->dist * e->dist * 2.0f * RESTIRCL_PI * omc) : 0.0f;
 }
 
+/* A point (radius 0) is a delta no ray meets. The host's half of this rule is python/restircl/lights/sphere.py
+ * has_shape (which lights the camera sees). */
+inline bool sphere_hittable(const __global Light* l) { return sphere_light(l).radius > 0.0f; }
+
+/* The surface's radiance, uniform (Blender draws the sphere so out to its silhouette). */
+inline float3 sphere_hit_radiance(const __global Light* l, float3 x, float2 uv)
+{
+    (void)x;
+    (void)uv;
+    return light_radiance(l);
+}
+
 #endif

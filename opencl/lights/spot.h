@@ -47,4 +47,18 @@ inline float2 spot_sample(const __global Light* l, float3 x, float r0, float r1,
 /* Rays meet a spot where they meet its sphere; the cone masks the emission (spot_eval). */
 inline bool spot_hit(const __global Light* l, float3 x, float3 wi, float2* uv) { return sphere_hit(l, x, wi, uv); }
 
+inline float spot_point_pdf(const __global Light* l, float3 x, const LightEval* e) { return sphere_point_pdf(l, x, e); }
+
+inline bool spot_hittable(const __global Light* l) { return sphere_hittable(l); }
+
+/* The sphere's radiance masked by the cone towards x: a spot seen from outside its cone is dark. */
+inline float3 spot_hit_radiance(const __global Light* l, float3 x, float2 uv)
+{
+    (void)uv;
+    float3 out = x - sphere_light(l).centre;
+    float len = len3(out);
+    float mask = len > 0.0f ? spot_mask(spot_cone(l), out / len) : 0.0f;
+    return light_radiance(l) * mask;
+}
+
 #endif

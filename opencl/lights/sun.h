@@ -50,4 +50,25 @@ inline bool sun_hit(const __global Light* l, float3 x, float3 wi, float2* uv)
     return uv->x < 1.0f;
 }
 
+/* The density of sun_sample, the same for every direction of the cone. */
+inline float sun_point_pdf(const __global Light* l, float3 x, const LightEval* e)
+{
+    (void)e;
+    float pdf;
+    sun_sample(l, x, 0.0f, 0.0f, &pdf);
+    return pdf;
+}
+
+/* A sun of angle 0 is a delta direction no ray meets. The host's half of this rule is
+ * python/restircl/lights/sun.py has_shape (which lights the camera sees). */
+inline bool sun_hittable(const __global Light* l) { return sun_light(l).omc > 0.0f; }
+
+/* Uniform radiance inside the cone. */
+inline float3 sun_hit_radiance(const __global Light* l, float3 x, float2 uv)
+{
+    (void)x;
+    (void)uv;
+    return light_radiance(l);
+}
+
 #endif

@@ -66,4 +66,19 @@ inline float triangle_point_pdf(const __global Light* l, float3 x, const LightEv
     return sa_point_pdf(sa, sa ? t.S : 0.0f, pl.area, e);
 }
 
+/* Triangles are geometry: the BVH finds the one a ray meets (direct/bsdf_candidates.h bsdf_ray_triangle_light,
+ * triangle_uv), not a test of each light, so this ray test is never one. */
+inline bool triangle_hit(const __global Light* l, float3 x, float3 wi, float2* uv)
+{
+    (void)l; (void)x; (void)wi; (void)uv;
+    return false;
+}
+
+inline bool triangle_hittable(const __global Light* l) { return planar_hittable(l); }
+
+inline float3 triangle_hit_radiance(const __global Light* l, float3 x, float2 uv)
+{
+    return planar_hit_radiance(l, x, uv);
+}
+
 #endif

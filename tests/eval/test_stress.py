@@ -13,8 +13,9 @@ from restircl.core import layouts as L
 from restircl.eval.stress import suite as stress
 from restircl.eval.stress.cases import CASES
 from restircl.eval.stress.judging import METHODS, format_table
-from restircl.eval.stress.references import NotAnalytic, analytic_direct
+from restircl.eval.stress.references import analytic_direct
 from restircl.lights import quad, sphere
+from restircl.lights.light_type import NotAnalytic
 
 
 @pytest.mark.parametrize("name", list(CASES))

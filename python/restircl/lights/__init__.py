@@ -1,8 +1,11 @@
-"""Lights on the host: one module per device light type (its code, feature flag, packer and power; the device side
-is opencl/lights/<type>.h), the registry of them all, and the packing of a scene's lights into device records.
+"""Lights on the host: one module per device light type (its LightType: code, feature flag, tree bounds, area-sampling
+rule, closed form, and for scene lights its packer, power and whether it has a shape; the device side is
+opencl/lights/<type>.h), the registry of them all, which every other module reads the types' facts through, and the
+packing of a scene's lights into device records.
 
-A new type adds its module here and its entry in registry.py; opencl/lights/<type>.h and the dispatch in
-opencl/lights/lights.h are its device half."""
+A new type adds its module here and its line in registry.py; opencl/lights/<type>.h, its include and cases in
+opencl/lights/lights.h and its cases in opencl/lights/hit.h are its device half; tests/lights/test_types.py checks
+each fact of it by name."""
 
 from .device_lights import DeviceLights, scene_lights
 from .light_type import LightType, PlacedLight, SceneLightType

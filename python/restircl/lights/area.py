@@ -7,8 +7,14 @@ import math
 
 import numpy as np
 
+from ..scene.light import Light
 from .light_type import PlacedLight
 from .record import LUMINANCE
+
+
+def has_shape(lt: Light) -> bool:
+    """An area light is its shape: rays meet it (and the camera sees it where it is visible to the camera)."""
+    return True
 
 
 def axes(s: PlacedLight) -> tuple[np.ndarray, np.ndarray]:

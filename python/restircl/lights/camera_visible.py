@@ -1,5 +1,9 @@
 """The lights camera rays see (opencl/lights/camera_visible.h): which of a scene's lights Cycles would show to the
-camera, and the table the primary pass reads (their light indices and per-light motion rows)."""
+camera, and the table the primary pass reads (their light indices and per-light motion rows).
+
+Which lights is decided here, once, on the host: those visible to the camera whose type says they have a shape
+(SceneLightType.has_shape, lights/<type>.py: not a delta). The device tests exactly the lights of the table and has
+no rule of its own: what a ray sees of one is its type's hit, evaluation and radiance (opencl/lights/hit.h)."""
 
 from __future__ import annotations
 
@@ -7,26 +11,18 @@ import warnings
 
 import numpy as np
 
-from ..scene.light import Light
 from ..scene.scene import Scene
+from .registry import type_of
 
 # A camera ray tests every light of the table: past this many, the rest are not seen (and a warning says so).
 CAMERA_LIGHTS_MAX = 256
 ROWS = 7  # rows per light of the table (CAMERA_LIGHT_ROWS in opencl/codes.h)
 
 
-def has_shape(lt: Light) -> bool:
-    """Can a ray hit the light? Area lights, points and spots with a radius, suns with an angle (not deltas)."""
-    if lt.type == "area":
-        return True
-    if lt.type in ("point", "spot"):
-        return lt.radius > 0
-    return lt.type == "sun" and lt.angle > 0
-
-
 def camera_light_indices(scene: Scene) -> list[int]:
     """Indices (into scene.lights, the first device light records) of the lights camera rays test."""
-    seen = [i for i, lt in enumerate(scene.lights) if getattr(lt, "visible_camera", True) and has_shape(lt)]
+    seen = [i for i, lt in enumerate(scene.lights)
+            if getattr(lt, "visible_camera", True) and type_of(lt).has_shape(lt)]
     if len(seen) > CAMERA_LIGHTS_MAX:
         warnings.warn(f"{len(seen)} lights are visible to the camera; only the first {CAMERA_LIGHTS_MAX} are seen "
                       "(turn Ray Visibility > Camera off for the others)", stacklevel=2)

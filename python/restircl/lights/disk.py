@@ -8,7 +8,9 @@ import numpy as np
 
 from ..scene.light import Light
 from . import area
-from .light_type import PlacedLight, SceneLightType
+from .bounds import Bounds
+from .light_type import PlacedLight, SceneLightType, no_closed_form
+from .planar import orthogonal_spans, planar_bounds, spans
 from .record import lanes
 
 
@@ -32,4 +34,18 @@ def power(s: PlacedLight) -> float:
     return area.power(s, _area(s))
 
 
-TYPE = SceneLightType("disk", code=2, flag="HAS_DISK_LIGHTS", accepts=accepts, record=record, power=power)
+def bounds(lanes: np.ndarray, flags: np.ndarray) -> Bounds:
+    """The ellipse centre + cos t a + sin t b reaches sqrt(a_i^2 + b_i^2) from the centre along axis i."""
+    p, a, b = spans(lanes)
+    ext = np.sqrt(a**2 + b**2)
+    return planar_bounds(p - ext, p + ext, lanes, flags)
+
+
+def solid_angle(lanes: np.ndarray, flags: np.ndarray) -> np.ndarray:
+    """Ellipses with orthogonal semi-axes: sampled through their bounding rectangle (opencl/lights/disk.h)."""
+    return orthogonal_spans(lanes)
+
+
+TYPE = SceneLightType("disk", code=2, flag="HAS_DISK_LIGHTS",
+                      bounds=bounds, solid_angle=solid_angle, analytic=no_closed_form("disk lights"),
+                      accepts=accepts, record=record, power=power, has_shape=area.has_shape)

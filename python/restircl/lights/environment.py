@@ -27,10 +27,12 @@ from ..environment.pack import (
 )
 from ..environment.table import fill_table, table_floats
 from ..environment.world import Environment
-from .light_type import LightType
+from .bounds import DISTANT
+from .light_type import LightType, no_closed_form, no_solid_angle
 from .record import LUMINANCE, lanes
 
-TYPE = LightType("environment", code=6, flag="HAS_ENVIRONMENT")
+TYPE = LightType("environment", code=6, flag="HAS_ENVIRONMENT",
+                 bounds=DISTANT, solid_angle=no_solid_angle, analytic=no_closed_form("environments"))
 #: ENV_FLAG_* (opencl/codes.h): the camera sees the world; the cdf table (else alias); half-float texels
 FLAG_CAMERA, FLAG_CDF, FLAG_HALF = 2, 4, 8
 #: the sampling table of new scenes: "alias" or "cdf" (environment/table.py; measured in

@@ -8,7 +8,8 @@ import math
 import numpy as np
 
 from ..scene.light import Light
-from .light_type import PlacedLight, SceneLightType
+from .bounds import DISTANT
+from .light_type import NotAnalytic, PlacedLight, SceneLightType, no_solid_angle
 from .record import LUMINANCE, lanes, unit
 
 
@@ -30,4 +31,23 @@ def power(s: PlacedLight) -> float:
     return float(LUMINANCE @ s.rgb_power) * math.pi * s.scene_radius * s.scene_radius
 
 
-TYPE = SceneLightType("sun", code=5, flag="HAS_SUN_LIGHTS", accepts=accepts, record=record, power=power)
+def has_shape(lt: Light) -> bool:
+    """Angle 0 is a delta: no ray meets one direction."""
+    return lt.angle > 0
+
+
+def analytic(x: np.ndarray, n: np.ndarray, lanes: np.ndarray, flags: np.ndarray) -> np.ndarray:
+    """Radiance over a cap of 1 - cos = omc around the direction: pi sin^2 cos, or cos for a delta; exact when the
+    cap is wholly above or below the horizon."""
+    cos = n @ lanes[:, 4:7].T  # (P, S)
+    omc = lanes[:, 9][None]
+    sin2 = omc * (2 - omc)
+    if np.any((omc > 0) & (np.abs(cos) < np.sqrt(sin2) * (1 - 1e-6))):
+        raise NotAnalytic("a sun crosses the horizon of a shading point")
+    geo = np.where(omc > 0, math.pi * sin2 * cos, cos)
+    return np.where(cos > 0, geo, 0.0)
+
+
+TYPE = SceneLightType("sun", code=5, flag="HAS_SUN_LIGHTS",
+                      bounds=DISTANT, solid_angle=no_solid_angle, analytic=analytic,
+                      accepts=accepts, record=record, power=power, has_shape=has_shape)

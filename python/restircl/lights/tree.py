@@ -11,8 +11,10 @@ emitting light keeps a nonzero probability whatever the bound says). A light's l
 binary digits of leaf + 1 below the leading one are the branches taken, so the pmf of a given light at a given
 point is the product of the branch probabilities along it.
 
-Lights without a position (the sun; any type this module does not know) stay outside the tree, as Cycles keeps
-distant lights: one of them is picked with the probability the light array gives it."""
+Each light's box and cone come from its type (LightType.bounds, lights/<type>.py, through the registry); the lights
+of a type without a position (bounds DISTANT: the sun, the environment) stay outside the tree, as Cycles keeps distant
+lights: one of them is picked with the probability the light array gives it. A record of a code no type has is an
+error, not a distant light."""
 
 from __future__ import annotations
 
@@ -21,9 +23,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core import layouts as L
+from .bounds import DISTANT
+from .registry import groups
 
-TRIANGLE, QUAD, DISK, SPHERE, SPOT, SUN = range(6)  # LIGHT_* codes (opencl/lights/<type>.h)
-FLAG_TWO_SIDED = 1  # LIGHT_FLAG_TWO_SIDED (lights/record.h), also the node flag (lights/tree.h)
+NODE_TWO_SIDED = 1  # lights/tree.h LIGHT_TREE_TWO_SIDED: a light below the node emits on both sides
 
 
 @dataclass
@@ -55,44 +58,28 @@ class LightTree:
 
 
 def light_bounds(records: np.ndarray, types: np.ndarray, power: np.ndarray) -> LightBounds:
-    """Bounds of each light record (layouts.LIGHT), read from the lanes each type's decode names
-    (opencl/lights/<type>.h)."""
-    f = records.view(np.float32).reshape(-1, 16).astype(np.float64)
+    """Bounds of each light record (layouts.LIGHT), as its type computes them (LightType.bounds, lights/<type>.py);
+    the lights of a DISTANT type have none (lo, hi NaN) and are not local."""
+    lanes = records.view(np.float32).reshape(-1, 16).astype(np.float64)
     flags = records.view(np.int32).reshape(-1, 16)[:, 15]
-    n = len(f)
-    p, a, b, a_w, b_x = f[:, 0:3], f[:, 4:7], f[:, 8:11], f[:, 7], f[:, 8]
-    lo, hi = p.copy(), p.copy()
+    n = len(lanes)
+    lo, hi = np.full((n, 3), np.nan), np.full((n, 3), np.nan)
     axis = np.tile([0.0, 0.0, 1.0], (n, 1))
     theta_o = np.full(n, np.pi)
     theta_e = np.full(n, 0.5 * np.pi)
-    types = np.asarray(types)
-    two_sided = (flags & FLAG_TWO_SIDED) != 0
-    tri, quad, disk = types == TRIANGLE, types == QUAD, types == DISK
-    planar = tri | quad | disk
-    for sel, pts in ((tri, (p, p + a, p + b)), (quad, (p, p + a, p + b, p + a + b))):
-        lo[sel] = np.minimum.reduce([q[sel] for q in pts])
-        hi[sel] = np.maximum.reduce([q[sel] for q in pts])
-    ext = np.sqrt(a[disk] ** 2 + b[disk] ** 2)  # a disk's extent along each axis
-    lo[disk], hi[disk] = p[disk] - ext, p[disk] + ext
-    normal = np.cross(a, b)
-    length = np.linalg.norm(normal, axis=1)
-    facing = planar & (length > 0)
-    axis[facing] = normal[facing] / length[facing, None]
-    theta_o[facing] = 0.0
-    ball = (types == SPHERE) | (types == SPOT)
-    r = np.abs(a_w[ball])[:, None]
-    lo[ball], hi[ball] = p[ball] - r, p[ball] + r
-    spot = types == SPOT
-    spot_axis = a[spot]
-    spot_len = np.linalg.norm(spot_axis, axis=1)
-    axis[spot] = np.where(spot_len[:, None] > 0, spot_axis / np.maximum(spot_len, 1e-30)[:, None], axis[spot])
-    theta_o[spot] = np.where(spot_len > 0, np.arccos(np.clip(b_x[spot], -1.0, 1.0)), np.pi)
-    theta_e[spot] = 0.0  # the cone's mask is zero beyond cos_outer
-    two_sided &= planar
+    two_sided = np.zeros(n, bool)
+    spatial = np.zeros(n, bool)
+    for t, sel in groups(types) if n else ():
+        if t.bounds == DISTANT:
+            continue
+        b = t.bounds(lanes[sel], flags[sel])
+        lo[sel], hi[sel], axis[sel] = b.lo, b.hi, b.axis
+        theta_o[sel], theta_e[sel], two_sided[sel] = b.theta_o, b.theta_e, b.two_sided
+        spatial[sel] = True
     phi = np.asarray(power, np.float64)
-    local = (planar | ball) & np.isfinite(phi) & (phi > 0) & np.all(np.isfinite(lo) & np.isfinite(hi), axis=1)
-    return LightBounds(lo, hi, axis, theta_o, theta_e, np.where(np.isfinite(phi) & (phi > 0), phi, 0.0),
-                       two_sided, local)
+    emits = np.isfinite(phi) & (phi > 0)
+    local = spatial & emits & np.all(np.isfinite(lo) & np.isfinite(hi), axis=1)
+    return LightBounds(lo, hi, axis, theta_o, theta_e, np.where(emits, phi, 0.0), two_sided, local)
 
 
 def merge_cones(wa: np.ndarray, ta: np.ndarray, wb: np.ndarray, tb: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -179,7 +166,7 @@ def build_light_tree(records: np.ndarray, types: np.ndarray, power: np.ndarray,
     nodes["lo"][:, :3], nodes["lo"][:, 3] = lo, phi
     nodes["hi"][:, :3], nodes["hi"][:, 3] = hi, np.cos(theta_o)
     nodes["axis"][:, :3], nodes["axis"][:, 3] = axis, np.cos(theta_e)
-    nodes["meta"][:, 0], nodes["meta"][:, 1] = light, np.where(two_sided, FLAG_TWO_SIDED, 0)
+    nodes["meta"][:, 0], nodes["meta"][:, 1] = light, np.where(two_sided, NODE_TWO_SIDED, 0)
     nodes["meta"][:, 2] = np.sin(theta_o).astype(np.float32).view(np.int32)
     # distant lights (nothing else outside the tree emits), in order
     emits = bnd.phi > 0
@@ -257,7 +244,7 @@ def importance(nodes: np.ndarray, x: np.ndarray, n: np.ndarray) -> np.ndarray:
     phi, cos_o, cos_e = (nodes[k][:, 3].astype(np.float64) for k in ("lo", "hi", "axis"))
     sin_o = nodes["meta"][:, 2].copy().view(np.float32).astype(np.float64)
     ax = nodes["axis"][:, :3].astype(np.float64)
-    two = (nodes["meta"][:, 1] & FLAG_TWO_SIDED) != 0
+    two = (nodes["meta"][:, 1] & NODE_TWO_SIDED) != 0
     d = x - 0.5 * (lo + hi)
     d2 = np.einsum("ij,ij->i", d, d)
     r2 = 0.25 * np.einsum("ij,ij->i", hi - lo, hi - lo)

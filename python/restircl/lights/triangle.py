@@ -7,10 +7,34 @@ import math
 
 import numpy as np
 
+from .bounds import Bounds
 from .light_type import LightType
+from .planar import corner_bounds, spans
+from .polygon import polygon_direct
 from .record import FLAG_TWO_SIDED, LANES, LUMINANCE, lanes
 
-TYPE = LightType("triangle", code=0, flag="HAS_TRIANGLE_LIGHTS")
+
+def _corners(lanes: np.ndarray) -> list[np.ndarray]:
+    """v0, v1, v2 (opencl/lights/triangle.h: origin v0, spans e1, e2)."""
+    p, a, b = spans(lanes)
+    return [p, p + a, p + b]
+
+
+def bounds(lanes: np.ndarray, flags: np.ndarray) -> Bounds:
+    return corner_bounds(_corners(lanes), lanes, flags)
+
+
+def solid_angle(lanes: np.ndarray, flags: np.ndarray) -> np.ndarray:
+    """Every triangle is a spherical triangle (spherical_tri.h)."""
+    return np.ones(len(lanes), bool)
+
+
+def analytic(x: np.ndarray, n: np.ndarray, lanes: np.ndarray, flags: np.ndarray) -> np.ndarray:
+    return polygon_direct(x, n, np.stack(_corners(lanes), axis=1), flags)
+
+
+TYPE = LightType("triangle", code=0, flag="HAS_TRIANGLE_LIGHTS",
+                 bounds=bounds, solid_angle=solid_angle, analytic=analytic)
 
 
 def emissive_triangles(world, radiance: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -99,7 +99,7 @@ def families() -> tuple[Family, ...]:
             ("PICK_TABLE_MAX", pick_table.MAX_LIGHTS), ("PICK_TABLE_FLOOR", pick_table.FLOOR)), kind="constants"),
         Family("the light tree", "lights/tree.py", (
             ("LIGHT_TREE_FLOOR", tree.FLOOR), ("LIGHT_TREE_MIN_BRANCH", tree.MIN_BRANCH),
-            ("LIGHT_TREE_TWO_SIDED", tree.FLAG_TWO_SIDED)), kind="constants"),
+            ("LIGHT_TREE_TWO_SIDED", tree.NODE_TWO_SIDED)), kind="constants"),
         Family("GGX energy tables", "upload/ggx_tables.py", (
             ("GGX_E_SIZE", ggx_tables.E_SIZE), ("GGX_S_SIZE", ggx_tables.S_SIZE),
             ("GGX_E_OFFSET", ggx_tables.E_OFFSET), ("GGX_E_AVG_OFFSET", ggx_tables.E_AVG_OFFSET),
