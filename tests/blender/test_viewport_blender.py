@@ -157,7 +157,7 @@ def object_mask(session, name: str) -> np.ndarray:
     from restircl.core.layouts import float_bits_to_int
 
     r = session.renderer
-    g = r._read_gbuffer(r.gbuf[1 - r._cur])
+    g = r.read_gbuffer()
     index = [m.name for m in session.scene.meshes].index(name)
     hit = float_bits_to_int(g["normal"][..., 3]) >= 0
     return (hit & (float_bits_to_int(g["albedo"][..., 3]) == index))[::-1]

@@ -94,7 +94,7 @@ def test_views_land_where_their_matrices_project(kind):
     try:
         step(sess, view, proj, 1)
         r = sess.renderer
-        g = r._read_gbuffer(r.gbuf[1 - r._cur])
+        g = r.read_gbuffer()
     finally:
         assert sess.stop()
     hit = float_bits_to_int(g["normal"][..., 3]) >= 0
@@ -119,7 +119,7 @@ def test_an_orthographic_view_starts_its_rays_at_the_scene():
             sess.set_view(view_camera(view, proj, W, H, ortho_back=back))
             assert sess.wait(1) is not None and sess.error is None, sess.error
             r = sess.renderer
-            gbufs.append(r._read_gbuffer(r.gbuf[1 - r._cur]))
+            gbufs.append(r.read_gbuffer())
         finally:
             assert sess.stop()
     hit = float_bits_to_int(gbufs[0]["normal"][..., 3]) >= 0
@@ -169,7 +169,7 @@ def test_an_edit_of_one_object_uploads_only_what_changed():
         assert not frame.cut and frame.history > 3.0  # the history survived the move
         # the moved box's pixels point back to where it was: M_before M_after^-1 in the motion rows
         r = sess.renderer
-        g = r._read_gbuffer(r.gbuf[1 - r._cur])
+        g = r.read_gbuffer()
         obj = float_bits_to_int(g["albedo"][..., 3])
         hit = float_bits_to_int(g["normal"][..., 3]) >= 0
         on_box, on_floor = hit & (obj == 1), hit & (obj == 0)

@@ -7,7 +7,7 @@ import numpy as np
 import pyopencl as cl
 import pytest
 from restircl import Camera, Light, Material, Mesh, Renderer, Scene, Settings, look_at, scenes, translation
-from restircl.render import pipeline
+from restircl.render import plan
 
 from ..helpers import mixed_lights_scene
 from ..stats import pooled_chi2
@@ -82,7 +82,7 @@ def test_auto_uses_tiles_for_ris_methods_with_many_lights(device, monkeypatch):
         r.render_frame(0)
         assert not r.light_tiles_used  # a handful of lights: below LIGHT_TILES_AUTO
         assert "tiles" not in r.render_frame(0).stage_ms
-    monkeypatch.setattr(pipeline, "LIGHT_TILES_AUTO", 4)
+    monkeypatch.setattr(plan, "LIGHT_TILES_AUTO", 4)  # the threshold plan_frame reads
     for method, used in (("ris", True), ("restir", True), ("light_array", False), ("reference", False)):
         r = Renderer(scene, Settings(method=method, seed=1), device)
         f = r.render_frame(0)

@@ -264,7 +264,8 @@ def test_auto_adds_bsdf_candidates_only_where_a_material_is_glossy(device):
 
     for glossy in (False, True):
         r = Renderer(large_lights_scene(W, H, glossy), Settings(method="ris"), device)
-        assert r._bsdf_candidates("ris", r.device_scene.sampled_light_count) == (1 if glossy else 0)
+        r.render_frame(0, aovs=False)
+        assert r.last_plan is not None and r.last_plan.bsdf_candidates == (1 if glossy else 0)
 
 
 def test_lights_behind_the_surface_stay_exact_zero_with_bsdf_candidates(device):

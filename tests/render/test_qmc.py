@@ -364,10 +364,14 @@ def test_one_light_still_draws_its_points_from_sobol(device):
     kw = dict(method="ris", candidates=1, jitter=False, bsdf_sampling="off")
     r = Renderer(scene, Settings(sampler="sobol", **kw), device)
     r.qmc = (1, 0, 1)
-    assert r._begin_frame(0, None).method == "ris"
+    r.render_frame(0, still=True, aovs=False)
+    assert r.last_plan is not None and r.last_plan.method == "ris"
     r.qmc = None  # animation frames with the Sobol sampler draw from the sequence too
-    assert r._begin_frame(0, None).method == "ris"
-    assert Renderer(scene, Settings(sampler="random", **kw), device)._begin_frame(0, None).method == "light_array"
+    r.render_frame(1 % scene.frames, aovs=False)
+    assert r.last_plan.method == "ris"
+    plain = Renderer(scene, Settings(sampler="random", **kw), device)
+    plain.render_frame(0, aovs=False)
+    assert plain.last_plan is not None and plain.last_plan.method == "light_array"
     runs = 24
     v_rand, e_rand = total_variance(run_means(scene, Settings(sampler="random", **kw), runs, 32, device))
     v_qmc, e_qmc = total_variance(run_means(scene, Settings(sampler="sobol", **kw), runs, 32, device))

@@ -43,7 +43,7 @@ def test_motion_vectors_are_exact_for_camera_and_object_motion(device):
     r = Renderer(scene, Settings(method="light_array", jitter=False), device)
     r.render_frame(2)
     r.render_frame(3)
-    g = r._read_gbuffer(r.gbuf[1 - r._cur])
+    g = r.read_gbuffer()
     from restircl.core.layouts import float_bits_to_int
 
     hit = float_bits_to_int(g["normal"][..., 3]) >= 0
@@ -63,7 +63,7 @@ def test_motion_vectors_are_exact_for_camera_and_object_motion(device):
     cur = project_numpy(camera_record(scene.camera, 3), pos)
     assert np.abs(cur - centres)[hit].max() < 2e-3
     # the Vector pass (Blender's convention: y up): xy to the previous frame, zw to the next
-    vec = r._read(r.sample_buf, r.gbuf[1 - r._cur], 3).vector
+    vec = r.read_frame(r.sample_buf, r.gbuf[r.last_slot], 3).vector
     next_pos = pos.copy()
     next_pos[moving] += np.array([0.3, 0.0, 0.0])
     expect_next = project_numpy(camera_record(scene.camera, 4), next_pos)
@@ -131,7 +131,7 @@ def test_no_ghost_trail_behind_a_moving_object(device):
 
 
 def last_depth(r: Renderer) -> np.ndarray:
-    g = r._read_gbuffer(r.gbuf[1 - r._cur])
+    g = r.read_gbuffer()
     return np.where(g["normal"][..., 3].view(np.int32) >= 0, g["pos"][..., 3], np.inf)
 
 
@@ -181,7 +181,7 @@ def test_nan_in_history_is_gone_next_frame_and_counted(device):
     for _ in range(3):
         r.render_frame(0)
     hist = np.empty((H, W, 4), np.float32)
-    buf = r.taa_history[1 - r._cur]
+    buf = r.taa_history[r.last_slot]
     cl.enqueue_copy(device.queue, hist, buf)
     hist[10:20, 10:20, :3] = np.nan
     hist[30, 30, 0] = np.inf

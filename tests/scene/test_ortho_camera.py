@@ -51,7 +51,7 @@ def ortho_camera(eye=(0.3, -4.0, 3.0), scale: float = 5.0, fit: str = "AUTO", sh
 
 
 def gbuffer(r: Renderer) -> np.ndarray:
-    return r._read_gbuffer(r.gbuf[1 - r._cur])
+    return r.read_gbuffer()
 
 
 def two_views(scene, device, prev: Camera, cur: Camera):

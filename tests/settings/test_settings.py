@@ -16,7 +16,6 @@ from restircl import SettingError, Settings
 from restircl.cli.arguments import settings_from_args
 from restircl.cli.main import build_parser
 from restircl.core.program import build_program, opencl_dir
-from restircl.render import pipeline
 from restircl.settings.spec import Range, declared
 from restircl.settings.table import JOINT_LIMITS, METHODS, kernel_defines
 
@@ -48,7 +47,6 @@ NUMBERS = [d for d in declared(Settings) if d.spec.range is not None]
 def test_fields_defaults_and_order_unchanged():
     assert [(f.name, f.default) for f in fields(Settings)] == list(BEFORE)
     assert Settings.names() == [n for n, _ in BEFORE]
-    assert pipeline.Settings is Settings and pipeline.METHODS == METHODS  # the old import path still works
     assert METHODS == ("uniform", "light_array", "ris", "restir", "reference")
 
 

@@ -95,14 +95,14 @@ def run_variant(scene: Scene, kw: dict, evaluated: list[int], refs: list[np.ndar
     """relMSE of the evaluated frames (against refs, in order) and CPU ms per frame, every frame in order."""
     r = Renderer(scene, Settings(**kw, seed=seed))
     for _ in range(2):  # kernels compile at their first launch
-        r._render(0, still=False)
+        r.run_frame(0, still=False)
     r.reset()
     errs = []
     cpu = 0.0
     img = np.empty((r.height, r.width, 4), np.float32)
     for f in range(scene.frames):
         c0 = time.process_time()
-        _, color_buf, _ = r._render(f, still=False)
+        _, color_buf, _ = r.run_frame(f, still=False)
         r.device.queue.finish()
         cpu += time.process_time() - c0
         if f in evaluated:

@@ -1,4 +1,5 @@
-"""Scene camera -> device Camera record (opencl/types.h), and the Halton (2, 3) sub-pixel jitter sequence."""
+"""Scene camera -> device Camera record (opencl/types.h), the Halton (2, 3) sub-pixel jitter sequence, and whether
+the camera moved between two frames."""
 
 from __future__ import annotations
 
@@ -47,3 +48,12 @@ def camera_record(cam: Camera, frame: int, jitter_px: tuple[float, float] = (0.0
 def views_differ(a: Camera, b: Camera, frame: int = 0) -> bool:
     """Whether two cameras see the scene differently at `frame` (transform, lens, shift, kind or size)."""
     return camera_record(a, frame).tobytes() != camera_record(b, frame).tobytes()
+
+
+def camera_moved(cam: Camera, frame: int, last_frame: int | None, last_view: Camera | None = None) -> bool:
+    """Whether `cam` at `frame` sees the scene from elsewhere than the last frame did: `last_view` (an interactive
+    view's last camera) against `cam`, else `cam`'s transform at `last_frame` against the one at `frame`."""
+    if last_view is not None:
+        return views_differ(last_view, cam)
+    return last_frame is not None and not np.array_equal(Scene.at(cam.transforms, last_frame),
+                                                         Scene.at(cam.transforms, frame))

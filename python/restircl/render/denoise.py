@@ -9,12 +9,10 @@ the frame as `noisy_image` (the Noisy Image pass). Without pyoidn the image is l
 from __future__ import annotations
 
 import warnings
-from typing import TYPE_CHECKING
 
 import numpy as np
 
-if TYPE_CHECKING:
-    from .frame import Frame
+from .frame import Frame, surface_images
 
 INSTALL_HINT = "pip install pyoidn (or restircl[denoise])"
 
@@ -71,3 +69,13 @@ def denoise_frame(frame: Frame, albedo: np.ndarray | None, normal: np.ndarray | 
     frame.color = frame.color.copy()
     frame.color[..., :3] = clean
     return True
+
+
+def denoise_by_gbuffer(frame: Frame, g: np.ndarray) -> bool:
+    """Denoise an animation frame guided by the albedo and normal of its own G-buffer (`g`, read back), the
+    emission the camera sees taken out as in denoise_frame. The TAA output's emission is antialiased over frames,
+    this frame's is one jittered sample: at a lamp's edge the difference is clamped at 0 and goes through the
+    denoiser."""
+    albedo, normal = surface_images(g)
+    emission = np.where(np.isfinite(g["emission"][..., :3]), g["emission"][..., :3], 0.0).astype(np.float32)
+    return denoise_frame(frame, albedo, normal, emission)

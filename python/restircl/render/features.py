@@ -4,7 +4,13 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
+import numpy as np
+
 from ..lights.registry import FEATURE_FLAGS
+from ..scene.scene import Scene
+from ..settings.table import Settings
+from ..upload.device_scene import DeviceScene
+from .plan import stills_use_pick_table
 
 LIGHT_FLAGS = FEATURE_FLAGS  # light type code -> HAS_<TYPE>_LIGHTS, from each type's entry (restircl.lights)
 # HAS_GLOSSY: some material has a specular lobe; HAS_TEXTURES: some material input is a texture node
@@ -37,6 +43,22 @@ def derive_flags(light_types: Iterable[int], motion: bool, moving_objects: bool,
 def general_flags() -> dict[str, bool]:
     """Every feature on: the general build that specialised builds must match."""
     return dict.fromkeys(ALL_FLAGS, True)
+
+
+def renderer_flags(scene: Scene, ds: DeviceScene, settings: Settings, *, interactive: bool,
+                   light_tree: bool) -> dict[str, bool]:
+    """The flags of a renderer of `scene` (uploaded as `ds`) with `settings`: what they need (Settings.specialise),
+    else every feature. interactive: the view may change and objects move by edits (Renderer's interactive)."""
+    if not settings.specialise:
+        return general_flags()
+    cam = scene.camera
+    # a camera animation whose transforms are all equal does not move: no motion vectors to compile
+    moving_camera = interactive or (cam is not None and bool(np.any(cam.transforms != cam.transforms[:1])))
+    # a light the camera sees that moves needs motion vectors of its own
+    moving = moving_camera or ds.moving_objects or (ds.moving_lights and bool(ds.camera_lights))
+    return derive_flags(ds.lights.type_set, moving, ds.moving_objects or interactive, ds.material_flags, light_tree,
+                        camera_lights=bool(ds.camera_lights),
+                        pick_table=stills_use_pick_table(settings, ds.sampled_light_count, light_tree))
 
 
 def describe(flags: dict[str, bool]) -> list[str]:

@@ -1,9 +1,10 @@
-"""A rendered frame as numpy arrays (the output of Renderer.render_frame and render_still), and its read-back from
-the device."""
+"""A rendered frame as numpy arrays (the output of Renderer.render_frame and render_still), the same frame while it is
+still on the device (DeviceFrame, Renderer.run_frame), and its read-back."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 import pyopencl as cl
@@ -30,6 +31,14 @@ class Frame:
     features: list[str] = field(default_factory=list)
     error_estimate: float | None = None  # relMSE estimated from two half buffers (still renders)
     noisy_image: np.ndarray | None = None  # (H, W, 4) the colour before denoising (Settings.denoise), else None
+
+
+class DeviceFrame(NamedTuple):
+    """A frame rendered and not read back (Renderer.run_frame): what Renderer.read_frame reads."""
+
+    stage_ms: dict[str, float]  # milliseconds per stage
+    color: cl.Buffer  # the colour shown: TAA output (animation), or the noisy sample where there is no TAA
+    gbuf: cl.Buffer  # its G-buffer (the history slot it was written to)
 
 
 def read_image(queue: cl.CommandQueue, buf: cl.Buffer, shape: tuple[int, int]) -> np.ndarray:

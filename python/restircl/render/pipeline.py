@@ -1,4 +1,4 @@
-"""The frame pipeline: one frame reads top to bottom in Renderer._render (DESIGN section 2), one call per stage.
+"""The frame pipeline: Renderer.run_frame runs one frame's stages top to bottom (DESIGN section 2), one call each.
 
     1 primary    camera rays -> G-buffer (position, normals, albedo, emission, motion)
     2 initial    RIS over `candidates` light-array samples -> reservoir        (restir)
@@ -7,12 +7,13 @@
     5 spatial    merge neighbours' reservoirs, `spatial_passes` times           (restir, spatial)
     6 shade      one shadow ray to the chosen sample -> noisy direct light s_n  (every method)
     7 taa        f_n = a s_n + (1 - a) clip(history)                            (taa, animation frames)
-    8 output     numpy arrays: colour and AOVs (render/frame.py)
+    8 output     numpy arrays: colour and AOVs (render/frame.py, Renderer.read_frame)
 
-The parts: the scene's device buffers (upload/device_scene.py), the stages (render/stages.py), the history they
-ping-pong (render/history.py), still accumulation and its error estimate (render/still.py), kernel launches by
-argument name (core/kernels.py). Steps a scene or a setting does not need are not run, and their code is not compiled
-(render/features.py).
+What a frame runs and reuses is decided before it starts, by plan_frame (render/plan.py, pure: no device) from the
+settings and the frame's situation that the renderer describes; run_frame follows the plan. The parts: the scene's
+device buffers (upload/device_scene.py), the stages (render/stages.py), the history they ping-pong
+(render/history.py), still renders (render/still.py: they drive run_frame like any caller), kernel launches by
+argument name (core/kernels.py). Code a scene or a setting does not need is not compiled (render/features.py).
 """
 
 from __future__ import annotations
@@ -30,29 +31,20 @@ from ..core.kernels import LOCAL_ITEMS, Kernels, local_size
 from ..core.program import build_program
 from ..lights.array import LightArray
 from ..lights.device_lights import DeviceLights
-from ..lights.pick_table import PickTable, uses_table
+from ..lights.pick_table import PickTable
 from ..lights.tree import tree_proposal
 from ..scene.camera import Camera
 from ..scene.errors import SceneError
 from ..scene.scene import Scene
-from ..settings.table import (  # noqa: F401  (restircl.settings.table.Settings etc. are public)
-    BIAS_CORRECTIONS,
-    BSDF_ANALYTIC_MAX,
-    LIGHT_TILES,
-    LIGHT_TILES_AUTO,
-    MAX_LIGHT_TILE_ENTRIES,
-    METHODS,
-    SHADE_METHODS,
-    TILE_INFO_BYTES,
-    Settings,
-)
+from ..settings.table import BIAS_CORRECTIONS, SHADE_METHODS, TILE_INFO_BYTES, Settings
 from ..upload.device_scene import DeviceScene
 from . import qmc
-from .camera import jitter, views_differ
-from .denoise import denoise_frame
-from .features import derive_flags, describe, general_flags
-from .frame import Frame, read_aovs, read_colour, read_gbuffer, read_guards, read_image, surface_images
+from .camera import camera_moved, jitter
+from .denoise import denoise_by_gbuffer
+from .features import describe, renderer_flags
+from .frame import DeviceFrame, Frame, read_aovs, read_colour, read_gbuffer, read_guards, read_image
 from .history import History
+from .plan import FramePlan, FrameSituation, light_source, plan_frame, uses_mis_sample
 from .stages import (
     BoilingFilter,
     FrameState,
@@ -65,6 +57,7 @@ from .stages import (
     StageTimer,
     Taa,
     Temporal,
+    sampler_params,
 )
 from .still import StillAccumulation, render_still
 
@@ -99,7 +92,7 @@ class Renderer:
         self._sample = 0  # frames rendered so far: the random seed of the next one
         self.qmc: tuple[int, int, int] | None = None  # FrameParams (qmc, qmc_index, qmc_key) set by a still render
         self._last_frame: int | None = None
-        self.light_tiles_used = False  # whether the last frame drew its RIS candidates from the tiles
+        self.last_plan: FramePlan | None = None  # what the last frame ran and reused (render/plan.py)
         self.guard_totals = dict.fromkeys(L.GUARD_NAMES[: L.GUARD_COUNT], 0)
         context, queue = self.device.context, self.device.queue
         self.buffers = FrameBuffers(context, queue, self.pixels)
@@ -126,22 +119,13 @@ class Renderer:
         self.pick_table = PickTable(self.kernels, self.pixels)
 
     def _build(self) -> None:
-        s, ds = self.scene, self.device_scene
-        # a camera animation whose transforms are all equal does not move: no motion vectors to compile
-        moving_camera = self.interactive or (s.camera is not None
-                                             and bool(np.any(s.camera.transforms != s.camera.transforms[:1])))
-        self.uses_light_tree = tree_proposal(self.settings.method, self.settings.light_proposal, ds.lights.types)
+        """Compile the program with the features this scene and settings need (render/features.py)."""
+        s, ds = self.settings, self.device_scene
+        self.uses_light_tree = tree_proposal(s.method, s.light_proposal, ds.lights.types)
         if self.uses_light_tree:
             ds.use_light_tree()
-        if self.settings.specialise:
-            # a light the camera sees that moves needs motion vectors of its own
-            moving = moving_camera or ds.moving_objects or (ds.moving_lights and bool(ds.camera_lights))
-            flags = derive_flags(ds.lights.type_set, moving, ds.moving_objects or self.interactive,
-                                 ds.material_flags, self.uses_light_tree, camera_lights=bool(ds.camera_lights),
-                                 pick_table=self._stills_use_pick_table())
-        else:
-            flags = general_flags()
-        self.flags = flags
+        self.flags = flags = renderer_flags(self.scene, ds, s, interactive=self.interactive,
+                                            light_tree=self.uses_light_tree)
         self.features = describe(flags)
         t0 = time.perf_counter()
         self.program = build_program(self.device, flags)
@@ -165,22 +149,13 @@ class Renderer:
         if sample is not None:
             self._sample = int(sample) % (1 << 32)  # FrameParams.sample is a uint
         t0 = time.perf_counter()
-        stage, color_buf, gbuf = self._render(frame, still)
-        out = self._read(color_buf, gbuf, frame, aovs=aovs)
+        stage, color_buf, gbuf = self.run_frame(frame, still=still)
+        out = self.read_frame(color_buf, gbuf, frame, aovs=aovs)
         if self.settings.denoise:
-            self._denoise(out, gbuf)
+            denoise_by_gbuffer(out, self.read_gbuffer(gbuf))
         out.stage_ms = stage
         out.ms = (time.perf_counter() - t0) * 1e3
         return out
-
-    def _denoise(self, out: Frame, gbuf: cl.Buffer) -> None:
-        """Denoise an animation frame guided by its own G-buffer's albedo and normal (render/denoise.py)."""
-        g = self._read_gbuffer(gbuf)
-        albedo, normal = surface_images(g)
-        emission = np.where(np.isfinite(g["emission"][..., :3]), g["emission"][..., :3], 0.0).astype(np.float32)
-        # the TAA output's emission is antialiased over frames, this frame's is one jittered sample: at a lamp's
-        # edge the difference is clamped at 0 and goes through the denoiser
-        denoise_frame(out, albedo, normal, emission)
 
     def render_view(self, camera: Camera, *, cut: bool = False, aovs: bool = False) -> Frame:
         """A frame of an interactive view (the viewport): frame 0 of the scene seen by `camera`, which may differ
@@ -196,56 +171,59 @@ class Renderer:
         self.scene.camera = camera
         return self.render_frame(0, aovs=aovs)
 
-    def _render(self, frame: int, still: bool, jitter_px: tuple[float, float] | None = None
-                ) -> tuple[dict[str, float], cl.Buffer, cl.Buffer]:
-        """Run the stages of one frame (DESIGN section 2); returns the stage times (ms), the colour buffer and the
-        G-buffer."""
-        s, h = self.settings, self.history
+    def run_frame(self, frame: int, *, still: bool = False, jitter_px: tuple[float, float] | None = None
+                  ) -> DeviceFrame:
+        """Run the stages of frame `frame` (DESIGN section 2) and leave it on the device, read back by nothing:
+        render_frame and render_still read what they need (read_frame), and timing tools measure the frame alone.
+        `still`: a frame of a still render (averaged by its caller: no TAA, no boiling filter); jitter_px: the
+        pixel jitter, by default the renderer's own Halton sequence."""
+        h = self.history
         timer = StageTimer(self.device.queue)
-        state = self._begin_frame(frame, jitter_px)
+        state = self._begin_frame(frame, still, jitter_px)
+        plan = state.plan
         timer.mark("upload")
         self.primary.run(state, self.scene.camera, self._prev_view)  # 1 camera rays -> G-buffer
         timer.mark("primary")
-        if state.tiles:  # presampled light tiles (many lights): this frame's RIS candidates
+        if plan.tiles:  # presampled light tiles (many lights): this frame's RIS candidates
             self.light_tiles.run(state)
             timer.mark("tiles")
         tiles = self.light_tiles.arguments(state)
-        if state.pick_table and not self.pick_table.ready:  # once per still render, from its first G-buffer
+        if plan.pick_table and not self.pick_table.ready:  # once per still render, from its first G-buffer
             self.pick_table.build(h.gbuf(h.cur), h.glossy(h.cur), self.device_scene.lights_buf,
                                   self.device_scene.light_pdf_buf, self.device_scene.sampled_light_count,
                                   state.frame_params)
             timer.mark("pick_table")
-        if state.method == "restir":
+        if plan.method == "restir":
             res = self.initial.run(state, tiles)  # 2-3 RIS -> reservoir, visibility of the chosen sample
             timer.mark("initial")
-            if s.temporal and state.restir_history:  # 4 merge last frame's reservoir
+            if plan.temporal:  # 4 merge last frame's reservoir
                 res = self.temporal.run(state, res)
                 timer.mark("temporal")
-            if s.boiling_filter > 0 and not still:  # 4b biased: the animation path only
+            if plan.boiling:  # 4b biased: the animation path only
                 self.boiling.run(state, res)
                 timer.mark("boiling")
-            if s.spatial and s.spatial_neighbours > 0:  # 5 merge the neighbours'
+            if plan.spatial:  # 5 merge the neighbours'
                 res = self.spatial.run(state, res)
                 timer.mark("spatial")
             h.keep_reservoirs(self.device.queue, res)
             self.shade.restir(state)  # 6 one shadow ray to the final sample
-        elif state.method == "reference":
+        elif plan.method == "reference":
             self.shade.reference(state)
         else:
-            self.shade.direct(state, tiles, self.pick_table.buf if state.pick_table else None)
+            self.shade.direct(state, tiles, self.pick_table.buf if plan.pick_table else None)
         timer.mark("shade")
         color_buf = self.buffers.sample
-        if s.taa and not still:  # 7 temporal accumulation (animation frames; a still render averages instead)
-            color_buf = self.taa.run(state, self._moving(state))
+        if plan.taa:  # 7 temporal accumulation (animation frames; a still render averages instead)
+            color_buf = self.taa.run(state, plan.taa_moving)
             timer.mark("taa")
-            if s.realtime_filter:  # 8 edge-aware a-trous filter of what is shown (the history stays as it is)
+            if plan.filter:  # 8 edge-aware a-trous filter of what is shown (the history stays as it is)
                 color_buf = self.realtime_filter.run(state, color_buf)
                 timer.mark("filter")
         gbuf = h.gbuf(h.cur)
         self._last_frame = frame
         self._sample += 1
         h.swap()
-        return timer.ms, color_buf, gbuf
+        return DeviceFrame(timer.ms, color_buf, gbuf)
 
     def frame_params(self) -> np.void:
         """FrameParams of the next frame: the image and its random stream key."""
@@ -255,103 +233,54 @@ class Renderer:
         return L.pack(L.FRAME_PARAMS, width=self.width, height=self.height, pixels=self.pixels, sample=self._sample,
                       seed=s.seed, qmc=on, qmc_index=index % (1 << 32), qmc_key=key)
 
-    def _begin_frame(self, frame: int, jitter_px: tuple[float, float] | None) -> FrameState:
-        """Upload the scene at `frame` and decide what history the frame may reuse."""
-        s, ds, cam = self.settings, self.device_scene, self.scene.camera
-        assert cam is not None
+    def _begin_frame(self, frame: int, still: bool, jitter_px: tuple[float, float] | None) -> FrameState:
+        """Upload the scene at `frame`, plan the frame (render/plan.py) and pack the records its stages share."""
+        s, ds = self.settings, self.device_scene
         ds.upload(frame, self._last_frame)
-        if ds.light_indices_changed:
-            self.history.invalidate()
-        cut = frame in cam.cuts and frame != self._last_frame
-        consecutive = self._last_frame is not None and frame in (self._last_frame, self._last_frame + 1)
-        history = self.history.valid and consecutive and not cut
-        light_count = ds.sampled_light_count
-        method = s.method
         params = self.frame_params()
-        if method == "ris" and light_count == 1 and ds.lights.environment is None and not params["qmc"]:
-            # RIS over one light picks that light: leave the loop out (not for the environment, whose candidates
-            # are directions that RIS and the BSDF candidates choose between; not for Sobol frames, still or
-            # animation, whose points on the light only RIS's candidates draw from the sequence)
-            method = "light_array"
-        tree = ds.light_tree if self.uses_light_tree and method in ("ris", "restir") and light_count > 1 else None
-        tiles = tree is None and self._use_light_tiles(method, light_count)
-        self.light_tiles_used = tiles
-        mis_sample = self.bsdf_mis_sample(method, light_count)
-        pick_table = (self.pick_table.active and tree is None and not tiles
-                      and uses_table(s.light_proposal, method, light_count, still=True))
-        bsdf = 0 if mis_sample else self._bsdf_candidates(method, light_count)
-        hit_tests = bool(bsdf) or mis_sample  # what BSDF rays look for: the candidates' or the MIS sample's
-        sampler = L.pack(L.SAMPLER_PARAMS, light_count=light_count, slot_count=ds.light_array.slot_count,
-                         light_tree=int(tree is not None), tree_leaves=tree.leaves if tree else 0,
-                         tree_distant=tree.distant_count if tree else 0, tree_p_local=tree.p_local if tree else 1.0,
-                         tile_count=s.light_tile_count if tiles else 0, tile_size=s.light_tile_size if tiles else 0,
-                         bsdf_candidates=bsdf,
-                         bsdf_analytic=ds.analytic_lights if hit_tests and ds.analytic_lights <= BSDF_ANALYTIC_MAX
-                         else 0,
-                         bsdf_triangles=int(hit_tests and ds.triangle_lights),
-                         bsdf_glossy_only=int(s.bsdf_sampling == "auto"), pick_table=int(pick_table))
+        plan = plan_frame(s, self._situation(frame, still, sobol=bool(params["qmc"])))
+        if plan.drop_history:
+            self.history.invalidate()
+        self.last_plan = plan
         jit = jitter_px if jitter_px is not None else jitter(self._sample) if s.jitter else (0.0, 0.0)
-        # A light switched on or off (or its power jumped) makes last frame's reservoirs samples of another target:
-        # kept, they would dilute this frame's estimate for many frames. The decision depends on the scene only, not
-        # on any sample, so dropping them keeps the unbiased mode unbiased.
-        return FrameState(frame=frame, prev_frame=self._last_frame if history else frame,
-                          next_frame=min(frame + 1, ds.frame_count - 1), history=history,
-                          restir_history=history and not ds.lights_switched, method=method, tiles=tiles,
-                          frame_params=params, sampler=sampler, jitter=jit, mis_sample=mis_sample,
-                          pick_table=pick_table)
+        return FrameState(plan, params, sampler_params(plan, ds, s), jit)
 
-    def _moving(self, state: FrameState) -> bool:
-        """Whether TAA must validate and clip its history. Only a camera that moved between the two frames makes
-        this a moving scene: an animation of a still camera (frame numbers advancing, transforms equal) used to clip
-        its history to the noisy 3x3 neighbourhood every frame, a lasting bias: the stress case long_animation came
-        out 0.7% (ReSTIR) to 16% (light_array) too dark."""
-        cam, ds = self.scene.camera, self.device_scene
+    def _situation(self, frame: int, still: bool, sobol: bool) -> FrameSituation:
+        """What plan_frame needs to know of frame `frame`, its scene as uploaded and the renderer's history."""
+        ds, cam = self.device_scene, self.scene.camera
         assert cam is not None
-        if self._prev_view is not None:  # render_view: the last frame's view against this one
-            camera_moved = state.history and views_differ(self._prev_view, cam)
-        else:
-            camera_moved = not np.array_equal(Scene.at(cam.transforms, state.prev_frame),
-                                              Scene.at(cam.transforms, state.frame))
-        return camera_moved or ds.moving_lights or ds.moving_objects or ds.edited
+        return FrameSituation(
+            frame=frame, last_frame=self._last_frame, frame_count=ds.frame_count, cut_at_frame=frame in cam.cuts,
+            history_valid=self.history.valid, lights_reindexed=ds.light_indices_changed,
+            lights_switched=ds.lights_switched, light_count=ds.sampled_light_count,
+            environment=ds.lights.environment is not None, glossy=ds.material_flags.get("HAS_GLOSSY", False),
+            analytic_lights=ds.analytic_lights, triangle_lights=ds.triangle_lights, sobol=sobol,
+            light_tree=self.uses_light_tree, pick_table=self.pick_table.active, still=still,
+            camera_moved=camera_moved(cam, frame, self._last_frame, self._prev_view),
+            scene_moves=ds.moving_lights or ds.moving_objects or ds.edited)
 
-    def _use_light_tiles(self, method: str, light_count: int) -> bool:
-        """RIS candidates from presampled tiles: only for the RIS-based methods, and ("auto") only where the light
-        array is too large to stay in cache (LIGHT_TILES_AUTO lights), since the tiles cost a pass per frame."""
-        mode = self.settings.light_tiles
-        if method not in ("ris", "restir") or light_count < 2 or mode == "off":
-            return False
-        return mode == "on" or light_count >= LIGHT_TILES_AUTO
-
-    def bsdf_mis_sample(self, method: str, light_count: int) -> bool:
-        """Whether `ris` frames add one BSDF sample with its own shadow ray, combined by MIS (direct/bsdf_mis.h); it
-        replaces the BSDF candidates."""
-        return self.settings.bsdf_mis_sample and method == "ris" and light_count > 0
-
-    def _bsdf_candidates(self, method: str, light_count: int) -> int:
-        """BSDF-sampled candidates per pixel this frame (direct/bsdf_candidates.h): for the RIS-based methods, where a
-        material is glossy ("auto") or always ("on")."""
-        s = self.settings
-        if method not in ("ris", "restir") or light_count == 0 or s.bsdf_sampling == "off":
-            return 0
-        if s.bsdf_sampling == "auto" and not self.device_scene.material_flags.get("HAS_GLOSSY", False):
-            return 0
-        return s.bsdf_candidates
-
-    def _stills_use_pick_table(self) -> bool:
-        """Whether still renders of this scene and settings pick lights from the per-pixel table (compiled in)."""
-        s = self.settings
-        return (not self.uses_light_tree and not self._use_light_tiles(s.method, self.device_scene.sampled_light_count)
-                and uses_table(s.light_proposal, s.method, self.device_scene.sampled_light_count, still=True))
+    @property
+    def light_tiles_used(self) -> bool:
+        """Whether the last frame drew its RIS candidates from the tiles."""
+        return self.last_plan is not None and self.last_plan.tiles
 
     def will_use_light_tiles(self) -> bool:
         """Whether the frames of this scene and settings (with its current lights) draw their RIS candidates from
         light tiles (never with the light tree's candidates)."""
-        return not self.uses_light_tree and self._use_light_tiles(self.settings.method,
-                                                             self.device_scene.sampled_light_count)
+        s = self.settings
+        return light_source(s, s.method, self.device_scene.sampled_light_count, self.uses_light_tree, False)[1]
+
+    def bsdf_mis_sample(self, method: str, light_count: int) -> bool:
+        """Whether frames of `method` over `light_count` lights add one BSDF sample with its own shadow ray, combined
+        by MIS (render/plan.py uses_mis_sample)."""
+        return uses_mis_sample(self.settings, method, light_count)
 
     # ---- output -----------------------------------------------------------------------------------------
 
-    def _read(self, color_buf: cl.Buffer, gbuf: cl.Buffer, frame: int, scale: float = 1.0, aovs: bool = True) -> Frame:
+    def read_frame(self, color_buf: cl.Buffer, gbuf: cl.Buffer, frame: int, scale: float = 1.0,
+                   aovs: bool = True) -> Frame:
+        """Read back a frame rendered by run_frame: its colour from `color_buf` times `scale` (a still render's
+        sum), the noisy sample, the guard counters and (aovs) the passes of G-buffer `gbuf`."""
         q = self.device.queue
         color, noisy, bad = read_colour(q, color_buf, self.buffers.sample, (self.height, self.width), scale)
         self.guard_totals["nonfinite_sample"] += bad
@@ -362,12 +291,14 @@ class Renderer:
             read_aovs(q, out, gbuf, self.buffers.vector)
         return out
 
-    def _read_gbuffer(self, gbuf: cl.Buffer) -> np.ndarray:
-        return read_gbuffer(self.device.queue, gbuf, (self.height, self.width))
+    def read_gbuffer(self, gbuf: cl.Buffer | None = None) -> np.ndarray:
+        """(H, W) GSample records of G-buffer `gbuf`, by default the last rendered frame's."""
+        return read_gbuffer(self.device.queue, self.gbuf[self.last_slot] if gbuf is None else gbuf,
+                            (self.height, self.width))
 
     def history_length(self) -> np.ndarray:
         """(H, W) TAA history length n of the last rendered frame (1: the pixel restarted from its new sample)."""
-        return read_image(self.device.queue, self.history.taa[self.history.prev], (self.height, self.width))[..., 3]
+        return read_image(self.device.queue, self.history.taa[self.last_slot], (self.height, self.width))[..., 3]
 
     # ---- still renders (render/still.py) ---------------------------------------------------------------------
 
@@ -429,8 +360,14 @@ class Renderer:
         return self.buffers.sample
 
     @property
+    def last_slot(self) -> int:
+        """The history slot of the last rendered frame: its G-buffer gbuf[last_slot], reservoirs
+        res_history[last_slot] and TAA colour taa_history[last_slot] (the next frame writes the other slot)."""
+        return self.history.prev
+
+    @property
     def gbuf(self) -> list[cl.Buffer]:
-        """The active chain's G-buffers: slot 1 - _cur holds the last rendered frame's."""
+        """The active chain's G-buffers (last_slot: the last rendered frame's)."""
         return self.history.chain.gbuf
 
     @property
@@ -440,10 +377,6 @@ class Renderer:
     @property
     def taa_history(self) -> list[cl.Buffer]:
         return self.history.taa
-
-    @property
-    def _cur(self) -> int:
-        return self.history.cur
 
     @property
     def tile_rec(self) -> cl.Buffer | None:

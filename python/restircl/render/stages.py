@@ -2,7 +2,8 @@
 
 A stage reads the frame's state (FrameState: which frames, what history may be reused, how lights are sampled),
 packs its own parameter struct (types.h, core/layouts.py) and launches its kernel with every argument named
-(core/kernels.py). Which stages run, and in what order, is Renderer.render_frame's business (render/pipeline.py).
+(core/kernels.py). Which stages run is the frame's plan (render/plan.py); their order is Renderer.run_frame's
+(render/pipeline.py).
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from ..settings.table import BOILING_MODES, TAA_FILTERS
 from ..upload.device_scene import DeviceScene
 from .camera import camera_record
 from .history import History
+from .plan import FramePlan
 
 if TYPE_CHECKING:
     from ..settings.table import Settings
@@ -30,20 +32,26 @@ if TYPE_CHECKING:
 
 @dataclass
 class FrameState:
-    """What one frame's stages share: decided once at its start (Renderer._begin_frame)."""
+    """What one frame's stages share: its plan (render/plan.py) and the records packed from it at its start
+    (Renderer.run_frame)."""
 
-    frame: int
-    prev_frame: int  # the frame whose history this one reuses (itself when there is none)
-    next_frame: int  # the Vector pass's next frame
-    history: bool  # last frame's G-buffer and TAA colour belong to this frame's predecessor
-    restir_history: bool  # ... and its reservoirs sample this frame's lights
-    method: str  # the sampler that runs: Settings.method, or light_array for RIS over one light
-    tiles: bool  # RIS candidates from this frame's light tiles
+    plan: FramePlan
     frame_params: np.void  # FrameParams
     sampler: np.void  # SamplerParams
     jitter: tuple[float, float] = (0.0, 0.0)
-    mis_sample: bool = False  # RIS adds one BSDF sample combined by MIS (Renderer.bsdf_mis_sample, direct/bsdf_mis.h)
-    pick_table: bool = False  # RIS picks lights from the still render's per-pixel table (lights/pick_table.py)
+
+
+def sampler_params(plan: FramePlan, scene: DeviceScene, settings: Settings) -> np.void:
+    """SamplerParams of a frame: where its light candidates come from and what its BSDF rays look for, as its plan
+    says."""
+    tree = scene.light_tree if plan.light_tree else None
+    return L.pack(L.SAMPLER_PARAMS, light_count=scene.sampled_light_count, slot_count=scene.light_array.slot_count,
+                  light_tree=int(tree is not None), tree_leaves=tree.leaves if tree else 0,
+                  tree_distant=tree.distant_count if tree else 0, tree_p_local=tree.p_local if tree else 1.0,
+                  tile_count=settings.light_tile_count if plan.tiles else 0,
+                  tile_size=settings.light_tile_size if plan.tiles else 0, bsdf_candidates=plan.bsdf_candidates,
+                  bsdf_analytic=plan.bsdf_analytic, bsdf_triangles=int(plan.bsdf_triangles),
+                  bsdf_glossy_only=int(plan.bsdf_glossy_only), pick_table=int(plan.pick_table))
 
 
 def pixel_count(state: FrameState) -> tuple[int]:
@@ -95,9 +103,9 @@ class Primary(Stage):
     def run(self, state: FrameState, camera: Camera, prev_camera: Camera | None = None) -> None:
         """prev_camera: the previous frame's camera where it is another one (an interactive view)."""
         q, b, h = self.kernels.device.queue, self.buffers, self.history
-        cl.enqueue_copy(q, b.cameras[0], camera_record(camera, state.frame, state.jitter))
-        cl.enqueue_copy(q, b.cameras[1], camera_record(prev_camera or camera, state.prev_frame))
-        cl.enqueue_copy(q, b.cameras[2], camera_record(camera, state.next_frame))
+        cl.enqueue_copy(q, b.cameras[0], camera_record(camera, state.plan.frame, state.jitter))
+        cl.enqueue_copy(q, b.cameras[1], camera_record(prev_camera or camera, state.plan.prev_frame))
+        cl.enqueue_copy(q, b.cameras[2], camera_record(camera, state.plan.next_frame))
         self.kernels.launch("primary", image_size(state), cam=b.cameras[0],
                             prev_cam=b.cameras[1], next_cam=b.cameras[2], **self.scene.geometry,
                             **self.scene.surface, ggx_tables=self.scene.ggx_tables_buf or b.none,
@@ -127,7 +135,7 @@ class LightTiles(Stage):
 
     def arguments(self, state: FrameState) -> dict[str, cl.Buffer]:
         """The tile arguments of the RIS kernels (a placeholder buffer when this frame uses no tiles)."""
-        if not state.tiles:
+        if not state.plan.tiles:
             return {"tile_rec": self.buffers.none, "tile_info": self.buffers.none}
         return {"tile_rec": self.tile_rec, "tile_info": self.tile_info}
 
@@ -258,10 +266,10 @@ class Shade(Stage):
                             params=params)
 
     def direct(self, state: FrameState, tiles: dict[str, cl.Buffer], pick_table: cl.Buffer | None = None) -> None:
-        """pick_table: the still render's per-pixel light pick, where state.pick_table says the frame uses it."""
-        params = L.pack(L.SHADE_PARAMS, sampler=state.sampler, method=self.method_codes[state.method],
+        """pick_table: the still render's per-pixel light pick, where state.plan.pick_table says the frame uses it."""
+        params = L.pack(L.SHADE_PARAMS, sampler=state.sampler, method=self.method_codes[state.plan.method],
                         candidates=self.settings.candidates,
-                        bsdf_mis_sample=int(state.mis_sample))
+                        bsdf_mis_sample=int(state.plan.mis_sample))
         self.kernels.launch("shade_direct", pixel_count(state), **self._common(state), slots=self.scene.slots_buf,
                             light_pdf=self.scene.light_pdf_buf, **self.scene.light_tree_args, **tiles,
                             tri_light=self.scene.tri_light_buf, pick_table=pick_table or self.buffers.none,
@@ -304,7 +312,7 @@ class Taa(Stage):
     def run(self, state: FrameState, moving: bool) -> cl.Buffer:
         s, h = self.settings, self.history
         params = L.pack(L.TAA_PARAMS, alpha_min=s.alpha_min, gamma=s.gamma, similar=self._similarity(),
-                        moving=int(moving), max_history=s.max_history, reset=int(not state.history),
+                        moving=int(moving), max_history=s.max_history, reset=int(not state.plan.history),
                         filter=TAA_FILTERS.index(s.taa_filter), dilate=int(s.taa_dilation))
         self.kernels.launch("taa", image_size(state), sample=self.buffers.sample, gbuf=h.gbuf(h.cur),
                             glossy=h.glossy(h.cur),

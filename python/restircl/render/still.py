@@ -7,27 +7,29 @@ the estimate was 17x too large at 256 samples on a small cornell_box, and with o
 still grew 2x too large by 256 samples on many_lights, whose sub-pixel lamps are antialiased faster than 1/n); and
 ReSTIR with temporal reuse runs one chain of history per half (render/history.py; correlated frames made it 2-10x too
 small).
+
+The loop (render_still) drives the renderer through its public frame API (FrameSource: Renderer.run_frame,
+read_frame, frame_params), as any tool may; it decides nothing about a frame but its jitter, its Sobol index and
+key, and the chain of history it continues.
 """
 
 from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 import numpy as np
 import pyopencl as cl
 
 from ..core.buffers import alloc
 from ..core.kernels import Kernels
+from ..settings.table import Settings
 from .camera import halton
 from .denoise import denoise_frame
-from .frame import read_image
+from .frame import DeviceFrame, Frame, read_image
+from .history import History
 from .qmc import still_key, still_uses_sobol
-
-if TYPE_CHECKING:
-    from .frame import Frame
-    from .pipeline import Renderer
 
 HALF_BLOCK = 8  # frames per block of a still render's two half buffers (error_estimate)
 R2_FLOOR = 0.25  # error_estimate: r^2 is taken as at least R2_FLOOR * mean^2
@@ -114,8 +116,82 @@ class StillAccumulation:
         return float(np.mean(var_mean / (r2 + 0.01)))
 
 
+class FrameSource(Protocol):
+    """What a still render needs of the renderer (Renderer, render/pipeline.py)."""
+
+    settings: Settings
+    history: History
+    still: StillAccumulation
+    qmc: tuple[int, int, int] | None  # FrameParams (qmc, qmc_index, qmc_key) of the next frame; None: its own
+
+    @property
+    def sample_buf(self) -> cl.Buffer: ...
+
+    def run_frame(self, frame: int, *, still: bool = False,
+                  jitter_px: tuple[float, float] | None = None) -> DeviceFrame: ...
+
+    def frame_params(self) -> np.void: ...
+
+    def read_frame(self, color_buf: cl.Buffer, gbuf: cl.Buffer, frame: int, scale: float = 1.0,
+                   aovs: bool = True) -> Frame: ...
+
+
+class HalfStreams:
+    """What each half buffer of a still render draws from on its own: its pixel jitter, its Sobol index count and
+    key, and (ReSTIR with temporal reuse) its chain of history.
+
+    Pixel jitter: one Halton sequence shared by the halves would put them in different strata, and their difference
+    would see antialiasing error as noise (stratified, the mean's error falls faster than 1/n); two independently
+    shifted Halton sequences (randomised QMC) are independent estimates of the pixel. ReSTIR's temporal reuse
+    correlates consecutive frames: each half continues its own chain (the renderer's own for the first sample's
+    half, a second one for the other), so the two halves stay independent."""
+
+    def __init__(self, settings: Settings, history: History) -> None:
+        self.settings = settings
+        self.history = history
+        self.jitter_counts = [0, 0]
+        self.shifts = np.random.default_rng([settings.seed, 0x5EED]).random((2, 2))
+        self.sobol = still_uses_sobol(settings)  # RIS samples from a scrambled Sobol sequence (render/qmc.py)
+        self.qmc_counts = [0, 0]
+        self.chains = settings.method == "restir" and settings.temporal
+        self.first = half_of(0)
+        self.started = {0}
+        self.active: int | None = None
+
+    def qmc(self, half: int) -> tuple[int, int, int] | None:
+        """FrameParams (qmc, qmc_index, qmc_key) of the next frame of `half`; None without the Sobol sampler."""
+        if not self.sobol:
+            return None
+        index = self.qmc_counts[half]
+        self.qmc_counts[half] += 1
+        return (1, index, still_key(self.settings.seed, half))
+
+    def jitter(self, half: int) -> tuple[float, float] | None:
+        """The pixel jitter of the next frame of `half` (None: the renderer's own, i.e. none without jitter)."""
+        if not self.settings.jitter:
+            return None
+        i = self.jitter_counts[half] = self.jitter_counts[half] + 1
+        shift = self.shifts[half]
+        return ((halton(i, 2) + shift[0]) % 1.0 - 0.5, (halton(i, 3) + shift[1]) % 1.0 - 0.5)
+
+    def use_chain(self, half: int) -> None:
+        """Continue the chain of history of `half`."""
+        if not self.chains or half == self.active:
+            return
+        if self.active is not None:
+            chain = 0 if half == self.first else 1
+            self.history.use_chain(chain, fresh=chain not in self.started)
+            self.started.add(chain)
+        self.active = half
+
+    def end(self) -> None:
+        """Back to the first chain: the renderer's own history."""
+        if self.chains and self.history.active != 0:
+            self.history.use_chain(0, fresh=False)
+
+
 def render_still(
-    r: Renderer,
+    r: FrameSource,
     frame: int,
     samples: int,
     progress: Callable[[int, int], None] | None,
@@ -124,74 +200,65 @@ def render_still(
     checkpoint: Callable[[int, float], None] | None,
 ) -> Frame:
     """Renderer.render_still: average up to `samples` frames of a still camera at `frame`."""
-    q = r.device.queue
     acc = r.still
-    denoise = r.settings.denoise
-    acc.clear(aux=denoise)
-    done = 0
+    acc.clear(aux=r.settings.denoise)
+    halves = HalfStreams(r.settings, r.history)
+    gbuf = r.history.gbuf(r.history.cur)
     stage: dict[str, float] = {}
     t0 = time.perf_counter()
-    history = r.history
-    gbuf = history.gbuf(history.cur)
-    # ReSTIR's temporal reuse correlates consecutive frames: each half buffer gets its own chain of history (the
-    # renderer's own for the first sample's half, a second one for the other), so the two halves stay independent.
-    chains = r.settings.method == "restir" and r.settings.temporal
-    first = half_of(0)
-    started = {0}
-    active: int | None = None
-    # Pixel jitter: one Halton sequence shared by the halves would put them in different strata, and their
-    # difference would see antialiasing error as noise (stratified, the mean's error falls faster than 1/n).
-    # Two independently shifted Halton sequences (randomised QMC) are independent estimates of the pixel.
-    counts = [0, 0]
-    shifts = np.random.default_rng([r.settings.seed, 0x5EED]).random((2, 2))
-    # RIS samples from a scrambled Sobol sequence (render/qmc.py): one index count and one scramble key per half buffer
-    sobol = still_uses_sobol(r.settings)
-    qmc_counts = [0, 0]
     for k in range(max(int(samples), 1)):
-        if should_stop is not None and done > 0 and should_stop():
+        if should_stop is not None and acc.counts[0] > 0 and should_stop():
             break
-        half = half_of(k)
-        if sobol:
-            r.qmc = (1, qmc_counts[half], still_key(r.settings.seed, half))
-            qmc_counts[half] += 1
-        jit = None
-        if r.settings.jitter:
-            i = counts[half] = counts[half] + 1
-            jit = ((halton(i, 2) + shifts[half][0]) % 1.0 - 0.5, (halton(i, 3) + shifts[half][1]) % 1.0 - 0.5)
-        if chains and half != active:
-            if active is not None:
-                chain = 0 if half == first else 1
-                history.use_chain(chain, fresh=chain not in started)
-                started.add(chain)
-            active = half
-        st, _, gbuf = r._render(frame, still=True, jitter_px=jit)
-        for key, v in st.items():
-            stage[key] = stage.get(key, 0.0) + v
-        acc.add(r.buffers.sample, r.frame_params(), half)
-        if denoise:  # the frame's G-buffer is in the previous slot once _render has swapped the history
-            acc.add_aux(gbuf, history.glossy(history.prev), r.frame_params())
+        gbuf = _add_sample(r, halves, frame, half_of(k), stage)
         done, n_half = acc.counts
         if progress is not None:
             progress(done, samples)
-        if checkpoint is not None:
-            q.finish()
-            tc = time.perf_counter()
-            checkpoint(done, tc - t0)
-            t0 += time.perf_counter() - tc  # the caller's look at the image is not render time
+        if checkpoint is not None:  # the caller's look at the image is not render time
+            t0 += _checkpoint(acc, checkpoint, done, t0)
         if target_error is not None and done >= 2 * HALF_BLOCK and done % 4 == 0:
             estimate = acc.error_estimate(done, n_half)
             if estimate is not None and estimate <= target_error:
                 break
-    if chains and history.active != 0:  # back to the first chain: the renderer's own history
-        history.use_chain(0, fresh=False)
+    halves.end()
+    return _result(r, frame, gbuf, stage, t0)
+
+
+def _add_sample(r: FrameSource, halves: HalfStreams, frame: int, half: int, stage: dict[str, float]) -> cl.Buffer:
+    """Render one frame into half buffer `half`; adds its stage times to `stage`, returns its G-buffer."""
+    qmc = halves.qmc(half)
+    if qmc is not None:
+        r.qmc = qmc
+    jit = halves.jitter(half)
+    halves.use_chain(half)
+    st, _, gbuf = r.run_frame(frame, still=True, jitter_px=jit)
+    for key, v in st.items():
+        stage[key] = stage.get(key, 0.0) + v
+    r.still.add(r.sample_buf, r.frame_params(), half)
+    if r.settings.denoise:  # the frame's G-buffer is in the previous slot once run_frame has swapped the history
+        r.still.add_aux(gbuf, r.history.glossy(r.history.prev), r.frame_params())
+    return gbuf
+
+
+def _checkpoint(acc: StillAccumulation, checkpoint: Callable[[int, float], None], done: int, t0: float) -> float:
+    """Let the caller look at the running mean; returns the seconds it took."""
+    acc.kernels.device.queue.finish()
+    tc = time.perf_counter()
+    checkpoint(done, tc - t0)
+    return time.perf_counter() - tc
+
+
+def _result(r: FrameSource, frame: int, gbuf: cl.Buffer, stage: dict[str, float], t0: float) -> Frame:
+    """The mean of the samples accumulated, with the last frame's passes, per-sample times and the error
+    estimate; denoised (Settings.denoise) guided by the mean albedo, normal and emission."""
+    acc = r.still
     done, n_half = acc.counts
-    out = r._read(acc.sum, gbuf, frame, scale=1.0 / done)
-    out.noisy = read_image(q, r.buffers.sample, acc.shape)[..., :3].copy()
+    out = r.read_frame(acc.sum, gbuf, frame, scale=1.0 / done)
+    out.noisy = read_image(acc.kernels.device.queue, r.sample_buf, acc.shape)[..., :3].copy()
     out.samples = done
     out.stage_ms = {k: v / done for k, v in stage.items()}
     out.ms = (time.perf_counter() - t0) * 1e3 / done
     out.error_estimate = acc.error_estimate(done, n_half) if done >= 2 else None
-    if denoise:
+    if r.settings.denoise:
         albedo, normal, emission = acc.aux_images(done)
         if denoise_frame(out, albedo, normal, emission):  # the passes show the guides the denoiser saw, as in Cycles
             out.albedo, out.normal = albedo, normal

@@ -109,7 +109,7 @@ def frame_time_ms(scene: Scene, name: str, device=None, frames: int = 6, base: S
     wall, cpu = [], []
     for f in range(1, frames + 1):
         t0, c0 = time.perf_counter(), time.process_time()
-        r._render(min(f, scene.frames - 1), still=False)
+        r.run_frame(min(f, scene.frames - 1), still=False)
         r.device.queue.finish()
         wall.append((time.perf_counter() - t0) * 1e3)
         cpu.append((time.process_time() - c0) * 1e3)
@@ -171,7 +171,7 @@ def run_moving(scene: Scene, methods: list[str], budget_ms: float | None = None,
 def _warm_renderer(scene: Scene, name: str, device, base: Settings | None, seed: int, still: bool) -> Renderer:
     r = Renderer(scene, method_settings(name, base, seed), device)
     for _ in range(2):  # warm-up (kernels compile at their first launch); then start without history
-        r._render(0, still=still)
+        r.run_frame(0, still=still)
     r.reset()
     return r
 
@@ -183,7 +183,7 @@ def _taa_rows(rep: MovingReport, scene: Scene, name: str, k: int, refs: dict[int
     rep.device = r.device.label
     t0 = time.perf_counter()
     for j in range(r.scene.frames):
-        _, color_buf, _ = r._render(j, still=False)
+        _, color_buf, _ = r.run_frame(j, still=False)
         f, rest = divmod(j, k)
         if rest:
             continue
@@ -206,7 +206,7 @@ def _frame_rows(rep: MovingReport, scene: Scene, name: str, budget: float, refs:
         acc = None
         while True:
             t1 = time.perf_counter()
-            r._render(f, still=True)
+            r.run_frame(f, still=True)
             s = _read_rgb(r, r.sample_buf).astype(np.float64)
             acc = s if acc is None else acc + s
             k += 1

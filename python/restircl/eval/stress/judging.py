@@ -101,7 +101,7 @@ def _nonfinite(frame: Frame) -> int:
 def _reservoir_m(r: Renderer) -> np.ndarray:
     """M of the reservoirs the last frame left as history."""
     res = np.empty(r.pixels, L.RESERVOIR)
-    cl.enqueue_copy(r.device.queue, res, r.res_history[1 - r._cur])
+    cl.enqueue_copy(r.device.queue, res, r.res_history[r.last_slot])
     return res["M"]
 
 

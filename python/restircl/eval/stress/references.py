@@ -54,7 +54,7 @@ class Reference:
 
 def _gbuffer(r: Renderer) -> np.ndarray:
     """The G-buffer of the frame the renderer rendered last."""
-    return r._read_gbuffer(r.gbuf[1 - r._cur])
+    return r.read_gbuffer()
 
 
 
