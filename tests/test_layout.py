@@ -12,18 +12,13 @@ edge to ``a.b``, or to ``a.b.c`` when that is a module itself. The packages abov
 way, are not counted: they are docstring-only, but for the public API ``restircl/__init__.py`` (imported by the
 add-on, never from inside the package) and ``restircl/scenes/__init__.py``, whose imports are edges of their own.
 
-Exceptions are declarative tables only, each named below with the reason; there are none today. The frame's own
-files (render/pipeline.py, still.py, stages.py) are being split on another branch (the frame policy out of
-Renderer): until it lands, their findings are checked by the tests marked xfail(strict) at the end, so that the
-branch that fixes them must drop the mark.
+Exceptions are declarative tables only, each named below with the reason; there are none today.
 """
 
 from __future__ import annotations
 
 import ast
 from pathlib import Path
-
-import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -38,10 +33,6 @@ MAX_FUNCTION_LINES = 80
 MODULE_TABLES: dict[str, str] = {}
 #: functions ("path:qualified name") over MAX_FUNCTION_LINES that are declarative tables: reason
 FUNCTION_TABLES: dict[str, str] = {}
-
-#: the files another branch is changing, and the circle it removes; see test_frame_files_*
-FRAME_FILES = frozenset(f"python/restircl/render/{name}.py" for name in ("pipeline", "still", "stages"))
-KNOWN_CYCLE = frozenset({"restircl.render.pipeline", "restircl.render.still"})
 
 
 def module_files(source_root: Path, package: str) -> dict[str, Path]:
@@ -210,34 +201,18 @@ def _circles_message(found: list[list[str]]) -> str:
 
 
 def test_no_import_cycle():
-    found = [circle for circle in cycles(import_graph()) if set(circle) != KNOWN_CYCLE]
+    found = cycles(import_graph())
     assert not found, _circles_message(found)
 
 
 def test_no_long_module():
-    found = [(name, lines) for name, lines in long_modules() if name not in MODULE_TABLES and name not in FRAME_FILES]
+    found = [(name, lines) for name, lines in long_modules() if name not in MODULE_TABLES]
     assert not found, f"modules over {MAX_MODULE_LINES} lines: {found}"
 
 
 def test_no_long_function():
-    found = [(key, lines) for key, lines in all_long_functions()
-             if key not in FUNCTION_TABLES and key.split(":")[0] not in FRAME_FILES]
+    found = [(key, lines) for key, lines in all_long_functions() if key not in FUNCTION_TABLES]
     assert not found, f"functions over {MAX_FUNCTION_LINES} lines: {found}"
-
-
-@pytest.mark.xfail(strict=True, reason="render.pipeline <-> render.still: removed on the branch that splits the frame "
-                   "policy out of Renderer; drop this mark when it lands")
-def test_frame_files_no_import_cycle():
-    found = [circle for circle in cycles(import_graph()) if set(circle) == KNOWN_CYCLE]
-    assert not found, _circles_message(found)
-
-
-@pytest.mark.xfail(strict=True, reason="render/pipeline.py (465 lines) and still.py's render_still (82): split on the "
-                   "branch that takes the frame policy out of Renderer; drop this mark when it lands")
-def test_frame_files_short():
-    found = [(name, lines) for name, lines in long_modules() if name in FRAME_FILES]
-    found += [(key, lines) for key, lines in all_long_functions() if key.split(":")[0] in FRAME_FILES]
-    assert not found, f"over {MAX_MODULE_LINES} lines (module) or {MAX_FUNCTION_LINES} (function): {found}"
 
 
 def test_table_exceptions_are_needed():
