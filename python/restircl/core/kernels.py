@@ -64,13 +64,14 @@ def declared_parameters() -> dict[str, tuple[str, ...]]:
 
 
 class Kernels:
-    """The named kernels of one program on one device, with their work-group limits."""
+    """The kernels of one program on one device, with their work-group limits: by default every kernel declared in
+    opencl/**/*.cl (the main program includes them all), so a new stage's kernel needs no list of its own."""
 
-    def __init__(self, device: Device, program: cl.Program, names: tuple[str, ...]) -> None:
+    def __init__(self, device: Device, program: cl.Program, names: tuple[str, ...] | None = None) -> None:
         self.device = device
         declared = declared_parameters()
-        self.parameters = {name: declared[name] for name in names}
-        self.k = {name: cl.Kernel(program, name) for name in names}
+        self.parameters = {name: declared[name] for name in (declared if names is None else names)}
+        self.k = {name: cl.Kernel(program, name) for name in self.parameters}
         self.max_local = {name: int(k.get_work_group_info(cl.kernel_work_group_info.WORK_GROUP_SIZE,
                                                           device.device))
                           for name, k in self.k.items()}

@@ -66,11 +66,6 @@ __all__ = ["LOCAL_ITEMS", "Frame", "Renderer", "Settings", "local_size"]
 _METHOD_CODE = {m: i for i, m in enumerate(SHADE_METHODS)}  # METHOD_* (opencl/codes.h)
 
 
-KERNELS = ("primary", "light_tiles_fill", "light_pick_table", "shade_direct", "shade_reference", "accumulate",
-           "accumulate_aux", "restir_initial", "restir_temporal", "boiling_tiles", "boiling_filter", "restir_spatial",
-           "restir_shade", "taa", "filter_variance", "atrous")
-
-
 class Renderer:
     """Renders a Scene frame by frame on one OpenCL device, keeping ReSTIR and TAA history between frames. The scene
     (with all its frames of animation) is taken as it is at construction: for an edited scene, make a new Renderer,
@@ -130,7 +125,7 @@ class Renderer:
         t0 = time.perf_counter()
         self.program = build_program(self.device, flags)
         self.build_seconds = time.perf_counter() - t0
-        self.kernels = Kernels(self.device, self.program, KERNELS)
+        self.kernels = Kernels(self.device, self.program)
 
     def reset(self) -> None:
         """Drop all history (ReSTIR reservoirs, TAA, accumulation)."""
