@@ -7,7 +7,6 @@
 #include "bvh/traverse.h"
 #include "camera/camera.h"
 #include "lights/lights.h"
-#include "lights/hit.h"
 #include "lights/camera_visible.h"
 #include "lights/array.h"
 #include "lights/tiles.h"

@@ -9,7 +9,7 @@
  * and the reservoir counts M = N_l + N_b; W = w_sum / (M p-hat) as before. That is the balance heuristic over the
  * two strategies (m_s = N_s p_s / (N_l p_l + N_b p_b), weight m_s p-hat / p_s), written as one mixture density.
  * Both pdfs are in the light's measure (area for area lights, solid angle for the sun), like p-hat: p_light is the
- * light pick (light array or tree: light_pick_pdf) times light_sample's density of the point (lights/hit.h),
+ * light pick (light array or tree: light_pick_pdf) times light_sample's density of the point (lights/lights.h),
  * p_bsdf the BSDF's solid-angle density times cos_l / d^2. A direction that meets nothing adds 1 to M and no candidate.
  *
  * What the BSDF strategy cannot produce gets p_bsdf = 0 in every candidate's p_mix, so the weights still sum to one

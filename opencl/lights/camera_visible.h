@@ -7,7 +7,7 @@
  * whose type has a shape, SceneLightType.has_shape): the table lists them, and this header has no rule of its own
  * and no per-type code. What a ray sees of a listed light is its type's: where the ray hits it (light_hit), whether
  * that point faces the ray (light_eval) and the radiance it sends back (light_hit_radiance: a spot's is masked by its
- * cone), all in lights/<type>.h through lights/hit.h.
+ * cone), all in lights/<type>.h through lights/lights.h.
  *
  * The table (python/restircl/lights/camera_visible.py), float4 rows: row 0 x = the entry count (int bits); then per
  * entry 7 rows: x of the first = the light's index (int bits), then 3 rows of M_prev M_cur^-1 and 3 of

@@ -1,7 +1,7 @@
 /* Whether an area light is sampled by solid angle at a shading point (the host sets the flags from the setting
  * `area_sampling`, python/restircl/lights/area_sampling.py), and the float32 limits of the spherical maps that do it.
  * The choice depends only on the light and the shading point, so light sampling and the MIS density of a point a
- * BSDF ray hit (lights/hit.h light_point_pdf) make the same choice. */
+ * BSDF ray hit (lights/lights.h light_point_pdf) make the same choice. */
 #ifndef RESTIRCL_LIGHTS_SOLID_ANGLE_H
 #define RESTIRCL_LIGHTS_SOLID_ANGLE_H
 
@@ -37,7 +37,7 @@ inline float sa_area_pdf(float S, float cos_l, float dist)
 }
 
 /* The density (area measure) with which a light of this area sampled it produces the evaluated point e: uniform in
- * solid angle S where `solid_angle`, else uniform in area; for MIS with BSDF candidates (lights/hit.h). */
+ * solid angle S where `solid_angle`, else uniform in area; for MIS with BSDF candidates (lights/lights.h). */
 inline float sa_point_pdf(bool solid_angle, float S, float area, const LightEval* e)
 {
     return solid_angle ? sa_area_pdf(S, abs_f(dot3(e->nl, e->wi)), e->dist) : 1.0f / area;

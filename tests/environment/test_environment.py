@@ -31,7 +31,6 @@ SRC = """
 #include "types.h"
 #include "sampling/rng.h"
 #include "lights/lights.h"
-#include "lights/hit.h"
 __kernel void sample_env(const __global Light* lights, float4 n4, uint seed, __global float4* out)
 {
     int i = get_global_id(0);

@@ -28,7 +28,6 @@ SRC = """
 #include "types.h"
 #include "sampling/rng.h"
 #include "lights/lights.h"
-#include "lights/hit.h"
 __kernel void sample_light(const __global Light* lights, float4 x4, float4 n4, uint seed, __global float4* out)
 {
     int i = get_global_id(0);

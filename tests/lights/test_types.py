@@ -137,10 +137,10 @@ __kernel void one(const __global Light* l, __global float4* out)
 
 # ---- every fact of every type, by name ------------------------------------------------------------------------------
 
-#: each dispatch function (lights/lights.h, lights/hit.h) and the function of each type it calls: <name>_<suffix>
-DISPATCH = {"lights.h": {"light_eval": "eval", "light_sample_typed": "sample"},
-            "hit.h": {"light_hit": "hit", "light_point_pdf": "point_pdf", "light_hittable": "hittable",
-                      "light_hit_radiance": "hit_radiance"}}
+#: each dispatch function (lights/lights.h) and the function of each type it calls: <name>_<suffix>
+DISPATCH = {"lights.h": {"light_eval": "eval", "light_sample_typed": "sample", "light_hit": "hit",
+                         "light_point_pdf": "point_pdf", "light_hittable": "hittable",
+                         "light_hit_radiance": "hit_radiance"}}
 
 
 def _function_body(text: str, name: str) -> str:
@@ -216,7 +216,6 @@ def test_type_states_its_host_facts(name):
 
 PROBE_SRC = """
 #include "lights/lights.h"
-#include "lights/hit.h"
 /* per (point i, light l, sample k): sample, evaluate, and what a ray towards the evaluated point finds again */
 __kernel void probe(const __global Light* lights, int n, int side, const __global float4* pts,
                     const __global float4* normals, __global float4* out)

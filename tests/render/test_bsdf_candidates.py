@@ -1,5 +1,5 @@
-"""BSDF-sampled RIS candidates with MIS (opencl/direct/bsdf_candidates.h, lights/hit.h): a ray aimed at a light sample
-finds that sample again, with the density light sampling gave it; RIS and every unbiased ReSTIR mode with BSDF
+"""BSDF-sampled RIS candidates with MIS (opencl/direct/bsdf_candidates.h, lights/lights.h): a ray aimed at a light
+sample finds that sample again, with the density light sampling gave it; RIS and every unbiased ReSTIR mode with BSDF
 candidates agree with the exhaustive reference on large lights of every type (where the BSDF strategy matters),
 occluded ones and ones behind the surface; and the candidates cut the variance where lights are large and close."""
 
@@ -32,7 +32,6 @@ SRC = """
 #include "types.h"
 #include "sampling/rng.h"
 #include "lights/lights.h"
-#include "lights/hit.h"
 /* per work-item: sample the light from x, aim a ray at the sampled point, and find it again by light_hit */
 __kernel void hit_again(const __global Light* lights, float4 x4, float4 n4, __global float4* out)
 {
@@ -279,7 +278,6 @@ def test_lights_behind_the_surface_stay_exact_zero_with_bsdf_candidates(device):
 PICK_SRC = BSDF_SRC + """
 #include "bvh/traverse.h"
 #include "sampling/reservoir.h"
-#include "lights/hit.h"
 #include "direct/target.h"
 #include "direct/visibility.h"
 #include "lights/tree.h"

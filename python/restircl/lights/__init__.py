@@ -4,7 +4,7 @@ opencl/lights/<type>.h), the registry of them all, which every other module read
 packing of a scene's lights into device records.
 
 A new type adds its module here and its line in registry.py; opencl/lights/<type>.h, its include and cases in
-opencl/lights/lights.h and its cases in opencl/lights/hit.h are its device half; tests/lights/test_types.py checks
+opencl/lights/lights.h are its device half; tests/lights/test_types.py checks
 each fact of it by name."""
 
 from .device_lights import DeviceLights, scene_lights

@@ -3,7 +3,7 @@ camera, and the table the primary pass reads (their light indices and per-light 
 
 Which lights is decided here, once, on the host: those visible to the camera whose type says they have a shape
 (SceneLightType.has_shape, lights/<type>.py: not a delta). The device tests exactly the lights of the table and has
-no rule of its own: what a ray sees of one is its type's hit, evaluation and radiance (opencl/lights/hit.h)."""
+no rule of its own: what a ray sees of one is its type's hit, evaluation and radiance (opencl/lights/lights.h)."""
 
 from __future__ import annotations
 

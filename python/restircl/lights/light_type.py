@@ -10,8 +10,7 @@ each read through the registry (registry.py) so that no module keeps its own lis
   whether it has a shape that rays meet (the camera sees it: camera_visible.py).
 
 Every field is required: a type cannot leave one out by accident, only say what it lacks (DISTANT, no_solid_angle,
-no_closed_form). The device half of each type is opencl/lights/<name>.h, dispatched from opencl/lights/lights.h and
-opencl/lights/hit.h."""
+no_closed_form). The device half of each type is opencl/lights/<name>.h, dispatched from opencl/lights/lights.h."""
 
 from __future__ import annotations
 

@@ -1,7 +1,7 @@
 """Every device light type, by code: the one list that render/features.py, core/layouts.py, the packing, the light
 tree (tree.py), area sampling (area_sampling.py), the camera's lights (camera_visible.py) and the stress suite's
 reference (eval/stress/references.py) read. A new type is its module (lights/<name>.py: a LightType with every
-fact of it), its line here, its header opencl/lights/<name>.h and its cases in opencl/lights/lights.h and hit.h."""
+fact of it), its line here, its header opencl/lights/<name>.h and its cases in opencl/lights/lights.h."""
 
 from __future__ import annotations
 
