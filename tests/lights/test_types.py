@@ -17,21 +17,15 @@ from restircl.lights.sphere import FLAG_SOFT_FALLOFF
 from restircl.render.features import ALL_FLAGS, general_flags
 from restircl.scene.light import AREA_SHAPES, LIGHT_TYPES
 
-from ..helpers import mixed_lights_scene
+from ..helpers import device_ints, mixed_lights_scene
 
 DEVICE_CONSTANTS = {**{f"LIGHT_{t.name.upper()}": t.code for t in TYPES},
                     "LIGHT_FLAG_TWO_SIDED": FLAG_TWO_SIDED, "LIGHT_FLAG_SOFT_FALLOFF": FLAG_SOFT_FALLOFF}
 
 
 def test_codes_and_flags_agree_on_the_device(device):
-    writes = "\n".join(f"    out[{k}] = {name};" for k, name in enumerate(DEVICE_CONSTANTS))
-    src = f'#include "lights/lights.h"\n__kernel void codes(__global int* out)\n{{\n{writes}\n}}\n'
-    prog = build_program(device, {}, source=src)
-    out = np.full(len(DEVICE_CONSTANTS), -1, np.int32)
-    buf = cl.Buffer(device.context, cl.mem_flags.WRITE_ONLY, out.nbytes)
-    prog.codes(device.queue, (1,), None, buf)
-    cl.enqueue_copy(device.queue, out, buf)
-    assert dict(zip(DEVICE_CONSTANTS, out.tolist(), strict=True)) == DEVICE_CONSTANTS
+    out = device_ints(device, "lights/lights.h", list(DEVICE_CONSTANTS))
+    assert dict(zip(DEVICE_CONSTANTS, out, strict=True)) == DEVICE_CONSTANTS
 
 
 def test_each_type_has_its_header_code_and_flag():
