@@ -158,25 +158,24 @@ typedef struct {
     float4 motion;     /* xy: motion in pixels, previous minus current position (jitter removed); zw: 0 */
 } GSample;             /* 96 bytes */
 
-/* One resolved specular lobe of a pixel (HAS_GLOSSY): a GGX distribution (alpha) shared by a Principled closure's
- * metallic part (F82-tint Fresnel; a Glossy BSDF is one with f0 = 1, b = 0) and its dielectric specular (the real
- * Fresnel of eta remapped from its F0 onto [f0, 1]). The weights include the closure's weight and, for multiscatter
- * GGX, the energy compensation for this pixel's view direction (opencl/bsdf/principled.h). */
+/* One lobe of a pixel's BSDF beyond its Lambert part (HAS_GLOSSY), as the primary pass resolved it from the
+ * material's closures for this pixel's view (bsdf/resolve.h). Every lobe kind keeps its roughness squared (alpha)
+ * in a.w, its sampling weight (its estimated albedo at this view) in d.w and its kind code in e.w
+ * (bsdf/lobe_record.h); what the other lanes hold is the kind's: see its decode step in bsdf/<kind>.h. */
 typedef struct {
-    float4 metal_f0;   /* rgb: F82-tint f0; w: alpha (roughness^2, clamped) */
-    float4 metal_b;    /* rgb: F82-tint b; w: eta of the dielectric specular (1: none) */
-    float4 metal_w;    /* rgb: weight of the metallic / Glossy part; w: F0 of eta */
-    float4 diel_f0;    /* rgb: dielectric f0 (F0 scaled by the Specular IOR Level, times Specular Tint); w: the
-                          lobe's sampling weight (its estimated albedo) */
-    float4 diel_w;     /* rgb: weight of the dielectric specular; w: unused */
-} SpecLobe;            /* 80 bytes */
+    float4 a;          /* xyz: per kind; w: alpha (roughness^2) */
+    float4 b;          /* per kind */
+    float4 c;          /* per kind */
+    float4 d;          /* xyz: per kind; w: sampling weight */
+    float4 e;          /* xyz: per kind; w: kind (int bits, LOBE_*) */
+} Lobe;                /* 80 bytes */
 
 /* The G-buffer extension of glossy scenes (HAS_GLOSSY): what the BSDF needs beyond GSample, whose albedo holds the
  * diffuse part (already layered under the specular). */
 typedef struct {
     float4 wo;         /* xyz: unit direction towards the viewer; w: lobe count (int bits) */
-    SpecLobe lobe0;
-    SpecLobe lobe1;
+    Lobe lobe0;
+    Lobe lobe1;
 } GlossySample;        /* 176 bytes */
 
 /* A weighted reservoir holding one light sample y = (light, u, v). */

@@ -1,4 +1,5 @@
-"""Shared helpers of the rendering tests: small test scenes and per-frame sample collection."""
+"""Shared helpers of the rendering tests: small test scenes, per-frame sample collection, and the values of
+constants on the device."""
 
 from __future__ import annotations
 
@@ -150,3 +151,18 @@ def run_means(scene: Scene, settings: Settings, runs: int, frames: int, device=N
 
 def mean_and_se(runs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return runs.mean(axis=0), runs.std(axis=0, ddof=1) / math.sqrt(runs.shape[0])
+
+
+def device_ints(device, header: str, names: list[str]) -> list[int]:
+    """The values on the device of the int constants (macros) `names` that `header` defines."""
+    import pyopencl as cl
+    from restircl.core.program import build_program
+
+    writes = "\n".join(f"    out[{k}] = {name};" for k, name in enumerate(names))
+    src = f'#include "{header}"\n__kernel void codes(__global int* out)\n{{\n{writes}\n}}\n'
+    prog = build_program(device, {}, source=src)
+    out = np.full(len(names), -1, np.int32)
+    buf = cl.Buffer(device.context, cl.mem_flags.WRITE_ONLY, out.nbytes)
+    prog.codes(device.queue, (1,), None, buf)
+    cl.enqueue_copy(device.queue, out, buf)
+    return out.tolist()

@@ -1,32 +1,34 @@
 /* The BSDF seam: f, its sampling and its pdf at a surface for two unit directions leaving it, wo towards the
- * viewer and wi towards the light. The target function (direct/target.h) and every shading site reach the material only
- * through these three, so another BSDF changes these bodies (or a bsdf_<name>.h they dispatch to) and what
- * surface_load fills in SurfaceMaterial, not the resampling. The cosine at the surface is not part of f: the light
- * evaluation carries it (LightEval.contrib, lights/lights.h), which is also where a light below the surface gives 0.
+ * viewer and wi towards the light. The target function (direct/target.h) and every shading site reach the material
+ * only through these three, so another BSDF changes what the surface holds (SurfaceMaterial, surface/surface.h) and
+ * the lobes, not the resampling. The cosine at the surface is not part of f: the light evaluation carries it
+ * (LightEval.contrib, lights/lights.h), which is also where a light below the surface gives 0.
  *
- * f = albedo / pi (Lambert, the diffuse part) + the GGX lobes the primary pass resolved (glossy builds:
- * bsdf/ggx.h, bsdf/principled.h). Sampling picks the diffuse part or a lobe in proportion to their estimated
- * albedos (the average of the diffuse albedo; SpecLobe.diel_f0.w), then a cosine direction or a visible normal;
- * the pdf is the mixture's. */
+ * The BSDF is a mixture: the Lambert part (bsdf/lambert.h) about the shading normal n, plus in glossy builds the
+ * lobes the primary pass resolved for the pixel (bsdf/resolve.h), each reached through the dispatch of bsdf/lobes.h
+ * by its kind, about the lobes' normal nl. f is the parts' sum; sampling picks a part in proportion to the parts'
+ * sampling weights (lambert_weight, lobe_weight: their estimated albedos) and draws from it; the pdf is the
+ * weighted average of the parts' pdfs. This file knows no lobe kind: a new one is its file and its line in
+ * bsdf/lobes.h. */
 #ifndef RESTIRCL_BSDF_H
 #define RESTIRCL_BSDF_H
 
-#include "bsdf/fresnel.h"
-#include "bsdf/ggx.h"
+#include "bsdf/lambert.h"
+#include "bsdf/lobes.h"
 
 /* f(wo, wi) for wi in the hemisphere of s->n (the caller knows it: a light evaluation with a contribution had
- * cos_x > 0). Lambert's f does not depend on the directions; no branch, as it runs once per RIS candidate. The
- * lobes are evaluated about their own normal s->nl; the caller's cosine is about s->n, so on a normal-mapped pixel
- * (where the two differ) their f is rescaled by cos(nl) / cos(n), and every part gets its bump_shadowing. */
+ * cos_x > 0). The lobes are evaluated about their own normal s->nl; the caller's cosine is about s->n, so on a
+ * normal-mapped pixel (where the two differ) their f is rescaled by cos(nl) / cos(n), and every part gets its
+ * bump_shadowing. */
 inline float3 bsdf_eval(const Surface* s, float3 wo, float3 wi)
 {
-    float3 f = s->mat.albedo * RESTIRCL_INV_PI;
+    float3 f = lambert_eval(s->mat.albedo);
 #ifdef HAS_TEXTURES
     if (s->bumped) f *= bump_shadowing(s->nb, s->n, wi, true);
 #endif
 #ifdef HAS_GLOSSY
     float3 fl = (float3)(0.0f);
-    for (int k = 0; k < s->mat.lobes; ++k) fl += ggx_lobe_eval(&s->mat.lobe[k], s->nl, wo, wi);
+    for (int k = 0; k < s->mat.lobes; ++k) fl += lobe_eval(&s->mat.lobe[k], s->nl, wo, wi);
 #ifdef HAS_TEXTURES
     if (s->bumped && s->mat.lobes > 0) {
         float cn = dot3(s->n, wi);
@@ -41,31 +43,30 @@ inline float3 bsdf_eval(const Surface* s, float3 wo, float3 wi)
     return f;
 }
 
-/* the probability of sampling the diffuse part (returned) and *total, the sum of all parts' sampling weights */
+/* The sampling weight of the Lambert part (returned) and *total, the sum of all parts' sampling weights */
 inline float bsdf_diffuse_weight(const Surface* s, float* total)
 {
-    float wd = (s->mat.albedo.x + s->mat.albedo.y + s->mat.albedo.z) * (1.0f / 3.0f);
+    float wd = lambert_weight(s->mat.albedo);
     float t = wd;
 #ifdef HAS_GLOSSY
-    for (int k = 0; k < s->mat.lobes; ++k) t += s->mat.lobe[k].diel_f0.w;
+    for (int k = 0; k < s->mat.lobes; ++k) t += lobe_weight(&s->mat.lobe[k]);
 #endif
     *total = t;
     return wd;
 }
 
-/* The solid-angle density of bsdf_sample's wi: cos / pi in the hemisphere of s->n, 0 below it, mixed with the lobes'
- * visible-normal densities about s->nl in glossy builds. */
+/* The solid-angle density of bsdf_sample's wi: the parts' densities averaged with their sampling weights; a surface
+ * without lobes has Lambert's alone. */
 inline float bsdf_pdf(const Surface* s, float3 wo, float3 wi)
 {
-    float c = dot3(s->n, wi);
-    float pd = c > 0.0f ? c * RESTIRCL_INV_PI : 0.0f;
+    float pd = lambert_pdf(s->n, wi);
 #ifdef HAS_GLOSSY
     if (s->mat.lobes > 0) {
         float total, wd = bsdf_diffuse_weight(s, &total);
         if (!(total > 0.0f)) return pd;
         float p = wd * pd;
         for (int k = 0; k < s->mat.lobes; ++k)
-            p += s->mat.lobe[k].diel_f0.w * ggx_lobe_pdf(&s->mat.lobe[k], s->nl, wo, wi);
+            p += lobe_weight(&s->mat.lobe[k]) * lobe_pdf(&s->mat.lobe[k], s->nl, wo, wi);
         return p / total;
     }
 #else
@@ -76,7 +77,7 @@ inline float bsdf_pdf(const Surface* s, float3 wo, float3 wi)
 
 /* Draw wi for wo from (u0, u1) uniform in [0, 1)^2. Returns f(wo, *wi); *pdf = bsdf_pdf(s, wo, *wi), 0 for a direction
  * that grazes or leaves below the surface (f is then not to be used). With lobes, u0 first picks the part and is
- * rescaled to [0, 1) within it. Diffuse: a concentric-disk point lifted onto the hemisphere (density cos / pi). */
+ * rescaled to [0, 1) within it. */
 inline float3 bsdf_sample(const Surface* s, float3 wo, float u0, float u1, float3* wi, float* pdf)
 {
 #ifdef HAS_GLOSSY
@@ -87,7 +88,7 @@ inline float3 bsdf_sample(const Surface* s, float3 wo, float u0, float u1, float
         if (total > 0.0f && !(x < wd)) {
             float acc = wd;
             for (int k = 0; k < s->mat.lobes && pick < 0; ++k) {
-                float wk = s->mat.lobe[k].diel_f0.w;
+                float wk = lobe_weight(&s->mat.lobe[k]);
                 if (x < acc + wk || k == s->mat.lobes - 1) {
                     pick = k;
                     u0 = fmin_f((x - acc) / fmax_f(wk, 1e-30f), 0.99999994f);
@@ -98,7 +99,7 @@ inline float3 bsdf_sample(const Surface* s, float3 wo, float u0, float u1, float
             u0 = fmin_f(x / wd, 0.99999994f);
         }
         if (pick >= 0) {
-            if (!ggx_lobe_sample(&s->mat.lobe[pick], s->nl, wo, clamp_f(u0, 0.0f, 0.99999994f), u1, wi)) {
+            if (!lobe_sample(&s->mat.lobe[pick], s->nl, wo, clamp_f(u0, 0.0f, 0.99999994f), u1, wi)) {
                 *pdf = 0.0f;
                 return (float3)(0.0f);
             }
@@ -107,11 +108,7 @@ inline float3 bsdf_sample(const Surface* s, float3 wo, float u0, float u1, float
         }
     }
 #endif
-    float2 d = concentric_disk(u0, u1);
-    float z = sqrt(fmax_f(0.0f, 1.0f - d.x * d.x - d.y * d.y));
-    float3 t, b;
-    light_onb(s->n, &t, &b);
-    *wi = d.x * t + d.y * b + z * s->n;
+    *wi = lambert_sample(s->n, u0, u1);
     *pdf = bsdf_pdf(s, wo, *wi);
     return bsdf_eval(s, wo, *wi);
 }

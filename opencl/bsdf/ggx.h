@@ -1,9 +1,11 @@
 /* The isotropic GGX microfacet distribution: its normal distribution D, Smith's masking Lambda, and sampling of the
- * visible normals (Heitz, "Sampling the GGX Distribution of Visible Normals", JCGT 2018), for one resolved lobe
- * (SpecLobe, types.h). Directions are unit vectors leaving the surface: wo towards the viewer, wi towards the light;
- * f excludes the cosine at the surface (the light evaluation carries it), as everywhere behind the BSDF seam. */
+ * visible normals (Heitz, "Sampling the GGX Distribution of Visible Normals", JCGT 2018). The maths the microfacet
+ * lobes share (bsdf/microfacet_reflection.h; a dielectric that also refracts would reuse it); a lobe's f, pdf and
+ * sampling live in its own file. Directions are unit vectors leaving the surface: wo towards the viewer. */
 #ifndef RESTIRCL_BSDF_GGX_H
 #define RESTIRCL_BSDF_GGX_H
+
+#include "sampling/warps.h"
 
 /* alpha below this is a mirror that no light sample can hit; clamped to it, a smooth surface keeps a finite D
  * (1 / (pi alpha^2) = 3e7 at the peak) and reflects lights of finite size as a small highlight */
@@ -33,34 +35,6 @@ inline float ggx_lambda(float alpha2, float cos_n)
     return 0.5f * (sqrt(1.0f + alpha2 * fmax_f(1.0f / c2 - 1.0f, 0.0f)) - 1.0f);
 }
 
-/* The lobe's f(wo, wi) about normal n: D G2 / (4 cos_o cos_i) times its Fresnel-weighted colour, the F82-tint
- * part and the dielectric part sharing D and G2 (0 unless both directions are above the surface). */
-inline float3 ggx_lobe_eval(const SpecLobe* l, float3 n, float3 wo, float3 wi)
-{
-    float co = dot3(n, wo), ci = dot3(n, wi);
-    float3 hv = wo + wi;
-    float hl = dot3(hv, hv);
-    if (co < GGX_COS_MIN || ci < GGX_COS_MIN || !(hl > 1e-12f)) return (float3)(0.0f);
-    float alpha = l->metal_f0.w, alpha2 = alpha * alpha;
-    float c_hi = clamp_f(dot3(hv, wo) / sqrt(hl), 0.0f, 1.0f);
-    float3 F = l->metal_w.xyz * fresnel_f82(c_hi, l->metal_f0.xyz, l->metal_b.xyz);
-    if (l->metal_b.w > 1.0f)
-        F += l->diel_w.xyz * fresnel_principled(c_hi, l->metal_b.w, l->metal_w.w, l->diel_f0.xyz);
-    float g2 = 1.0f / (1.0f + ggx_lambda(alpha2, co) + ggx_lambda(alpha2, ci));
-    return F * (ggx_d_half(alpha2, n, hv, hl) * g2 / (4.0f * co * ci));
-}
-
-/* The solid-angle density of ggx_lobe_sample's wi: D G1(wo) / (4 cos_o) at the half vector (0 below the surface) */
-inline float ggx_lobe_pdf(const SpecLobe* l, float3 n, float3 wo, float3 wi)
-{
-    float co = dot3(n, wo), ci = dot3(n, wi);
-    float3 hv = wo + wi;
-    float hl = dot3(hv, hv);
-    if (co < GGX_COS_MIN || ci < GGX_COS_MIN || !(hl > 1e-12f)) return 0.0f;
-    float alpha = l->metal_f0.w, alpha2 = alpha * alpha;
-    return ggx_d_half(alpha2, n, hv, hl) / (4.0f * co * (1.0f + ggx_lambda(alpha2, co)));
-}
-
 /* A visible normal for the view wl (local frame, z the normal; wl.z > 0) from (u0, u1) in [0, 1)^2: the view is
  * stretched to the alpha = 1 configuration, where visible normals are a disk's points lifted onto the hemisphere
  * about it, the disk warped towards the view's horizon. */
@@ -77,18 +51,14 @@ inline float3 ggx_visible_normal(float3 wl, float alpha, float u0, float u1)
     return norm3((float3)(alpha * hs.x, alpha * hs.y, fmax_f(hs.z, 0.0f)));
 }
 
-/* Reflect wo about a visible normal of the lobe: wi. false when wo is below the surface (nothing drawn). */
-inline bool ggx_lobe_sample(const SpecLobe* l, float3 n, float3 wo, float u0, float u1, float3* wi)
+/* A visible normal about n (world space) for the view wo at cos(n, wo) = co > 0 */
+inline float3 ggx_sample_normal(float3 n, float3 wo, float co, float alpha, float u0, float u1)
 {
-    float co = dot3(n, wo);
-    if (co < GGX_COS_MIN) return false;
     float3 t, b;
     light_onb(n, &t, &b);
     float3 wl = (float3)(dot3(wo, t), dot3(wo, b), co);
-    float3 hl = ggx_visible_normal(wl, l->metal_f0.w, u0, u1);
-    float3 h = hl.x * t + hl.y * b + hl.z * n;
-    *wi = 2.0f * dot3(wo, h) * h - wo;
-    return true;
+    float3 hl = ggx_visible_normal(wl, alpha, u0, u1);
+    return hl.x * t + hl.y * b + hl.z * n;
 }
 
 #endif

@@ -30,8 +30,8 @@ __kernel void accumulate_aux(const __global GSample* gbuf, const __global Glossy
 #ifdef HAS_GLOSSY
     GlossySample gx = glossy[i];
     int lobes = as_int(gx.wo.w);
-    if (lobes > 0) a.xyz += gx.lobe0.metal_w.xyz * gx.lobe0.metal_f0.xyz + gx.lobe0.diel_w.xyz * gx.lobe0.diel_f0.xyz;
-    if (lobes > 1) a.xyz += gx.lobe1.metal_w.xyz * gx.lobe1.metal_f0.xyz + gx.lobe1.diel_w.xyz * gx.lobe1.diel_f0.xyz;
+    if (lobes > 0) a.xyz += lobe_albedo(&gx.lobe0);
+    if (lobes > 1) a.xyz += lobe_albedo(&gx.lobe1);
 #endif
     albedo_sum[i] += (float4)(clamp_f(a.x, 0.0f, 1.0f), clamp_f(a.y, 0.0f, 1.0f), clamp_f(a.z, 0.0f, 1.0f), 0.0f);
     normal_sum[i] += (float4)(g.normal.xyz, 0.0f);

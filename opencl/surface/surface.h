@@ -4,15 +4,16 @@
 #ifndef RESTIRCL_SURFACE_H
 #define RESTIRCL_SURFACE_H
 
+#include "bsdf/lobes.h"
 #include "surface/shading_normal.h"
 
-/* The material parameters of a surface, for the BSDF: the diffuse albedo and, in glossy builds, the GGX lobes the
- * primary pass resolved for this pixel's view (bsdf/principled.h). */
+/* The material parameters of a surface, for the BSDF: the diffuse albedo and, in glossy builds, the lobes the
+ * primary pass resolved for this pixel's view (bsdf/resolve.h). */
 typedef struct {
     float3 albedo;  /* diffuse reflectance, rgb in [0, 1] (under the specular layer: already scaled for it) */
 #ifdef HAS_GLOSSY
-    int lobes;      /* specular lobes in use, 0 .. MAX_LAYERS */
-    SpecLobe lobe[MAX_LAYERS];
+    int lobes;      /* lobes in use beyond the diffuse part, 0 .. MAX_LAYERS */
+    Lobe lobe[MAX_LAYERS];
 #endif
 } SurfaceMaterial;
 
@@ -116,12 +117,12 @@ typedef struct {
 } MaterialKey;
 
 #ifdef HAS_GLOSSY
-/* the share of the F82-tint (metal or Glossy) part in a lobe's and the diffuse reflectance */
+/* the share of a lobe's metallic (F82-tint: metal or Glossy) part in its and the diffuse reflectance */
 inline float surface_metal_share(const SurfaceMaterial* m, int k)
 {
-    const SpecLobe* l = &m->lobe[k];
-    float mw = l->metal_w.x + l->metal_w.y + l->metal_w.z;
-    float dw = l->diel_w.x + l->diel_w.y + l->diel_w.z + m->albedo.x + m->albedo.y + m->albedo.z;
+    float2 w = lobe_weights(&m->lobe[k]);
+    float mw = w.x;
+    float dw = w.y + m->albedo.x + m->albedo.y + m->albedo.z;
     return mw / fmax_f(mw + dw, 1e-6f);
 }
 #endif
@@ -131,8 +132,10 @@ inline MaterialKey material_key(const SurfaceMaterial* m)
     MaterialKey key;
 #ifdef HAS_GLOSSY
     key.lobes = m->lobes;
-    for (int k = 0; k < MAX_LAYERS; ++k)
-        key.lobe[k] = k < m->lobes ? (float2)(sqrt(m->lobe[k].metal_f0.w), surface_metal_share(m, k)) : (float2)(0.0f);
+    for (int k = 0; k < MAX_LAYERS; ++k) {
+        const Lobe* l = &m->lobe[k];
+        key.lobe[k] = k < m->lobes ? (float2)(sqrt(lobe_alpha(l)), surface_metal_share(m, k)) : (float2)(0.0f);
+    }
 #else
     (void)m;
     key.unused = 0;

@@ -5,20 +5,22 @@
 #ifndef RESTIRCL_VIEW_DEPENDENCE_H
 #define RESTIRCL_VIEW_DEPENDENCE_H
 
+#include "bsdf/lambert.h"
+
 /* Roughness above which a specular lobe is wide enough to count as view-independent for reprojection. */
 #define VIEW_DEPENDENT_ROUGHNESS 0.5f
 
-/* In [0, 1]: the view dependence of surface s, the share of its specular lobes in its reflectance (their sampling
- * weights, bsdf/bsdf.h, against the diffuse albedo) weighted by how sharp each is: 1 at roughness 0, 0 from
+/* In [0, 1]: the view dependence of surface s, the share of its lobes in its reflectance (their sampling weights
+ * against the Lambert part's, bsdf/bsdf.h) weighted by how sharp each is: 1 at roughness 0, 0 from
  * VIEW_DEPENDENT_ROUGHNESS up. Diffuse surfaces, and every surface of a diffuse-only build: 0. */
 inline float view_dependence(const Surface* s)
 {
 #if defined(HAS_GLOSSY) && !defined(VIEW_DEPENDENCE_OFF)  /* OFF: the before of the ghosting test (render/test_taa_glossy.py) */
     if (!s->valid || s->mat.lobes == 0) return 0.0f;
-    float total = (s->mat.albedo.x + s->mat.albedo.y + s->mat.albedo.z) * (1.0f / 3.0f), sharp = 0.0f;
+    float total = lambert_weight(s->mat.albedo), sharp = 0.0f;
     for (int k = 0; k < s->mat.lobes; ++k) {
-        float w = s->mat.lobe[k].diel_f0.w;
-        float roughness = sqrt(fmax_f(s->mat.lobe[k].metal_f0.w, 0.0f));  /* alpha = roughness^2 */
+        float w = lobe_weight(&s->mat.lobe[k]);
+        float roughness = sqrt(fmax_f(lobe_alpha(&s->mat.lobe[k]), 0.0f));  /* alpha = roughness^2 */
         sharp += w * clamp_f(1.0f - roughness / VIEW_DEPENDENT_ROUGHNESS, 0.0f, 1.0f);
         total += w;
     }

@@ -22,7 +22,7 @@ pytestmark = [pytest.mark.blender, needs_renderer]
 
 BOUND = 0.01
 # the device code each need stands for (branches bsdf and textures)
-DEVICE_FILES = {"glossy": "bsdf/principled.h", "textures": "textures/image.h"}
+DEVICE_FILES = {"glossy": "bsdf/closures/principled.h", "textures": "textures/image.h"}
 
 
 def skip_unless(needs: set[str]) -> None:

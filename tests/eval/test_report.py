@@ -75,8 +75,8 @@ def test_reference_is_cached_and_keyed_by_sources(cornell, device, tmp_path, mon
     logs.clear()
     same = get_reference(scene, 0, seconds_hint=8.0, device=device, cache_dir=cache, log=logs.append)
     assert any("cached" in m for m in logs) and same.path == ref.path
-    edited = src / "bsdf/bsdf.h"
-    edited.write_text(edited.read_text().replace("s->mat.albedo * RESTIRCL_INV_PI", "s->mat.albedo * 0.3f"))
+    edited = src / "bsdf/lambert.h"
+    edited.write_text(edited.read_text().replace("albedo * RESTIRCL_INV_PI", "albedo * 0.3f"))
     monkeypatch.setattr(program, "_PROGRAMS", {})
     logs.clear()
     other = get_reference(scene, 0, frames=8, device=device, cache_dir=cache, log=logs.append)

@@ -1,6 +1,6 @@
-"""Test kernels for the Principled BSDF (opencl/bsdf/principled.h, bsdf/ggx.h, bsdf/bsdf.h): a surface at the origin,
-normal +z, whose material is resolved from closure inputs for a view direction exactly as the primary pass does,
-then evaluated, sampled or read back."""
+"""Test kernels for the BSDF (opencl/bsdf/bsdf.h over the closure resolves of bsdf/resolve.h and the lobes of
+bsdf/lobes.h): a surface at the origin, normal +z, whose material is resolved from closure inputs for a view
+direction exactly as the primary pass does, then evaluated, sampled or read back."""
 
 from __future__ import annotations
 
@@ -12,8 +12,9 @@ import pyopencl.cltypes as clt
 from restircl.core.program import build_program
 from restircl.render.features import general_flags
 from restircl.upload.ggx_tables import ggx_tables
+from restircl.upload.materials import KIND_CODE
 
-SRC = """
+HEADERS = """
 #include "types.h"
 #include "numerics.h"
 #include "sampling/rng.h"
@@ -24,25 +25,12 @@ SRC = """
 #include "textures/nodes.h"
 #include "textures/closure_inputs.h"
 #include "bsdf/bsdf.h"
-#include "bsdf/tables.h"
-#include "bsdf/principled.h"
+#include "bsdf/resolve.h"
 
-/* closure k is p[12 k ..]: base rgb, metallic, roughness, ior, specular, tint rgb, weight, kind, multiscatter */
-inline Surface test_surface(const __global float* p, int count, const __global float* tab, float3 wo)
+/* the surface at the origin, normal +z, seen from wo, whose count closures' inputs are resolved as the primary pass
+ * resolves them */
+inline Surface resolved_surface(const ClosureInputs* in, int count, const __global float* tab, float3 wo)
 {
-    ClosureInputs in[MAX_LAYERS];
-    for (int k = 0; k < count; ++k) {
-        const __global float* q = p + 12 * k;
-        in[k].base = (float3)(q[0], q[1], q[2]);
-        in[k].metallic = q[3];
-        in[k].roughness = q[4];
-        in[k].ior = q[5];
-        in[k].specular = q[6];
-        in[k].tint = (float3)(q[7], q[8], q[9]);
-        in[k].weight = q[10];
-        in[k].kind = (int)q[11] & 3;
-        in[k].multiscatter = (int)q[11] >> 2;
-    }
     Surface s;
     s.x = (float3)(0.0f);
     surface_set_normal(&s, (float3)(0.0f, 0.0f, 1.0f));
@@ -56,6 +44,27 @@ inline Surface test_surface(const __global float* p, int count, const __global f
     s.mat.lobe[0] = gx.lobe0;
     s.mat.lobe[1] = gx.lobe1;
     return s;
+}
+"""
+
+SRC = HEADERS + """
+/* closure k is p[12 k ..]: base rgb, metallic, roughness, ior, specular, tint rgb, weight, kind + 8 multiscatter */
+inline Surface test_surface(const __global float* p, int count, const __global float* tab, float3 wo)
+{
+    ClosureInputs in[MAX_LAYERS];
+    for (int k = 0; k < count; ++k) {
+        const __global float* q = p + 12 * k;
+        in[k].base = (float3)(q[0], q[1], q[2]);
+        in[k].metallic = q[3];
+        in[k].roughness = q[4];
+        in[k].ior = q[5];
+        in[k].specular = q[6];
+        in[k].tint = (float3)(q[7], q[8], q[9]);
+        in[k].weight = q[10];
+        in[k].kind = (int)q[11] & 7;
+        in[k].multiscatter = (int)q[11] >> 3;
+    }
+    return resolved_surface(in, count, tab, wo);
 }
 
 /* per direction: (f, pdf) */
@@ -82,9 +91,6 @@ __kernel void sample_dirs(const __global float* p, int count, const __global flo
 }
 """
 
-KIND = {"principled": 0, "diffuse": 1, "glossy": 2}
-
-
 @dataclass
 class Closure:
     kind: str = "principled"
@@ -98,7 +104,7 @@ class Closure:
     multiscatter: bool = True
 
     def row(self) -> list[float]:
-        code = KIND[self.kind] + 4 * int(self.multiscatter)
+        code = KIND_CODE[self.kind] + 8 * int(self.multiscatter)
         return [*self.base, self.metallic, self.roughness, self.ior, self.specular, *self.tint, self.weight, code]
 
 

@@ -12,6 +12,7 @@ import pytest
 
 from ..stats import pooled_chi2
 from .bsdf_kernels import BsdfKernels, Closure, view
+from .direction_bins import Bins
 from .principled_model import eval_f
 
 WHITE = (1.0, 1.0, 1.0)
@@ -75,33 +76,6 @@ def test_sample_returns_eval_and_pdf(bsdf, name):
         np.testing.assert_allclose(pdf[ok], ev[:, 3], rtol=1e-5, atol=1e-7)
 
 
-def _frame(wo: np.ndarray, pole: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The bins' pole (the normal "n", or the mirror direction of wo "r") and two axes perpendicular to it."""
-    r = np.array([-wo[0], -wo[1], wo[2]]) if pole == "r" else np.array([0.0, 0.0, 1.0])
-    t = np.cross(r, [0.0, 1.0, 0.0])
-    t = t / np.linalg.norm(t)
-    return r, t, np.cross(r, t)
-
-
-EPS = 1e-7  # the bins' lower end of 1 - cos(angle to the pole)
-
-
-def _to_bins(wi: np.ndarray, frame, log: bool) -> tuple[np.ndarray, np.ndarray]:
-    r, t, b = frame
-    # 1 - cos = |wi - r|^2 / 2 keeps its digits near the pole, where 1 - dot(wi, r) of float32 directions does not
-    one_minus_cos = 0.5 * np.sum((wi - r) ** 2, axis=1)
-    a = np.log(one_minus_cos + EPS) if log else one_minus_cos
-    phi = np.arctan2(wi @ b, wi @ t) % (2.0 * np.pi)
-    return a, phi
-
-
-def _from_bins(a: np.ndarray, phi: np.ndarray, frame, log: bool) -> np.ndarray:
-    r, t, b = frame
-    c = 1.0 - (np.exp(a) - EPS if log else a)
-    s = np.sqrt(np.clip(1.0 - c * c, 0.0, 1.0))
-    return (c[:, None] * r + (s * np.cos(phi))[:, None] * t + (s * np.sin(phi))[:, None] * b)
-
-
 # (case, view angle, pole): the mirror direction as the pole resolves sharp lobes seen off the normal; the normal
 # as the pole puts the horizon on a bin edge (1 - cos = 1), so no bin straddles it
 CHI2 = [("dielectric_r005", 30.0, "r"), ("dielectric_r03", 45.0, "n"), ("dielectric_r1", 60.0, "n"),
@@ -118,27 +92,14 @@ def test_samples_follow_the_pdf(bsdf, name, theta, pole):
     are left out of the histogram (the test compares the shape of the rest); their share must be 1 minus the
     integral of the pdf, within the quadrature's error."""
     wo = view(theta)
-    frame = _frame(wo, pole)
-    n_a, n_p, sub = 24, 12, 24
-    log = pole == "r"
-    a_edges = np.linspace(np.log(EPS), np.log(2.0 + EPS), n_a + 1) if log else np.linspace(0.0, 1.0, n_a + 1)
-    p_edges = np.linspace(0.0, 2.0 * np.pi, n_p + 1)
-    da, dp = (a_edges[1] - a_edges[0]) / sub, (p_edges[1] - p_edges[0]) / sub
-    am = a_edges[0] + (np.arange(n_a * sub) + 0.5) * da
-    pm = (np.arange(n_p * sub) + 0.5) * dp
-    aa, pp = np.meshgrid(am, pm, indexing="ij")
-    dirs = _from_bins(aa.ravel(), pp.ravel(), frame, log)
-    pdf = bsdf.eval(CASES[name], wo, dirs)[:, 3]
-    # d(omega) = d(1 - cos) d(phi), = exp(a) da dphi in the log bins
-    jac = np.exp(aa.ravel()) if log else 1.0
-    prob = (pdf * jac * da * dp).reshape(n_a, sub, n_p, sub).sum(axis=(1, 3))
+    bins = Bins(wo, pole)
+    prob = bins.probabilities(lambda dirs: bsdf.eval(CASES[name], wo, dirs)[:, 3])
     total = prob.sum()
     assert total <= 1.0 + 1e-3
     count = 400_000
     out = bsdf.sample(CASES[name], wo, count, seed=17)
     ok = out[:, 0, 3] > 0
-    a, phi = _to_bins(out[ok, 0, :3], frame, log)
-    hist, _, _ = np.histogram2d(a, phi, bins=(a_edges, p_edges))
+    hist = bins.histogram(out[ok, 0, :3])
     assert abs((1.0 - ok.mean()) - (1.0 - total)) < 0.01
     _, p, dof = pooled_chi2(hist.ravel(), prob.ravel())
     assert dof > 20

@@ -40,8 +40,8 @@ CAMERA = np.dtype(
 GSAMPLE = np.dtype(
     [("pos", F4), ("normal", F4), ("gnormal", F4), ("albedo", F4), ("emission", F4), ("motion", F4)]
 )
-SPEC_LOBE = np.dtype([("metal_f0", F4), ("metal_b", F4), ("metal_w", F4), ("diel_f0", F4), ("diel_w", F4)])
-GLOSSY_SAMPLE = np.dtype([("wo", F4), ("lobe0", SPEC_LOBE), ("lobe1", SPEC_LOBE)])
+LOBE = np.dtype([("a", F4), ("b", F4), ("c", F4), ("d", F4), ("e", F4)])  # lanes per kind: opencl/bsdf/<kind>.h
+GLOSSY_SAMPLE = np.dtype([("wo", F4), ("lobe0", LOBE), ("lobe1", LOBE)])
 RESERVOIR = np.dtype(
     [
         ("light", np.int32),
@@ -100,7 +100,7 @@ STRUCTS: dict[str, np.dtype] = {
     "LightTreeNode": LIGHT_TREE_NODE,
     "Camera": CAMERA,
     "GSample": GSAMPLE,
-    "SpecLobe": SPEC_LOBE,
+    "Lobe": LOBE,
     "GlossySample": GLOSSY_SAMPLE,
     "Reservoir": RESERVOIR,
     "FrameParams": FRAME_PARAMS,

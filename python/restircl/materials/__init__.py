@@ -1,3 +1,3 @@
-"""Materials as Blender's shader nodes define them: the closures of a material (material.py), the texture nodes
-that feed their inputs (textures.py), their validation (check.py) and their form in the scene file (file.py).
-Their device records are packed in upload/."""
+"""Materials on the host: the model as Blender's shader nodes define it (material.py), the texture nodes that feed
+its inputs (textures.py), one module per closure kind with their registry (closures/), validation (check.py) and
+the scene file's form (file.py). Their device records are packed in upload/."""

@@ -1,23 +1,25 @@
 """Validation of materials and their texture nodes (Scene.validate): SceneError naming the material and the field.
 
-Ranges follow what Blender allows on the nodes: Metallic, Roughness, Specular IOR Level and a Mix factor in [0, 1],
-IOR > 0, colours >= 0, names from the lists in materials/material.py / materials/textures.py. What only shows when the
-images are read (a missing file, a 0x0 image, an unsupported colour space, NaN texels) is a warning at upload
-(upload/textures.py).
+A closure is checked on the fields its kind reads (materials/closures/: ClosureKind.fields), each by its rule in
+FIELD_RULES. Ranges follow what Blender allows on the nodes: Metallic, Roughness, Specular IOR Level and a Mix
+factor in [0, 1], IOR > 0, colours >= 0, names from the lists in materials/material.py / materials/textures.py.
+What only shows when the images are read (a missing file, a 0x0 image, an unsupported colour space, NaN texels) is
+a warning at upload (upload/textures.py).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 
-from .material import DISTRIBUTIONS, MATERIAL_KINDS, MAX_LAYERS, Material
+from .closures.registry import KINDS
+from .material import DISTRIBUTIONS, MAX_LAYERS, Material
 from .textures import COORDS, EXTENSIONS, INTERPOLATIONS, MIX_BLENDS, CheckerTexture, ImageTexture, MixColor, NormalMap
 from .textures import is_texture as _is_texture
 
-UNIT_FIELDS = ("metallic", "roughness", "specular")
 RANGE_SLACK = 1e-6
 
 
@@ -50,20 +52,42 @@ def check_material(m: Material) -> None:
 
 
 def _check_closure(m: Material) -> None:
-    if m.kind not in MATERIAL_KINDS:
-        raise MaterialError(f"kind must be one of {MATERIAL_KINDS}, got {m.kind!r}")
-    if m.distribution not in DISTRIBUTIONS:
-        raise MaterialError(f"distribution must be one of {DISTRIBUTIONS}, got {m.distribution!r}")
-    _check_input(m.albedo, "albedo", colour=True)
-    _check_input(m.specular_tint, "specular_tint", colour=True)
-    for name in UNIT_FIELDS:
-        _check_input(getattr(m, name), name, colour=False, unit=True)
-    if not isinstance(m.ior, int | float) or not math.isfinite(m.ior) or m.ior <= 0:
-        raise MaterialError(f"ior must be finite and > 0, got {m.ior!r}")
-    if m.normal is not None:
-        if not isinstance(m.normal, NormalMap):
-            raise MaterialError(f"normal must be a NormalMap node or None, got {type(m.normal).__name__}")
-        check_node(m.normal, "normal")
+    if m.kind not in KINDS:
+        raise MaterialError(f"kind must be one of {tuple(KINDS)}, got {m.kind!r}")
+    for name in KINDS[m.kind].fields:
+        FIELD_RULES[name](getattr(m, name), name)
+
+
+def _colour(value: object, name: str) -> None:
+    _check_input(value, name, colour=True)
+
+
+def _unit(value: object, name: str) -> None:
+    _check_input(value, name, colour=False, unit=True)
+
+
+def _ior(value: object, name: str) -> None:
+    if not isinstance(value, int | float) or not math.isfinite(value) or value <= 0:
+        raise MaterialError(f"{name} must be finite and > 0, got {value!r}")
+
+
+def _distribution(value: object, name: str) -> None:
+    if value not in DISTRIBUTIONS:
+        raise MaterialError(f"{name} must be one of {DISTRIBUTIONS}, got {value!r}")
+
+
+def _normal(value: object, name: str) -> None:
+    if value is not None:
+        if not isinstance(value, NormalMap):
+            raise MaterialError(f"{name} must be a NormalMap node or None, got {type(value).__name__}")
+        check_node(value, name)
+
+
+# A closure field -> its rule, rule(value, field name), raising MaterialError naming the field
+FIELD_RULES: dict[str, Callable[[object, str], None]] = {
+    "albedo": _colour, "metallic": _unit, "roughness": _unit, "ior": _ior, "specular": _unit,
+    "specular_tint": _colour, "distribution": _distribution, "normal": _normal,
+}
 
 
 def _check_input(value: object, what: str, colour: bool, unit: bool = False) -> None:

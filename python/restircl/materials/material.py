@@ -2,13 +2,11 @@
 special cases), mixed or added by Mix Shader / Add Shader, with a constant or a texture node
 (restircl.materials.textures) on any input.
 
-A Material with `layers` empty is one closure of `kind`:
-- "principled": Lambertian diffuse under a GGX specular layer (Cycles' Principled BSDF without coat, sheen,
-  subsurface and transmission). `specular` is the Specular IOR Level; the default 0 has no specular layer, so the
-  default Material is the plain diffuse albedo it always was (Blender's Principled default is 0.5: the add-on
-  exports it as it is). `albedo` is the Base Color.
-- "diffuse": the Diffuse BSDF, colour `albedo` (Lambert).
-- "glossy": the Glossy BSDF, GGX with colour `albedo` and no Fresnel.
+A Material with `layers` empty is one closure of `kind`, a name from restircl.materials.closures (registry.py);
+each kind's module says which shader node it models and which of the fields it reads, and the kind ignores the
+others: "principled" (the Principled BSDF; `albedo` is its Base Color), "diffuse" (the Diffuse BSDF), "glossy" (the
+Glossy BSDF). The default is a Principled BSDF without a specular layer (`specular`, the Specular IOR Level, 0:
+Blender's default is 0.5 and the add-on exports it as it is), the plain diffuse albedo it always was.
 A Material with `layers` [a, b] (Materials without layers of their own; at most MAX_LAYERS) is their weighted sum:
 Mix Shader when `mix` is set, (1 - mix) a + mix b, with `mix` a constant or a texture; Add Shader, a + b, when
 `mix` is None. Its own closure fields are then unused. Emission (emission * emission_strength) belongs to the
@@ -21,13 +19,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .closures.registry import kind_of
 from .textures import Input
 
-MATERIAL_KINDS = ("principled", "diffuse", "glossy")
 DISTRIBUTIONS = ("multi_ggx", "ggx")
 MAX_LAYERS = 2
-# the inputs that may hold a texture node, by field name (normal: a NormalMap)
-TEXTURABLE = ("albedo", "metallic", "roughness", "specular", "specular_tint", "emission", "normal")
+# the closure inputs that may hold a texture node, by field name (normal: a NormalMap); the emission may too
+TEXTURABLE = ("albedo", "metallic", "roughness", "specular", "specular_tint", "normal")
 
 
 @dataclass
@@ -69,6 +67,7 @@ class Material:
 
 
 def material_inputs(m: Material) -> list[object]:
-    """Every input of m (and of its layers) that may hold a texture node, and the Mix factor."""
-    out = [getattr(c, f) for c in [m, *m.layers] for f in TEXTURABLE]
-    return [*out, m.mix]
+    """Every input of m that is read and may hold a texture node: the fields its closures' kinds read, its emission
+    and the Mix factor."""
+    out = [getattr(c, f) for c in (m.layers or [m]) for f in TEXTURABLE if f in kind_of(c.kind).fields]
+    return [*out, m.emission, m.mix]

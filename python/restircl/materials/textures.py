@@ -80,3 +80,19 @@ TEXTURE_TYPES = (ImageTexture, CheckerTexture, MixColor, NormalMap)
 
 def is_texture(value: object) -> bool:
     return isinstance(value, TEXTURE_TYPES)
+
+
+def constant_rgb(value: Input, neutral: tuple = (1.0, 1.0, 1.0)) -> tuple[float, float, float]:
+    """The colour a constant input holds (a number stands for grey); `neutral` for a texture node."""
+    if is_texture(value):
+        return neutral
+    a = np.broadcast_to(np.asarray(value, dtype=np.float64), (3,))
+    return float(a[0]), float(a[1]), float(a[2])
+
+
+def constant_float(value: Input, neutral: float = 0.0) -> float:
+    """The number a constant input holds (a colour's mean); `neutral` for a texture node."""
+    if is_texture(value):
+        return neutral
+    a = np.asarray(value, dtype=np.float64).reshape(-1)
+    return float(a[0]) if a.size == 1 else float(a.mean())

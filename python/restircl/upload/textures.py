@@ -32,10 +32,11 @@ from ..materials.textures import (
     ImageTexture,
     MixColor,
     NormalMap,
+    constant_float,
+    constant_rgb,
     is_texture,
 )
 from ..scene.errors import SceneError
-from .materials import constant_float, constant_rgb
 
 MAX_TEX_PROGRAM = 16  # nodes in one input's program, the registers it is evaluated into (opencl/codes.h)
 MAGENTA = (1.0, 0.0, 1.0, 1.0)

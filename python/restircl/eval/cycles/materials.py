@@ -4,6 +4,7 @@ emission. Texture inputs are not written (the bridge renders constant materials)
 
 from __future__ import annotations
 
+from ...materials.closures.registry import kind_of
 from ...materials.material import Material
 from ...materials.textures import is_texture
 
@@ -15,22 +16,22 @@ def _rgba(v) -> tuple[float, float, float, float]:
     return (r, g, b, 1.0)
 
 
-def _closure(tree, c: Material):
-    """One shader node for closure c (a Material without layers)."""
-    for name in ("albedo", "metallic", "roughness", "specular", "specular_tint"):
-        if is_texture(getattr(c, name)):
-            raise ValueError(f"material {c.name!r}: the Cycles bridge writes constant inputs only ({name})")
-    if c.kind == "diffuse":
-        n = tree.nodes.new("ShaderNodeBsdfDiffuse")
-        n.inputs["Color"].default_value = _rgba(c.albedo)
-        n.inputs["Roughness"].default_value = 0.0
-        return n
-    if c.kind == "glossy":
-        n = tree.nodes.new("ShaderNodeBsdfGlossy")
-        n.distribution = _DISTRIBUTION[c.distribution]
-        n.inputs["Color"].default_value = _rgba(c.albedo)
-        n.inputs["Roughness"].default_value = float(c.roughness)
-        return n
+def _diffuse(tree, c: Material):
+    n = tree.nodes.new("ShaderNodeBsdfDiffuse")
+    n.inputs["Color"].default_value = _rgba(c.albedo)
+    n.inputs["Roughness"].default_value = 0.0
+    return n
+
+
+def _glossy(tree, c: Material):
+    n = tree.nodes.new("ShaderNodeBsdfGlossy")
+    n.distribution = _DISTRIBUTION[c.distribution]
+    n.inputs["Color"].default_value = _rgba(c.albedo)
+    n.inputs["Roughness"].default_value = float(c.roughness)
+    return n
+
+
+def _principled(tree, c: Material):
     n = tree.nodes.new("ShaderNodeBsdfPrincipled")
     n.distribution = _DISTRIBUTION[c.distribution]
     n.inputs["Base Color"].default_value = _rgba(c.albedo)
@@ -40,6 +41,21 @@ def _closure(tree, c: Material):
     n.inputs["Specular IOR Level"].default_value = float(c.specular)
     n.inputs["Specular Tint"].default_value = _rgba(c.specular_tint)
     return n
+
+
+# Material.kind (restircl.materials.closures) -> the writer of its shader node
+NODE_WRITERS = {"principled": _principled, "diffuse": _diffuse, "glossy": _glossy}
+
+
+def _closure(tree, c: Material):
+    """One shader node for closure c (a Material without layers)."""
+    kind = kind_of(c.kind)
+    for name in kind.fields:
+        if name != "normal" and is_texture(getattr(c, name)):  # normal maps are not written
+            raise ValueError(f"material {c.name!r}: the Cycles bridge writes constant inputs only ({name})")
+    if kind.name not in NODE_WRITERS:
+        raise ValueError(f"material {c.name!r}: the Cycles bridge has no shader node for kind {kind.name!r}")
+    return NODE_WRITERS[kind.name](tree, c)
 
 
 def _combine(tree, a, b, mix: float | None):

@@ -1,0 +1,18 @@
+"""The Diffuse BSDF (opencl/bsdf/closures/diffuse.h): Lambert of colour `albedo` (its Roughness, Oren-Nayar, is not
+modelled)."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from .kind import ClosureKind
+
+if TYPE_CHECKING:
+    from ..material import Material
+
+
+def has_lobe(_c: Material) -> bool:
+    return False
+
+
+KIND = ClosureKind("diffuse", code=1, fields=("albedo", "normal"), lobes=(), has_lobe=has_lobe)

@@ -1,0 +1,18 @@
+"""The Glossy BSDF (opencl/bsdf/closures/glossy.h): GGX reflection of colour `albedo`, no Fresnel."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from .kind import ClosureKind
+
+if TYPE_CHECKING:
+    from ..material import Material
+
+
+def has_lobe(_c: Material) -> bool:
+    return True
+
+
+KIND = ClosureKind("glossy", code=2, fields=("albedo", "roughness", "distribution", "normal"),
+                   lobes=("microfacet_reflection",), has_lobe=has_lobe)
