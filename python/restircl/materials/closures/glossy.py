@@ -2,15 +2,10 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
-from .kind import ClosureKind
-
-if TYPE_CHECKING:
-    from ..material import Material
+from .kind import ClosureInputs, ClosureKind
 
 
-def has_lobe(_c: Material) -> bool:
+def has_lobe(_c: ClosureInputs) -> bool:
     return True
 
 

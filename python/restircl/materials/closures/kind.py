@@ -4,16 +4,23 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import Protocol
 
-if TYPE_CHECKING:
-    from ..material import Material
+from ..textures import Input
+
+
+class ClosureInputs(Protocol):
+    """What a kind's has_lobe reads of a closure (a restircl.Material, which builds on this registry: material.py)."""
+
+    metallic: Input
+    specular: Input
 
 
 @dataclass(frozen=True)
 class ClosureKind:
     name: str  # Material.kind
-    code: int  # CLOSURE_<NAME> in opencl/types.h; the device resolve is <name>_resolve in opencl/bsdf/closures/<name>.h
+    # CLOSURE_<NAME> (opencl/codes.h, generated); its resolve: <name>_resolve, opencl/bsdf/closures/<name>.h
+    code: int
     # The Material fields its resolve reads: each is validated by its rule (materials/check.py FIELD_RULES) and
     # packed into its lanes of the Closure record (upload/materials.py FIELD_LANES); a kind ignores the others.
     fields: tuple[str, ...]
@@ -21,4 +28,4 @@ class ClosureKind:
     # beyond the Lambert part
     lobes: tuple[str, ...]
     # Whether closure c (a Material of this kind) gives a lobe: a scene with one builds with HAS_GLOSSY
-    has_lobe: Callable[[Material], bool]
+    has_lobe: Callable[[ClosureInputs], bool]

@@ -4,16 +4,11 @@ Level: 0 has no specular layer, so the default Material is a plain diffuse albed
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from ..textures import constant_float, is_texture
-from .kind import ClosureKind
-
-if TYPE_CHECKING:
-    from ..material import Material
+from .kind import ClosureInputs, ClosureKind
 
 
-def has_lobe(c: Material) -> bool:
+def has_lobe(c: ClosureInputs) -> bool:
     """A metallic part or a specular layer (Metallic or Specular IOR Level > 0); a textured one counts as one."""
     if is_texture(c.metallic) or is_texture(c.specular):
         return True
