@@ -20,8 +20,8 @@ inline float clamp_f(float x, float lo, float hi) { return fmin_f(fmax_f(x, lo),
 inline float abs_f(float x) { return as_float(as_uint(x) & 0x7fffffffu); }
 
 /* float3 dot, cross, length and normalize: PoCL 3.0 calls its builtins for these out of line (inlining dot saved
- * 4 % of a ReSTIR frame: 275 -> 264 ms, docs/measurements/benchmarks.md); these inline forms are the plain formulas. norm3 of a zero or
- * non-finite vector gives NaN, as normalize may: callers test lengths first. */
+ * 4 % of a ReSTIR frame: 275 -> 264 ms, docs/measurements/benchmarks.md); these inline forms are the plain formulas.
+ * norm3 of a zero or non-finite vector gives NaN, as normalize may: callers test lengths first. */
 inline float dot3(float3 a, float3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 
 inline float3 cross3(float3 a, float3 b)

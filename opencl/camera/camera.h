@@ -79,9 +79,10 @@ inline bool camera_project_dir(const __global Camera* cam, float3 d, float2* px)
 }
 
 /* Where the background seen along d by the ray at pixel position ray_px of `cam` is in camera `other`, as a
- * pixel offset (other minus this, the same direction in both: no jitter in it). An orthographic camera sees one direction, forward, at every
- * pixel: between two of them the background stays where it is; a perspective camera finds it at one pixel; an
- * orthographic camera sees none of a perspective camera's directions but its forward, so that has no history. */
+ * pixel offset (other minus this, the same direction in both: no jitter in it). An orthographic camera sees one
+ * direction, forward, at every pixel: between two of them the background stays where it is; a perspective camera
+ * finds it at one pixel; an orthographic camera sees none of a perspective camera's directions but its forward, so
+ * that has no history. */
 inline bool camera_dir_motion(const __global Camera* cam, const __global Camera* other, float3 d, float2 ray_px,
                               float2* delta)
 {

@@ -1,20 +1,21 @@
 /* RIS over light-array candidates (the lecture's "RIS over a few candidates"), shared by the `ris` sampler
- * (direct/direct.cl) and ReSTIR's initial reservoirs (restir/initial.cl): `candidates` samples drawn from the light array
- * (light with probability slots / M, a point on it by light_sample) streamed into a reservoir with resampling
+ * (direct/direct.cl) and ReSTIR's initial reservoirs (restir/initial.cl): `candidates` samples drawn from the light
+ * array (light with probability slots / M, a point on it by light_sample) streamed into a reservoir with resampling
  * weight target / source pdf.
  *
  * Candidates run in batches of RIS_BATCH: first every random number and every read of the light array (slot, pdf,
- * the light record's type: light_array_lights, light_tile_entries), then the evaluations. With a million lights each of those reads is a cache miss; read
- * for a whole batch first, the misses overlap instead of each waiting behind the previous candidate's evaluation
- * (1e6 point lights: ReSTIR's initial pass 91-95 -> 65-66 ms). The random numbers are drawn in the same order as
- * one candidate at a time (slot, r0, r1, resampling): the same samples. (OpenCL's prefetch() did nothing on PoCL.)
- * With presampled light tiles (lights/tiles.h) a candidate is an entry of the pixel's tile instead of a slot; with
- * the light tree (lights/tree.h) a light picked by a descent at the shading point.
- * With BSDF candidates (direct/bsdf_candidates.h) every weight's source pdf is the two strategies' mixture density, and
- * the BSDF's candidates follow the light candidates; without them the weights are target / pdf exactly as before.
- * With a BSDF sample outside the reservoir (direct/bsdf_mis.h) every light candidate's target is scaled by its MIS weight.
- * With QMC (q->on, sampling/qmc.h) the pick, the point on the light and the BSDF direction of every candidate come from the
- * pixel's scrambled Sobol pairs, and all resampling choices from one uniform (res_update_remap). */
+ * the light record's type: light_array_lights, light_tile_entries), then the evaluations. With a million lights each
+ * of those reads is a cache miss; read for a whole batch first, the misses overlap instead of each waiting behind
+ * the previous candidate's evaluation (1e6 point lights: ReSTIR's initial pass 91-95 -> 65-66 ms). The random
+ * numbers are drawn in the same order as one candidate at a time (slot, r0, r1, resampling): the same samples.
+ * (OpenCL's prefetch() did nothing on PoCL.) With presampled light tiles (lights/tiles.h) a candidate is an entry of
+ * the pixel's tile instead of a slot; with the light tree (lights/tree.h) a light picked by a descent at the shading
+ * point. With BSDF candidates (direct/bsdf_candidates.h) every weight's source pdf is the two strategies' mixture
+ * density, and the BSDF's candidates follow the light candidates; without them the weights are target / pdf exactly
+ * as before. With a BSDF sample outside the reservoir (direct/bsdf_mis.h) every light candidate's target is scaled
+ * by its MIS weight. With QMC (q->on, sampling/qmc.h) the pick, the point on the light and the BSDF direction of
+ * every candidate come from the pixel's scrambled Sobol pairs, and all resampling choices from one uniform
+ * (res_update_remap). */
 #ifndef RESTIRCL_RIS_H
 #define RESTIRCL_RIS_H
 

@@ -1,12 +1,12 @@
 /* Lights: a sample y = (light, u, v) maps to a point on the light (a direction for the sun) that does not depend on
  * the shading point, so a sample can be re-evaluated at any pixel (ReSTIR reuse). Each light type has one measure:
- * area for triangle, quad, disk and sphere lights, solid angle for the sun and the environment, a delta for points (radius 0) and a
- * sun of angle 0. light_sample() draws (u, v) at a shading point with its pdf in that measure; light_eval() gives
- * the unshadowed contribution Le * cos_x * G in the same measure (the BRDF is applied by the caller).
- * This header only dispatches on the record's type: each type's code, functions and the meaning of its record lanes
- * are in lights/<type>.h. This is the one place on the device that lists the types: a new type adds its include
- * and one case per switch. Feature flags HAS_<TYPE>_LIGHTS (set by the host from the scene) compile only the types
- * a scene has. */
+ * area for triangle, quad, disk and sphere lights, solid angle for the sun and the environment, a delta for points
+ * (radius 0) and a sun of angle 0. light_sample() draws (u, v) at a shading point with its pdf in that measure;
+ * light_eval() gives the unshadowed contribution Le * cos_x * G in the same measure (the BRDF is applied by the
+ * caller). This header only dispatches on the record's type: each type's code, functions and the meaning of its
+ * record lanes are in lights/<type>.h. This is the one place on the device that lists the types: a new type adds its
+ * include and one case per switch. Feature flags HAS_<TYPE>_LIGHTS (set by the host from the scene) compile only the
+ * types a scene has. */
 #ifndef RESTIRCL_LIGHTS_H
 #define RESTIRCL_LIGHTS_H
 

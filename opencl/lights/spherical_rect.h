@@ -4,7 +4,8 @@
  * rectangle spans [x0, x1] x [y0, y1] at height z0 < 0. Each interior angle is pi/2 - theta_i, and the four theta_i
  * are summed as the arguments of unit complex numbers (cos theta_i, sin theta_i), both parts from exact closed
  * forms: S = -sum theta_i needs one atan2 and has no cancellation against 2 pi for small or far rectangles, and no
- * cos near 0 is lost when the shading point grazes the plane. (The map needs one atan2, one sin and one cos: trig.h.) */
+ * cos near 0 is lost when the shading point grazes the plane. (The map needs one atan2, one sin and one cos:
+ * trig.h.) */
 #ifndef RESTIRCL_LIGHTS_SPHERICAL_RECT_H
 #define RESTIRCL_LIGHTS_SPHERICAL_RECT_H
 

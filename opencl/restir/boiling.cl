@@ -12,11 +12,12 @@
 
 /* What the filter compares and does (Settings.boiling_mode, `mode`): BOIL_WEIGHT, the weight W (RTXDI's),
  * emptying an outlier; BOIL_CONTRIBUTION, the contribution target x W, the luminance the reservoir's sample adds
- * to its pixel before the shadow ray, emptying an outlier; BOIL_FORGET, the contribution, an outlier keeping its sample and W but its M set to 1, so that the
- * spatial merge after this pass and the next frames' temporal merges weigh it as one candidate and let it go.
- * Our scenes' blotches are samples of a light close to the pixel that a lucky candidate found and the pixel's
- * temporal chain then held for ~20 frames: their W is ordinary (the target is large), their contribution is not.
- * Emptying removes their energy (a darker image); forgetting mostly shortens how long they last. */
+ * to its pixel before the shadow ray, emptying an outlier; BOIL_FORGET, the contribution, an outlier keeping its
+ * sample and W but its M set to 1, so that the spatial merge after this pass and the next frames' temporal merges
+ * weigh it as one candidate and let it go. Our scenes' blotches are samples of a light close to the pixel that a
+ * lucky candidate found and the pixel's temporal chain then held for ~20 frames: their W is ordinary (the target is
+ * large), their contribution is not. Emptying removes their energy (a darker image); forgetting mostly shortens how
+ * long they last. */
 inline float boil_measure(const Reservoir* r, int mode) { return mode != BOIL_WEIGHT ? r->W * r->target : r->W; }
 
 __kernel void boiling_tiles(const __global Reservoir* res, __global float2* tile_stats, FrameParams frame_params,

@@ -28,9 +28,10 @@ inline VisKnown vis_known_none(void)
 }
 
 /* Combine c with qs[0 .. n-1] at surface s into *r (finalised). Input k's surface is pixel input_pixel[k] of
- * input_gbuf and input_glossy, and qs[k].target its target at its own sample there, evaluated with this frame's lights (read by BIAS_PAIRWISE only).
- * One random number per input, drawn in input order (the canonical one first, except for BIAS_PAIRWISE where it is
- * last). Returns the input whose sample *r holds: -1 the canonical reservoir (or none), k the input qs[k]. */
+ * input_gbuf and input_glossy, and qs[k].target its target at its own sample there, evaluated with this frame's
+ * lights (read by BIAS_PAIRWISE only). One random number per input, drawn in input order (the canonical one first,
+ * except for BIAS_PAIRWISE where it is last). Returns the input whose sample *r holds: -1 the canonical reservoir
+ * (or none), k the input qs[k]. */
 inline int reuse_combine(const Surface* s, const Reservoir* c, const Reservoir* qs, int n,
                          const __global GSample* input_gbuf, const __global GlossySample* input_glossy,
                          const int* input_pixel, const __global BVHNode* nodes,

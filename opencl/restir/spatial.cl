@@ -1,8 +1,9 @@
-/* ReSTIR pass 5: merge up to `spatial_neighbours` (or `boost_neighbours`) reservoirs of random pixels within `spatial_radius` whose
- * surface is similar (view depth, normal and material: surface_material_similar) with the pixel's own
- * (restir/reuse.h). */
+/* ReSTIR pass 5: merge up to `spatial_neighbours` (or `boost_neighbours`) reservoirs of random pixels within
+ * `spatial_radius` whose surface is similar (view depth, normal and material: surface_material_similar) with the
+ * pixel's own (restir/reuse.h). */
 
-/* the table's limit (settings/table.py) arrives as -DMAX_NEIGHBOURS; this fallback serves builds outside core/program.py */
+/* the table's limit (settings/table.py) arrives as -DMAX_NEIGHBOURS; this fallback serves builds outside
+ * core/program.py */
 #ifndef MAX_NEIGHBOURS
 #define MAX_NEIGHBOURS 16
 #endif

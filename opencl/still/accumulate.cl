@@ -14,9 +14,9 @@ __kernel void accumulate(const __global float4* sample, __global float4* sum, __
 /* The still render's running sums of the denoiser's guide images (python/restircl/render/denoise.py): the surface's
  * albedo and shading normal, summed over the jittered samples as the colour is, so that at edges they mix the two
  * sides in the colour's proportions; and the emission the camera sees, which the denoiser leaves out (it is no
- * noise, and a small bright lamp smeared over its dark neighbours is a large error). The albedo of a glossy surface adds its lobes' reflectance at normal
- * incidence (F0 times weight): a metal's diffuse albedo is 0, and a guide of 0 would tell the denoiser the
- * surface is black. */
+ * noise, and a small bright lamp smeared over its dark neighbours is a large error). The albedo of a glossy surface
+ * adds its lobes' reflectance at normal incidence (F0 times weight): a metal's diffuse albedo is 0, and a guide of 0
+ * would tell the denoiser the surface is black. */
 __kernel void accumulate_aux(const __global GSample* gbuf, const __global GlossySample* glossy,
                              __global float4* albedo_sum, __global float4* normal_sum, __global float4* emission_sum,
                              FrameParams frame_params)

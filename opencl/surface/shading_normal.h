@@ -6,8 +6,9 @@
  * - under a normal map, light from behind the smooth normal it perturbs gives nothing, and the diffuse part is
  *   softened towards that normal's horizon by a GGX shadowing term (bump_shadowing; Conty Estevez et al., "A
  *   Microfacet-Based Shadowing Function to Solve the Bump Terminator Problem", Ray Tracing Gems 2019).
- * Unbent and unshadowed, a 48-degree normal map came out 7 % brighter than Cycles (tests/blender/test_blender_textures.py).
- * The G-buffer keeps the smooth normal of a normal-mapped pixel in GSample.emission.w (normal_pack). */
+ * Unbent and unshadowed, a 48-degree normal map came out 7 % brighter than Cycles
+ * (tests/blender/test_blender_textures.py). The G-buffer keeps the smooth normal of a normal-mapped pixel in
+ * GSample.emission.w (normal_pack). */
 #ifndef RESTIRCL_SHADING_NORMAL_H
 #define RESTIRCL_SHADING_NORMAL_H
 

@@ -32,8 +32,8 @@ inline float view_dependence(const Surface* s)
 }
 
 /* TAA's blend floor a_min raised towards TAA_GLOSSY_ALPHA on a sharp reflection. 1: a perfect mirror keeps no
- * history. Measured on tests/render/test_taa_glossy.py's mirror floor (relMSE of the TAA output, 4 seeds): no raise 10.8,
- * towards 0.5: 2.9, 0.8: 0.71, 1.0: 0.17 (a single frame without TAA: 0.10). */
+ * history. Measured on tests/render/test_taa_glossy.py's mirror floor (relMSE of the TAA output, 4 seeds): no raise
+ * 10.8, towards 0.5: 2.9, 0.8: 0.71, 1.0: 0.17 (a single frame without TAA: 0.10). */
 #ifndef TAA_GLOSSY_ALPHA
 #define TAA_GLOSSY_ALPHA 1.0f
 #endif

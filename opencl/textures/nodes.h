@@ -56,8 +56,8 @@ inline float3 tex_coords(const TexNode* n, const TexPoint* tp, float* lod)
 }
 
 /* Blender's Normal Map node in tangent space: color in [0, 1]^3 -> a world-space shading normal on the camera's side
- * of the surface, unbent (surface/shading_normal.h: the specular lobes bend it, the diffuse part does not). Without a UV
- * tangent the surface's own shading normal stays. */
+ * of the surface, unbent (surface/shading_normal.h: the specular lobes bend it, the diffuse part does not). Without
+ * a UV tangent the surface's own shading normal stays. */
 inline float3 tex_normal_map(float3 color, float strength, const TexPoint* tp)
 {
     if (dot3(tp->tangent, tp->tangent) == 0.0f) return tp->ns;
