@@ -42,7 +42,11 @@ class RestirclRenderEngine(bpy.types.RenderEngine):
         self.viewport = None  # viewport.Viewport of a Rendered 3D view
 
     def __del__(self):
-        self.free()
+        # Blender may have freed the engine's RNA already (after a failed render, at exit): nothing is left to free
+        try:
+            self.free()
+        except ReferenceError:
+            pass
 
     def free(self):
         viewport.free(self)
