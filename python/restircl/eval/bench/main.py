@@ -2,7 +2,8 @@
 
     traversal  BVH build and Mrays/s for camera and shadow rays, ours vs Embree (eval/bench/traversal.py)
     frame      ms per frame and per stage for every method on many_lights at 640x360, then the default frame
-               and the lightest ReSTIR frame against the floor (camera ray, shadow ray, TAA)
+               and the lightest ReSTIR frame against the floor (camera ray, shadow ray, TAA), then the default
+               frame with 0-8 bounces (eval/bench/paths.py)
     lights     ReSTIR frame time against the number of lights, 1e2 .. 1e6 emissive triangles
     taa        relMSE against frame number with TAA on and off (still and moving camera), TAA pass ms
     filter     the real-time filter's ms per frame at 1..5 iterations against the frame without it
@@ -207,8 +208,11 @@ def main(a: argparse.Namespace) -> int:
         bench_traversal.run(triangles=a.triangles, width=a.width, height=a.height, embree=not a.no_embree,
                             device=dev)
     if a.what in ("frame", "all"):
+        from .paths import bench_paths  # it builds on this module's time_frames
+
         bench_frame(a.width, a.height, dev)
         bench_floor(a.width, a.height, dev)
+        bench_paths(a.width, a.height, dev)
     if a.what in ("lights", "all"):
         bench_lights(a.width, a.height, device=dev)
         bench_lights(a.width, a.height, device=dev, kind="panels")

@@ -222,9 +222,11 @@ def direct_only(sc, samples: int, seed: int = 0, threads: int = 0, time_limit: f
 
 def light_paths(sc, settings) -> None:
     """Cycles' Light Paths of bpy scene sc set to restircl `settings`' (max_bounces, diffuse, glossy, min light
-    bounces, clamp indirect, light threshold), after direct_only: the same bounces on both sides. Transmission,
-    volume and transparent bounces stay 0 (restircl has none yet)."""
+    bounces, clamp indirect, light threshold), after direct_only: the same bounces on both sides. Transmission and
+    volume bounces stay 0 (restircl has none yet). Cycles counts a ray passing through a light as a transparent
+    bounce and ends the path at the limit; restircl's lights never stop a ray, so the limit is set past any path."""
     c = sc.cycles
+    c.transparent_max_bounces = 1024
     c.max_bounces = int(settings.max_bounces)
     c.diffuse_bounces = int(settings.diffuse_bounces)
     c.glossy_bounces = int(settings.glossy_bounces)
