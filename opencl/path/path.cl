@@ -37,14 +37,23 @@ __kernel void path_trace(const __global GSample* gbuf, const __global GlossySamp
     Surface s = surface_load(gbuf, glossy, i);
     float3 L = (float3)(0.0f), T = (float3)(1.0f);
     uint rng = rng_seed((uint)i, frame_params.sample, frame_params.seed, 8u);
+    /* still RIS renders: the BSDF directions and the NEE samples from the pixel's Sobol sequence (sampling/qmc.h) */
+    const Qmc q = qmc_stream(frame_params.qmc, frame_params.qmc_index, frame_params.qmc_key, (uint)i);
     int bounces = 0, diffuse = 0, gloss = 0;
     while (s.valid) {
         float u0 = rng_next(&rng), u1 = rng_next(&rng), u_rr = rng_next(&rng);
+        if (q.on) {
+            float2 u = qmc_pair(&q, QMC_PATH_BSDF(bounces));
+            u0 = u.x;
+            u1 = u.y;
+        }
         /* Russian roulette at this vertex, before it scatters */
         if (bounces > params.min_bounces + 1) {
             float q = fmin_f(sqrt(fmax_f(T.x, fmax_f(T.y, T.z))), 1.0f);
             if (!(u_rr < q)) break;
+#ifndef PATH_ROULETTE_WITHOUT_DIVIDE  /* defined only by the negative control of tests/render/test_paths.py */
             T /= q;
+#endif
         }
         float3 wi;
         float pdf;
@@ -65,7 +74,8 @@ __kernel void path_trace(const __global GSample* gbuf, const __global GlossySamp
         s = path_vertex(&sc, h, wi);
         if (nee)
             L += path_clamp(T * path_nee(&s, lights, &lp, params.sampler.slot_count, hits, nodes, tris,
-                                         params.light_threshold, &rng), params.clamp_indirect);
+                                         params.light_threshold, &rng, &q, QMC_PATH_LIGHT(bounces)),
+                            params.clamp_indirect);
     }
     L = guard_finite(L, guards, GUARD_NONFINITE_SAMPLE);
     indirect[i] = (float4)(L, 1.0f);

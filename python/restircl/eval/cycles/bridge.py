@@ -227,6 +227,9 @@ def light_paths(sc, settings) -> None:
     bounce and ends the path at the limit; restircl's lights never stop a ray, so the limit is set past any path."""
     c = sc.cycles
     c.transparent_max_bounces = 1024
+    c.blur_glossy = 0.0  # Filter Glossy blurs glossy lobes after the first bounce: a bias restircl does not add
+    c.caustics_reflective = True
+    c.caustics_refractive = True
     c.max_bounces = int(settings.max_bounces)
     c.diffuse_bounces = int(settings.diffuse_bounces)
     c.glossy_bounces = int(settings.glossy_bounces)
