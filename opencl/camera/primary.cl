@@ -73,7 +73,7 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
     int obj = as_int(g.albedo.w);
     g.pos.w = camera_depth(cam, p);
 #ifdef HAS_GLOSSY
-    if (as_int(gx.wo.w) > 0)
+    if (materials[as_int(g.gnormal.w)].info.y > 0)  /* a material with closures: its resolved record, whole */
         glossy[i] = gx;
     else
         glossy[i].wo = gx.wo;

@@ -8,7 +8,7 @@ from __future__ import annotations
 from ...render.pipeline import Renderer
 from ...scenes.builtin import many_lights
 from ...settings.table import Settings
-from .main import time_frames
+from .timing import time_frames
 
 BUDGETS = (0, 1, 2, 4, 8)
 
