@@ -20,6 +20,7 @@
 #include "textures/material.h"
 #include "bsdf/bsdf.h"
 #include "bsdf/resolve.h"
+#include "surface/hit.h"
 #include "direct/target.h"
 #include "direct/visibility.h"
 #include "guards.h"
@@ -30,6 +31,12 @@
 #include "surface/view_dependence.h"
 #include "restir/pairwise.h"
 #include "restir/reuse.h"
+#ifdef HAS_PATHS
+#include "path/vertex.h"
+#include "path/mis.h"
+#include "path/nee.h"
+#include "path/emitters.h"
+#endif
 
 #include "camera/primary.cl"
 #include "lights/tiles.cl"
@@ -40,6 +47,9 @@
 #include "restir/boiling.cl"
 #include "restir/spatial.cl"
 #include "restir/shade.cl"
+#ifdef HAS_PATHS
+#include "path/path.cl"
+#endif
 #include "taa/taa.cl"
 #include "filter/atrous.cl"
 #include "still/accumulate.cl"

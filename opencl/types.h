@@ -270,6 +270,19 @@ typedef struct {
     int pad0;
 } SpatialParams;           /* 48 bytes */
 
+/* The path pass (path/path.cl): the bounces after the primary hit, by Blender's Light Paths. */
+typedef struct {
+    SamplerParams sampler; /* NEE's light pick at every vertex (the array or the tree) and what its rays look for */
+    int max_bounces;       /* Max Bounces (total): light that scattered at most this often; 0: no path pass */
+    int max_diffuse;       /* scatterings off the Lambert part */
+    int max_glossy;        /* scatterings off a lobe */
+    int min_bounces;       /* Min Light Bounces: Russian roulette from bounce min_bounces + 2 on */
+    float clamp_indirect;  /* Clamp Indirect (0: off): a contribution's rgb sum at most 3x this */
+    float light_threshold; /* Light Threshold (0: off): NEE samples below it go through Russian roulette */
+    int pad0;
+    int pad1;
+} PathParams;              /* 96 bytes */
+
 /* Pass 6: restir_shade, and the samplers without reuse (direct/direct.cl). */
 typedef struct {
     SamplerParams sampler;

@@ -1,9 +1,14 @@
-"""Statistical helpers for the tests: a chi-square goodness-of-fit test with pooled low-expectation bins."""
+"""Statistical helpers for the tests: a chi-square goodness-of-fit test with pooled low-expectation bins, and the
+comparison of a Monte Carlo mean with an expected image within its standard errors (disagreement)."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from scipy import stats
+
+from .helpers import allowed_outliers
 
 
 def pooled_chi2(observed: np.ndarray, expected_prob: np.ndarray, min_expected: float = 5.0) -> tuple[float, float, int]:
@@ -41,3 +46,39 @@ def pooled_chi2(observed: np.ndarray, expected_prob: np.ndarray, min_expected: f
         return 0.0, 1.0, 0
     stat = float(((po - pe) ** 2 / pe).sum())
     return stat, float(stats.chi2.sf(stat, dof)), dof
+
+
+Z = 4.0  # standard errors of disagreement's bounds
+
+
+def normal_outliers(n: int, z: float = Z) -> int:
+    """How many of n independent normal z-scores may exceed z: the expected count plus four of its standard
+    deviations (binomial), plus one."""
+    p = math.erfc(z / math.sqrt(2.0))
+    return int(math.ceil(n * p + 4 * math.sqrt(n * p * (1 - p)) + 1))
+
+
+def disagreement(mean: np.ndarray, se: np.ndarray, expected: np.ndarray, *, batches: int | None = None,
+                 exact_rtol: float = 1e-9, judged: np.ndarray | None = None) -> list[str]:
+    """Why `mean` (..., 3) with standard errors `se` is not `expected`, or [] where it is: each value of `judged`
+    (default all) within Z standard errors but for the allowed outliers (normal z-scores; t-scores of `batches`
+    batch means where given), to exact_rtol where its se is 0; and the mean over all values of each channel within Z
+    standard errors of it. A value whose sample variance cannot be trusted (a few rare hits) is left to the image
+    mean by `judged`."""
+    judged = np.broadcast_to(np.ones(1, bool) if judged is None else judged, mean.shape)
+    exact = (se <= 1e-9 * np.abs(expected) + 1e-15) & judged
+    noisy = ~exact & judged
+    problems = []
+    if not np.allclose(mean[exact], expected[exact], rtol=exact_rtol, atol=1e-12):
+        problems.append(f"exact values differ by up to {np.abs(mean - expected)[exact].max():.3g}")
+    z = np.abs(mean - expected) / np.where(exact, 1.0, np.maximum(se, 1e-300))
+    n = int(noisy.sum())
+    out = int((z[noisy] > Z).sum())
+    if out > (normal_outliers(n) if batches is None else allowed_outliers(n, batches)):
+        problems.append(f"{out} of {n} values beyond {Z} standard errors (largest z {z[noisy].max():.2f})")
+    flat = (mean - expected).reshape(-1, 3)
+    pooled = np.sqrt((se.reshape(-1, 3) ** 2).sum(axis=0)) / len(flat)
+    image_z = np.abs(flat.mean(axis=0)) / np.maximum(pooled, 1e-300)
+    if np.any((image_z > Z) & (pooled > 0)):
+        problems.append(f"image means {image_z.round(2)} standard errors off")
+    return problems

@@ -32,7 +32,8 @@ from pathlib import Path
 
 import numpy as np
 from restircl import Device, Renderer, Settings, list_devices, scenes
-from restircl.eval.bench.main import FRAME_METHODS, time_frames
+from restircl.eval.bench.main import FRAME_METHODS
+from restircl.eval.bench.timing import time_frames
 
 Z_LIMIT = 4.0
 NORMAL_TAIL = 6.3e-5  # P(|z| > 4) for a standard normal

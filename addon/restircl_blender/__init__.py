@@ -10,7 +10,8 @@ as a plain package in any bpy process:
 
 The engine class is thin; the work is in engine.py (render jobs), render_result.py (a frame into the Render
 Result), passes.py (the passes a view layer has on), preview.py (material previews), viewport.py (the Rendered
-viewport), export/ (depsgraph -> restircl.Scene), properties.py (settings) and ui.py (panels).
+viewport), export/ (depsgraph -> restircl.Scene), properties.py (settings), light_paths.py (the Light Paths
+read from Cycles' settings) and ui.py (panels).
 """
 
 from __future__ import annotations

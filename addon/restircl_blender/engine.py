@@ -16,7 +16,7 @@ import traceback
 import warnings
 from dataclasses import dataclass
 
-from . import compat, export, preview, render_result
+from . import compat, export, light_paths, preview, render_result
 from .properties import make_settings
 
 MAX_REPORTED_WARNINGS = 8
@@ -181,6 +181,7 @@ def _start_session(job: _Job, session: _Session | None) -> _Session | None:
         _SESSIONS.pop(job.key, None)
         return None
     _report_warnings(engine, exp.warnings)
+    _report_warnings(engine, light_paths.read(depsgraph.scene)[1])  # every still, each sequence once
     fingerprint = exp.fingerprint()
     if (session is not None and not job.animation and not session.animation
             and session.fingerprint == fingerprint and session.settings_key == job.settings_key):

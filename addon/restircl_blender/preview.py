@@ -6,8 +6,9 @@ on its preview job's thread.
 A preview is a still render of that scene with `preview_samples` frames, and nothing of it is kept: the preview
 scene is another Main's (its name and view layer repeat the user's, so it must not reach the F12 sessions), and
 the compiled kernels come from restircl's program cache. Its settings are the user's scene's (bpy.context.scene:
-the preview scene's own are the defaults); warnings are not reported, since every edit of a material renders its
-previews again.
+the preview scene's own are the defaults), but for the Light Paths: those are the preview scene's Cycles settings
+(fewer bounces, no diffuse ones), which Cycles renders previews with too. Warnings are not reported, since every
+edit of a material renders its previews again.
 """
 
 from __future__ import annotations
@@ -43,7 +44,7 @@ def render_preview(engine, depsgraph, restircl, known: tuple) -> None:
         exp.scene.validate()
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            settings = make_settings(restircl, props)
+            settings = make_settings(restircl, props, scene)
             if hasattr(restircl, "still_settings"):
                 settings = restircl.still_settings(settings, exp.scene)
             if engine.test_break():

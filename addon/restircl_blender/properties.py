@@ -12,6 +12,8 @@ from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, Po
 from restircl import Settings
 from restircl.settings.spec import Declared, Range, declared, setting
 
+from . import light_paths
+
 INT_MIN, INT_MAX = -(1 << 31), (1 << 31) - 1  # Blender's IntProperty holds a C int
 
 
@@ -100,8 +102,12 @@ def _group(name: str, settings: tuple[Declared, ...], namespace: dict[str, Any])
     return type(name, (bpy.types.PropertyGroup,), {"__annotations__": annotations, **namespace})
 
 
-def _settings_kwargs(self) -> dict:
-    return {name: getattr(self, name) for name in RENDERER_SETTINGS}
+def _settings_kwargs(self, scene=None) -> dict:
+    """The keyword arguments of restircl.Settings: these properties, with the Light Paths that Cycles' settings of
+    `scene` hold where it has them (light_paths.py); by default the scene that owns these properties."""
+    kwargs = {name: getattr(self, name) for name in RENDERER_SETTINGS}
+    kwargs.update(light_paths.read(self.id_data if scene is None else scene)[0])
+    return kwargs
 
 
 RestirclRenderSettings = _group("RestirclRenderSettings", SCENE_SETTINGS, {"settings_kwargs": _settings_kwargs})
@@ -109,10 +115,11 @@ RestirclViewLayerSettings = _group("RestirclViewLayerSettings", declared(ViewLay
 CLASSES = (RestirclRenderSettings, RestirclViewLayerSettings)
 
 
-def make_settings(restircl, props):
-    """restircl.Settings from scene.restircl (its properties are generated from the same table); `restircl` is the
-    package the caller imported, so that the engine, the viewport and the previews report a missing one alike."""
-    return restircl.Settings(**props.settings_kwargs())
+def make_settings(restircl, props, scene=None):
+    """restircl.Settings from scene.restircl (its properties are generated from the same table) and the Light Paths
+    of `scene`'s Cycles settings (settings_kwargs); `restircl` is the package the caller imported, so that the
+    engine, the viewport and the previews report a missing one alike."""
+    return restircl.Settings(**props.settings_kwargs(scene))
 
 
 def register() -> None:

@@ -1,12 +1,13 @@
 """Panels of the restircl engine (shown only when it is the active engine: the COMPAT_ENGINES pattern), and
-our engine added to the built-in light, material and post-processing panels that apply to it."""
+our engine added to the built-in light, material and post-processing panels that apply to it, and to Cycles' Light
+Paths panels (restircl reads them from the scene's Cycles settings: light_paths.py)."""
 
 from __future__ import annotations
 
 import bpy
 from restircl.render.passes import PASSES
 
-from . import engine, passes, properties
+from . import engine, light_paths, passes, properties
 
 ENGINE = "RESTIRCL"
 # Built-in panels whose settings restircl reads (light type/colour/power/shape, material surface nodes).
@@ -15,7 +16,11 @@ BUILTIN_PANELS = (
     "EEVEE_MATERIAL_PT_context_material", "EEVEE_MATERIAL_PT_surface",
     "RENDER_PT_post_processing",
 )
-_added_to: list[str] = []
+# Cycles' Light Paths and their sub-panels whose settings restircl reads (light_paths.FROM_CYCLES): with Cycles
+# enabled the user sets the bounces once for both engines, and restircl's own Light Paths panel hides
+CYCLES_PANELS = ("CYCLES_RENDER_PT_light_paths", "CYCLES_RENDER_PT_light_paths_max_bounces",
+                 "CYCLES_RENDER_PT_light_paths_clamping")
+_added_to: list[tuple[str, bool]] = []  # panel, whether we gave it its COMPAT_ENGINES
 
 
 class RestirclPanel:
@@ -77,6 +82,18 @@ class RESTIRCL_PT_taa(RestirclPanel, bpy.types.Panel):
     header = "taa"
 
 
+class RESTIRCL_PT_light_paths(RestirclPanel, bpy.types.Panel):
+    """restircl's own Light Paths, for a Blender without the Cycles add-on (else Cycles' panels show them)."""
+
+    bl_label = "Light Paths"
+    bl_options = {"DEFAULT_CLOSED"}
+    settings_panel = "light_paths"
+
+    @classmethod
+    def poll(cls, context):
+        return super().poll(context) and light_paths.cycles_of(context.scene) is None
+
+
 class RESTIRCL_PT_viewport(RestirclPanel, bpy.types.Panel):
     bl_label = "Viewport"
     bl_parent_id = "RESTIRCL_PT_sampling"
@@ -117,27 +134,41 @@ class RESTIRCL_PT_passes(RestirclPanel, bpy.types.Panel):
                     col.prop(owner, name)
 
 
-CLASSES = (RESTIRCL_PT_sampling, RESTIRCL_PT_viewport, RESTIRCL_PT_lights, RESTIRCL_PT_reuse, RESTIRCL_PT_taa,
-           RESTIRCL_PT_device, RESTIRCL_PT_passes)
+CLASSES = (RESTIRCL_PT_sampling, RESTIRCL_PT_viewport, RESTIRCL_PT_lights, RESTIRCL_PT_reuse, RESTIRCL_PT_light_paths,
+           RESTIRCL_PT_taa, RESTIRCL_PT_device, RESTIRCL_PT_passes)
 
 
 def register() -> None:
     for cls in CLASSES:
         bpy.utils.register_class(cls)
-    for name in BUILTIN_PANELS:
-        panel = getattr(bpy.types, name, None)
-        compat = getattr(panel, "COMPAT_ENGINES", None)
-        if compat is not None and ENGINE not in compat:
-            compat.add(ENGINE)
-            _added_to.append(name)
+    for name in BUILTIN_PANELS + CYCLES_PANELS:  # Cycles' where the Cycles add-on is enabled
+        _add_engine(name)
+
+
+def _add_engine(name: str) -> None:
+    """Add RESTIRCL to the COMPAT_ENGINES of panel `name`. A panel that inherits the set (all of Cycles' share the
+    one of their base class) gets a set of its own: adding to the shared one would show every Cycles panel."""
+    panel = getattr(bpy.types, name, None)
+    compat = getattr(panel, "COMPAT_ENGINES", None)
+    if compat is None or ENGINE in compat:
+        return
+    own = "COMPAT_ENGINES" in vars(panel)
+    if own:
+        compat.add(ENGINE)
+    else:
+        panel.COMPAT_ENGINES = {*compat, ENGINE}
+    _added_to.append((name, not own))
 
 
 def unregister() -> None:
-    for name in _added_to:
+    for name, made in _added_to:
         panel = getattr(bpy.types, name, None)
-        compat = getattr(panel, "COMPAT_ENGINES", None)
-        if compat is not None:
-            compat.discard(ENGINE)
+        if panel is None:
+            continue
+        if made and "COMPAT_ENGINES" in vars(panel):
+            del panel.COMPAT_ENGINES  # the inherited set again
+        elif "COMPAT_ENGINES" in vars(panel):
+            panel.COMPAT_ENGINES.discard(ENGINE)
     _added_to.clear()
     for cls in reversed(CLASSES):
         bpy.utils.unregister_class(cls)

@@ -77,9 +77,11 @@ inline float bsdf_pdf(const Surface* s, float3 wo, float3 wi)
 
 /* Draw wi for wo from (u0, u1) uniform in [0, 1)^2. Returns f(wo, *wi); *pdf = bsdf_pdf(s, wo, *wi), 0 for a direction
  * that grazes or leaves below the surface (f is then not to be used). With lobes, u0 first picks the part and is
- * rescaled to [0, 1) within it. */
-inline float3 bsdf_sample(const Surface* s, float3 wo, float u0, float u1, float3* wi, float* pdf)
+ * rescaled to [0, 1) within it. *part: the part drawn, -1 for the Lambert part, else the lobe's index (a path counts
+ * diffuse and glossy bounces by it). */
+inline float3 bsdf_sample_part(const Surface* s, float3 wo, float u0, float u1, float3* wi, float* pdf, int* part)
 {
+    *part = -1;
 #ifdef HAS_GLOSSY
     if (s->mat.lobes > 0) {
         float total, wd = bsdf_diffuse_weight(s, &total);
@@ -99,6 +101,7 @@ inline float3 bsdf_sample(const Surface* s, float3 wo, float u0, float u1, float
             u0 = fmin_f(x / wd, 0.99999994f);
         }
         if (pick >= 0) {
+            *part = pick;
             if (!lobe_sample(&s->mat.lobe[pick], s->nl, wo, clamp_f(u0, 0.0f, 0.99999994f), u1, wi)) {
                 *pdf = 0.0f;
                 return (float3)(0.0f);
@@ -111,6 +114,13 @@ inline float3 bsdf_sample(const Surface* s, float3 wo, float u0, float u1, float
     *wi = lambert_sample(s->n, u0, u1);
     *pdf = bsdf_pdf(s, wo, *wi);
     return bsdf_eval(s, wo, *wi);
+}
+
+/* bsdf_sample_part without the part. */
+inline float3 bsdf_sample(const Surface* s, float3 wo, float u0, float u1, float3* wi, float* pdf)
+{
+    int part;
+    return bsdf_sample_part(s, wo, u0, u1, wi, pdf, &part);
 }
 
 #endif

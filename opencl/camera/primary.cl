@@ -65,52 +65,21 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
 #endif
         return;
     }
-    Tri t = tris[hit.prim];
-    float3 p = t.v0.xyz + hit.u * t.e1.xyz + hit.v * t.e2.xyz;
-    float3 ng = norm3(cross3(t.e1.xyz, t.e2.xyz));
-    int backfacing = dot3(ng, d) > 0.0f;
-    if (backfacing) ng = -ng;
-    int mat = as_int(t.v0.w);
-    int obj = as_int(t.e2.w);
-    Material m = materials[mat];
+    const SceneSurfaces sc = {tris, materials, tri_attr, objects, closures, tex_nodes, tex_images, texels, ggx_tables};
     /* smooth shading and texture coordinates, filtered over the pixel's ray cone */
-    TexPoint tp = texture_point(tri_attr, objects, hit.prim, obj, hit.u, hit.v, d, ng, backfacing,
-                                camera_footprint(cam, d, hit.t));
-    float3 albedo = m.albedo.xyz, emission = m.emission.xyz;
-#ifdef HAS_TEXTURES
-    texture_material(materials + mat, closures, tex_nodes, tex_images, texels, &tp, &albedo, &emission);
-#endif
-    g.pos = (float4)(p, camera_depth(cam, p));
-    g.normal = (float4)(tp.ns, as_float(hit.prim));
-    g.gnormal = (float4)(ng, as_float(mat));
-    g.albedo = (float4)(albedo, as_float(obj));
+    GlossySample gx;
+    hit_gsample(&sc, hit, d, camera_footprint(cam, d, hit.t), &g, &gx);
+    float3 p = g.pos.xyz;
+    int obj = as_int(g.albedo.w);
+    g.pos.w = camera_depth(cam, p);
 #ifdef HAS_GLOSSY
-    /* the material's closures resolved for this view at the shading normal: the diffuse albedo under the specular
-     * layer, and the lobes */
-    int count = min(m.info.y, MAX_LAYERS);
-    if (count > 0) {
-        ClosureInputs cin[MAX_LAYERS];
-        for (int k = 0; k < count; ++k) {
-#ifdef HAS_TEXTURES
-            cin[k] = closure_inputs(&closures[m.info.x + k], tex_nodes, tex_images, texels, &tp);
-#else
-            cin[k] = closure_constants(&closures[m.info.x + k]);
-#endif
-        }
-        GlossySample gx;
-        /* the lobes' normal, as surface_load derives it again */
-        float3 nl = tp.bumped ? shading_normal_guard(tp.ns, ng, -d) : tp.ns;
-        g.albedo.xyz = surface_resolve(cin, count, nl, -d, ggx_tables, &gx);
+    if (materials[as_int(g.gnormal.w)].info.y > 0)  /* a material with closures: its resolved record, whole */
         glossy[i] = gx;
-    } else {
-        glossy[i].wo = (float4)(-d, as_float(0));
-    }
+    else
+        glossy[i].wo = gx.wo;
 #else
-    (void)closures;
-    (void)ggx_tables;
     (void)glossy;
 #endif
-    g.emission = (float4)(emission, as_float(tp.bumped ? normal_pack(tp.nb) : 0));
     g.motion = (float4)(0.0f, 0.0f, 1.0f, g.pos.w);  /* nothing moves: the previous position is this one */
     float4 vec = (float4)(0.0f);
 #ifdef HAS_MOTION

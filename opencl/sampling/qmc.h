@@ -174,5 +174,9 @@ inline uint4 qmc_quad_bits(const Qmc* q, uint d)
 #define QMC_LIGHT(k) (2u * (uint)(k))
 #define QMC_BSDF(k) (0x10000u + (uint)(k))
 #define QMC_BSDF_MIS 0x20000u
+/* A path's dimensions (path/path.cl): the BSDF direction of its k-th scatter the pair QMC_PATH_BSDF(k), the NEE at
+ * its k-th bounce vertex the 4D group QMC_PATH_LIGHT(k) (x: the pick, y and z: the point on the light). */
+#define QMC_PATH_BSDF(k) (0x30000u + (uint)(k))
+#define QMC_PATH_LIGHT(k) (0x40000u + 2u * (uint)(k))
 
 #endif

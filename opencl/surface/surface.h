@@ -57,33 +57,62 @@ inline SurfaceMaterial surface_material_load(const __global GSample* g, const __
     return m;
 }
 
-/* Pixel i of the G-buffer g and its extension gx (read only in glossy builds; a placeholder buffer otherwise). */
-inline Surface surface_load(const __global GSample* g, const __global GlossySample* gx, int i)
+/* The surface of G-sample gs with material m seen from unit direction wo (glossy builds; others set wo = n). */
+inline Surface surface_make(const GSample* gs, SurfaceMaterial m, float3 wo)
 {
     Surface s;
-    GSample gs = g[i];
-    s.prim = as_int(gs.normal.w);
+    s.prim = as_int(gs->normal.w);
     s.valid = s.prim >= 0;
-    s.x = gs.pos.xyz;
-    s.depth = gs.pos.w;
-    s.n = gs.normal.xyz;
-    s.ng = gs.gnormal.xyz;
+    s.x = gs->pos.xyz;
+    s.depth = gs->pos.w;
+    s.n = gs->normal.xyz;
+    s.ng = gs->gnormal.xyz;
 #ifdef HAS_TEXTURES
-    int nb = as_int(gs.emission.w);
+    int nb = as_int(gs->emission.w);
     s.bumped = s.valid && nb != 0;
     s.nb = s.bumped ? normal_unpack(nb) : s.n;
 #endif
-    s.mat = surface_material_load(g, gx, i, s.valid);
+    s.mat = m;
 #ifdef HAS_GLOSSY
-    s.wo = gx[i].wo.xyz;
+    s.wo = wo;
     s.nl = s.n;
 #ifdef HAS_TEXTURES
     if (s.bumped) s.nl = shading_normal_guard(s.n, s.ng, s.wo);
 #endif
 #else
+    (void)wo;
     s.wo = s.n;
 #endif
     return s;
+}
+
+/* Pixel i of the G-buffer g and its extension gx (read only in glossy builds; a placeholder buffer otherwise). */
+inline Surface surface_load(const __global GSample* g, const __global GlossySample* gx, int i)
+{
+    GSample gs = g[i];
+    int valid = as_int(gs.normal.w) >= 0;
+#ifdef HAS_GLOSSY
+    float3 wo = gx[i].wo.xyz;
+#else
+    float3 wo = gs.normal.xyz;
+#endif
+    return surface_make(&gs, surface_material_load(g, gx, i, valid), wo);
+}
+
+/* The surface of a private G-sample and glossy record (a path vertex: path/vertex.h). */
+inline Surface surface_of(const GSample* gs, const GlossySample* gx)
+{
+    SurfaceMaterial m;
+    m.albedo = gs->albedo.xyz;
+#ifdef HAS_GLOSSY
+    m.lobes = min(as_int(gx->wo.w), MAX_LAYERS);
+    if (m.lobes > 0) m.lobe[0] = gx->lobe0;
+    if (m.lobes > 1) m.lobe[1] = gx->lobe1;
+    return surface_make(gs, m, gx->wo.xyz);
+#else
+    (void)gx;
+    return surface_make(gs, m, gs->normal.xyz);
+#endif
 }
 
 /* A surface built by hand (tests) with normal n everywhere and no normal map. */

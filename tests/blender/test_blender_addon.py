@@ -9,7 +9,13 @@ bpy = pytest.importorskip("bpy")
 from restircl.eval import blender_scenes as scenes  # noqa: E402
 from restircl.settings.spec import declared  # noqa: E402
 
-from .test_blender_support import ensure_registered, needs_renderer, read_exr_passes, render_to  # noqa: E402
+from .test_blender_support import (  # noqa: E402
+    ensure_registered,
+    guard_engine,
+    needs_renderer,
+    read_exr_passes,
+    render_to,
+)
 
 pytestmark = pytest.mark.blender
 
@@ -22,11 +28,16 @@ def test_register_unregister_register():
     assert sc.restircl.method == "restir"
     assert bpy.context.view_layer.restircl.use_pass_noisy_direct
     assert "RESTIRCL" in bpy.types.DATA_PT_EEVEE_light.COMPAT_ENGINES
+    cycles_paths, cycles_sampling = bpy.types.CYCLES_RENDER_PT_light_paths, bpy.types.CYCLES_RENDER_PT_sampling
+    assert "RESTIRCL" in cycles_paths.COMPAT_ENGINES and "CYCLES" in cycles_paths.COMPAT_ENGINES
+    assert "RESTIRCL" not in cycles_sampling.COMPAT_ENGINES  # the set Cycles' panels share is left alone
 
     addon.unregister()
     try:
         assert not hasattr(bpy.types.Scene, "restircl")
         assert "RESTIRCL" not in bpy.types.DATA_PT_EEVEE_light.COMPAT_ENGINES
+        assert cycles_paths.COMPAT_ENGINES is cycles_sampling.COMPAT_ENGINES == {"CYCLES"}  # inherited again
+        assert not hasattr(bpy.types, "RESTIRCL_PT_light_paths")
         assert not hasattr(bpy.types, "RESTIRCL_PT_sampling")
         with pytest.raises(TypeError):
             sc.render.engine = "RESTIRCL"
@@ -295,9 +306,7 @@ def test_a_value_between_off_and_the_range_moves_to_the_nearest_allowed():
 def test_a_setting_out_of_range_is_an_error_report_naming_it(tmp_path, monkeypatch):
     """A value that reached the property without its update callback (a script writing the ID property) and that
     restircl refuses is a report, not a crash caught by the engine's last-resort handler."""
-    addon = ensure_registered()
-    crashes = []
-    monkeypatch.setattr(addon.engine.traceback, "print_exc", lambda *a, **k: crashes.append(1))
+    crashes = guard_engine(monkeypatch)
     sc = scenes.new_scene(8, 6, engine="RESTIRCL")
     scenes.quad("Floor", 4.0, 4.0, scenes.diffuse_material("Floor"))
     scenes.light("POINT", "Point", (0.0, 0.0, 1.5), energy=20.0)

@@ -14,7 +14,13 @@ bpy = pytest.importorskip("bpy")
 
 from restircl.eval import blender_scenes as scenes  # noqa: E402
 
-from .test_blender_support import ensure_registered, needs_renderer, read_exr_passes, render_to  # noqa: E402
+from .test_blender_support import (  # noqa: E402
+    guard_engine,
+    needs_renderer,
+    read_exr_passes,
+    record_engine,
+    render_to,
+)
 
 pytestmark = [pytest.mark.blender, needs_renderer]
 
@@ -23,9 +29,7 @@ W, H = 48, 32
 
 @pytest.fixture(autouse=True)
 def _addon(monkeypatch):
-    addon = ensure_registered()
-    crashes = []
-    monkeypatch.setattr(addon.engine.traceback, "print_exc", lambda *a, **k: crashes.append(1))
+    crashes = guard_engine(monkeypatch)
     yield
     assert not crashes, "the engine hit an unexpected exception (caught by its last-resort handler)"
 
@@ -128,26 +132,7 @@ def test_still_render_uses_the_still_estimator_and_the_user_can_override_it(tmp_
 def test_target_error_and_stats_line(tmp_path, monkeypatch):
     """The add-on's Target Error stops a still render (F12), and the stats line shows the estimate and the
     compiled features (the estimate itself: tests/render/test_error_estimate.py)."""
-    addon = ensure_registered()
-    stats, reports = [], []
-
-    class Recorder:
-        def __init__(self, engine):
-            self._engine = engine
-
-        def update_stats(self, a, b):
-            stats.append(b)
-            self._engine.update_stats(a, b)
-
-        def report(self, kind, msg):
-            reports.append(msg)
-            self._engine.report(kind, msg)
-
-        def __getattr__(self, name):
-            return getattr(self._engine, name)
-
-    real = addon.engine.render
-    monkeypatch.setattr(addon.engine, "render", lambda engine, depsgraph: real(Recorder(engine), depsgraph))
+    reports, stats = record_engine(monkeypatch)
     sc = small_scene("ris", samples=20_000)
     sc.restircl.target_error = 3e-3
     render_to(sc, tmp_path / "target.exr")

@@ -95,6 +95,42 @@ def cycles_and_ours(tmp_path: Path, sc, cycles_samples: int, our_samples: int, l
     return err, ratio
 
 
+def guard_engine(monkeypatch) -> list[int]:
+    """One entry per unexpected exception that the engine's last-resort handler catches (and prints) from now on:
+    a test asserts it stays empty."""
+    addon = ensure_registered()
+    crashes: list[int] = []
+    monkeypatch.setattr(addon.engine.traceback, "print_exc", lambda *a, **k: crashes.append(1))
+    return crashes
+
+
+def record_engine(monkeypatch) -> tuple[list[str], list[str]]:
+    """(reports, stats): the messages the engine reports (RenderEngine.report) and the status lines it shows
+    (update_stats) in the renders from now on."""
+    addon = ensure_registered()
+    reports: list[str] = []
+    stats: list[str] = []
+
+    class Recorder:
+        def __init__(self, engine):
+            self._engine = engine
+
+        def update_stats(self, a, b):
+            stats.append(b)
+            self._engine.update_stats(a, b)
+
+        def report(self, kind, msg):
+            reports.append(msg)
+            self._engine.report(kind, msg)
+
+        def __getattr__(self, name):
+            return getattr(self._engine, name)
+
+    real = addon.engine.render
+    monkeypatch.setattr(addon.engine, "render", lambda engine, depsgraph: real(Recorder(engine), depsgraph))
+    return reports, stats
+
+
 def render_to(scene, path: Path, animation: bool = False) -> None:
     scenes.exr_output(scene, str(path))
     if animation:

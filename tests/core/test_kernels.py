@@ -19,8 +19,9 @@ def test_declared_names_match_the_built_kernels(device):
     arguments."""
     r = Renderer(scenes.cornell_box(width=8, height=8), Settings(method="restir"), device)
     declared = declared_parameters()
-    assert set(r.kernels.k) == set(declared) and "taa" in declared
-    for name in declared:
+    # the default build leaves the path pass out (max_bounces 0): every other kernel is there
+    assert set(r.kernels.k) == set(declared) - {"path_trace"} and "taa" in declared
+    for name in r.kernels.k:
         assert len(declared[name]) == r.kernels.k[name].num_args, name
 
 

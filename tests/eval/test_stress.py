@@ -11,7 +11,7 @@ import pytest
 from restircl.cli.main import main
 from restircl.core import layouts as L
 from restircl.eval.stress import suite as stress
-from restircl.eval.stress.cases import CASES
+from restircl.eval.stress.catalog import CASES
 from restircl.eval.stress.judging import METHODS, format_table
 from restircl.eval.stress.references import analytic_direct
 from restircl.lights import quad, sphere

@@ -40,7 +40,8 @@ BEFORE = (
     ("bsdf_mis_sample", False),
     ("sampler", "auto"),
     ("visibility_max_age", 0), ("visibility_max_distance", 2.0),
-)
+    ("max_bounces", 0), ("diffuse_bounces", 4), ("glossy_bounces", 4), ("min_light_bounces", 0),
+    ("clamp_indirect", 0.0), ("light_threshold", 0.0))
 NUMBERS = [d for d in declared(Settings) if d.spec.range is not None]
 
 

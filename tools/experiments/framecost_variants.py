@@ -28,7 +28,7 @@ import time
 import numpy as np
 import pyopencl as cl
 from restircl import Renderer, Scene, Settings, look_at
-from restircl.eval.bench.main import time_frames
+from restircl.eval.bench.timing import time_frames
 from restircl.eval.metrics import rel_mse
 from restircl.eval.report.reference import get_reference
 from restircl.eval.scenes.held_out import held_out

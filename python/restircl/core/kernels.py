@@ -65,12 +65,16 @@ def declared_parameters() -> dict[str, tuple[str, ...]]:
 
 class Kernels:
     """The kernels of one program on one device, with their work-group limits: by default every kernel declared in
-    opencl/**/*.cl (the main program includes them all), so a new stage's kernel needs no list of its own."""
+    opencl/**/*.cl that this build has (a feature flag may leave a pass out), so a new stage's kernel needs no list
+    of its own."""
 
     def __init__(self, device: Device, program: cl.Program, names: tuple[str, ...] | None = None) -> None:
         self.device = device
         declared = declared_parameters()
-        self.parameters = {name: declared[name] for name in (declared if names is None else names)}
+        if names is None:
+            built = set(program.get_info(cl.program_info.KERNEL_NAMES).split(";"))
+            names = tuple(name for name in declared if name in built)
+        self.parameters = {name: declared[name] for name in names}
         self.k = {name: cl.Kernel(program, name) for name in self.parameters}
         self.max_local = {name: int(k.get_work_group_info(cl.kernel_work_group_info.WORK_GROUP_SIZE,
                                                           device.device))

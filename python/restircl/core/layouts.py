@@ -84,6 +84,8 @@ SHADE_PARAMS = np.dtype([("sampler", SAMPLER_PARAMS), *_ints("method", "candidat
 TAA_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), *_floats("alpha_min", "gamma"),
                        *_ints("moving", "max_history", "reset", "filter", "dilate", "pad0")])
 
+PATH_PARAMS = np.dtype([("sampler", SAMPLER_PARAMS), *_ints("max_bounces", "max_diffuse", "max_glossy", "min_bounces"),
+                        *_floats("clamp_indirect", "light_threshold"), *_ints("pad0", "pad1")])
 ATROUS_PARAMS = np.dtype([("step", np.int32), *_floats("sigma_l", "sigma_z"), ("pad0", np.int32)])
 
 #: struct name in types.h -> numpy dtype
@@ -111,6 +113,7 @@ STRUCTS: dict[str, np.dtype] = {
     "AtrousParams": ATROUS_PARAMS,
     "SpatialParams": SPATIAL_PARAMS,
     "ShadeParams": SHADE_PARAMS,
+    "PathParams": PATH_PARAMS,
     "TaaParams": TAA_PARAMS,
 }
 

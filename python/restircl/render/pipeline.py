@@ -50,6 +50,7 @@ from .stages import (
     FrameState,
     Initial,
     LightTiles,
+    Paths,
     Primary,
     RealtimeFilter,
     Shade,
@@ -109,6 +110,7 @@ class Renderer:
         self.boiling = BoilingFilter(*stage)
         self.realtime_filter = RealtimeFilter(*stage)
         self.shade = Shade(*stage, method_codes=_METHOD_CODE)
+        self.paths = Paths(*stage)
         self.taa = Taa(*stage)
         self.still = StillAccumulation(self.kernels, self.pixels, (self.height, self.width))
         self.pick_table = PickTable(self.kernels, self.pixels)
@@ -207,6 +209,9 @@ class Renderer:
         else:
             self.shade.direct(state, tiles, self.pick_table.buf if plan.pick_table else None)
         timer.mark("shade")
+        if plan.paths:  # 6b light that bounced, added to the sample
+            self.paths.run(state)
+            timer.mark("paths")
         color_buf = self.buffers.sample
         if plan.taa:  # 7 temporal accumulation (animation frames; a still render averages instead)
             color_buf = self.taa.run(state, plan.taa_moving)

@@ -71,6 +71,10 @@ class FramePlan:
     taa: bool  # 7 temporal accumulation
     taa_moving: bool  # ... which validates and clips its history
     filter: bool  # 8 the real-time filter of the TAA output
+    paths: bool = False  # 6b the path pass: light that bounced (Settings.max_bounces > 0)
+    path_light_tree: bool = False  # NEE at path vertices picks from the light tree (else the light array)
+    path_analytic: int = 0  # the analytic lights path rays test (0: none, or too many to test one by one)
+    path_triangles: bool = False  # path rays look for emissive triangles
 
 
 def effective_method(settings: Settings, light_count: int, environment: bool, sobol: bool) -> str:
@@ -157,4 +161,13 @@ def plan_frame(settings: Settings, situation: FrameSituation) -> FramePlan:
         boiling=restir and s.boiling_filter > 0 and not x.still,  # biased: the animation path only
         spatial=restir and s.spatial and s.spatial_neighbours > 0,
         taa=taa, taa_moving=taa and (x.scene_moves or (history and x.camera_moved)),
-        filter=taa and s.realtime_filter)
+        filter=taa and s.realtime_filter, **path_plan(s, x))
+
+
+def path_plan(settings: Settings, situation: FrameSituation) -> dict:
+    """The path pass's part of the plan: whether it runs, and what its NEE picks from and its rays look for. Its
+    vertices are not pixels: no presampled tiles, no per-pixel table; the tree where the renderer built one."""
+    x = situation
+    return {"paths": settings.max_bounces > 0, "path_light_tree": x.light_tree and x.light_count > 1,
+            "path_analytic": x.analytic_lights if x.analytic_lights <= BSDF_ANALYTIC_MAX else 0,
+            "path_triangles": x.triangle_lights}

@@ -280,6 +280,36 @@ class Shade(Stage):
         self.kernels.launch("shade_reference", pixel_count(state), **self._common(state), params=params)
 
 
+class Paths(Stage):
+    """6b (max_bounces > 0): light that bounced after the primary hit (path/path.cl), added to this frame's sample
+    and kept in its own buffer (the indirect light of the frame)."""
+
+    def __init__(self, *args) -> None:
+        super().__init__(*args)
+        self.indirect: cl.Buffer | None = None
+
+    def run(self, state: FrameState) -> None:
+        s, h, plan = self.settings, self.history, state.plan
+        if self.indirect is None:
+            self.indirect = alloc(self.kernels.device.context, int(state.frame_params["pixels"]) * 16)
+        tree = self.scene.light_tree if plan.path_light_tree else None
+        sampler = L.pack(L.SAMPLER_PARAMS, light_count=self.scene.sampled_light_count,
+                         slot_count=self.scene.light_array.slot_count, light_tree=int(tree is not None),
+                         tree_leaves=tree.leaves if tree else 0, tree_distant=tree.distant_count if tree else 0,
+                         tree_p_local=tree.p_local if tree else 1.0, bsdf_analytic=plan.path_analytic,
+                         bsdf_triangles=int(plan.path_triangles))
+        params = L.pack(L.PATH_PARAMS, sampler=sampler, max_bounces=s.max_bounces, max_diffuse=s.diffuse_bounces,
+                        max_glossy=s.glossy_bounces, min_bounces=s.min_light_bounces,
+                        clamp_indirect=s.clamp_indirect, light_threshold=s.light_threshold)
+        self.kernels.launch("path_trace", pixel_count(state), gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
+                            **self.scene.geometry, **self.scene.surface,
+                            ggx_tables=self.scene.ggx_tables_buf or self.buffers.none,
+                            **self.scene.light_sampling, **self.scene.light_tree_args,
+                            tri_light=self.scene.tri_light_buf, guards=self.buffers.guards,
+                            sample=self.buffers.sample, indirect=self.indirect, frame_params=state.frame_params,
+                            params=params)
+
+
 class RealtimeFilter(Stage):
     """8 (animation path, realtime_filter): the edge-aware a-trous filter of the TAA output (filter/atrous.cl), into its
     own buffers: the TAA history stays unfiltered."""

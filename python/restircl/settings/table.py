@@ -260,6 +260,28 @@ class Settings:
                                              flag="--visibility-max-distance", range=Range(float, 0, finite=True),
                                              panel="reuse", applies_when=_VIS_TEMPORAL, soft_max=16.0,
                                              subtype="PIXEL")
+    # Blender's Light Paths (the add-on reads them from the scene's Cycles settings where it has them)
+    max_bounces: int = setting(0, "Max Bounces", "Light Paths > Total: how often light may bounce after the first "
+                               "surface on its way to the camera (0: direct light only). Paths with next-event "
+                               "estimation at every vertex, MIS and Russian roulette", flag="--max-bounces",
+                               range=Range(int, 0, 1024), panel="light_paths", soft_max=32)
+    diffuse_bounces: int = setting(4, "Diffuse", "Light Paths: bounces off diffuse parts of a material",
+                                   flag="--diffuse-bounces", range=Range(int, 0, 1024), panel="light_paths",
+                                   soft_max=32)
+    glossy_bounces: int = setting(4, "Glossy", "Light Paths: bounces off glossy (specular) lobes",
+                                  flag="--glossy-bounces", range=Range(int, 0, 1024), panel="light_paths",
+                                  soft_max=32)
+    min_light_bounces: int = setting(0, "Min Light Bounces", "Light Paths: bounces before Russian roulette may end "
+                                     "a path (it starts at the third vertex with 0, as in Cycles)",
+                                     flag="--min-light-bounces", range=Range(int, 0, 1024), panel="light_paths",
+                                     soft_max=32)
+    clamp_indirect: float = setting(0.0, "Clamp Indirect", "Light Paths: the largest value of one contribution of "
+                                    "bounced light (biased, fewer fireflies; 0: off)", flag="--clamp-indirect",
+                                    range=Range(float, 0, finite=True), panel="light_paths", soft_max=100.0)
+    light_threshold: float = setting(0.0, "Light Threshold", "Light Paths: light samples of bounced light below this "
+                                     "are dropped at random and the rest weighted up (unbiased: fewer shadow rays, "
+                                     "more noise; 0: off)", flag="--light-threshold",
+                                     range=Range(float, 0, finite=True), panel="light_paths", soft_max=1.0)
 
     def validate(self) -> Settings:
         check(self)

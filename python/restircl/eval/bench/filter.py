@@ -14,7 +14,7 @@ import numpy as np
 from ...render.pipeline import Renderer
 from ...scenes.builtin import many_lights
 from ...settings.table import Settings
-from .main import time_frames
+from .timing import time_frames
 
 ITERATIONS = (1, 2, 3, 4, 5)
 

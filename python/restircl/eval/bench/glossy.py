@@ -11,7 +11,7 @@ import numpy as np
 from ...render.pipeline import Renderer
 from ...scenes.builtin import material_balls
 from ...settings.table import Settings
-from .main import time_frames
+from .timing import time_frames
 
 METHODS = {"ris": {"method": "ris", "candidates": 8}, "restir": {"method": "restir"}}
 

@@ -2,12 +2,13 @@
 
     traversal  BVH build and Mrays/s for camera and shadow rays, ours vs Embree (eval/bench/traversal.py)
     frame      ms per frame and per stage for every method on many_lights at 640x360, then the default frame
-               and the lightest ReSTIR frame against the floor (camera ray, shadow ray, TAA)
+               and the lightest ReSTIR frame against the floor (camera ray, shadow ray, TAA), then the default
+               frame with 0-8 bounces (eval/bench/paths.py)
     lights     ReSTIR frame time against the number of lights, 1e2 .. 1e6 emissive triangles
     taa        relMSE against frame number with TAA on and off (still and moving camera), TAA pass ms
     filter     the real-time filter's ms per frame at 1..5 iterations against the frame without it
-    (eval/bench/filter.py,
-               which the command line calls after this module's main: it imports time_frames from here)
+    (eval/bench/filter.py, which the command line calls after this module's main); every frame timed by
+               time_frames (eval/bench/timing.py)
 """
 
 from __future__ import annotations
@@ -22,13 +23,14 @@ import numpy as np
 from ...lights.array import build_light_array
 from ...lights.device_lights import scene_lights
 from ...render.pipeline import Renderer
-from ...scene.scene import Scene
 from ...scenes.builtin import many_lights
 from ...settings.table import Settings
 from ..metrics import rel_mse
 from . import traversal as bench_traversal
 from .frame_profile import floor_of
+from .paths import bench_paths
 from .scenes import light_scaling_scene
+from .timing import time_frames
 
 FRAME_METHODS: dict[str, dict] = {
     "uniform": dict(method="uniform"),
@@ -41,27 +43,6 @@ FRAME_METHODS: dict[str, dict] = {
     "restir biased, no vis. reuse (4)": dict(method="restir", candidates=4, bias_correction="none",
                                              visibility_reuse=False),
 }
-
-
-def time_frames(scene: Scene, settings: Settings, frames: int = 6, warmup: int = 3, device=None,
-                still: bool = False, renderer: Renderer | None = None) -> tuple[float, dict[str, float]]:
-    """Median ms per frame and mean ms per stage, after warm-up frames (program build, first upload). A frame is
-    every pass and the read-back of the image (colour and noisy sample; the G-buffer passes are left out).
-    `renderer`: one already built for this scene and settings (else one is built here)."""
-    r = renderer or Renderer(scene, settings, device)
-    n = scene.frames
-    for i in range(warmup):
-        r.render_frame(0 if still else i % n, still=still, aovs=False)
-    ms, cpu, stages = [], [], {}
-    for i in range(warmup, warmup + frames):
-        c0 = time.process_time()
-        f = r.render_frame(0 if still else i % n, still=still, aovs=False)
-        cpu.append((time.process_time() - c0) * 1e3)
-        ms.append(f.ms)
-        for k, v in f.stage_ms.items():
-            stages[k] = stages.get(k, 0.0) + v / frames
-    stages["cpu"] = float(np.median(cpu))  # CPU ms of all threads: steadier than wall time on a shared machine
-    return float(np.median(ms)), stages
 
 
 def bench_frame(width: int, height: int, device=None, print_fn=print) -> dict:
@@ -209,6 +190,7 @@ def main(a: argparse.Namespace) -> int:
     if a.what in ("frame", "all"):
         bench_frame(a.width, a.height, dev)
         bench_floor(a.width, a.height, dev)
+        bench_paths(a.width, a.height, dev)
     if a.what in ("lights", "all"):
         bench_lights(a.width, a.height, device=dev)
         bench_lights(a.width, a.height, device=dev, kind="panels")

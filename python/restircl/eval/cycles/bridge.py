@@ -220,6 +220,24 @@ def direct_only(sc, samples: int, seed: int = 0, threads: int = 0, time_limit: f
         sc.render.threads_mode = "AUTO"
 
 
+def light_paths(sc, settings) -> None:
+    """Cycles' Light Paths of bpy scene sc set to restircl `settings`' (max_bounces, diffuse, glossy, min light
+    bounces, clamp indirect, light threshold), after direct_only: the same bounces on both sides. Transmission and
+    volume bounces stay 0 (restircl has none yet). Cycles counts a ray passing through a light as a transparent
+    bounce and ends the path at the limit; restircl's lights never stop a ray, so the limit is set past any path."""
+    c = sc.cycles
+    c.transparent_max_bounces = 1024
+    c.blur_glossy = 0.0  # Filter Glossy blurs glossy lobes after the first bounce: a bias restircl does not add
+    c.caustics_reflective = True
+    c.caustics_refractive = True
+    c.max_bounces = int(settings.max_bounces)
+    c.diffuse_bounces = int(settings.diffuse_bounces)
+    c.glossy_bounces = int(settings.glossy_bounces)
+    c.min_light_bounces = int(settings.min_light_bounces)
+    c.sample_clamp_indirect = float(settings.clamp_indirect)
+    c.light_sampling_threshold = float(settings.light_threshold)
+
+
 _TIME = re.compile(r"^(?:(\d+):)?(\d+):(\d+(?:\.\d+)?)$")
 
 
@@ -260,13 +278,16 @@ def _read_exr(path: Path) -> tuple[np.ndarray, dict]:
 
 
 def render(sc, seconds: float | None = None, samples: int | None = None, seed: int = 0, threads: int = 0,
-           workdir: Path | None = None) -> CyclesResult:
-    """Render the bpy scene `sc` with Cycles, direct light only: until `seconds` of render time (Cycles'
-    time_limit, samples unbounded) or for a fixed number of `samples`."""
+           workdir: Path | None = None, paths=None) -> CyclesResult:
+    """Render the bpy scene `sc` with Cycles, direct light only, or with the Light Paths of restircl Settings
+    `paths`: until `seconds` of render time (Cycles' time_limit, samples unbounded) or for a fixed number of
+    `samples`."""
     bpy = _bpy()
     if (seconds is None) == (samples is None):
         raise ValueError("give exactly one of seconds and samples")
     direct_only(sc, samples=samples or 1 << 24, seed=seed, threads=threads, time_limit=seconds or 0.0)
+    if paths is not None:
+        light_paths(sc, paths)
     im = sc.render.image_settings
     if hasattr(im, "media_type"):
         im.media_type = "IMAGE"

@@ -4,7 +4,6 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -355,19 +354,3 @@ def long_animation(full: bool) -> Case:
     scene = Scene([_floor(4.0)], _grey(), lights, cam, name="long_animation", frame_count=frames)
     return Case("long_animation", f"{frames} frames, still camera, TAA + ReSTIR", scene, kind="long",
                 frames=frames, settings=dict(jitter=False, taa=True, m_cap=Settings().m_cap))
-
-
-CASES: dict[str, Callable[[bool], Case]] = {
-    f.__name__ if f.__name__ != "offset" else "offset_1e5": f
-    for f in (power_span, million_lights, area_extremes, touching, grazing, offset, degenerate, all_behind,
-              teleport_cut, teleport, switch_off, long_animation)
-}
-
-
-def cases(full: bool = False, names: list[str] | None = None) -> list[Case]:
-    chosen = names or list(CASES)
-    unknown = [n for n in chosen if n not in CASES]
-    if unknown:
-        raise ValueError(f"unknown stress cases {unknown}; cases: {', '.join(CASES)}")
-    return [CASES[n](full) for n in chosen]
-

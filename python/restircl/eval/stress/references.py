@@ -75,7 +75,9 @@ def compute_reference(case: Case, device=None, frame: int | None = None, seed: i
     frame = case.eval_frame if frame is None else frame
     scene = case.scene
     if case.reference == "exhaustive":
-        r = Renderer(scene, Settings(method="reference", jitter=False, taa=False, seed=9001 + 100_000 * seed), device)
+        # the case's own settings (its bounces among them) under the exhaustive direct light
+        r = Renderer(scene, Settings(**{**case.settings, "method": "reference", "jitter": False, "taa": False,
+                                        "seed": 9001 + 100_000 * seed}), device)
         lights = scene_lights(scene, frame)
         batches, frames = (1, 1) if _deterministic(scene, lights) else (case.ref_batches, case.ref_frames)
         means = []

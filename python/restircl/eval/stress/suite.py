@@ -40,7 +40,7 @@ from __future__ import annotations
 import warnings
 from collections.abc import Callable
 
-from .cases import cases
+from .catalog import cases
 from .judging import METHODS, Result, run_method
 from .references import compute_reference
 

@@ -1,0 +1,51 @@
+/* What a path's BSDF ray from vertex s meets of the emitters before (or, for the world and suns, instead of) the
+ * surface hit h: its emissive triangle (the BVH's hit; tri_light maps it to its light), every analytic light on the
+ * ray's line closer than the hit (lights are not geometry: they do not block each other, as for shadow rays), and,
+ * where the ray escapes, the world and the suns. Each adds f * Le * cos * G / p_bsdf in the light's measure times
+ * its BSDF weight (path/mis.h), which with the path's throughput before this scatter is the ray's share of that
+ * light: the same integrand NEE at s estimates with the complementary weight. */
+#ifndef RESTIRCL_PATH_EMITTERS_H
+#define RESTIRCL_PATH_EMITTERS_H
+
+/* The BSDF-ray term of light `index` (record rec, sample uv) met from s. */
+inline float3 path_emitter_term(const Surface* s, const __global Light* rec, int type, int index, float2 uv,
+                                const LightPick* lp, BsdfSource hits, float hit_t, bool escaped)
+{
+    LightEval e;
+    if (!light_eval(rec, uv.x, uv.y, s->x, s->n, &e)) return (float3)(0.0f);
+    /* met before the surface the ray hit, or, at infinity, only by a ray that escaped */
+    if (finite_f(e.dist) ? !(e.dist < hit_t) : !escaped) return (float3)(0.0f);
+    float p_bsdf = path_bsdf_pdf(s, rec, type, index, hits, &e);
+    if (!(p_bsdf > 0.0f)) return (float3)(0.0f);
+    float p_light = light_pick_pdf(lp, index, s->x, s->n) * light_point_pdf(rec, type, s->x, &e);
+    return unshadowed_contrib(s, &e) * (path_mis_weight(p_bsdf, p_light) / p_bsdf);
+}
+
+/* The emitters the ray from s in direction wi meets before its hit h (h.prim < 0: it escaped). */
+inline float3 path_emitters(const Surface* s, float3 wi, Hit h, const __global Light* lights,
+                            const __global int* tri_light, const LightPick* lp, BsdfSource hits)
+{
+    float3 c = (float3)(0.0f);
+    bool escaped = h.prim < 0;
+    float hit_t = escaped ? INFINITY : h.t;
+    for (int l = 0; l < hits.analytic; ++l) {
+        const __global Light* rec = &lights[l];
+        int type = light_type(rec);
+        float2 uv;
+        if (light_hittable(rec, type, l, hits.analytic, hits.triangles) && light_hit(rec, type, s->x, wi, &uv))
+            c += path_emitter_term(s, rec, type, l, uv, lp, hits, hit_t, escaped);
+    }
+#ifdef HAS_TRIANGLE_LIGHTS
+    if (hits.triangles && !escaped) {
+        int l = tri_light[h.prim];
+        /* the triangle itself is the hit: no distance test (its own point, rounded, may lie a hair beyond h.t) */
+        if (l >= 0)
+            c += path_emitter_term(s, &lights[l], LIGHT_TRIANGLE, l, triangle_uv(h.u, h.v), lp, hits, INFINITY, true);
+    }
+#else
+    (void)tri_light;
+#endif
+    return c;
+}
+
+#endif
