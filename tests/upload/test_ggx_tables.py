@@ -84,3 +84,28 @@ def test_interpolation_error_is_below_the_allowance():
         interp = np.array([_lerp_table(tab, T.E_SIZE, [r, float(mu)]) for r in rough])
         worst = max(worst, float(np.max(np.abs(1.0 / interp - 1.0 / direct) * direct)))
     assert worst < TABLE_ERROR, worst
+
+
+def test_the_shipped_tables_are_a_fresh_computation():
+    """ggx_tables() reads the file shipped with the package (tools/ship_tables.py writes it); it must be what the
+    quadrature gives now, to float32 rounding of the same float64 sums on another machine's numpy."""
+    with np.load(T.SHIPPED) as z:
+        assert np.array_equal(z["key"], T.KEY)
+        shipped = z["tables"]
+    fresh = T.compute_ggx_tables()
+    assert shipped.dtype == np.float32 and shipped.shape == fresh.shape
+    np.testing.assert_allclose(shipped, fresh, rtol=2e-7, atol=1e-8)
+    assert np.array_equal(T.ggx_tables(), shipped)
+
+
+def test_tables_of_other_sizes_are_computed_again(tmp_path, monkeypatch):
+    path = tmp_path / "ggx_tables.npz"
+    np.savez_compressed(path, key=T.KEY + 1, tables=np.zeros(T.TABLE_FLOATS, np.float32))
+    monkeypatch.setattr(T, "SHIPPED", path)
+    T.ggx_tables.cache_clear()
+    try:
+        with pytest.warns(RuntimeWarning, match="other table sizes"):
+            tables = T.ggx_tables()
+        assert tables.max() > 0.9
+    finally:
+        T.ggx_tables.cache_clear()

@@ -182,8 +182,8 @@ class DeviceScene:
             self.upload_ggx_tables()
 
     def upload_ggx_tables(self) -> None:
-        """The GGX energy tables the BSDF resolve (primary pass) reads in glossy builds; computed once per process
-        (a few CPU seconds), so diffuse-only scenes leave them out."""
+        """The GGX energy tables the BSDF resolve (primary pass) reads in glossy builds (shipped with the package:
+        upload/ggx_tables.py); diffuse-only scenes leave them out."""
         if self.ggx_tables_buf is None:
             self.ggx_tables_buf = upload(self.context, ggx_tables())
 

@@ -16,11 +16,18 @@ Grid point i of n stands for the parameter i / (n - 1) (roughness and mu clamped
 the device interpolates linearly between them. The quadrature: QUAD x QUAD midpoints of the unit square mapped to
 the projected hemisphere by polar coordinates (r = sqrt(u), phi = 2 pi v): any measure-preserving map gives the
 same integral, and a fixed grid makes the tables reproducible bit for bit.
+
+The quadrature takes seconds of numpy; the tables depend on nothing but the constants below, so they ship with the
+package (ggx_tables.npz beside this module, written by `python tools/ship_tables.py`) and `ggx_tables()`
+reads them, keyed by those constants: a file of other constants (or none) is computed again, with a warning.
+tests/upload/test_ggx_tables.py checks the shipped file equals a fresh computation.
 """
 
 from __future__ import annotations
 
 import functools
+import warnings
+from pathlib import Path
 
 import numpy as np
 
@@ -108,8 +115,32 @@ def _grid(n: int, lo: float = 1e-4, hi: float = 1.0) -> np.ndarray:
     return np.clip(np.arange(n) / (n - 1), lo, hi)
 
 
+#: what the tables depend on: a shipped file made with other values is not used
+KEY = np.array([E_SIZE, S_SIZE, QUAD, MU_AVG], np.int64)
+SHIPPED = Path(__file__).with_name("ggx_tables.npz")
+
+
 @functools.lru_cache(maxsize=1)
 def ggx_tables() -> np.ndarray:
+    """The tables (compute_ggx_tables), read from the file shipped with the package where it matches KEY."""
+    try:
+        with np.load(SHIPPED) as z:
+            if np.array_equal(z["key"], KEY) and z["tables"].shape == (TABLE_FLOATS,):
+                return z["tables"].astype(np.float32)
+        reason = "it was made with other table sizes"
+    except (OSError, KeyError, ValueError) as exc:
+        reason = f"it cannot be read ({type(exc).__name__}: {exc})"
+    warnings.warn(f"GGX tables: {SHIPPED} is not used ({reason}); computing them (a few seconds)", RuntimeWarning,
+                  stacklevel=2)
+    return compute_ggx_tables()
+
+
+def write_shipped(path: Path = SHIPPED) -> None:
+    """Compute the tables and write them where ggx_tables() reads them."""
+    np.savez_compressed(path, key=KEY, tables=compute_ggx_tables())
+
+
+def compute_ggx_tables() -> np.ndarray:
     """All three tables in one float32 array: E[rough][mu] (row-major, mu fastest ... see the offsets), E_avg,
     s[z][mu][rough]. Layout: index = E_OFFSET + mu_i * E_SIZE + rough_i; E_AVG_OFFSET + rough_i;
     S_OFFSET + (z_i * S_SIZE + mu_i) * S_SIZE + rough_i."""

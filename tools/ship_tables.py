@@ -1,0 +1,21 @@
+#!/usr/bin/env python3
+"""Write the constant tables that ship with the package, computed from their definitions: the GGX energy tables
+(python/restircl/upload/ggx_tables.npz, ggx_tables.py). Run it after changing how a table is computed or its sizes;
+tests/upload/test_ggx_tables.py fails while the shipped file differs from a fresh computation.
+
+    python tools/ship_tables.py
+"""
+
+from __future__ import annotations
+
+from restircl.upload.ggx_tables import SHIPPED, write_shipped
+
+
+def main() -> int:
+    write_shipped()
+    print(f"wrote {SHIPPED}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
