@@ -13,6 +13,7 @@ from __future__ import annotations
 import re
 import tempfile
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -278,16 +279,18 @@ def _read_exr(path: Path) -> tuple[np.ndarray, dict]:
 
 
 def render(sc, seconds: float | None = None, samples: int | None = None, seed: int = 0, threads: int = 0,
-           workdir: Path | None = None, paths=None) -> CyclesResult:
+           workdir: Path | None = None, paths=None, adjust: Callable[[object], None] | None = None) -> CyclesResult:
     """Render the bpy scene `sc` with Cycles, direct light only, or with the Light Paths of restircl Settings
     `paths`: until `seconds` of render time (Cycles' time_limit, samples unbounded) or for a fixed number of
-    `samples`."""
+    `samples`. `adjust(sc)` changes the settings last (a test's variant of them)."""
     bpy = _bpy()
     if (seconds is None) == (samples is None):
         raise ValueError("give exactly one of seconds and samples")
     direct_only(sc, samples=samples or 1 << 24, seed=seed, threads=threads, time_limit=seconds or 0.0)
     if paths is not None:
         light_paths(sc, paths)
+    if adjust is not None:
+        adjust(sc)
     im = sc.render.image_settings
     if hasattr(im, "media_type"):
         im.media_type = "IMAGE"
