@@ -278,3 +278,28 @@ def test_units_area_light(device, shape, size, size_y):
     # one-sided: from above the light (behind its emitting side) nothing arrives
     _, _, pdf2, contrib2, ok2, _ = run_light(device, light, np.array([0.3, 0.2, 2.0]), -UP, count=2000)
     assert not ok2.any()
+
+
+@pytest.mark.parametrize("shape", ["RECTANGLE", "ELLIPSE"])
+def test_a_mirroring_transform_keeps_the_emitting_side(device, shape):
+    """Blender's area light emits along its transform's -Z column also where the transform mirrors (Cycles does):
+    the record's cross(span_u, span_v) points there, and the floor below is lit as by the unmirrored light."""
+    from restircl import Camera, Material, Mesh, Renderer, Scene, Settings, look_at
+    from restircl.lights.device_lights import scene_lights
+    from restircl.scenes import quad
+
+    mirror = np.diag([-1.0, 1.0, 1.0, 1.0])
+    images = []
+    for m in (np.eye(4), mirror):
+        m = m.copy()
+        m[:3, 3] = (0.0, 0.0, 1.0)
+        light = Light("panel", "area", (1.0, 1.0, 1.0), 50.0, m, shape=shape, size=0.8, size_y=0.5)
+        fv, ft = quad(4.0, 4.0)
+        cam = Camera(look_at((0.0, -3.0, 2.0), (0.0, 0.0, 0.0)), 24, 16)
+        scene = Scene([Mesh("floor", fv, ft, 0)], [Material("grey", (0.7, 0.7, 0.7))], [light], cam)
+        rec = np.ascontiguousarray(scene_lights(scene, 0).records[:1]).view(np.float32).reshape(16)
+        normal = np.cross(rec[4:7], rec[8:11])
+        assert normal[2] < 0 and np.allclose(normal[:2], 0.0, atol=1e-6), normal
+        r = Renderer(scene, Settings(method="reference", jitter=False, seed=3), device)
+        images.append(r.render_still(0, 64).color[..., :3])
+    assert images[1].mean() > 0 and images[1].mean() == pytest.approx(images[0].mean(), rel=0.02)

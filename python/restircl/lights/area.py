@@ -25,6 +25,14 @@ def axes(s: PlacedLight) -> tuple[np.ndarray, np.ndarray]:
     return ux, vy
 
 
+def emitting_spans(s: PlacedLight) -> tuple[np.ndarray, np.ndarray]:
+    """(span_u, span_v): the shape's extents along local Y and X, ordered so that cross(span_u, span_v) points along
+    the transform's -Z column, the side Blender's area light emits to, also where the transform mirrors (its basis
+    is left-handed: cross(Y, X) then points along +Z, and the order swaps)."""
+    ux, vy = axes(s)
+    return (ux, vy) if np.linalg.det(s.matrix[:3, :3]) < 0 else (vy, ux)
+
+
 def radiance(s: PlacedLight, area: float) -> np.ndarray:
     return s.rgb_power / (math.pi * area)
 

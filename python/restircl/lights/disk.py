@@ -24,10 +24,9 @@ def _area(s: PlacedLight) -> float:
 
 
 def record(s: PlacedLight) -> np.ndarray:
-    ux, vy = area.axes(s)
+    axis_u, axis_v = area.emitting_spans(s)  # cross(axis_u, axis_v): the emitting side, local -Z
     a = _area(s)
-    # semi-axes in the order that makes cross(axis_u, axis_v) point along local -Z, the emitting side
-    return lanes(TYPE.code, p=s.matrix[:3, 3], a=0.5 * vy, b=0.5 * ux, b_w=a, radiance=area.radiance(s, a))
+    return lanes(TYPE.code, p=s.matrix[:3, 3], a=0.5 * axis_u, b=0.5 * axis_v, b_w=a, radiance=area.radiance(s, a))
 
 
 def power(s: PlacedLight) -> float:

@@ -23,11 +23,10 @@ def _area(s: PlacedLight) -> float:
 
 
 def record(s: PlacedLight) -> np.ndarray:
-    ux, vy = area.axes(s)
-    corner = s.matrix[:3, 3] - 0.5 * ux - 0.5 * vy
+    edge_u, edge_v = area.emitting_spans(s)  # cross(edge_u, edge_v): the emitting side, local -Z
+    corner = s.matrix[:3, 3] - 0.5 * edge_u - 0.5 * edge_v
     a = _area(s)
-    # edge_u = vy, edge_v = ux: cross(edge_u, edge_v) points along local -Z, the emitting side
-    return lanes(TYPE.code, p=corner, a=vy, b=ux, b_w=a, radiance=area.radiance(s, a))
+    return lanes(TYPE.code, p=corner, a=edge_u, b=edge_v, b_w=a, radiance=area.radiance(s, a))
 
 
 def power(s: PlacedLight) -> float:
