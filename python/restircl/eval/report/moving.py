@@ -122,7 +122,8 @@ def run_moving(scene: Scene, methods: list[str], budget_ms: float | None = None,
                references: dict[int, np.ndarray] | None = None) -> MovingReport:
     """Each method renders every frame of the animation in order, with `budget_ms` of wall time per frame (default:
     the slowest method's frame time, so that each renders at least one sample per frame and the faster ones
-    render more); the error of every `every`-th frame (and the last) is taken against that frame's reference.
+    render more); the error of every `every`-th frame (and the last) is taken against that frame's reference
+    (with the Light Paths of `base`).
 
     With TAA the number k of frames along the path is fixed before the path is rendered: with the default budget
     it is the ratio of the slowest method's CPU time per frame to this one's (CPU time, because the wall time of
@@ -147,7 +148,7 @@ def run_moving(scene: Scene, methods: list[str], budget_ms: float | None = None,
     refs: dict[int, np.ndarray] = dict(references or {})
     for f in evaluated:
         if f not in refs:
-            ref = get_reference(scene, f, reference_seconds, device=device, cache_dir=cache_dir, log=log)
+            ref = get_reference(scene, f, reference_seconds, device=device, cache_dir=cache_dir, log=log, paths=base)
             refs[f] = ref.image
             rep.references[str(f)] = {"method": ref.method, "frames": ref.frames, "est_rel_mse": ref.est_rel_mse}
     budget = budget_ms / 1e3

@@ -1,0 +1,137 @@
+"""What ReSTIR GI buys in motion, measured: along an orbit of the camera in the Cornell box (bounced light is a large
+share of it), the error per frame against a converged reference of that frame (our path pass, many frames) of
+    (a) ReSTIR DI + ReSTIR GI + TAA                   ("restir_gi")
+    (b) ReSTIR DI + paths without reuse + TAA          ("restir_paths"), at the same wall time per frame
+    (c) Cycles restarting every frame, given the same time per frame (Cycles' time limit; when bpy imports)
+and, at one frame each without TAA, the per-frame error of (a) against (b) (the ReSTIR GI paper's comparison at one
+sample per pixel).
+
+    python -m restircl.eval.report.gi_motion --width 160 --height 90 --frames 24 --every 4 --bounces 4
+
+Equal time per frame follows `restircl report --moving` (eval/report/moving.py): the faster method renders k frames
+along the same camera path for each animation frame, k its CPU time's share of the slower one's. Cycles' error
+floor against our reference (the renderers' residual difference) is measured at 64x the time on the first
+evaluated frame.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import time
+from dataclasses import asdict, replace
+from pathlib import Path
+
+import numpy as np
+
+from ...scene.camera import Camera
+from ...scene.scene import Scene
+from ...scene.transforms import look_at
+from ...scenes.builtin import cornell_box
+from ...settings.table import Settings
+from ..metrics import rel_mse
+from .moving import run_moving
+from .reference import get_reference
+
+CENTRE = (0.0, 0.0, 1.0)
+
+
+def orbit_box(width: int, height: int, frames: int, step_deg: float, radius: float = 3.9) -> Scene:
+    """The Cornell box seen from a camera that orbits its centre by `step_deg` degrees per frame, centred on the
+    builtin scene's view."""
+    scene = cornell_box(width, height, frames)
+    cam = scene.camera
+    assert cam is not None
+    mats = []
+    for f in range(frames):
+        a = math.radians(step_deg * (f - (frames - 1) / 2))
+        eye = (radius * math.sin(a), -radius * math.cos(a), CENTRE[2] + 0.1)
+        mats.append(look_at(eye, CENTRE))
+    scene.camera = Camera(np.stack(mats), width, height, lens=cam.lens, sensor_fit=cam.sensor_fit,
+                          sensor_height=cam.sensor_height)
+    scene.frame_count = frames
+    scene.name = "cornell_orbit"
+    return scene
+
+
+def cycles_rows(scene: Scene, evaluated: list[int], seconds: float, paths: Settings, refs: dict[int, np.ndarray],
+                floor_factor: float = 64.0) -> list[dict]:
+    """Cycles restarting at every evaluated frame with `seconds` of render time, and its floor (floor_factor x the
+    time) on the first."""
+    from ..cycles import bridge as cycles
+
+    if not cycles.available():
+        return []
+    sc = cycles.to_bpy(scene, 0)
+    sc.render.use_persistent_data = True
+    cam = scene.camera
+    assert cam is not None
+    rows = []
+    for f, factor in [(f, 1.0) for f in evaluated] + [(evaluated[0], floor_factor)]:
+        sc.camera.matrix_world = cycles._matrix(cam.transforms[f])
+        res = cycles.render(sc, seconds=seconds * factor, paths=paths)
+        rows.append({"method": "cycles" if factor == 1.0 else f"cycles x{floor_factor:g} time", "frame": f,
+                     "ms": res.render_seconds * 1e3, "rel_mse": rel_mse(res.image, refs[f])})
+    return rows
+
+
+def summarise(rows: list[dict]) -> dict[str, dict]:
+    out = {}
+    for name in dict.fromkeys(r["method"] for r in rows):
+        sel = [r for r in rows if r["method"] == name]
+        out[name] = {"mean_rel_mse": float(np.mean([r["rel_mse"] for r in sel])),
+                     "mean_ms": float(np.mean([r["ms"] for r in sel])), "frames": len(sel),
+                     "mean_k": float(np.mean([r.get("samples", 1) for r in sel]))}
+    return out
+
+
+def run(width: int, height: int, frames: int, step_deg: float, every: int, bounces: int, ref_seconds: float,
+        with_cycles: bool, seed: int, out: Path) -> dict:
+    scene = orbit_box(width, height, frames, step_deg)
+    paths = Settings(max_bounces=bounces, diffuse_bounces=bounces, glossy_bounces=bounces)
+    load_before, t0 = os.getloadavg(), time.time()
+    taa = run_moving(scene, ["restir_gi", "restir_paths"], None, every, ("taa",), base=paths,
+                     reference_seconds=ref_seconds, seed=seed)
+    refs = {int(f): get_reference(scene, int(f), ref_seconds, paths=paths, log=lambda s: None).image
+            for f in taa.references}
+    # one frame each without TAA: the per-frame estimates (a budget below either frame time gives k = 1)
+    single = run_moving(scene, ["restir_gi", "restir_paths"], 1e-3, every, ("taa",), base=replace(paths, taa=False),
+                        references=refs, seed=seed)
+    rows = [asdict(r) | {"method": r.method + " +TAA"} for r in taa.rows]
+    rows += [asdict(r) | {"method": r.method + " 1 frame, no TAA"} for r in single.rows]
+    evaluated = sorted(refs)
+    if with_cycles:
+        rows += cycles_rows(scene, evaluated, taa.budget_ms / 1e3, paths, refs)
+    summary = summarise(rows)
+    result = {"scene": scene.name, "width": width, "height": height, "frames": frames, "step_deg": step_deg,
+              "bounces": bounces, "evaluated": evaluated, "budget_ms": taa.budget_ms, "device": taa.device,
+              "references": taa.references, "load_before": load_before, "load_after": os.getloadavg(),
+              "utc_start": time.strftime("%Y-%m-%d %H:%M:%S", time.gmtime(t0)),
+              "utc_end": time.strftime("%Y-%m-%d %H:%M:%S", time.gmtime()), "summary": summary, "rows": rows}
+    out.mkdir(parents=True, exist_ok=True)
+    (out / f"gi_motion_{scene.name}_{width}x{height}.json").write_text(json.dumps(result, indent=1))
+    return result
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--width", type=int, default=160)
+    ap.add_argument("--height", type=int, default=90)
+    ap.add_argument("--frames", type=int, default=24)
+    ap.add_argument("--step", type=float, default=1.0, help="degrees of orbit per frame")
+    ap.add_argument("--every", type=int, default=4, help="evaluate every n-th frame")
+    ap.add_argument("--bounces", type=int, default=4)
+    ap.add_argument("--ref-seconds", type=float, default=60.0)
+    ap.add_argument("--seed", type=int, default=4242)
+    ap.add_argument("--no-cycles", action="store_true")
+    ap.add_argument("--out", type=Path, default=Path("out"))
+    a = ap.parse_args(argv)
+    res = run(a.width, a.height, a.frames, a.step, a.every, a.bounces, a.ref_seconds, not a.no_cycles, a.seed, a.out)
+    print(json.dumps({k: res[k] for k in ("device", "budget_ms", "summary", "load_before", "load_after",
+                                          "utc_start", "utc_end")}, indent=1))
+
+
+if __name__ == "__main__":
+    main()
