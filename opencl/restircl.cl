@@ -60,6 +60,7 @@
 #ifdef HAS_GI_REUSE
 #include "restir_gi/initial.cl"
 #include "restir_gi/temporal.cl"
+#include "restir_gi/boiling.cl"
 #include "restir_gi/spatial.cl"
 #include "restir_gi/shade.cl"
 #endif

@@ -310,7 +310,7 @@ typedef struct {
     int neighbours;
     float radius;          /* pixels */
     int bias_correction;   /* BIAS_* */
-    int pad0;
+    int boost_neighbours;  /* neighbours of a pixel whose reservoir has no history (M <= 1); 0: no boost */
 } GISpatialParams;         /* 32 bytes */
 
 /* ReSTIR GI pass 4 (restir_gi/shade.cl). */

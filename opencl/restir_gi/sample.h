@@ -17,7 +17,9 @@
 
 /* The band of |J| within which a sample moves between visible points (RTXDI rejects beyond 10x as well): a sample
  * whose solid angle shrinks or grows more than this is an outlier of variance (a wall seen at grazing angles). */
+#ifndef GI_JACOBIAN_MAX
 #define GI_JACOBIAN_MAX 10.0f
+#endif
 
 /* Whether r holds a sample: one was picked (target > 0) and it counts (W > 0). */
 inline bool gi_has_sample(const GIReservoir* r) { return r->target > 0.0f && r->W > 0.0f; }

@@ -12,7 +12,11 @@ inline int gi_neighbours(const __global GSample* gbuf, const __global GlossySamp
                          const __global GIReservoir* input, const Surface* s, int x, int y, int width, int height,
                          const GISpatialParams* p, uint* rng, int* used, GIReservoir* qs)
 {
-    int k_max = min(p->neighbours, MAX_GI_NEIGHBOURS), n_used = 0;
+    /* disocclusion boost: a pixel the temporal pass found no history for (its own sample alone, M <= 1) takes more
+     * neighbours; the count depends on the history's presence, not on any sample, so the modes stay as they were */
+    int k_want = (input[y * width + x].M <= 1.0f && p->boost_neighbours > p->neighbours) ? p->boost_neighbours
+                                                                                        : p->neighbours;
+    int k_max = min(k_want, MAX_GI_NEIGHBOURS), n_used = 0;
     const MaterialKey key = material_key(&s->mat);
     for (int k = 0; k < k_max; ++k) {
         float2 o = disk_offset(p->radius, rng);

@@ -195,5 +195,9 @@ def test_restir_gi_reuses_its_history_where_restir_may():
         assert p.gi and p.gi_spatial and not p.gi_temporal, case  # the frame starts over, with its neighbours
     assert not plan(gi_next, max_bounces=1, gi_temporal=False).gi_temporal
     assert not plan(gi_next, max_bounces=1, gi_spatial_neighbours=0).gi_spatial
+    # ReSTIR GI's boiling filter: its own strength, biased, so never in a still (whose frames run the path pass)
+    assert not plan(gi_next, max_bounces=1, boiling_filter=0.5).gi_boiling
+    assert plan(gi_next, max_bounces=1, gi_boiling_filter=0.5).gi_boiling
+    assert not plan(replace(gi_next, still=True), max_bounces=1, gi_boiling_filter=0.5).gi_boiling
     # the same frame again (a still camera's animation or an unchanged viewport) keeps it
     assert plan(replace(gi_next, frame=2), max_bounces=1).gi_temporal

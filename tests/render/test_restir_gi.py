@@ -100,13 +100,13 @@ def _image_bias(m: np.ndarray, reference) -> tuple[np.ndarray, np.ndarray]:
 def test_the_biased_mode_is_darker_by_a_bounded_amount(device, reference):
     """bias_correction none: no visibility in the reuse and M-weighted merges, so a neighbour's sample that x_s is
     hidden from (shaded black by the final visibility ray) or that this pixel's BSDF does not reach still takes its
-    share. Measured on this box (3 bounces, 48 runs x 512 frames against our own path pass, 2026-12-05): 6.5 % (red),
-    7.0 %, 7.5 % (blue) too dark, standard errors 0.2-0.3 %. Asserted: darker beyond 4 standard errors, and by 3-12 %
-    (the measured bias +- more than 4 of this test's standard errors, about 0.6 %)."""
+    share. Measured on this box (3 bounces, 48 runs x 256 frames against our own path pass, 4096 frames x 8 runs,
+    2026-12-05): 4.9 % (red), 5.2 %, 5.2 % (blue) too dark, standard errors 0.1 %. Asserted: darker beyond 4
+    standard errors, and by 2-9 % (the measured bias +- more than 4 of this test's standard errors, about 0.7 %)."""
     runs = _runs(path_test_scene(light="both"), _settings(gi_bias_correction="none"), 2 * BATCHES, 2 * FRAMES)
     bias, se = _image_bias(runs, reference)
     assert np.all(bias + Z * se < 0.0), (bias, se)
-    assert np.all((bias > -0.12) & (bias < -0.03)), (bias, se)
+    assert np.all((bias > -0.09) & (bias < -0.02)), (bias, se)
 
 
 def _rel_mse(img: np.ndarray, ref: np.ndarray) -> float:
@@ -115,8 +115,8 @@ def _rel_mse(img: np.ndarray, ref: np.ndarray) -> float:
 
 def test_reuse_lowers_one_frames_error(device, reference):
     """What reuse buys, at one frame each: after 32 frames of a still camera, a frame of ReSTIR GI (temporal and
-    spatial) has less than half the error of a frame of paths alone against the converged image (measured: a
-    quarter to a fifth on this box)."""
+    spatial) has less than half the error of a frame of paths alone against the converged image (measured, 8 seeds:
+    relMSE 0.13 against 0.75, a sixth)."""
     expected, _ = reference
     errors = {}
     for reuse in (True, False):
@@ -197,3 +197,31 @@ def test_no_gi_kernels_without_bounces_or_reuse(device):
     assert "gi_initial" in r.kernels.k and "gi_reuse" in r.features
     still = r.render_still(0, samples=2)
     assert "paths" in still.stage_ms and "gi_initial" not in still.stage_ms  # stills keep the path pass
+
+
+def test_disocclusion_boost_is_taken_only_without_history(device):
+    """A pixel without history (its own sample alone, M = 1) takes gi_disocclusion_boost neighbours: spatial reuse
+    alone (no pixel has history) merges up to 1 + 8 samples with a boost of 8, never more than 1 + 2 without;
+    a boost not above Neighbours changes nothing."""
+    scene = path_test_scene(light="both")
+    most = {}
+    for boost in (0, 2, 8):
+        r = Renderer(scene, _settings(gi_temporal=False, gi_spatial_neighbours=2, gi_disocclusion_boost=boost))
+        images = [r.render_frame(0, aovs=False).color for _ in range(3)]
+        most[boost] = (float(_reservoirs(r)["M"].max()), images)
+    assert most[0][0] <= 3.0 < most[8][0] <= 9.0, {k: v[0] for k, v in most.items()}
+    assert all(np.array_equal(a, b) for a, b in zip(most[0][1], most[2][1], strict=True))
+
+
+def test_the_boiling_filter_empties_outliers(device):
+    """gi_boiling_filter (biased, animation frames only): at strength 1 every reservoir whose contribution exceeds
+    its tile's mean is emptied, so the frame's bounced light falls; the images stay finite."""
+    scene = path_test_scene(24, 18, light="both")
+    means = {}
+    for strength in (0.0, 1.0):
+        r = Renderer(scene, _settings(gi_boiling_filter=strength, boiling_mode="contribution", gi_temporal=False))
+        out = [r.render_frame(0, aovs=False) for _ in range(8)]
+        assert all(np.isfinite(f.color).all() for f in out)
+        assert ("gi_boiling" in out[-1].stage_ms) == (strength > 0)
+        means[strength] = float(np.mean([f.color[..., :3].mean() for f in out]))
+    assert means[1.0] < 0.97 * means[0.0], means

@@ -94,7 +94,7 @@ PATH_PARAMS = np.dtype([("sampler", SAMPLER_PARAMS), *_ints("max_bounces", "max_
 GI_TEMPORAL_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), ("m_cap", np.float32), ("bias_correction", np.int32),
                                ("permutation", np.uint32), ("pad0", np.int32)])
 GI_SPATIAL_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), ("neighbours", np.int32), ("radius", np.float32),
-                              *_ints("bias_correction", "pad0")])
+                              *_ints("bias_correction", "boost_neighbours")])
 GI_SHADE_PARAMS = np.dtype(_ints("visible_known", "pad0", "pad1", "pad2"))
 ATROUS_PARAMS = np.dtype([("step", np.int32), *_floats("sigma_l", "sigma_z"), ("pad0", np.int32)])
 

@@ -78,6 +78,7 @@ class FramePlan:
     path_triangles: bool = False  # path rays look for emissive triangles
     gi: bool = False  # 6b ReSTIR GI in place of the path pass: its initial samples (the paths) and shading
     gi_temporal: bool = False  # ... its temporal reuse
+    gi_boiling: bool = False  # ... its boiling filter (biased: the animation path only, as ReSTIR DI's)
     gi_spatial: bool = False  # ... its spatial reuse
 
 
@@ -181,4 +182,5 @@ def path_plan(settings: Settings, situation: FrameSituation, restir_history: boo
             "path_analytic": x.analytic_lights if x.analytic_lights <= BSDF_ANALYTIC_MAX else 0,
             "path_triangles": x.triangle_lights, "gi": gi,
             "gi_temporal": gi and s.gi_temporal and restir_history and x.gi_history_valid,
+            "gi_boiling": gi and s.gi_boiling_filter > 0,
             "gi_spatial": gi and s.gi_spatial_neighbours > 0}

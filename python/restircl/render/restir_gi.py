@@ -3,6 +3,7 @@ Renderer.run_frame in place of the path pass where the plan says `gi` (render/pl
 
     initial   the path pass from the pixel's visible point, kept as a secondary sample (x_s, n_s, L_o): a reservoir
     temporal  merge last frame's reservoir of the same surface, found by reprojection, M capped    (plan.gi_temporal)
+    boiling   empty (or forget) reservoirs far above their tile's (biased: animation path)        (plan.gi_boiling)
     spatial   merge the reservoirs of similar neighbours within a radius                          (plan.gi_spatial)
     shade     f cos L_o W added to the frame's sample (and to the indirect light)
 
@@ -17,7 +18,17 @@ import pyopencl as cl
 from ..core import layouts as L
 from ..core.buffers import alloc
 from ..settings.table import BIAS_CORRECTIONS
-from .stages import FrameState, Paths, Stage, StageTimer, image_size, path_params, permutation_key, pixel_count
+from .stages import (
+    BoilingFilter,
+    FrameState,
+    Paths,
+    Stage,
+    StageTimer,
+    image_size,
+    path_params,
+    permutation_key,
+    pixel_count,
+)
 
 
 class RestirGI(Stage):
@@ -28,6 +39,7 @@ class RestirGI(Stage):
         self.paths = paths  # the path pass: its arguments and the frame's indirect light
         self.bias_code = BIAS_CORRECTIONS.index(self.settings.gi_bias_correction)
         self._scratch: list[cl.Buffer] = []
+        self.boiling = BoilingFilter(*args, kernels="gi_", strength="gi_boiling_filter")
 
     def run(self, state: FrameState, timer: StageTimer) -> None:
         plan, h = state.plan, self.history
@@ -39,6 +51,9 @@ class RestirGI(Stage):
         if plan.gi_temporal:
             res = self.temporal(state, res, self._scratch[1])
             timer.mark("gi_temporal")
+        if plan.gi_boiling:
+            self.boiling.run(state, res)
+            timer.mark("gi_boiling")
         if plan.gi_spatial:
             res = self.spatial(state, res, h.gi_reservoirs(h.cur))
             timer.mark("gi_spatial")
@@ -66,7 +81,8 @@ class RestirGI(Stage):
     def spatial(self, state: FrameState, res: cl.Buffer, out: cl.Buffer) -> cl.Buffer:
         s, h = self.settings, self.history
         params = L.pack(L.GI_SPATIAL_PARAMS, similar=self._similarity(), neighbours=s.gi_spatial_neighbours,
-                        radius=s.gi_radius, bias_correction=self.bias_code)
+                        radius=s.gi_radius, bias_correction=self.bias_code,
+                        boost_neighbours=s.gi_disocclusion_boost)
         self.kernels.launch("gi_spatial", image_size(state), gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
                             **self.scene.geometry, input=res, out=out, frame_params=state.frame_params,
                             params=params)

@@ -200,9 +200,13 @@ class BoilingFilter(Stage):
 
     TILE = 8
 
-    def __init__(self, *args) -> None:
+    def __init__(self, *args, kernels: str = "", strength: str = "boiling_filter") -> None:
+        """kernels: the prefix of the kernels' names, strength: the setting of the filter's strength (ReSTIR GI's
+        reservoirs: "gi_" and gi_boiling_filter, restir_gi/boiling.cl)."""
         super().__init__(*args)
         self._stats: cl.Buffer | None = None
+        self.prefix = kernels
+        self.strength = strength
 
     def run(self, state: FrameState, res: cl.Buffer) -> None:
         w, h = image_size(state)
@@ -210,11 +214,11 @@ class BoilingFilter(Stage):
         tiles = tiles_x * -(-h // self.TILE)
         if self._stats is None:
             self._stats = alloc(self.kernels.device.context, tiles * 8)
-        strength = min(max(float(self.settings.boiling_filter), 1e-6), 1.0)
+        strength = min(max(float(getattr(self.settings, self.strength)), 1e-6), 1.0)
         mode = np.int32(BOILING_MODES.index(self.settings.boiling_mode))
-        self.kernels.launch("boiling_tiles", (tiles,), res=res, tile_stats=self._stats,
+        self.kernels.launch(self.prefix + "boiling_tiles", (tiles,), res=res, tile_stats=self._stats,
                             frame_params=state.frame_params, tiles_x=np.int32(tiles_x), mode=mode)
-        self.kernels.launch("boiling_filter", image_size(state), res=res, tile_stats=self._stats,
+        self.kernels.launch(self.prefix + "boiling_filter", image_size(state), res=res, tile_stats=self._stats,
                             frame_params=state.frame_params, tiles_x=np.int32(tiles_x),
                             threshold=np.float32(10.0 / strength - 9.0), mode=mode)
 

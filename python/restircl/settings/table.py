@@ -290,19 +290,28 @@ class Settings:
                              "renders use the paths alone", flag="--no-gi-reuse", panel="gi")
     gi_temporal: bool = setting(True, "Temporal Reuse", "ReSTIR GI: merge the reprojected reservoir of the previous "
                                 "frame", flag="--no-gi-temporal", panel="gi", applies_when=_GI)
-    gi_spatial_neighbours: int = setting(2, "Neighbours", "ReSTIR GI: neighbour reservoirs merged per frame (0: no "
+    gi_spatial_neighbours: int = setting(4, "Neighbours", "ReSTIR GI: neighbour reservoirs merged per frame (0: no "
                                          "spatial reuse)", flag="--gi-neighbours", range=Range(int, 0, 16),
                                          panel="gi", applies_when=_GI, kernel_limit="MAX_GI_NEIGHBOURS")
-    gi_radius: float = setting(30.0, "Radius", "ReSTIR GI: radius of the spatial neighbourhood in pixels",
+    gi_radius: float = setting(10.0, "Radius", "ReSTIR GI: radius of the spatial neighbourhood in pixels",
                                flag="--gi-radius", range=Range(float, 1, finite=True), panel="gi", applies_when=_GI,
                                soft_max=100.0, subtype="PIXEL")
-    gi_m_cap: float = setting(20.0, "History Cap", "ReSTIR GI: cap of the temporal history M, in frames (a "
+    gi_m_cap: float = setting(8.0, "History Cap", "ReSTIR GI: cap of the temporal history M, in frames (a "
                               "secondary sample's radiance is as old as its history)", flag="--gi-m-cap",
                               range=Range(float, 1, finite=True), panel="gi", applies_when=_GI, soft_max=100.0)
     gi_bias_correction: str = setting("pairwise", "Bias Correction", "How ReSTIR GI weighs the merged reservoirs "
                                       "(None: no visibility test in the reuse, one at the shading)",
                                       flag="--gi-bias-correction", choices=BIAS_CHOICES, panel="gi",
                                       applies_when=_GI)
+    gi_boiling_filter: float = setting(0.0, "Boiling Filter", "ReSTIR GI: empty a reservoir whose contribution (by "
+                                       "Boiling Mode: weight, contribution, or forget) stands far above the others "
+                                       "of its 8x8 tile (strength 0-1, 0 off; biased, animation and viewport only)",
+                                       flag="--gi-boiling-filter", range=Range(float, 0, 1), panel="gi",
+                                       applies_when=_GI, subtype="FACTOR")
+    gi_disocclusion_boost: int = setting(0, "Disocclusion Boost", "ReSTIR GI: spatial neighbours for a pixel whose "
+                                         "temporal pass found no history (disocclusion, off-screen), in place of "
+                                         "Neighbours when larger (0: off)", flag="--gi-disocclusion-boost",
+                                         range=Range(int, 0, 16), panel="gi", applies_when=_GI)
 
     def validate(self) -> Settings:
         check(self)

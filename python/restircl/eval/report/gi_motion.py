@@ -8,10 +8,11 @@ sample per pixel).
 
     python -m restircl.eval.report.gi_motion --width 160 --height 90 --frames 24 --every 4 --bounces 4
 
-Equal time per frame follows `restircl report --moving` (eval/report/moving.py): the faster method renders k frames
-along the same camera path for each animation frame, k its CPU time's share of the slower one's. Cycles' error
-floor against our reference (the renderers' residual difference) is measured at 64x the time on the first
-evaluated frame.
+Equal time per frame follows `restircl report --moving` (eval/report/moving.py): each method renders k frames along
+the same camera path for each animation frame, k its share of the budget (budget_factor x the slower method's frame
+time, so that whole frames come near the ratio of the frame times). The first evaluated frame is where every method
+starts without history; the summary also gives the mean after it. Cycles' error floor against our reference (the
+renderers' residual difference) is measured at 64x the time on the first evaluated frame.
 """
 
 from __future__ import annotations
@@ -77,39 +78,59 @@ def cycles_rows(scene: Scene, evaluated: list[int], seconds: float, paths: Setti
     return rows
 
 
-def summarise(rows: list[dict]) -> dict[str, dict]:
+def summarise(rows: list[dict], first: int) -> dict[str, dict]:
+    """Per method: the mean relMSE over the evaluated frames, and over those after `first` (where every method
+    starts without history, the same for all), the mean time per frame and frames along the path per frame."""
     out = {}
     for name in dict.fromkeys(r["method"] for r in rows):
         sel = [r for r in rows if r["method"] == name]
+        warm = [r["rel_mse"] for r in sel if r["frame"] > first] or [r["rel_mse"] for r in sel]
         out[name] = {"mean_rel_mse": float(np.mean([r["rel_mse"] for r in sel])),
-                     "mean_ms": float(np.mean([r["ms"] for r in sel])), "frames": len(sel),
+                     "mean_rel_mse_after_first": float(np.mean(warm)),
+                     "mean_ms": float(np.mean([r["ms"] for r in sel])), "rows": len(sel),
                      "mean_k": float(np.mean([r.get("samples", 1) for r in sel]))}
     return out
 
 
+def ours(scene: Scene, paths: Settings, every: int, ref_seconds: float, seeds: list[int],
+         budget_factor: float) -> tuple[list[dict], dict, float, str]:
+    """(rows, references, budget ms, device) of our two methods with TAA at equal time and at one frame each
+    without TAA, for every seed."""
+    rows: list[dict] = []
+    refs: dict[int, np.ndarray] = {}
+    budget, device, meta = 0.0, "", {}
+    for seed in seeds:
+        taa = run_moving(scene, ["restir_gi", "restir_paths"], None, every, ("taa",), base=paths,
+                         reference_seconds=ref_seconds, seed=seed, references=refs or None,
+                         budget_factor=budget_factor)
+        if not refs:
+            refs = {int(f): get_reference(scene, int(f), ref_seconds, paths=paths, log=lambda s: None).image
+                    for f in taa.references}
+            meta = taa.references
+        # one frame each without TAA (a budget below either frame time gives k = 1)
+        single = run_moving(scene, ["restir_gi", "restir_paths"], 1e-3, every, ("taa",),
+                            base=replace(paths, taa=False), references=refs, seed=seed)
+        rows += [asdict(r) | {"method": r.method + " +TAA", "seed": seed} for r in taa.rows]
+        rows += [asdict(r) | {"method": r.method + " 1 frame, no TAA", "seed": seed} for r in single.rows]
+        budget, device = max(budget, taa.budget_ms), taa.device
+    return rows, {"references": meta, "images": refs}, budget, device
+
+
 def run(width: int, height: int, frames: int, step_deg: float, every: int, bounces: int, ref_seconds: float,
-        with_cycles: bool, seed: int, out: Path) -> dict:
+        with_cycles: bool, seeds: list[int], budget_factor: float, out: Path) -> dict:
     scene = orbit_box(width, height, frames, step_deg)
     paths = Settings(max_bounces=bounces, diffuse_bounces=bounces, glossy_bounces=bounces)
     load_before, t0 = os.getloadavg(), time.time()
-    taa = run_moving(scene, ["restir_gi", "restir_paths"], None, every, ("taa",), base=paths,
-                     reference_seconds=ref_seconds, seed=seed)
-    refs = {int(f): get_reference(scene, int(f), ref_seconds, paths=paths, log=lambda s: None).image
-            for f in taa.references}
-    # one frame each without TAA: the per-frame estimates (a budget below either frame time gives k = 1)
-    single = run_moving(scene, ["restir_gi", "restir_paths"], 1e-3, every, ("taa",), base=replace(paths, taa=False),
-                        references=refs, seed=seed)
-    rows = [asdict(r) | {"method": r.method + " +TAA"} for r in taa.rows]
-    rows += [asdict(r) | {"method": r.method + " 1 frame, no TAA"} for r in single.rows]
-    evaluated = sorted(refs)
+    rows, refs, budget_ms, device = ours(scene, paths, every, ref_seconds, seeds, budget_factor)
+    evaluated = sorted(refs["images"])
     if with_cycles:
-        rows += cycles_rows(scene, evaluated, taa.budget_ms / 1e3, paths, refs)
-    summary = summarise(rows)
+        rows += cycles_rows(scene, evaluated, budget_ms / 1e3, paths, refs["images"])
     result = {"scene": scene.name, "width": width, "height": height, "frames": frames, "step_deg": step_deg,
-              "bounces": bounces, "evaluated": evaluated, "budget_ms": taa.budget_ms, "device": taa.device,
-              "references": taa.references, "load_before": load_before, "load_after": os.getloadavg(),
-              "utc_start": time.strftime("%Y-%m-%d %H:%M:%S", time.gmtime(t0)),
-              "utc_end": time.strftime("%Y-%m-%d %H:%M:%S", time.gmtime()), "summary": summary, "rows": rows}
+              "bounces": bounces, "evaluated": evaluated, "budget_ms": budget_ms, "budget_factor": budget_factor,
+              "seeds": seeds, "device": device, "references": refs["references"], "load_before": load_before,
+              "load_after": os.getloadavg(), "utc_start": time.strftime("%Y-%m-%d %H:%M:%S", time.gmtime(t0)),
+              "utc_end": time.strftime("%Y-%m-%d %H:%M:%S", time.gmtime()),
+              "summary": summarise(rows, evaluated[0]), "rows": rows}
     out.mkdir(parents=True, exist_ok=True)
     (out / f"gi_motion_{scene.name}_{width}x{height}.json").write_text(json.dumps(result, indent=1))
     return result
@@ -124,11 +145,14 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--every", type=int, default=4, help="evaluate every n-th frame")
     ap.add_argument("--bounces", type=int, default=4)
     ap.add_argument("--ref-seconds", type=float, default=60.0)
-    ap.add_argument("--seed", type=int, default=4242)
+    ap.add_argument("--seeds", type=int, default=3, help="independent runs of our methods")
+    ap.add_argument("--budget-factor", type=float, default=2.0,
+                    help="time per frame as a multiple of the slower method's frame time (whole frames each)")
     ap.add_argument("--no-cycles", action="store_true")
     ap.add_argument("--out", type=Path, default=Path("out"))
     a = ap.parse_args(argv)
-    res = run(a.width, a.height, a.frames, a.step, a.every, a.bounces, a.ref_seconds, not a.no_cycles, a.seed, a.out)
+    res = run(a.width, a.height, a.frames, a.step, a.every, a.bounces, a.ref_seconds, not a.no_cycles,
+              [4242 + k for k in range(a.seeds)], a.budget_factor, a.out)
     print(json.dumps({k: res[k] for k in ("device", "budget_ms", "summary", "load_before", "load_after",
                                           "utc_start", "utc_end")}, indent=1))
 
