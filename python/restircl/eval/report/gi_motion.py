@@ -2,7 +2,8 @@
 share of it), the error per frame against a converged reference of that frame (our path pass, many frames) of
     (a) ReSTIR DI + ReSTIR GI + TAA                   ("restir_gi")
     (b) ReSTIR DI + paths without reuse + TAA          ("restir_paths"), at the same wall time per frame
-    (c) Cycles restarting every frame, given the same time per frame (Cycles' time limit; when bpy imports)
+    (c) Cycles restarting every frame, given the same time per frame (its samples per pixel chosen so that its
+        render time is what our frames of (a) took; when bpy imports)
 and, at one frame each without TAA, the per-frame error of (a) against (b) (the ReSTIR GI paper's comparison at one
 sample per pixel).
 
@@ -12,7 +13,7 @@ Equal time per frame follows `restircl report --moving` (eval/report/moving.py):
 the same camera path for each animation frame, k its share of the budget (budget_factor x the slower method's frame
 time, so that whole frames come near the ratio of the frame times). The first evaluated frame is where every method
 starts without history; the summary also gives the mean after it. Cycles' error floor against our reference (the
-renderers' residual difference) is measured at 64x the time on the first evaluated frame.
+renderers' residual difference) is measured at 64x the samples on the first evaluated frame.
 """
 
 from __future__ import annotations
@@ -57,10 +58,24 @@ def orbit_box(width: int, height: int, frames: int, step_deg: float, radius: flo
     return scene
 
 
+def cycles_samples(sc, paths: Settings, seconds: float) -> int:
+    """Cycles' samples per pixel whose render time (without scene synchronisation) comes nearest `seconds`: its time
+    limit ends with the sample during which the limit passes, and overshot our frame time by 1.4-1.9x, so the
+    samples are chosen from its measured cost per sample (1 and 8 samples, the median of three each)."""
+    from ..cycles import bridge as cycles
+
+    def cost(n: int) -> float:
+        return float(np.median([cycles.render(sc, samples=n, paths=paths).render_seconds for _ in range(3)]))
+
+    one, eight = cost(1), cost(8)
+    per = max((eight - one) / 7.0, 1e-6)
+    return max(1, int(round(1 + (seconds - one) / per)))
+
+
 def cycles_rows(scene: Scene, evaluated: list[int], seconds: float, paths: Settings, refs: dict[int, np.ndarray],
                 floor_factor: float = 64.0) -> list[dict]:
-    """Cycles restarting at every evaluated frame with `seconds` of render time, and its floor (floor_factor x the
-    time) on the first."""
+    """Cycles restarting at every evaluated frame with the samples that take it `seconds`, and its floor
+    (floor_factor x those samples) on the first."""
     from ..cycles import bridge as cycles
 
     if not cycles.available():
@@ -69,12 +84,14 @@ def cycles_rows(scene: Scene, evaluated: list[int], seconds: float, paths: Setti
     sc.render.use_persistent_data = True
     cam = scene.camera
     assert cam is not None
+    sc.camera.matrix_world = cycles._matrix(cam.transforms[evaluated[0]])
+    spp = cycles_samples(sc, paths, seconds)
     rows = []
-    for f, factor in [(f, 1.0) for f in evaluated] + [(evaluated[0], floor_factor)]:
+    for f, factor in [(f, 1) for f in evaluated] + [(evaluated[0], int(floor_factor))]:
         sc.camera.matrix_world = cycles._matrix(cam.transforms[f])
-        res = cycles.render(sc, seconds=seconds * factor, paths=paths)
-        rows.append({"method": "cycles" if factor == 1.0 else f"cycles x{floor_factor:g} time", "frame": f,
-                     "ms": res.render_seconds * 1e3, "rel_mse": rel_mse(res.image, refs[f])})
+        res = cycles.render(sc, samples=spp * factor, paths=paths)
+        rows.append({"method": "cycles" if factor == 1 else f"cycles x{floor_factor:g} samples", "frame": f,
+                     "ms": res.render_seconds * 1e3, "samples": spp * factor, "rel_mse": rel_mse(res.image, refs[f])})
     return rows
 
 
@@ -123,8 +140,9 @@ def run(width: int, height: int, frames: int, step_deg: float, every: int, bounc
     load_before, t0 = os.getloadavg(), time.time()
     rows, refs, budget_ms, device = ours(scene, paths, every, ref_seconds, seeds, budget_factor)
     evaluated = sorted(refs["images"])
-    if with_cycles:
-        rows += cycles_rows(scene, evaluated, budget_ms / 1e3, paths, refs["images"])
+    if with_cycles:  # at the time our ReSTIR GI frames took (mean over the evaluated frames)
+        gi_ms = float(np.mean([r["ms"] for r in rows if r["method"] == "restir_gi +TAA"]))
+        rows += cycles_rows(scene, evaluated, gi_ms / 1e3, paths, refs["images"])
     result = {"scene": scene.name, "width": width, "height": height, "frames": frames, "step_deg": step_deg,
               "bounces": bounces, "evaluated": evaluated, "budget_ms": budget_ms, "budget_factor": budget_factor,
               "seeds": seeds, "device": device, "references": refs["references"], "load_before": load_before,
