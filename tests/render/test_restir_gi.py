@@ -78,8 +78,8 @@ def test_spatial_reuse_alone_equals_the_reference(device, reference):
 
 def test_the_harness_rejects_reuse_without_the_jacobian(device, reference, monkeypatch):
     """Negative control: built with GI_WITHOUT_JACOBIAN, a sample moved to another visible point keeps its W
-    (and the band test only asks that both sides see it): measured about 7 % too bright over the image, which the
-    check above must reject."""
+    (and the band test only asks that both sides see it): measured 5.5-6 % too bright over the image (standard
+    error 0.5-0.8 %), which the check above must reject."""
     build = pipeline.build_program
     monkeypatch.setattr(pipeline, "build_program", lambda device, flags=None, **kw: build(
         device, flags, extra_options=("-DGI_WITHOUT_JACOBIAN=1",), **kw))
