@@ -31,11 +31,18 @@
 #include "surface/view_dependence.h"
 #include "restir/pairwise.h"
 #include "restir/reuse.h"
+#include "restir/neighbours.h"
 #ifdef HAS_PATHS
 #include "path/vertex.h"
 #include "path/mis.h"
 #include "path/nee.h"
 #include "path/emitters.h"
+#include "path/walk.h"
+#endif
+#ifdef HAS_GI_REUSE
+#include "restir_gi/sample.h"
+#include "restir_gi/reservoir.h"
+#include "restir_gi/reuse.h"
 #endif
 
 #include "camera/primary.cl"
@@ -49,6 +56,13 @@
 #include "restir/shade.cl"
 #ifdef HAS_PATHS
 #include "path/path.cl"
+#endif
+#ifdef HAS_GI_REUSE
+#include "restir_gi/initial.cl"
+#include "restir_gi/temporal.cl"
+#include "restir_gi/boiling.cl"
+#include "restir_gi/spatial.cl"
+#include "restir_gi/shade.cl"
 #endif
 #include "taa/taa.cl"
 #include "filter/atrous.cl"

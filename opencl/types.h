@@ -191,6 +191,18 @@ typedef struct {
                          stored result rather than a ray since its last shadow ray (restir/reuse.h) */
 } Reservoir;          /* 32 bytes */
 
+/* A ReSTIR GI reservoir (opencl/restir_gi/): its sample is a secondary surface point x_s that a BSDF ray from the
+ * pixel's visible point met, with the radiance L_o leaving it towards that point (restir_gi/sample.h). */
+typedef struct {
+    float4 pos;       /* xyz: x_s; w: unused */
+    float4 normal;    /* xyz: geometric normal at x_s on the side its visible point saw; w: unused */
+    float4 radiance;  /* rgb: L_o, what the path gathered from x_s on; w: unused */
+    float w_sum;      /* sum of resampling weights */
+    float M;          /* candidates seen (float: merges add confidence) */
+    float W;          /* unbiased contribution weight, in solid angle at the reservoir's own visible point */
+    float target;     /* p-hat of the sample at the reservoir's own pixel; 0: no sample */
+} GIReservoir;        /* 64 bytes */
+
 /* ---- parameters of the passes ---------------------------------------------------------------
  * One struct per stage, passed by value and read by field name; the host packs them (python/restircl/render/stages.py).
  * Every pass reads its random stream key (sample, seed) from FrameParams. */
@@ -282,6 +294,32 @@ typedef struct {
     int pad0;
     int pad1;
 } PathParams;              /* 96 bytes */
+
+/* ReSTIR GI pass 2 (restir_gi/temporal.cl). */
+typedef struct {
+    SimilarityParams similar;
+    float m_cap;           /* history cap, absolute M (an initial GI reservoir has M = 1) */
+    int bias_correction;   /* BIAS_* */
+    uint permutation;      /* 0: none; else 16 | a per-frame 4-bit key (permutation sampling, camera/reproject.h) */
+    int pad0;
+} GITemporalParams;        /* 32 bytes */
+
+/* ReSTIR GI pass 3 (restir_gi/spatial.cl). */
+typedef struct {
+    SimilarityParams similar;
+    int neighbours;
+    float radius;          /* pixels */
+    int bias_correction;   /* BIAS_* */
+    int boost_neighbours;  /* neighbours of a pixel whose reservoir has no history (M <= 1); 0: no boost */
+} GISpatialParams;         /* 32 bytes */
+
+/* ReSTIR GI pass 4 (restir_gi/shade.cl). */
+typedef struct {
+    int visible_known;     /* 1: the reuse kept only samples visible from their pixel (the unbiased modes) */
+    int pad0;
+    int pad1;
+    int pad2;
+} GIShadeParams;           /* 16 bytes */
 
 /* Pass 6: restir_shade, and the samplers without reuse (direct/direct.cl). */
 typedef struct {

@@ -76,6 +76,16 @@ class RESTIRCL_PT_reuse(RestirclPanel, bpy.types.Panel):
     settings_panel = "reuse"
 
 
+class RESTIRCL_PT_gi(RestirclPanel, bpy.types.Panel):
+    """ReSTIR GI: reuse of the bounced light in animation and viewport frames (with Light Paths > Max Bounces > 0)."""
+
+    bl_label = "Global Illumination Reuse"
+    bl_parent_id = "RESTIRCL_PT_sampling"
+    bl_options = {"DEFAULT_CLOSED"}
+    settings_panel = "gi"
+    header = "gi_reuse"
+
+
 class RESTIRCL_PT_taa(RestirclPanel, bpy.types.Panel):
     bl_label = "Temporal Anti-Aliasing"
     settings_panel = "taa"
@@ -134,8 +144,8 @@ class RESTIRCL_PT_passes(RestirclPanel, bpy.types.Panel):
                     col.prop(owner, name)
 
 
-CLASSES = (RESTIRCL_PT_sampling, RESTIRCL_PT_viewport, RESTIRCL_PT_lights, RESTIRCL_PT_reuse, RESTIRCL_PT_light_paths,
-           RESTIRCL_PT_taa, RESTIRCL_PT_device, RESTIRCL_PT_passes)
+CLASSES = (RESTIRCL_PT_sampling, RESTIRCL_PT_viewport, RESTIRCL_PT_lights, RESTIRCL_PT_reuse, RESTIRCL_PT_gi,
+           RESTIRCL_PT_light_paths, RESTIRCL_PT_taa, RESTIRCL_PT_device, RESTIRCL_PT_passes)
 
 
 def register() -> None:

@@ -1,27 +1,6 @@
 /* ReSTIR pass 5: merge up to `spatial_neighbours` (or `boost_neighbours`) reservoirs of random pixels within
  * `spatial_radius` whose surface is similar (view depth, normal and material: surface_material_similar) with the
- * pixel's own (restir/reuse.h). */
-
-/* the table's limit (settings/table.py) arrives as -DMAX_NEIGHBOURS; this fallback serves builds outside
- * core/program.py */
-#ifndef MAX_NEIGHBOURS
-#define MAX_NEIGHBOURS 16
-#endif
-
-/* round(), inline: |v| is at most the radius (<< 2^22) */
-inline int round_i(float v) { return (int)(v + (v >= 0.0f ? 0.5f : -0.5f)); }
-
-/* A point uniform in the disk of radius r, by rejection from the square (accepts pi/4 of the tries): no sqrt, sin
- * or cos, which cost more than the rest of picking a neighbour on a CPU. After 16 rejections (probability 2e-11)
- * it returns the centre, which the caller skips. */
-inline float2 disk_offset(float r, uint* rng)
-{
-    for (int t = 0; t < 16; ++t) {
-        float a = 2.0f * rng_next(rng) - 1.0f, b = 2.0f * rng_next(rng) - 1.0f;
-        if (a * a + b * b <= 1.0f) return (float2)(a * r, b * r);
-    }
-    return (float2)(0.0f, 0.0f);
-}
+ * pixel's own (restir/reuse.h); the pixels are picked by restir/neighbours.h. */
 
 __kernel void restir_spatial(const __global GSample* gbuf, const __global GlossySample* glossy, const __global BVHNode* nodes, const __global Tri* tris,
                              const __global Light* lights, const __global Reservoir* input, __global Reservoir* out,

@@ -17,12 +17,17 @@ def test_parameters_parsed_from_the_declaration():
 def test_declared_names_match_the_built_kernels(device):
     """Every kernel of opencl/ (the renderer builds them all) has as many parsed names as the compiler counts
     arguments."""
-    r = Renderer(scenes.cornell_box(width=8, height=8), Settings(method="restir"), device)
     declared = declared_parameters()
-    # the default build leaves the path pass out (max_bounces 0): every other kernel is there
-    assert set(r.kernels.k) == set(declared) - {"path_trace"} and "taa" in declared
-    for name in r.kernels.k:
-        assert len(declared[name]) == r.kernels.k[name].num_args, name
+    bounced = {"path_trace", "gi_initial", "gi_temporal", "gi_boiling_tiles", "gi_boiling_filter", "gi_spatial",
+               "gi_shade"}
+    r = Renderer(scenes.cornell_box(width=8, height=8), Settings(method="restir"), device)
+    # the default build leaves the path pass and ReSTIR GI out (max_bounces 0): every other kernel is there
+    assert set(r.kernels.k) == set(declared) - bounced and "taa" in declared
+    with_bounces = Renderer(scenes.cornell_box(width=8, height=8), Settings(method="restir", max_bounces=1), device)
+    assert set(with_bounces.kernels.k) == set(declared)
+    for k in (r.kernels.k, with_bounces.kernels.k):
+        for name in k:
+            assert len(declared[name]) == k[name].num_args, name
 
 
 @pytest.fixture(scope="module")

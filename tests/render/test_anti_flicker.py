@@ -9,6 +9,7 @@ import pyopencl as cl
 import pytest
 from restircl import Renderer, Settings, scenes
 from restircl.core import layouts as L
+from restircl.render.stages import permutation_key
 
 
 def _filtered(res: np.ndarray, strength: float, mode: str = "weight") -> np.ndarray:
@@ -116,7 +117,7 @@ def test_permutation_sampling_takes_a_neighbours_history():
         imgs.append([r.render_frame(0, aovs=False).color for _ in range(3)])
     np.testing.assert_array_equal(imgs[0][0], imgs[1][0])  # no history yet: the same first frame
     assert not np.array_equal(imgs[0][2], imgs[1][2])
-    keys = {r.temporal._permutation(type("S", (), {"frame_params": {"sample": k, "seed": 2}})()) for k in range(64)}
+    keys = {permutation_key(r.settings, type("S", (), {"frame_params": {"sample": k, "seed": 2}})()) for k in range(64)}
     assert len(keys) == 16 and all(16 <= k < 32 for k in keys)
 
 

@@ -65,7 +65,8 @@ def test_max_bounces_zero_has_no_path_pass(device):
     scene = path_test_scene()
     r = Renderer(scene, Settings(method="ris", jitter=False))
     assert "paths" not in r.features and "path_trace" not in r.kernels.k
-    with_paths = Renderer(scene, Settings(method="ris", jitter=False, max_bounces=2))
+    # animation frames: the path pass where ReSTIR GI is off (tests/render/test_restir_gi.py has it on)
+    with_paths = Renderer(scene, Settings(method="ris", jitter=False, max_bounces=2, gi_reuse=False))
     assert "paths" in with_paths.features and "path_trace" in with_paths.kernels.k
     a = r.render_frame(0)
     b = Renderer(scene, Settings(method="ris", jitter=False, max_bounces=0, diffuse_bounces=9)).render_frame(0)

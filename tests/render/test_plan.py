@@ -166,3 +166,38 @@ def test_taa_clips_its_history_only_where_something_moved():
     # without history (a cut) the camera's motion means nothing to TAA; moving objects still do
     assert not plan(replace(NEXT, camera_moved=True, cut_at_frame=True)).taa_moving
     assert plan(replace(NEXT, scene_moves=True, cut_at_frame=True)).taa_moving
+
+
+def test_bounces_run_restir_gi_in_animation_frames_and_the_path_pass_in_stills():
+    gi_next = replace(NEXT, gi_history_valid=True)
+    none = plan(gi_next, max_bounces=0)
+    assert not (none.paths or none.gi or none.gi_temporal or none.gi_spatial)
+    p = plan(gi_next, max_bounces=2)
+    assert p.gi and p.gi_temporal and p.gi_spatial and not p.paths
+    still = plan(replace(gi_next, still=True), max_bounces=2)
+    assert still.paths and not (still.gi or still.gi_temporal or still.gi_spatial)
+    off = plan(gi_next, max_bounces=2, gi_reuse=False)
+    assert off.paths and not (off.gi or off.gi_temporal or off.gi_spatial)
+    # ReSTIR GI does not depend on the direct light's method
+    for method in ("ris", "light_array", "restir"):
+        q = plan(gi_next, max_bounces=2, method=method)
+        assert q.gi and q.gi_temporal and not q.paths, method
+
+
+def test_restir_gi_reuses_its_history_where_restir_may():
+    gi_next = replace(NEXT, gi_history_valid=True)
+    assert plan(gi_next, max_bounces=1).gi_temporal
+    for case in (replace(gi_next, cut_at_frame=True), replace(gi_next, lights_switched=True),
+                 replace(gi_next, lights_reindexed=True), replace(gi_next, last_frame=1),
+                 replace(gi_next, history_valid=False), replace(gi_next, gi_history_valid=False),
+                 replace(gi_next, last_frame=None)):
+        p = plan(case, max_bounces=1)
+        assert p.gi and p.gi_spatial and not p.gi_temporal, case  # the frame starts over, with its neighbours
+    assert not plan(gi_next, max_bounces=1, gi_temporal=False).gi_temporal
+    assert not plan(gi_next, max_bounces=1, gi_spatial_neighbours=0).gi_spatial
+    # ReSTIR GI's boiling filter: its own strength, biased, so never in a still (whose frames run the path pass)
+    assert not plan(gi_next, max_bounces=1, boiling_filter=0.5).gi_boiling
+    assert plan(gi_next, max_bounces=1, gi_boiling_filter=0.5).gi_boiling
+    assert not plan(replace(gi_next, still=True), max_bounces=1, gi_boiling_filter=0.5).gi_boiling
+    # the same frame again (a still camera's animation or an unchanged viewport) keeps it
+    assert plan(replace(gi_next, frame=2), max_bounces=1).gi_temporal

@@ -41,7 +41,9 @@ BEFORE = (
     ("sampler", "auto"),
     ("visibility_max_age", 0), ("visibility_max_distance", 2.0),
     ("max_bounces", 0), ("diffuse_bounces", 4), ("glossy_bounces", 4), ("min_light_bounces", 0),
-    ("clamp_indirect", 0.0), ("light_threshold", 0.0))
+    ("clamp_indirect", 0.0), ("light_threshold", 0.0),
+    ("gi_reuse", True), ("gi_temporal", True), ("gi_spatial_neighbours", 4), ("gi_radius", 10.0), ("gi_m_cap", 8.0),
+    ("gi_bias_correction", "pairwise"), ("gi_boiling_filter", 0.0), ("gi_disocclusion_boost", 0))
 NUMBERS = [d for d in declared(Settings) if d.spec.range is not None]
 
 
@@ -142,7 +144,8 @@ def test_range_texts():
 
 def test_kernel_limits_come_from_the_table(device):
     limits = kernel_defines()
-    assert limits == {"MAX_NEIGHBOURS": next(d.spec.range.max for d in NUMBERS if d.name == "spatial_neighbours")}
+    assert limits == {"MAX_NEIGHBOURS": next(d.spec.range.max for d in NUMBERS if d.name == "spatial_neighbours"),
+                      "MAX_GI_NEIGHBOURS": next(d.spec.range.max for d in NUMBERS if d.name == "gi_spatial_neighbours")}
     # the kernel file may keep a fallback for builds outside restircl (clang checks), never another value
     for name, value in limits.items():
         for path in opencl_dir().rglob("*.[ch]*"):
@@ -150,13 +153,13 @@ def test_kernel_limits_come_from_the_table(device):
                 assert int(found) == value, f"{path.name} defines {name} {found}, the table says {value}"
     import pyopencl as cl
 
-    src = "__kernel void k(__global int* out) { out[0] = MAX_NEIGHBOURS; }"
+    src = "__kernel void k(__global int* out) { out[0] = MAX_NEIGHBOURS; out[1] = MAX_GI_NEIGHBOURS; }"
     prog = build_program(device, {}, source=src)
-    out = np.zeros(1, np.int32)
+    out = np.zeros(2, np.int32)
     buf = cl.Buffer(device.context, cl.mem_flags.WRITE_ONLY, out.nbytes)
     prog.k(device.queue, (1,), None, buf)
     cl.enqueue_copy(device.queue, out, buf)
-    assert int(out[0]) == limits["MAX_NEIGHBOURS"]
+    assert out.tolist() == [limits["MAX_NEIGHBOURS"], limits["MAX_GI_NEIGHBOURS"]]
 
 
 def test_docs_list_every_setting():

@@ -54,6 +54,11 @@ RESERVOIR = np.dtype(
         ("vis_age", np.int32),
     ]
 )
+# a ReSTIR GI reservoir (opencl/restir_gi/)
+GI_RESERVOIR = np.dtype([("pos", F4), ("normal", F4), ("radiance", F4), ("w_sum", np.float32), ("M", np.float32),
+                         ("W", np.float32), ("target", np.float32)])
+
+
 def _ints(*names: str) -> list[tuple[str, type]]:
     return [(n, np.int32) for n in names]
 
@@ -86,6 +91,11 @@ TAA_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), *_floats("alpha_min", "ga
 
 PATH_PARAMS = np.dtype([("sampler", SAMPLER_PARAMS), *_ints("max_bounces", "max_diffuse", "max_glossy", "min_bounces"),
                         *_floats("clamp_indirect", "light_threshold"), *_ints("pad0", "pad1")])
+GI_TEMPORAL_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), ("m_cap", np.float32), ("bias_correction", np.int32),
+                               ("permutation", np.uint32), ("pad0", np.int32)])
+GI_SPATIAL_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), ("neighbours", np.int32), ("radius", np.float32),
+                              *_ints("bias_correction", "boost_neighbours")])
+GI_SHADE_PARAMS = np.dtype(_ints("visible_known", "pad0", "pad1", "pad2"))
 ATROUS_PARAMS = np.dtype([("step", np.int32), *_floats("sigma_l", "sigma_z"), ("pad0", np.int32)])
 
 #: struct name in types.h -> numpy dtype
@@ -115,6 +125,10 @@ STRUCTS: dict[str, np.dtype] = {
     "ShadeParams": SHADE_PARAMS,
     "PathParams": PATH_PARAMS,
     "TaaParams": TAA_PARAMS,
+    "GIReservoir": GI_RESERVOIR,
+    "GITemporalParams": GI_TEMPORAL_PARAMS,
+    "GISpatialParams": GI_SPATIAL_PARAMS,
+    "GIShadeParams": GI_SHADE_PARAMS,
 }
 
 # The guard counters (GUARD_* in opencl/codes.h, generated from GUARD_NAMES): a shading result, a TAA history write

@@ -19,16 +19,19 @@ MATERIAL_FLAGS = ("HAS_GLOSSY", "HAS_TEXTURES")
 # HAS_CAMERA_LIGHTS: camera rays test the lights visible to the camera that have a shape (lights/camera_visible.py)
 # HAS_PICK_TABLE: still RIS renders pick lights from a per-pixel table (lights/pick_table.py)
 # HAS_PATHS: light bounces after the primary hit (Settings.max_bounces > 0: the path pass, opencl/path/)
+# HAS_GI_REUSE: ... and ReSTIR GI reuses them in animation and viewport frames (Settings.gi_reuse, opencl/restir_gi/)
 ALL_FLAGS = (*LIGHT_FLAGS.values(), "HAS_MOTION", "HAS_MOVING_OBJECTS", *MATERIAL_FLAGS, "HAS_LIGHT_TREE",
-             "HAS_CAMERA_LIGHTS", "HAS_PICK_TABLE", "HAS_PATHS")
+             "HAS_CAMERA_LIGHTS", "HAS_PICK_TABLE", "HAS_PATHS", "HAS_GI_REUSE")
 
 
 def derive_flags(light_types: Iterable[int], motion: bool, moving_objects: bool,
                  materials: dict[str, bool] | None = None, light_tree: bool = False,
-                 camera_lights: bool = False, pick_table: bool = False, paths: bool = False) -> dict[str, bool]:
+                 camera_lights: bool = False, pick_table: bool = False, paths: bool = False,
+                 gi_reuse: bool = False) -> dict[str, bool]:
     """Flags for a scene with these light types, whether anything moves between frames, what its materials
     need (MATERIAL_FLAGS -> bool, python/restircl/upload/materials.py), whether it samples from the light tree,
-    whether the camera sees lights and whether still renders pick lights from the per-pixel table."""
+    whether the camera sees lights, whether still renders pick lights from the per-pixel table, whether light
+    bounces (paths) and whether ReSTIR GI reuses the bounces (gi_reuse, only with paths)."""
     types = set(light_types)
     flags = {name: t in types for t, name in LIGHT_FLAGS.items()}
     flags["HAS_MOTION"] = bool(motion or moving_objects)
@@ -39,6 +42,7 @@ def derive_flags(light_types: Iterable[int], motion: bool, moving_objects: bool,
     flags["HAS_CAMERA_LIGHTS"] = bool(camera_lights)
     flags["HAS_PICK_TABLE"] = bool(pick_table)
     flags["HAS_PATHS"] = bool(paths)
+    flags["HAS_GI_REUSE"] = bool(paths and gi_reuse)
     return flags
 
 
@@ -61,7 +65,7 @@ def renderer_flags(scene: Scene, ds: DeviceScene, settings: Settings, *, interac
     return derive_flags(ds.lights.type_set, moving, ds.moving_objects or interactive, ds.material_flags, light_tree,
                         camera_lights=bool(ds.camera_lights),
                         pick_table=stills_use_pick_table(settings, ds.sampled_light_count, light_tree),
-                        paths=settings.max_bounces > 0)
+                        paths=settings.max_bounces > 0, gi_reuse=settings.gi_reuse)
 
 
 def describe(flags: dict[str, bool]) -> list[str]:

@@ -4,6 +4,10 @@ writes slot `cur` and reads last frame's slot `prev`), swapped once per frame in
 In glossy builds (HAS_GLOSSY) each G-buffer has its extension (GlossySample: the view direction and the resolved
 specular lobes), kept and swapped with it; otherwise the extension is a 16-byte placeholder the kernels never read.
 
+ReSTIR GI's reservoirs (animation and viewport frames only) are one pair beside the chains, at the active chain's
+slot index, allocated by the first frame that runs ReSTIR GI; `gi_valid` says whether last frame's slot holds
+reservoirs of the frame before this one.
+
 A still ReSTIR render runs two chains of history, one per half buffer (render/still.py), so that the halves stay
 independent: a Chain is one pair of G-buffers and reservoirs with its own slot index and validity. The TAA colour
 follows the slot index of the active chain.
@@ -36,6 +40,9 @@ class History:
         self.chains = [self._new_chain()]
         self.active = 0
         self.taa = [alloc(pixels * 16) for _ in range(2)]  # rgb: colour; w: history length n
+        self._gi: list[cl.Buffer] = []
+        self.gi_valid = False  # slot prev holds ReSTIR GI reservoirs of the last frame
+        self._gi_kept = False  # this frame kept its ReSTIR GI reservoirs
 
     def _new_chain(self) -> Chain:
         n = self.pixels
@@ -61,6 +68,7 @@ class History:
 
     def invalidate(self) -> None:
         self.chain.valid = False
+        self.gi_valid = False
 
     def gbuf(self, slot: int) -> cl.Buffer:
         return self.chain.gbuf[slot]
@@ -78,9 +86,22 @@ class History:
         if res is not self.reservoirs(self.cur):
             cl.enqueue_copy(queue, self.reservoirs(self.cur), res)
 
+    def gi_reservoirs(self, slot: int) -> cl.Buffer:
+        """ReSTIR GI's reservoirs of slot `slot`."""
+        if not self._gi:
+            self._gi = [self._alloc(self.pixels * L.GI_RESERVOIR.itemsize) for _ in range(2)]
+        return self._gi[slot]
+
+    def keep_gi(self, queue: cl.CommandQueue, res: cl.Buffer) -> None:
+        """Make `res`, this frame's final ReSTIR GI reservoirs, the history the next frame reuses."""
+        if res is not self.gi_reservoirs(self.cur):
+            cl.enqueue_copy(queue, self.gi_reservoirs(self.cur), res)
+        self._gi_kept = True
+
     def swap(self) -> None:
         """End of a frame: it is now history, valid for the next one, whose slot is the other."""
         self.chain.valid = True
+        self.gi_valid, self._gi_kept = self._gi_kept, False
         self.chain.cur = self.prev
 
     def use_chain(self, index: int, fresh: bool) -> None:
@@ -91,3 +112,4 @@ class History:
             self.chains[index].cur = self.cur
             self.chains[index].valid = False
         self.active = index
+        self.gi_valid = False

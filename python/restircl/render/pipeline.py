@@ -6,6 +6,7 @@
     4 temporal   merge with last frame's reservoir found by reprojection        (restir, temporal, history)
     5 spatial    merge neighbours' reservoirs, `spatial_passes` times           (restir, spatial)
     6 shade      one shadow ray to the chosen sample -> noisy direct light s_n  (every method)
+    6b bounces   paths from the visible point (max_bounces > 0), or ReSTIR GI reusing them (render/restir_gi.py)
     7 taa        f_n = a s_n + (1 - a) clip(history)                            (taa, animation frames)
     8 output     numpy arrays: colour and AOVs (render/frame.py, Renderer.read_frame)
 
@@ -44,7 +45,8 @@ from .denoise import denoise_by_gbuffer
 from .features import describe, renderer_flags
 from .frame import DeviceFrame, Frame, read_aovs, read_colour, read_gbuffer, read_guards, read_image
 from .history import History
-from .plan import FramePlan, FrameSituation, light_source, plan_frame, uses_mis_sample
+from .plan import FramePlan, FrameSituation, light_source, plan_frame
+from .restir_gi import RestirGI
 from .stages import (
     BoilingFilter,
     FrameState,
@@ -111,6 +113,7 @@ class Renderer:
         self.realtime_filter = RealtimeFilter(*stage)
         self.shade = Shade(*stage, method_codes=_METHOD_CODE)
         self.paths = Paths(*stage)
+        self.restir_gi = RestirGI(*stage, paths=self.paths)
         self.taa = Taa(*stage)
         self.still = StillAccumulation(self.kernels, self.pixels, (self.height, self.width))
         self.pick_table = PickTable(self.kernels, self.pixels)
@@ -212,6 +215,8 @@ class Renderer:
         if plan.paths:  # 6b light that bounced, added to the sample
             self.paths.run(state)
             timer.mark("paths")
+        elif plan.gi:  # 6b ... as ReSTIR GI's samples, reused over time and neighbours
+            self.restir_gi.run(state, timer)
         color_buf = self.buffers.sample
         if plan.taa:  # 7 temporal accumulation (animation frames; a still render averages instead)
             color_buf = self.taa.run(state, plan.taa_moving)
@@ -257,7 +262,7 @@ class Renderer:
             analytic_lights=ds.analytic_lights, triangle_lights=ds.triangle_lights, sobol=sobol,
             light_tree=self.uses_light_tree, pick_table=self.pick_table.active, still=still,
             camera_moved=camera_moved(cam, frame, self._last_frame, self._prev_view),
-            scene_moves=ds.moving_lights or ds.moving_objects or ds.edited)
+            scene_moves=ds.moving_lights or ds.moving_objects or ds.edited, gi_history_valid=self.history.gi_valid)
 
     @property
     def light_tiles_used(self) -> bool:
@@ -269,11 +274,6 @@ class Renderer:
         light tiles (never with the light tree's candidates)."""
         s = self.settings
         return light_source(s, s.method, self.device_scene.sampled_light_count, self.uses_light_tree, False)[1]
-
-    def bsdf_mis_sample(self, method: str, light_count: int) -> bool:
-        """Whether frames of `method` over `light_count` lights add one BSDF sample with its own shadow ray, combined
-        by MIS (render/plan.py uses_mis_sample)."""
-        return uses_mis_sample(self.settings, method, light_count)
 
     # ---- output -----------------------------------------------------------------------------------------
 

@@ -44,6 +44,7 @@ class FrameSituation:
     still: bool = False  # a frame of a still render, averaged (else an animation or viewport frame)
     camera_moved: bool = False  # the camera sees from elsewhere than at the last frame (render/camera.py)
     scene_moves: bool = False  # objects or lights move between frames, or an interactive edit moved something
+    gi_history_valid: bool = False  # the last frame left ReSTIR GI reservoirs (History.gi_valid)
 
 
 @dataclass(frozen=True)
@@ -71,10 +72,14 @@ class FramePlan:
     taa: bool  # 7 temporal accumulation
     taa_moving: bool  # ... which validates and clips its history
     filter: bool  # 8 the real-time filter of the TAA output
-    paths: bool = False  # 6b the path pass: light that bounced (Settings.max_bounces > 0)
+    paths: bool = False  # 6b the path pass: light that bounced (Settings.max_bounces > 0), where ReSTIR GI does not run
     path_light_tree: bool = False  # NEE at path vertices picks from the light tree (else the light array)
     path_analytic: int = 0  # the analytic lights path rays test (0: none, or too many to test one by one)
     path_triangles: bool = False  # path rays look for emissive triangles
+    gi: bool = False  # 6b ReSTIR GI in place of the path pass: its initial samples (the paths) and shading
+    gi_temporal: bool = False  # ... its temporal reuse
+    gi_boiling: bool = False  # ... its boiling filter (biased: the animation path only, as ReSTIR DI's)
+    gi_spatial: bool = False  # ... its spatial reuse
 
 
 def effective_method(settings: Settings, light_count: int, environment: bool, sobol: bool) -> str:
@@ -161,13 +166,21 @@ def plan_frame(settings: Settings, situation: FrameSituation) -> FramePlan:
         boiling=restir and s.boiling_filter > 0 and not x.still,  # biased: the animation path only
         spatial=restir and s.spatial and s.spatial_neighbours > 0,
         taa=taa, taa_moving=taa and (x.scene_moves or (history and x.camera_moved)),
-        filter=taa and s.realtime_filter, **path_plan(s, x))
+        filter=taa and s.realtime_filter, **path_plan(s, x, restir_history))
 
 
-def path_plan(settings: Settings, situation: FrameSituation) -> dict:
-    """The path pass's part of the plan: whether it runs, and what its NEE picks from and its rays look for. Its
-    vertices are not pixels: no presampled tiles, no per-pixel table; the tree where the renderer built one."""
-    x = situation
-    return {"paths": settings.max_bounces > 0, "path_light_tree": x.light_tree and x.light_count > 1,
+def path_plan(settings: Settings, situation: FrameSituation, restir_history: bool) -> dict:
+    """The bounced light's part of the plan: the path pass, or ReSTIR GI (animation and viewport frames with
+    gi_reuse; still renders average independent paths), what its NEE picks from and what its rays look for. Its
+    vertices are not pixels: no presampled tiles, no per-pixel table; the tree where the renderer built one. ReSTIR
+    GI reuses last frame's reservoirs where ReSTIR may reuse its history (no cut, no light switched: a secondary
+    sample's radiance was gathered under last frame's lights) and the last frame left some."""
+    s, x = settings, situation
+    bounces = s.max_bounces > 0
+    gi = bounces and s.gi_reuse and not x.still
+    return {"paths": bounces and not gi, "path_light_tree": x.light_tree and x.light_count > 1,
             "path_analytic": x.analytic_lights if x.analytic_lights <= BSDF_ANALYTIC_MAX else 0,
-            "path_triangles": x.triangle_lights}
+            "path_triangles": x.triangle_lights, "gi": gi,
+            "gi_temporal": gi and s.gi_temporal and restir_history and x.gi_history_valid,
+            "gi_boiling": gi and s.gi_boiling_filter > 0,
+            "gi_spatial": gi and s.gi_spatial_neighbours > 0}

@@ -54,6 +54,15 @@ def sampler_params(plan: FramePlan, scene: DeviceScene, settings: Settings) -> n
                   bsdf_glossy_only=int(plan.bsdf_glossy_only), pick_table=int(plan.pick_table))
 
 
+def permutation_key(settings: Settings, state: FrameState) -> int:
+    """The frame's permutation-sampling key of temporal reuse (camera/reproject.h): one of the 16, from the frame's
+    random stream; 0 with temporal_permutation off."""
+    if not settings.temporal_permutation:
+        return 0
+    key = int(state.frame_params["sample"]) * 0x9E3779B1 + int(state.frame_params["seed"]) * 0x85EBCA6B
+    return 16 | ((key & 0xFFFFFFFF) >> 28)
+
+
 def pixel_count(state: FrameState) -> tuple[int]:
     """The 1D launch size of a per-pixel kernel."""
     return (int(state.frame_params["pixels"]),)
@@ -162,13 +171,6 @@ class Temporal(Stage):
         super().__init__(*args)
         self.bias_code = bias_code
 
-    def _permutation(self, state: FrameState) -> int:
-        """The frame's permutation-sampling key (camera/reproject.h): one of the 16, from the frame's random stream."""
-        if not self.settings.temporal_permutation:
-            return 0
-        key = int(state.frame_params["sample"]) * 0x9E3779B1 + int(state.frame_params["seed"]) * 0x85EBCA6B
-        return 16 | ((key & 0xFFFFFFFF) >> 28)
-
     def _static(self) -> bool:
         """Whether last frame's shadow tests hold in this frame: no object or light moved or was edited."""
         ds = self.scene
@@ -180,7 +182,7 @@ class Temporal(Stage):
         params = L.pack(L.TEMPORAL_PARAMS, m_cap=s.m_cap * per_frame, similar=self._similarity(),
                         bias_correction=self.bias_code, visibility_reuse=int(s.visibility_reuse),
                         lights_static=int(not self.scene.lights_changed),
-                        permutation=self._permutation(state), vis_static=int(self._static()),
+                        permutation=permutation_key(s, state), vis_static=int(self._static()),
                         vis_max_age=s.visibility_max_age, vis_max_distance=s.visibility_max_distance)
         out = self.buffers.res_temp
         self.kernels.launch("restir_temporal", image_size(state), cam=self.buffers.cameras[0], gbuf=h.gbuf(h.cur),
@@ -198,9 +200,13 @@ class BoilingFilter(Stage):
 
     TILE = 8
 
-    def __init__(self, *args) -> None:
+    def __init__(self, *args, kernels: str = "", strength: str = "boiling_filter") -> None:
+        """kernels: the prefix of the kernels' names, strength: the setting of the filter's strength (ReSTIR GI's
+        reservoirs: "gi_" and gi_boiling_filter, restir_gi/boiling.cl)."""
         super().__init__(*args)
         self._stats: cl.Buffer | None = None
+        self.prefix = kernels
+        self.strength = strength
 
     def run(self, state: FrameState, res: cl.Buffer) -> None:
         w, h = image_size(state)
@@ -208,11 +214,11 @@ class BoilingFilter(Stage):
         tiles = tiles_x * -(-h // self.TILE)
         if self._stats is None:
             self._stats = alloc(self.kernels.device.context, tiles * 8)
-        strength = min(max(float(self.settings.boiling_filter), 1e-6), 1.0)
+        strength = min(max(float(getattr(self.settings, self.strength)), 1e-6), 1.0)
         mode = np.int32(BOILING_MODES.index(self.settings.boiling_mode))
-        self.kernels.launch("boiling_tiles", (tiles,), res=res, tile_stats=self._stats,
+        self.kernels.launch(self.prefix + "boiling_tiles", (tiles,), res=res, tile_stats=self._stats,
                             frame_params=state.frame_params, tiles_x=np.int32(tiles_x), mode=mode)
-        self.kernels.launch("boiling_filter", image_size(state), res=res, tile_stats=self._stats,
+        self.kernels.launch(self.prefix + "boiling_filter", image_size(state), res=res, tile_stats=self._stats,
                             frame_params=state.frame_params, tiles_x=np.int32(tiles_x),
                             threshold=np.float32(10.0 / strength - 9.0), mode=mode)
 
@@ -289,25 +295,35 @@ class Paths(Stage):
         self.indirect: cl.Buffer | None = None
 
     def run(self, state: FrameState) -> None:
-        s, h, plan = self.settings, self.history, state.plan
+        h = self.history
+        self.kernels.launch("path_trace", pixel_count(state), gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
+                            **self.arguments(state), sample=self.buffers.sample, indirect=self.indirect_buffer(state),
+                            params=path_params(self.scene, self.settings, state.plan))
+
+    def indirect_buffer(self, state: FrameState) -> cl.Buffer:
+        """The frame's indirect light (allocated at the first frame with bounces)."""
         if self.indirect is None:
             self.indirect = alloc(self.kernels.device.context, int(state.frame_params["pixels"]) * 16)
-        tree = self.scene.light_tree if plan.path_light_tree else None
-        sampler = L.pack(L.SAMPLER_PARAMS, light_count=self.scene.sampled_light_count,
-                         slot_count=self.scene.light_array.slot_count, light_tree=int(tree is not None),
-                         tree_leaves=tree.leaves if tree else 0, tree_distant=tree.distant_count if tree else 0,
-                         tree_p_local=tree.p_local if tree else 1.0, bsdf_analytic=plan.path_analytic,
-                         bsdf_triangles=int(plan.path_triangles))
-        params = L.pack(L.PATH_PARAMS, sampler=sampler, max_bounces=s.max_bounces, max_diffuse=s.diffuse_bounces,
-                        max_glossy=s.glossy_bounces, min_bounces=s.min_light_bounces,
-                        clamp_indirect=s.clamp_indirect, light_threshold=s.light_threshold)
-        self.kernels.launch("path_trace", pixel_count(state), gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
-                            **self.scene.geometry, **self.scene.surface,
-                            ggx_tables=self.scene.ggx_tables_buf or self.buffers.none,
-                            **self.scene.light_sampling, **self.scene.light_tree_args,
-                            tri_light=self.scene.tri_light_buf, guards=self.buffers.guards,
-                            sample=self.buffers.sample, indirect=self.indirect, frame_params=state.frame_params,
-                            params=params)
+        return self.indirect
+
+    def arguments(self, state: FrameState) -> dict:
+        """What a path's walk reads (path/walk.h): the scene's geometry, surfaces and lights, the guards."""
+        ggx = self.scene.ggx_tables_buf or self.buffers.none
+        return {**self.scene.geometry, **self.scene.surface, "ggx_tables": ggx, **self.scene.light_sampling,
+                **self.scene.light_tree_args, "tri_light": self.scene.tri_light_buf,
+                "guards": self.buffers.guards, "frame_params": state.frame_params}
+
+
+def path_params(scene: DeviceScene, settings: Settings, plan: FramePlan) -> np.void:
+    """PathParams of a frame: NEE's light pick at path vertices, what their rays look for, Cycles' Light Paths."""
+    s, tree = settings, scene.light_tree if plan.path_light_tree else None
+    sampler = L.pack(L.SAMPLER_PARAMS, light_count=scene.sampled_light_count, slot_count=scene.light_array.slot_count,
+                     light_tree=int(tree is not None), tree_leaves=tree.leaves if tree else 0,
+                     tree_distant=tree.distant_count if tree else 0, tree_p_local=tree.p_local if tree else 1.0,
+                     bsdf_analytic=plan.path_analytic, bsdf_triangles=int(plan.path_triangles))
+    return L.pack(L.PATH_PARAMS, sampler=sampler, max_bounces=s.max_bounces, max_diffuse=s.diffuse_bounces,
+                  max_glossy=s.glossy_bounces, min_bounces=s.min_light_bounces, clamp_indirect=s.clamp_indirect,
+                  light_threshold=s.light_threshold)
 
 
 class RealtimeFilter(Stage):

@@ -113,6 +113,7 @@ _VIS_TEMPORAL = (*_TEMPORAL, ("visibility_reuse", (True,)))
 _TILES = (*_RIS, ("light_tiles", ("auto", "on")))
 _TAA = (("taa", (True,)),)
 _BSDF = (*_RIS, ("bsdf_sampling", ("auto", "on")))
+_GI = (("gi_reuse", (True,)),)
 
 
 @dataclass
@@ -282,6 +283,35 @@ class Settings:
                                      "are dropped at random and the rest weighted up (unbiased: fewer shadow rays, "
                                      "more noise; 0: off)", flag="--light-threshold",
                                      range=Range(float, 0, finite=True), panel="light_paths", soft_max=1.0)
+
+    # ReSTIR GI (Max Bounces > 0, animation and viewport frames; still renders take the paths alone)
+    gi_reuse: bool = setting(True, "ReSTIR GI", "Animation and viewport frames with Max Bounces > 0: resample the "
+                             "bounced light's secondary surface points over time and neighbours (ReSTIR GI); still "
+                             "renders use the paths alone", flag="--no-gi-reuse", panel="gi")
+    gi_temporal: bool = setting(True, "Temporal Reuse", "ReSTIR GI: merge the reprojected reservoir of the previous "
+                                "frame", flag="--no-gi-temporal", panel="gi", applies_when=_GI)
+    gi_spatial_neighbours: int = setting(4, "Neighbours", "ReSTIR GI: neighbour reservoirs merged per frame (0: no "
+                                         "spatial reuse)", flag="--gi-neighbours", range=Range(int, 0, 16),
+                                         panel="gi", applies_when=_GI, kernel_limit="MAX_GI_NEIGHBOURS")
+    gi_radius: float = setting(10.0, "Radius", "ReSTIR GI: radius of the spatial neighbourhood in pixels",
+                               flag="--gi-radius", range=Range(float, 1, finite=True), panel="gi", applies_when=_GI,
+                               soft_max=100.0, subtype="PIXEL")
+    gi_m_cap: float = setting(8.0, "History Cap", "ReSTIR GI: cap of the temporal history M, in frames (a "
+                              "secondary sample's radiance is as old as its history)", flag="--gi-m-cap",
+                              range=Range(float, 1, finite=True), panel="gi", applies_when=_GI, soft_max=100.0)
+    gi_bias_correction: str = setting("pairwise", "Bias Correction", "How ReSTIR GI weighs the merged reservoirs "
+                                      "(None: no visibility test in the reuse, one at the shading)",
+                                      flag="--gi-bias-correction", choices=BIAS_CHOICES, panel="gi",
+                                      applies_when=_GI)
+    gi_boiling_filter: float = setting(0.0, "Boiling Filter", "ReSTIR GI: empty a reservoir whose contribution (by "
+                                       "Boiling Mode: weight, contribution, or forget) stands far above the others "
+                                       "of its 8x8 tile (strength 0-1, 0 off; biased, animation and viewport only)",
+                                       flag="--gi-boiling-filter", range=Range(float, 0, 1), panel="gi",
+                                       applies_when=_GI, subtype="FACTOR")
+    gi_disocclusion_boost: int = setting(0, "Disocclusion Boost", "ReSTIR GI: spatial neighbours for a pixel whose "
+                                         "temporal pass found no history (disocclusion, off-screen), in place of "
+                                         "Neighbours when larger (0: off)", flag="--gi-disocclusion-boost",
+                                         range=Range(int, 0, 16), panel="gi", applies_when=_GI)
 
     def validate(self) -> Settings:
         check(self)

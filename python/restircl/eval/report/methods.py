@@ -20,6 +20,9 @@ METHODS: dict[str, dict] = {
     "ris_no_bsdf": dict(method="ris", bsdf_sampling="off"),
     "restir_bsdf": dict(method="restir", bsdf_sampling="on"),
     "restir_no_bsdf": dict(method="restir", bsdf_sampling="off"),
+    # the bounced light (with Max Bounces > 0 in the base settings) reused by ReSTIR GI, or by paths alone
+    "restir_gi": dict(method="restir", gi_reuse=True),
+    "restir_paths": dict(method="restir", gi_reuse=False),
 }
 
 

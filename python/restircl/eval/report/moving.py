@@ -119,15 +119,18 @@ def frame_time_ms(scene: Scene, name: str, device=None, frames: int = 6, base: S
 def run_moving(scene: Scene, methods: list[str], budget_ms: float | None = None, every: int = 4,
                modes=("taa",), device=None, base: Settings | None = None, log: Callable[[str], None] = print,
                reference_seconds: float = 20.0, cache_dir: Path | None = None, seed: int = 4242,
-               references: dict[int, np.ndarray] | None = None) -> MovingReport:
+               references: dict[int, np.ndarray] | None = None, budget_factor: float = 1.0) -> MovingReport:
     """Each method renders every frame of the animation in order, with `budget_ms` of wall time per frame (default:
     the slowest method's frame time, so that each renders at least one sample per frame and the faster ones
-    render more); the error of every `every`-th frame (and the last) is taken against that frame's reference.
+    render more); the error of every `every`-th frame (and the last) is taken against that frame's reference
+    (with the Light Paths of `base`).
 
     With TAA the number k of frames along the path is fixed before the path is rendered: with the default budget
     it is the ratio of the slowest method's CPU time per frame to this one's (CPU time, because the wall time of
     a shared machine drifts between the measurement and the render), with a given budget that budget over the
-    method's wall time per frame."""
+    method's wall time per frame. budget_factor (default budget only): the budget is that many times the slowest
+    method's frame time, so that every method renders about its share of frames (k rounds to whole frames: at 1.0 a
+    method 1.4x as fast gets 1 frame, at 2.0 the slowest gets 2 and it 3)."""
     cam = scene.camera
     assert cam is not None
     n = scene.frames
@@ -137,9 +140,9 @@ def run_moving(scene: Scene, methods: list[str], budget_ms: float | None = None,
         times = {m: frame_time_ms(scene, m, device, base=base) for m in methods}
     share: dict[str, float] = {}
     if budget_ms is None:
-        budget_ms = max(w for w, _ in times.values())
+        budget_ms = budget_factor * max(w for w, _ in times.values())
         slowest_cpu = max(c for _, c in times.values())
-        share = {m: slowest_cpu / max(c, 1e-6) for m, (_, c) in times.items()}
+        share = {m: budget_factor * slowest_cpu / max(c, 1e-6) for m, (_, c) in times.items()}
     else:
         share = {m: budget_ms / max(w, 1e-6) for m, (w, _) in times.items()}
         log(f"budget: {budget_ms:.0f} ms per frame (the slowest method's frame time)")
@@ -147,7 +150,7 @@ def run_moving(scene: Scene, methods: list[str], budget_ms: float | None = None,
     refs: dict[int, np.ndarray] = dict(references or {})
     for f in evaluated:
         if f not in refs:
-            ref = get_reference(scene, f, reference_seconds, device=device, cache_dir=cache_dir, log=log)
+            ref = get_reference(scene, f, reference_seconds, device=device, cache_dir=cache_dir, log=log, paths=base)
             refs[f] = ref.image
             rep.references[str(f)] = {"method": ref.method, "frames": ref.frames, "est_rel_mse": ref.est_rel_mse}
     budget = budget_ms / 1e3

@@ -63,13 +63,22 @@ def emissive_triangle_count(scene: Scene, frame: int = 0) -> int:
     return int(emissive[scene.world_triangles(frame).material].sum())
 
 
+#: the Light Paths a reference copies from the settings it is a reference for
+LIGHT_PATHS = ("max_bounces", "diffuse_bounces", "glossy_bounces", "min_light_bounces", "clamp_indirect",
+               "light_threshold")
+
+
 def get_reference(scene: Scene, frame: int = 0, seconds_hint: float = 60.0, frames: int | None = None, device=None,
-              cache_dir: Path | None = None, log: Callable[[str], None] = print) -> Reference:
-    """A converged image of `scene` at `frame`, cached on disk (see the module docstring)."""
+              cache_dir: Path | None = None, log: Callable[[str], None] = print,
+              paths: Settings | None = None) -> Reference:
+    """A converged image of `scene` at `frame`, cached on disk (see the module docstring). `paths`: settings whose
+    Light Paths (LIGHT_PATHS) the reference renders with (its bounced light: the path pass of still renders);
+    None: direct light only."""
     cache_dir = Path(cache_dir or default_cache_dir())
     cache_dir.mkdir(parents=True, exist_ok=True)
     n_lights = len(scene.lights) + emissive_triangle_count(scene, frame)
-    settings = Settings(method="reference" if n_lights <= 16 else "ris", candidates=32, seed=987654)
+    bounces = {name: getattr(paths, name) for name in LIGHT_PATHS} if paths is not None else {}
+    settings = Settings(method="reference" if n_lights <= 16 else "ris", candidates=32, seed=987654, **bounces)
     r = Renderer(scene, settings, device)
     # the probe also keeps lazy kernel compilation and first uploads out of the timing below
     probe = r.render_still(frame, 2).color

@@ -1,0 +1,101 @@
+/* The walk of a path from a vertex it has reached: at every vertex Russian roulette, a BSDF sample, the ray, the
+ * emitters that ray meets (path/emitters.h) and, at the vertex it reaches, NEE (path/nee.h), until a bound of
+ * Cycles' Light Paths, roulette, or the ray's escape ends it. The path pass (path/path.cl) walks from the primary hit;
+ * ReSTIR GI's initial pass (restir_gi/initial.cl) from the secondary vertex x1, to find the radiance L_o leaving it.
+ *
+ * A path that has scattered n times carries light of n bounces; Max Bounces B keeps n <= B (total), and Diffuse /
+ * Glossy bound the scatterings of each kind (the BSDF's part drawn: Lambert or a lobe). A scatter past a bound still
+ * counts the emitters its ray meets (they are light of the bounces before it) and ends the path. Russian roulette
+ * from bounce min_bounces + 2 on survives with q = min(1, sqrt(max throughput)) and divides by q (Cycles'
+ * continuation probability); Clamp Indirect scales a contribution whose rgb sum, as it reaches the pixel, exceeds 3x
+ * the clamp down to it (Cycles' per-contribution clamp). The ray from the primary hit meets only light that the
+ * direct estimators already have, so its emitters are left out. */
+#ifndef RESTIRCL_PATH_WALK_H
+#define RESTIRCL_PATH_WALK_H
+
+/* Where a path stands: the vertex it reached, its throughput T since the walk's start, and the scatterings so far
+ * (all, diffuse, glossy). prefix: the throughput before the walk's start, which only the clamp reads (the
+ * contribution as it reaches the pixel is prefix * T * c); 1 for a walk from the primary hit. */
+typedef struct {
+    Surface s;
+    float3 T;
+    float3 prefix;
+    int bounces;
+    int diffuse;
+    int gloss;
+} PathState;
+
+/* c scaled down where its rgb sum as it reaches the pixel (prefix * c) exceeds 3x the clamp (0: off). */
+inline float3 path_clamp(float3 c, float3 prefix, float clamp)
+{
+    float3 seen = prefix * c;
+    float sum = seen.x + seen.y + seen.z;
+    return (clamp > 0.0f && sum > 3.0f * clamp) ? c * (3.0f * clamp / sum) : c;
+}
+
+/* The path's estimators at a scene's buffers: what its vertices, NEE and emitter tests read. */
+typedef struct {
+    const SceneSurfaces* sc;
+    const __global BVHNode* nodes;
+    const __global Light* lights;
+    const __global int* tri_light;
+    const LightPick* lp;
+    BsdfSource hits;
+    const PathParams* params;
+} PathScene;
+
+/* NEE at the vertex the path stands on, times T (the light of this vertex), clamped. */
+inline float3 path_vertex_light(const PathScene* ps, const PathState* st, uint* rng, const Qmc* q)
+{
+    const PathParams* p = ps->params;
+    if (!(p->sampler.light_count > 0)) return (float3)(0.0f);
+    return path_clamp(st->T * path_nee(&st->s, ps->lights, ps->lp, p->sampler.slot_count, ps->hits, ps->nodes,
+                                       ps->sc->tris, p->light_threshold, rng, q, QMC_PATH_LIGHT(st->bounces)),
+                      st->prefix, p->clamp_indirect);
+}
+
+/* Walk on from st (whose vertex's own NEE is already counted) until the path ends; returns the light it gathers
+ * (in st's units: times T). */
+inline float3 path_walk(const PathScene* ps, PathState* st, uint* rng, const Qmc* q)
+{
+    const PathParams* p = ps->params;
+    const bool nee = p->sampler.light_count > 0;
+    float3 L = (float3)(0.0f);
+    while (st->s.valid) {
+        float u0 = rng_next(rng), u1 = rng_next(rng), u_rr = rng_next(rng);
+        if (q->on) {
+            float2 u = qmc_pair(q, QMC_PATH_BSDF(st->bounces));
+            u0 = u.x;
+            u1 = u.y;
+        }
+        /* Russian roulette at this vertex, before it scatters */
+        if (st->bounces > p->min_bounces + 1) {
+            float keep = fmin_f(sqrt(fmax_f(st->T.x, fmax_f(st->T.y, st->T.z))), 1.0f);
+            if (!(u_rr < keep)) break;
+#ifndef PATH_ROULETTE_WITHOUT_DIVIDE  /* defined only by the negative control of tests/render/test_paths.py */
+            st->T /= keep;
+#endif
+        }
+        float3 wi;
+        float pdf;
+        int part;
+        float3 f = bsdf_sample_part(&st->s, st->s.wo, u0, u1, &wi, &pdf, &part);
+        float cos_n = dot3(st->s.n, wi);
+        if (!(pdf > 0.0f) || !(cos_n > 0.0f)) break;
+        const float3 T_before = st->T;
+        st->T *= f * (cos_n / pdf);
+        ++st->bounces;
+        if (part < 0) ++st->diffuse; else ++st->gloss;
+        bool last = st->bounces > p->max_bounces || st->diffuse > p->max_diffuse || st->gloss > p->max_glossy;
+        Hit h = trace_closest(ps->nodes, ps->sc->tris, path_ray_origin(ps->sc->tris, &st->s, wi), wi, INFINITY);
+        if (st->bounces > 1 && nee)
+            L += path_clamp(T_before * path_emitters(&st->s, wi, h, ps->lights, ps->tri_light, ps->lp, ps->hits),
+                            st->prefix, p->clamp_indirect);
+        if (last || h.prim < 0 || !(fmax_f(st->T.x, fmax_f(st->T.y, st->T.z)) > 0.0f)) break;
+        st->s = path_vertex(ps->sc, h, wi);
+        L += path_vertex_light(ps, st, rng, q);
+    }
+    return L;
+}
+
+#endif
