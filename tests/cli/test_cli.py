@@ -68,6 +68,8 @@ report cornell_box --ms-per-frame 0
 compare --budgets 1,0
 compare --reps 0
 compare --agreement-seconds nan
+compare --max-bounces -1
+compare --glossy-bounces 1025
 stress --bench-frames 0
 stress --seed -1
 """.strip().splitlines()

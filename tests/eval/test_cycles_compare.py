@@ -1,18 +1,25 @@
 """`restircl compare` (restircl/eval/cycles_compare*.py): the held-out scenes written into bpy match ours (lights,
 power, camera, geometry), and the whole comparison runs on a tiny budget (48x27, a few samples) and writes its
-files. The full comparison (192x108, 1/4/16 s, 2 x 1024-spp reference) is not a test:
-docs/measurements/error-vs-time.md."""
+files; with Light Paths (--max-bounces) every render of both sides gets them and the references are keyed on them.
+The full comparison (192x108, 1/4/16 s, 2 x 1024-spp reference) is not a test: docs/measurements/error-vs-time.md."""
 
 from __future__ import annotations
 
 import json
 import math
+import re
 
 import numpy as np
 import pytest
+from restircl import Settings
+from restircl.cli.main import main as cli_main
 from restircl.eval.cycles import compare as C
 from restircl.eval.cycles import compare_report as CR
+from restircl.eval.cycles.paths import DIRECT as C_DIRECT
+from restircl.eval.cycles.paths import LightPaths
+from restircl.eval.report.reference import get_reference
 from restircl.eval.scenes import held_out as H
+from restircl.eval.scenes import kinds as K
 
 bpy = pytest.importorskip("bpy")
 from restircl.eval.cycles import bridge as cycles  # noqa: E402
@@ -113,7 +120,7 @@ def test_a_fixed_cost_above_the_budget_renders_one_sample(monkeypatch):
     clamped to nothing, which gave every budget the same image); otherwise the time limit is the budget less it."""
     calls = []
 
-    def fake(sc, seconds=None, samples=None, seed=0, threads=0):
+    def fake(sc, seconds=None, samples=None, seed=0, threads=0, paths=None):
         calls.append((seconds, samples))
         return cycles.CyclesResult(np.ones((2, 2, 3), np.float32), 0.02 if samples else seconds, 3.1, samples)
 
@@ -134,3 +141,97 @@ def test_world_map_setting_reaches_cycles():
     assert sc.world.cycles.sampling_method == "AUTOMATIC"
     set_world_map(sc, 256)
     assert (sc.world.cycles.sampling_method, sc.world.cycles.sample_map_resolution) == ("MANUAL", 256)
+
+
+def test_light_paths_take_cycles_defaults_within_the_total():
+    assert LightPaths.of(0) == C_DIRECT and LightPaths.of(0, 3, 3) == C_DIRECT
+    assert LightPaths.of(4) == LightPaths(4, 4, 4)
+    assert LightPaths.of(16) == LightPaths(16, 4, 4)
+    assert LightPaths.of(2) == LightPaths(2, 2, 2)
+    assert LightPaths.of(16, 8, 1) == LightPaths(16, 8, 1)
+    assert LightPaths.of(3, 8, 0) == LightPaths(3, 3, 0)
+    with pytest.raises(ValueError):
+        LightPaths.of(-1)
+    assert C_DIRECT.overrides() == {} and C_DIRECT.cycles() is None and C_DIRECT.tag == ""
+    p = LightPaths.of(16)
+    assert p.overrides() == {"max_bounces": 16, "diffuse_bounces": 4, "glossy_bounces": 4}
+    s = p.cycles()
+    assert (s.max_bounces, s.diffuse_bounces, s.glossy_bounces, s.clamp_indirect, s.light_threshold,
+            s.min_light_bounces) == (16, 4, 4, 0.0, 0.0, 0)
+    assert p.tag == "_b16d4g4"
+
+
+def test_light_paths_reach_every_render_and_key_the_references(tmp_path, device, monkeypatch):
+    """--max-bounces: every Cycles call (reference halves, calibration, timed) gets the Light Paths, Cycles' scene
+    has them set when it renders, our timed methods and our converged reference render with them, and both
+    references are cached under keys of their own (a direct-light reference is never reused for bounces)."""
+    paths = LightPaths.of(2)
+    seen: list[tuple] = []
+    render = cycles.render
+
+    def spy(sc, *args, **kwargs):
+        res = render(sc, *args, **kwargs)
+        c = sc.cycles
+        seen.append((kwargs.get("paths"), c.max_bounces, c.diffuse_bounces, c.glossy_bounces, c.sample_clamp_indirect,
+                     c.light_sampling_threshold))
+        return res
+
+    timed: list[Settings] = []
+    time_ours = C.time_ours
+
+    def ours_spy(scene, settings, budget, device=None):
+        timed.append(settings)
+        return time_ours(scene, settings, budget, device)
+
+    monkeypatch.setattr(cycles, "render", spy)
+    monkeypatch.setattr(C, "time_ours", ours_spy)
+    cache = tmp_path / "cache"
+    logs: list[str] = []
+    res = C.run_kind("interior", budgets=(0.2,), reps=1, methods=("cycles", "auto"), width=32, height=18,
+                     reference_spp=4, device=device, cache_dir=cache, agreement_seconds=0.3, log=logs.append,
+                     paths=paths)
+    # 2 reference halves, 3 calibration calls, 1 timed render
+    assert len(seen) == 6
+    assert all(p is not None and (p.max_bounces, p.diffuse_bounces, p.glossy_bounces) == (2, 2, 2) for p, *_ in seen)
+    assert all(tuple(rest) == (2, 2, 2, 0.0, 0.0) for _, *rest in seen)
+    assert [(s.max_bounces, s.diffuse_bounces, s.glossy_bounces) for s in timed] == [(2, 2, 2)]
+    assert "_b2d2g2_" in res.reference.path
+    names = sorted(p.name for p in cache.glob("reference_interior_*.npy"))
+    assert len(names) == 1 and "max_bounces=2" in names[0]
+    # the same scene direct-only: other files, and less light than with bounces in the same closed room
+    scene = K.scene_of_kind("interior", 32, 18)
+    direct = C.cycles_reference("interior", scene, cycles.to_bpy(scene), 4, cache_dir=cache, log=logs.append)
+    assert direct.path != res.reference.path and re.search(r"_32x18_2x4_[0-9a-f]{12}\.npy$", direct.path)
+    assert direct.image.sum() < 0.9 * res.reference.image.sum()
+    ours_direct = get_reference(scene, 0, frames=16, device=device, cache_dir=cache, log=logs.append)
+    assert len(list(cache.glob("reference_interior_*.npy"))) == 2 and "max_bounces" not in ours_direct.path
+    # with bounces again: both are read from the cache
+    logs.clear()
+    again = C.cycles_reference("interior", scene, cycles.to_bpy(scene), 4, cache_dir=cache, log=logs.append,
+                               paths=paths)
+    assert np.array_equal(again.image, res.reference.image) and "cached" in logs[-1]
+    ours = get_reference(scene, 0, 0.3, device=device, cache_dir=cache, log=logs.append, overrides=paths.overrides())
+    assert "cached" in logs[-1] and ours.frames == res.agreement["ours_frames"]
+    # converged, ours and Cycles agree on the image's sum within 5 sigma of Cycles' noise plus 1 %
+    ref = res.reference
+    assert res.agreement["sum_ratio"] == pytest.approx(1.0, abs=5 * ref.sum_rel_std + 0.01)
+
+
+def test_compare_command_passes_the_light_paths(monkeypatch, capsys):
+    calls = []
+
+    def fake_run(kinds, **kwargs):
+        calls.append((kinds, kwargs))
+        return []
+
+    monkeypatch.setattr(C, "run", fake_run)
+    monkeypatch.setattr(CR, "write", lambda results, out, meta: [])
+    assert cli_main(["compare", "--kinds", "interior,outdoor", "--methods", "cycles,auto", "--max-bounces", "16"]) == 0
+    kinds, kwargs = calls[-1]
+    assert kinds == ["interior", "outdoor"] and kwargs["paths"] == LightPaths(16, 4, 4)
+    cli_main(["compare", "--kinds", "sky", "--max-bounces", "8", "--glossy-bounces", "2"])
+    assert calls[-1][1]["paths"] == LightPaths(8, 4, 2)
+    cli_main(["compare", "--kinds", "sky"])
+    assert calls[-1][1]["paths"] == C_DIRECT
+    assert cli_main(["compare", "--kinds", "forest"]) == 2
+    assert "unknown kind ['forest']" in capsys.readouterr().err and len(calls) == 3

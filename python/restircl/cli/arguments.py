@@ -15,6 +15,7 @@ from ..settings.table import Settings
 COUNT = Range(int, 1).parse  # sizes, frame counts: 0 or less is a mistake, not "the default"
 POSITIVE = Range(float, 0, min_open=True, finite=True)  # seconds, error targets
 SECONDS = POSITIVE.parse
+BOUNCES = Range(int, 0, 1024).parse  # Light Paths' bounce counts, as the settings table bounds them
 
 
 def load_scene(spec: str, width: int | None, height: int | None, frames: int | None = None) -> Scene:

@@ -5,18 +5,21 @@ from __future__ import annotations
 
 import argparse
 
-from .arguments import COUNT, POSITIVE, SECONDS
+from .arguments import BOUNCES, COUNT, POSITIVE, SECONDS
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     c = sub.add_parser("compare", help="ours against Cycles at equal wall time on the held-out scenes (needs bpy)",
                        description="Render the held-out scenes (studio, neon, garden; sky, an HDRI world, with "
-                                   "--kinds) with Cycles (direct light only) and our methods (default: ReSTIR as "
+                                   "--kinds; the validation scenes interior and outdoor) with Cycles (direct light "
+                                   "only, or --max-bounces) and our methods (default: ReSTIR as "
                                    "for an animation; auto: F12's still estimator; ris and the other still "
                                    "candidates of eval/cycles_compare.OURS) for each wall-time budget, and "
                                    "compare their relMSE against a cached 2 x N-spp Cycles image: tables, CSV/JSON, "
                                    "plot.")
-    c.add_argument("--kinds", default="studio,neon,garden")
+    c.add_argument("--kinds", default="studio,neon,garden",
+                   help="held-out kinds (studio, neon, garden, sky) and the validation kinds of global "
+                        "illumination (interior, outdoor) (%(default)s)")
     c.add_argument("--methods", default="cycles,default,auto,ris")
     c.add_argument("--budgets", type=POSITIVE.parse_list, default="1,4,16", help="seconds (%(default)s)")
     c.add_argument("--reps", type=COUNT, default=3, help="repetitions of every budget (%(default)s)")
@@ -28,6 +31,13 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     c.add_argument("--cycles-world-map", type=int, default=0, metavar="N",
                    help="the timed Cycles renders' world importance map: Manual at N (default 0: Blender's "
                         "Automatic, built in every render call)")
+    c.add_argument("--max-bounces", type=BOUNCES, default=0, metavar="N",
+                   help="Light Paths of every render, ours and Cycles' (timed, reference, calibration): Max Bounces "
+                        "(default 0: direct light only)")
+    c.add_argument("--diffuse-bounces", type=BOUNCES, default=None, metavar="N",
+                   help="Light Paths: Diffuse (default: Cycles' 4, never more than --max-bounces)")
+    c.add_argument("--glossy-bounces", type=BOUNCES, default=None, metavar="N",
+                   help="Light Paths: Glossy (default: Cycles' 4, never more than --max-bounces)")
     c.add_argument("--cache-dir", default=None, help="reference cache (default: ~/.cache/restircl)")
     c.add_argument("--out", default="out", help="writes OUT/data/compare_cycles_WxH.* and OUT/img/...png")
     c.add_argument("--device", default=None)

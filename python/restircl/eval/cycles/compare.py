@@ -1,7 +1,10 @@
 """Ours against Cycles at equal wall time on the held-out scenes (`restircl compare`, issue 23).
 
-Per scene kind (eval/scenes/held_out.py) and per wall-time budget (1, 4, 16 s), each method renders a still image from
-scratch and its relMSE is measured against a high-sample Cycles image:
+Per scene kind (eval/scenes/held_out.py; the validation scenes of global illumination, eval/scenes/validation.py, by
+their kinds too: eval/scenes/kinds.py) and per wall-time budget (1, 4, 16 s), each method renders a still image from
+scratch and its relMSE is measured against a high-sample Cycles image. Every render, ours and Cycles', the timed
+ones, the references and the calibration, has the same Light Paths (eval/cycles/paths.py: direct light only by
+default, or Max Bounces N with Cycles' diffuse and glossy limits, unclamped, no light threshold):
 
 - cycles: Cycles, direct light only (cycles.direct_only: bounces 0, no light threshold, box filter 1 px, no
   adaptive sampling, denoising or clamping), on `threads` threads, timed as the wall clock of
@@ -18,8 +21,8 @@ scratch and its relMSE is measured against a high-sample Cycles image:
 - ris and the other candidates for the still path: the same with their overrides of `Settings()` (OURS).
 
 The reference is two independent Cycles renders of `reference_spp` samples each (2 x 1024 as in the issue),
-averaged and cached on disk (keyed by the scene file's content, the resolution, the sample count and Blender's
-version); their difference estimates its own remaining relMSE. Before the timing, a converged render of ours
+averaged and cached on disk (keyed by the scene file's content, the resolution, the sample count, the Light Paths and
+Blender's version); their difference estimates its own remaining relMSE. Before the timing, a converged render of ours
 (report_reference.get_reference, cached) is compared with it: relMSE and the ratio of the image sums, so a
 disagreement of the two renderers (units, geometry) cannot pass for an error of the estimator.
 """
@@ -41,8 +44,10 @@ from ...scene.scene import Scene
 from ...settings.table import Settings
 from ..metrics import rel_mse
 from ..report.reference import default_cache_dir, get_reference, scene_digest
-from ..scenes.held_out import HEIGHT, KINDS, WIDTH, held_out
+from ..scenes.held_out import HEIGHT, KINDS, WIDTH
+from ..scenes.kinds import scene_of_kind
 from . import bridge as cycles
+from .paths import DIRECT, LightPaths
 from .world import set_world_map
 
 BUDGETS = (1.0, 4.0, 16.0)
@@ -129,24 +134,28 @@ def halves_rel_mse(a: np.ndarray, b: np.ndarray) -> float:
 
 
 def cycles_reference(kind: str, scene: Scene, bpy_scene, spp: int = REFERENCE_SPP, threads: int = 2,
-                     cache_dir: Path | None = None, log: Callable[[str], None] = print) -> CyclesReference:
-    """Two Cycles renders of `spp` samples (seeds 101, 102), averaged; cached on disk."""
+                     cache_dir: Path | None = None, log: Callable[[str], None] = print,
+                     paths: LightPaths = DIRECT) -> CyclesReference:
+    """Two Cycles renders of `spp` samples (seeds 101, 102) with the Light Paths `paths`, averaged; cached on disk
+    under a name and key that carry the Light Paths (a direct-light reference is never one with bounces)."""
     import bpy
 
     cache_dir = Path(cache_dir or default_cache_dir())
     cache_dir.mkdir(parents=True, exist_ok=True)
     cam = scene.camera
     assert cam is not None
-    h = hashlib.sha256(f"{scene_digest(scene, cache_dir)}_{bpy.app.version_string}".encode()).hexdigest()[:12]
-    path = cache_dir / f"cycles_reference_{kind}_{cam.width}x{cam.height}_2x{spp}_{h}.npy"
+    key = f"{scene_digest(scene, cache_dir)}_{bpy.app.version_string}{paths.tag}"
+    h = hashlib.sha256(key.encode()).hexdigest()[:12]
+    path = cache_dir / f"cycles_reference_{kind}_{cam.width}x{cam.height}_2x{spp}{paths.tag}_{h}.npy"
     meta_path = path.with_suffix(".json")
     if path.exists() and meta_path.exists():
         meta = json.loads(meta_path.read_text())
         log(f"{kind}: Cycles reference cached {path}")
         return CyclesReference(np.load(path), spp, meta["seconds"], meta["est_rel_mse"], meta["sum_rel_std"],
                                str(path))
-    log(f"{kind}: Cycles reference, 2 x {spp} samples ...")
-    halves = [cycles.render(bpy_scene, samples=spp, seed=seed, threads=threads) for seed in (101, 102)]
+    log(f"{kind}: Cycles reference, 2 x {spp} samples, {paths.describe()} ...")
+    halves = [cycles.render(bpy_scene, samples=spp, seed=seed, threads=threads, paths=paths.cycles())
+              for seed in (101, 102)]
     img = ((halves[0].image + halves[1].image) / 2).astype(np.float32)
     est = halves_rel_mse(halves[0].image, halves[1].image)
     # pixels are independent estimates: the variance of the sum is the sum of the pixels' (a - b)^2 / 4
@@ -155,33 +164,35 @@ def cycles_reference(kind: str, scene: Scene, bpy_scene, spp: int = REFERENCE_SP
     seconds = sum(r.total_seconds for r in halves)
     np.save(path, img)
     meta_path.write_text(json.dumps({"kind": kind, "spp": spp, "seconds": seconds, "est_rel_mse": est,
-                                     "sum_rel_std": sum_std}, indent=1))
+                                     "sum_rel_std": sum_std, "light_paths": paths.overrides()}, indent=1))
     log(f"{kind}: Cycles reference saved {path} ({seconds:.0f} s, its estimated relMSE {est:.2e})")
     return CyclesReference(img, spp, seconds, est, sum_std, str(path))
 
 
 def agreement(scene: Scene, ref: CyclesReference, device=None, seconds: float = 60.0,
-              cache_dir: Path | None = None, log: Callable[[str], None] = print) -> dict:
-    """Our converged render (cached) against the Cycles reference: relMSE and the ratio of the image sums."""
-    ours = get_reference(scene, 0, seconds, device=device, cache_dir=cache_dir, log=log)
+              cache_dir: Path | None = None, log: Callable[[str], None] = print, paths: LightPaths = DIRECT) -> dict:
+    """Our converged render (cached) with the Light Paths `paths` against the Cycles reference: relMSE and the
+    ratio of the image sums."""
+    ours = get_reference(scene, 0, seconds, device=device, cache_dir=cache_dir, log=log, overrides=paths.overrides())
     cyc = ref.image
     return {"rel_mse": rel_mse(ours.image, cyc), "sum_ratio": float(ours.image.sum() / max(cyc.sum(), 1e-30)),
             "ours_method": ours.method, "ours_frames": ours.frames, "ours_est_rel_mse": ours.est_rel_mse,
-            "cycles_est_rel_mse": ref.est_rel_mse}
+            "ours_seconds": ours.seconds, "cycles_est_rel_mse": ref.est_rel_mse}
 
 
-def calibrate_cycles(bpy_scene, threads: int = 2) -> dict:
+def calibrate_cycles(bpy_scene, threads: int = 2, paths: LightPaths = DIRECT) -> dict:
     """Seconds per sample and fixed seconds of a render call (sync, set-up, writing), from calls of 1 and
-    CALIBRATION_SPP samples (after a warm-up call that loads the kernels)."""
-    cycles.render(bpy_scene, samples=1, threads=threads)
-    one = cycles.render(bpy_scene, samples=1, threads=threads).total_seconds
-    many = cycles.render(bpy_scene, samples=CALIBRATION_SPP, threads=threads).total_seconds
+    CALIBRATION_SPP samples (after a warm-up call that loads the kernels), with the Light Paths `paths`."""
+    p = paths.cycles()
+    cycles.render(bpy_scene, samples=1, threads=threads, paths=p)
+    one = cycles.render(bpy_scene, samples=1, threads=threads, paths=p).total_seconds
+    many = cycles.render(bpy_scene, samples=CALIBRATION_SPP, threads=threads, paths=p).total_seconds
     per = max((many - one) / (CALIBRATION_SPP - 1), 1e-6)
     return {"seconds_per_sample": per, "fixed_seconds": max(one - per, 0.0)}
 
 
-def time_cycles(bpy_scene, budget: float, calibration: dict, seed: int, threads: int = 2
-                ) -> tuple[np.ndarray, float, int]:
+def time_cycles(bpy_scene, budget: float, calibration: dict, seed: int, threads: int = 2,
+                paths: LightPaths = DIRECT) -> tuple[np.ndarray, float, int]:
     """A Cycles render that fills `budget` seconds of wall clock: Cycles' time limit set to the budget less the
     calibrated fixed cost of a call, so the render adapts to the machine's load as it runs (a sample count fixed
     in advance missed the budget by 2x when other jobs came and went). (image, seconds, samples); the samples
@@ -193,16 +204,16 @@ def time_cycles(bpy_scene, budget: float, calibration: dict, seed: int, threads:
     renders exactly one sample, and the caller marks the row over budget by its wall clock."""
     limit = budget - calibration["fixed_seconds"]
     if limit < calibration["seconds_per_sample"]:
-        res = cycles.render(bpy_scene, samples=1, seed=seed, threads=threads)
+        res = cycles.render(bpy_scene, samples=1, seed=seed, threads=threads, paths=paths.cycles())
         return res.image, res.total_seconds, 1
-    res = cycles.render(bpy_scene, seconds=limit, seed=seed, threads=threads)
+    res = cycles.render(bpy_scene, seconds=limit, seed=seed, threads=threads, paths=paths.cycles())
     spp = max(1, round(res.render_seconds / calibration["seconds_per_sample"]))
     return res.image, res.total_seconds, spp
 
 
-def ours_settings(method: str, scene: Scene) -> Settings:
-    """The settings of one of our methods (OURS) for `scene`."""
-    s = Settings(**OURS[method]).validate()
+def ours_settings(method: str, scene: Scene, paths: LightPaths = DIRECT) -> Settings:
+    """The settings of one of our methods (OURS) for `scene`, with the Light Paths `paths`."""
+    s = Settings(**OURS[method], **paths.overrides()).validate()
     return still_settings(s, scene) if method in STILL_PATH else s
 
 
@@ -220,20 +231,21 @@ def time_ours(scene: Scene, settings: Settings, budget: float, device=None) -> t
 def run_kind(kind: str, budgets=BUDGETS, reps: int = 3, methods=METHODS, width: int | None = None,
              height: int | None = None, reference_spp: int = REFERENCE_SPP, threads: int = 2, device=None,
              cache_dir: Path | None = None, agreement_seconds: float = 60.0, cycles_world_map: int = 0,
-             log: Callable[[str], None] = print) -> KindResult:
+             log: Callable[[str], None] = print, paths: LightPaths = DIRECT) -> KindResult:
     """Every method at every budget, `reps` times (in turn: rep 0 of every method and budget, then rep 1, ...,
-    so a change of the machine's load spreads over all of them). cycles_world_map: the timed Cycles renders' world
-    importance map (cycles_world.set_world_map: 0 = Blender's default; the reference keeps the default)."""
-    scene = held_out(kind, width or WIDTH, height or HEIGHT)
+    so a change of the machine's load spreads over all of them), every render with the Light Paths `paths`.
+    cycles_world_map: the timed Cycles renders' world importance map (cycles_world.set_world_map: 0 = Blender's
+    default; the reference keeps the default)."""
+    scene = scene_of_kind(kind, width or WIDTH, height or HEIGHT)
     sc = cycles.to_bpy(scene)
-    ref = cycles_reference(kind, scene, sc, reference_spp, threads, cache_dir, log)
-    agree = agreement(scene, ref, device, agreement_seconds, cache_dir, log)
+    ref = cycles_reference(kind, scene, sc, reference_spp, threads, cache_dir, log, paths)
+    agree = agreement(scene, ref, device, agreement_seconds, cache_dir, log, paths)
     log(f"{kind}: ours converged against Cycles: relMSE {agree['rel_mse']:.2e}, sum ratio {agree['sum_ratio']:.4f}")
     result = KindResult(kind, ref, agree)
     set_world_map(sc, cycles_world_map)
     if "cycles" in methods:
-        result.cycles_calibration = calibrate_cycles(sc, threads)
-    settings = {m: ours_settings(m, scene) for m in methods if m in OURS}
+        result.cycles_calibration = calibrate_cycles(sc, threads, paths)
+    settings = {m: ours_settings(m, scene, paths) for m in methods if m in OURS}
     for s in settings.values():  # compile the kernels once (F12 after the first)
         Renderer(scene, s, device).render_still(0, 2)
     for rep in range(reps):
@@ -241,7 +253,7 @@ def run_kind(kind: str, budgets=BUDGETS, reps: int = 3, methods=METHODS, width: 
             for m in methods:
                 if m == "cycles":
                     cal = result.cycles_calibration
-                    img, secs, spp = time_cycles(sc, budget, cal, seed=1000 + rep, threads=threads)
+                    img, secs, spp = time_cycles(sc, budget, cal, seed=1000 + rep, threads=threads, paths=paths)
                     setup = cal["fixed_seconds"]
                 else:
                     settings[m].seed = 1000 + rep
@@ -256,21 +268,21 @@ def run_kind(kind: str, budgets=BUDGETS, reps: int = 3, methods=METHODS, width: 
 
 def equal_samples(kind: str, samples: int = 64, methods=METHODS, width: int | None = None, height: int | None = None,
                   reference_spp: int = REFERENCE_SPP, threads: int = 2, device=None, cache_dir: Path | None = None,
-                  log: Callable[[str], None] = print) -> dict[str, dict]:
+                  log: Callable[[str], None] = print, paths: LightPaths = DIRECT) -> dict[str, dict]:
     """Every method at the same number of samples (Cycles spp, our frames): {method: {rel_mse, seconds}}. The error
     at equal samples does not depend on the machine's load, and the seconds per sample measured in the same run
     give the cost side: together they separate the estimator from the speed. Needs the cached reference."""
-    scene = held_out(kind, width or WIDTH, height or HEIGHT)
+    scene = scene_of_kind(kind, width or WIDTH, height or HEIGHT)
     sc = cycles.to_bpy(scene)
-    ref = cycles_reference(kind, scene, sc, reference_spp, threads, cache_dir, log)
+    ref = cycles_reference(kind, scene, sc, reference_spp, threads, cache_dir, log, paths)
     out = {}
     for m in methods:
         if m == "cycles":
-            cycles.render(sc, samples=1, threads=threads)
-            res = cycles.render(sc, samples=samples, seed=7, threads=threads)
+            cycles.render(sc, samples=1, threads=threads, paths=paths.cycles())
+            res = cycles.render(sc, samples=samples, seed=7, threads=threads, paths=paths.cycles())
             img, secs = res.image, res.total_seconds
         else:
-            r = Renderer(scene, replace(ours_settings(m, scene), seed=7), device)
+            r = Renderer(scene, replace(ours_settings(m, scene, paths), seed=7), device)
             r.render_still(0, 2)
             t0 = time.perf_counter()
             img = r.render_still(0, samples).color[..., :3]

@@ -86,13 +86,14 @@ def error_table(results: list[KindResult]) -> str:
 
 def agreement_table(results: list[KindResult]) -> str:
     lines = ["| kind | ours converged vs Cycles reference: relMSE | sum ours / Cycles | Cycles reference | "
-             "its est. relMSE | ours: method x frames, est. relMSE |", "|---|---|---|---|---|---|"]
+             "its est. relMSE | ours: method x frames, s, est. relMSE |", "|---|---|---|---|---|---|"]
     for res in results:
         a, ref = res.agreement, res.reference
         est = a["ours_est_rel_mse"]
+        secs = f"{a['ours_seconds']:.0f} s, " if "ours_seconds" in a else ""
         lines.append(f"| {res.kind} | {100 * a['rel_mse']:.3f} % | {a['sum_ratio']:.4f} | 2 x {ref.spp} spp, "
                      f"{ref.seconds:.0f} s | {ref.est_rel_mse:.1e} | {a['ours_method']} x {a['ours_frames']}, "
-                     f"{'n/a' if est is None else f'{est:.1e}'} |")
+                     f"{secs}{'n/a' if est is None else f'{est:.1e}'} |")
     return "\n".join(lines)
 
 
@@ -130,12 +131,12 @@ def plot(results: list[KindResult], path: Path, title: str) -> Path | None:
 
 def write(results: list[KindResult], out: Path, meta: dict) -> list[Path]:
     """out/data/compare_cycles_WxH.csv (every row) and .json (rows, summaries, references, agreement, meta),
-    out/img/compare_cycles_WxH.png."""
+    out/img/compare_cycles_WxH.png; with bounces WxH is followed by the Light Paths' tag (paths.LightPaths.tag)."""
     w, h = meta["width"], meta["height"]
     data, img = Path(out) / "data", Path(out) / "img"
     data.mkdir(parents=True, exist_ok=True)
     img.mkdir(parents=True, exist_ok=True)
-    base = f"compare_cycles_{w}x{h}"
+    base = f"compare_cycles_{w}x{h}{meta.get('light_paths_tag', '')}"
     rows = [r for res in results for r in res.rows]
     with open(data / f"{base}.csv", "w", newline="") as f:
         wr = csv.writer(f)
@@ -149,7 +150,8 @@ def write(results: list[KindResult], out: Path, meta: dict) -> list[Path]:
         "rows": [asdict(r) for r in res.rows]} for res in results}}
     (data / f"{base}.json").write_text(json.dumps(record, indent=1))
     paths = [data / f"{base}.csv", data / f"{base}.json"]
-    png = plot(results, img / f"{base}.png", f"ours vs Cycles (direct light), {w}x{h}, {meta.get('device', '')}")
+    what = meta.get("light_paths", "direct light")
+    png = plot(results, img / f"{base}.png", f"ours vs Cycles ({what}), {w}x{h}, {meta.get('device', '')}")
     if png:
         paths.append(png)
     return paths
@@ -160,9 +162,10 @@ def main(a) -> int:
     import os
     import platform
 
-    from ..scenes.held_out import KINDS
+    from ..scenes.kinds import KINDS
     from . import bridge as cycles
     from .compare import OURS, run
+    from .paths import LightPaths
 
     if not cycles.available():
         raise ValueError("compare: needs the bpy module (run under a Python with bpy installed)")
@@ -172,17 +175,20 @@ def main(a) -> int:
         bad = [n for n in names if n not in known]
         if bad:
             raise ValueError(f"compare: unknown {what} {bad}; choose from {', '.join(known)}")
+    paths = LightPaths.of(a.max_bounces, a.diffuse_bounces, a.glossy_bounces)
     load = os.getloadavg()
     results = run(kinds, budgets=tuple(a.budgets), reps=a.reps, methods=tuple(methods), width=a.width,
                   height=a.height, reference_spp=a.reference_spp, threads=a.threads, device=a.device,
                   cache_dir=Path(a.cache_dir) if a.cache_dir else None, agreement_seconds=a.agreement_seconds,
-                  cycles_world_map=a.cycles_world_map)
+                  cycles_world_map=a.cycles_world_map, paths=paths)
     from ...core.device import get_device
 
     meta = {"width": a.width, "height": a.height, "budgets": list(a.budgets), "reps": a.reps, "threads": a.threads,
             "device": get_device(a.device).label, "cpu": platform.processor() or platform.machine(),
-            "load_before": load, "load_after": os.getloadavg(), "ours": OURS, "cycles_world_map": a.cycles_world_map}
-    print(f"load average before {load[0]:.2f}, after {meta['load_after'][0]:.2f}")
+            "load_before": load, "load_after": os.getloadavg(), "ours": OURS, "cycles_world_map": a.cycles_world_map,
+            "light_paths": paths.describe(), "light_paths_tag": paths.tag, "max_bounces": paths.max_bounces,
+            "diffuse_bounces": paths.diffuse_bounces, "glossy_bounces": paths.glossy_bounces}
+    print(f"Light Paths: {paths.describe()}; load average before {load[0]:.2f}, after {meta['load_after'][0]:.2f}")
     print(agreement_table(results))
     print(error_table(results))
     print(ratio_table(results))

@@ -68,21 +68,31 @@ LIGHT_PATHS = ("max_bounces", "diffuse_bounces", "glossy_bounces", "min_light_bo
                "light_threshold")
 
 
+def overrides_tag(overrides: dict | None) -> str:
+    """The part of a cache key that names the Settings overrides of a reference (empty without any: the keys of
+    references of direct light stay as they were)."""
+    return "".join(f"_{k}={overrides[k]}" for k in sorted(overrides or {}))
+
+
 def get_reference(scene: Scene, frame: int = 0, seconds_hint: float = 60.0, frames: int | None = None, device=None,
-              cache_dir: Path | None = None, log: Callable[[str], None] = print,
-              paths: Settings | None = None) -> Reference:
-    """A converged image of `scene` at `frame`, cached on disk (see the module docstring). `paths`: settings whose
-    Light Paths (LIGHT_PATHS) the reference renders with (its bounced light: the path pass of still renders);
-    None: direct light only."""
+                  cache_dir: Path | None = None, log: Callable[[str], None] = print,
+                  overrides: dict | None = None, paths: Settings | None = None) -> Reference:
+    """A converged image of `scene` at `frame`, cached on disk (see the module docstring). `overrides`: Settings
+    fields of the estimator beside its method (the Light Paths of `restircl compare --max-bounces`: with bounces the
+    path pass adds the bounced light to the reference estimator's direct light); they are part of the key. `paths`:
+    settings whose Light Paths (LIGHT_PATHS) are added to `overrides` (None: direct light only)."""
     cache_dir = Path(cache_dir or default_cache_dir())
     cache_dir.mkdir(parents=True, exist_ok=True)
     n_lights = len(scene.lights) + emissive_triangle_count(scene, frame)
-    bounces = {name: getattr(paths, name) for name in LIGHT_PATHS} if paths is not None else {}
-    settings = Settings(method="reference" if n_lights <= 16 else "ris", candidates=32, seed=987654, **bounces)
+    overrides = {**({name: getattr(paths, name) for name in LIGHT_PATHS} if paths is not None else {}),
+                 **(overrides or {})}
+    settings = Settings(method="reference" if n_lights <= 16 else "ris", candidates=32, seed=987654,
+                        **overrides).validate()
     r = Renderer(scene, settings, device)
     # the probe also keeps lazy kernel compilation and first uploads out of the timing below
     probe = r.render_still(frame, 2).color
-    key = f"{scene_digest(scene, cache_dir)}_{estimator_digest(probe, r.device.label)}_f{frame}"
+    key = (f"{scene_digest(scene, cache_dir)}_{estimator_digest(probe, r.device.label)}_f{frame}"
+           f"{overrides_tag(overrides)}")
     path = cache_dir / f"reference_{scene.name}_{key}.npy"
     meta_path = path.with_suffix(".json")
     if path.exists() and meta_path.exists():
@@ -102,7 +112,7 @@ def get_reference(scene: Scene, frame: int = 0, seconds_hint: float = 60.0, fram
     img = out.color[..., :3].astype(np.float32)
     np.save(path, img)
     meta = {"method": settings.method, "frames": frames, "seconds": seconds, "est_rel_mse": out.error_estimate,
-            "scene": scene.name, "frame": frame}
+            "scene": scene.name, "frame": frame, "overrides": overrides or {}}
     meta_path.write_text(json.dumps(meta, indent=1))
     est = f"{out.error_estimate:.2e}" if out.error_estimate is not None else "n/a"
     log(f"reference: saved {path} ({seconds:.0f} s, its estimated relMSE {est})")

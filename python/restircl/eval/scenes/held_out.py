@@ -76,19 +76,19 @@ def tube(length: float, radius: float, segments: int, sides: int = 6) -> tuple[n
     return v, tris
 
 
-def _placed(vt: tuple[np.ndarray, np.ndarray], m: np.ndarray, mat: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def placed(vt: tuple[np.ndarray, np.ndarray], m: np.ndarray, mat: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     v, t = vt
     return v @ m[:3, :3].T + m[:3, 3], t, np.array(mat)
 
 
-def _rot_z(deg: float) -> np.ndarray:
+def rot_z(deg: float) -> np.ndarray:
     a = math.radians(deg)
     m = np.eye(4)
     m[:2, :2] = [[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]]
     return m
 
 
-def _rot_x(deg: float) -> np.ndarray:
+def rot_x(deg: float) -> np.ndarray:
     a = math.radians(deg)
     m = np.eye(4)
     m[1:3, 1:3] = [[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]]
@@ -99,10 +99,10 @@ def studio(width: int = WIDTH, height: int = HEIGHT) -> Scene:
     """Few large lights close to the objects: where area-light sampling is noisiest."""
     materials = [Material("floor", (0.6, 0.6, 0.6)), Material("backdrop", (0.5, 0.55, 0.6)),
                  Material("monkey", (0.75, 0.45, 0.25)), Material("ball", (0.3, 0.5, 0.75))]
-    parts = [_placed(quad(12, 12), np.eye(4), 0),
-             _placed(quad(12, 5), translation(0, 3, 2.5) @ _rot_x(90), 1),
-             _placed(blob(4, 0.6), translation(-0.7, 0.1, 0.62), 2),
-             _placed(icosphere(3, 0.45), translation(0.9, -0.3, 0.45), 3)]
+    parts = [placed(quad(12, 12), np.eye(4), 0),
+             placed(quad(12, 5), translation(0, 3, 2.5) @ rot_x(90), 1),
+             placed(blob(4, 0.6), translation(-0.7, 0.1, 0.62), 2),
+             placed(icosphere(3, 0.45), translation(0.9, -0.3, 0.45), 3)]
     v, t, m = merge(parts)
     monkey, ball = (-0.7, 0.1, 0.62), (0.9, -0.3, 0.45)
     lights = [
@@ -131,20 +131,20 @@ def neon(width: int = WIDTH, height: int = HEIGHT) -> Scene:
                  Material("strip_amber", (0.0, 0.0, 0.0), (1.0, 0.6, 0.15), 10.0),
                  Material("bulb", (0.0, 0.0, 0.0), (1.0, 1.0, 0.95), 60.0)]
     sx, sy, sz = 8.0, 6.0, 3.0
-    room = [_placed(quad(sx, sy), np.eye(4), 1),  # floor, facing up
-            _placed(quad(sx, sy), translation(0, 0, sz) @ _rot_x(180), 0),  # ceiling, facing down
-            _placed(quad(sx, sz), translation(0, sy / 2, sz / 2) @ _rot_x(90), 0),  # back, facing -y
-            _placed(quad(sx, sz), translation(0, -sy / 2, sz / 2) @ _rot_x(-90), 0),  # front, facing +y
-            _placed(quad(sy, sz), translation(-sx / 2, 0, sz / 2) @ _rot_z(-90) @ _rot_x(-90), 0),  # left, +x
-            _placed(quad(sy, sz), translation(sx / 2, 0, sz / 2) @ _rot_z(90) @ _rot_x(-90), 0)]  # right, -x
-    blocks = [_placed(box((0.8, 0.8, 0.9)), translation(-1.6, 0.8, 0.45) @ _rot_z(20), 2),
-              _placed(box((0.6, 1.2, 0.5)), translation(1.7, 0.3, 0.25) @ _rot_z(-15), 2),
-              _placed(box((0.5, 0.5, 1.4)), translation(0.2, 1.9, 0.7), 2)]
-    lamps = [_placed(torus(0.8, 0.06, 96, 12), translation(0.0, 1.2, 1.4) @ _rot_x(90), 3)]
+    room = [placed(quad(sx, sy), np.eye(4), 1),  # floor, facing up
+            placed(quad(sx, sy), translation(0, 0, sz) @ rot_x(180), 0),  # ceiling, facing down
+            placed(quad(sx, sz), translation(0, sy / 2, sz / 2) @ rot_x(90), 0),  # back, facing -y
+            placed(quad(sx, sz), translation(0, -sy / 2, sz / 2) @ rot_x(-90), 0),  # front, facing +y
+            placed(quad(sy, sz), translation(-sx / 2, 0, sz / 2) @ rot_z(-90) @ rot_x(-90), 0),  # left, +x
+            placed(quad(sy, sz), translation(sx / 2, 0, sz / 2) @ rot_z(90) @ rot_x(-90), 0)]  # right, -x
+    blocks = [placed(box((0.8, 0.8, 0.9)), translation(-1.6, 0.8, 0.45) @ rot_z(20), 2),
+              placed(box((0.6, 1.2, 0.5)), translation(1.7, 0.3, 0.25) @ rot_z(-15), 2),
+              placed(box((0.5, 0.5, 1.4)), translation(0.2, 1.9, 0.7), 2)]
+    lamps = [placed(torus(0.8, 0.06, 96, 12), translation(0.0, 1.2, 1.4) @ rot_x(90), 3)]
     for k, (x, y, z, yaw) in enumerate([(-2.0, 2.9, 2.6, 0), (2.0, 2.9, 2.6, 0), (-3.9, 0.0, 2.2, 90),
                                         (3.9, 0.0, 2.2, 90), (-1.5, -1.0, 0.05, 30), (1.2, -1.5, 0.05, -40)]):
-        lamps.append(_placed(tube(2.2, 0.03, 40), translation(x, y, z) @ _rot_z(yaw), 4 + k % 2))
-    lamps.append(_placed(icosphere(2, 0.08), translation(-0.5, -0.4, 0.9), 6))
+        lamps.append(placed(tube(2.2, 0.03, 40), translation(x, y, z) @ rot_z(yaw), 4 + k % 2))
+    lamps.append(placed(icosphere(2, 0.08), translation(-0.5, -0.4, 0.9), 6))
     v, t, m = merge(room + blocks + lamps)
     cam = Camera(look_at((0.3, -2.8, 1.6), (0.0, 1.0, 1.0)), width, height, lens=16.0)
     return Scene([Mesh("neon", v, t, m)], materials, [], cam, name="neon")
@@ -155,11 +155,11 @@ def garden(width: int = WIDTH, height: int = HEIGHT, lights: int = 300, seed: in
     0.2..2.5 m above a ground with 60 boxes."""
     rng = np.random.default_rng(seed)
     materials = [Material("ground", (0.4, 0.5, 0.35)), Material("boxes", (0.7, 0.65, 0.6))]
-    parts = [_placed(quad(30, 30), np.eye(4), 0)]
+    parts = [placed(quad(30, 30), np.eye(4), 0)]
     for _ in range(60):
         size = rng.uniform(0.3, 1.5, 3)
         x, y = rng.uniform(-12, 12, 2)
-        parts.append(_placed(box(tuple(size)), translation(x, y, size[2] / 2) @ _rot_z(rng.uniform(0, 90)), 1))
+        parts.append(placed(box(tuple(size)), translation(x, y, size[2] / 2) @ rot_z(rng.uniform(0, 90)), 1))
     v, t, m = merge(parts)
     powers = np.exp(rng.uniform(math.log(0.1), math.log(1000.0), lights))
     pos = np.column_stack([rng.uniform(-12, 12, lights), rng.uniform(-12, 12, lights), rng.uniform(0.2, 2.5, lights)])
@@ -174,10 +174,10 @@ def sky(width: int = WIDTH, height: int = HEIGHT) -> Scene:
     """An HDRI with a small bright sun and nothing else: where the environment's importance sampling matters."""
     materials = [Material("floor", (0.55, 0.55, 0.5)), Material("lump", (0.7, 0.5, 0.35)),
                  Material("ball", (0.35, 0.55, 0.7)), Material("block", (0.6, 0.6, 0.65))]
-    parts = [_placed(quad(14, 14), np.eye(4), 0), _placed(blob(4, 0.7, seed=5), translation(-0.9, 0.4, 0.7), 1),
-             _placed(icosphere(3, 0.5), translation(0.9, -0.4, 0.5), 2),
-             _placed(box((0.8, 0.8, 1.6)), translation(2.2, 1.2, 0.8) @ _rot_z(30), 3),
-             _placed(box((2.5, 0.3, 0.9)), translation(-0.5, 2.0, 0.45), 3)]
+    parts = [placed(quad(14, 14), np.eye(4), 0), placed(blob(4, 0.7, seed=5), translation(-0.9, 0.4, 0.7), 1),
+             placed(icosphere(3, 0.5), translation(0.9, -0.4, 0.5), 2),
+             placed(box((0.8, 0.8, 1.6)), translation(2.2, 1.2, 0.8) @ rot_z(30), 3),
+             placed(box((2.5, 0.3, 0.9)), translation(-0.5, 2.0, 0.45), 3)]
     v, t, m = merge(parts)
     sun = np.array([-0.55, 0.45, 0.45])
     world = Environment("held_out_sky", color=(1.0, 1.0, 1.0), strength=1.0, image=sky_map(256, 512, sun=sun))
