@@ -17,6 +17,7 @@
 #define LIGHT_FLAG_SOFT_FALLOFF 2
 #define LIGHT_FLAG_SOLID_ANGLE  4
 #define LIGHT_FLAG_SA_AUTO      8
+#define LIGHT_FLAG_SA_NEAR      16
 
 /* flags of the environment light's record (lights/environment.py) */
 #define ENV_FLAG_CAMERA 2

@@ -5,6 +5,7 @@
 
 #include "lights/eval.h"
 #include "lights/record.h"
+#include "sampling/warps.h"
 
 typedef struct {
     float3 origin;   /* p.xyz: triangle v0, quad corner, disk centre */
@@ -72,6 +73,16 @@ inline bool planar_ray_coords(PlanarLight pl, float3 x, float3 wi, float2* ab)
     float3 q = x + t * wi - pl.origin;
     *ab = (float2)(dot3(cross3(q, pl.span_v), n), dot3(cross3(pl.span_u, q), n)) / nn;
     return true;
+}
+
+/* The coordinates (a, b) on the plane of pl of the direction (r0, r1) uniform over the hemisphere at x towards the
+ * plane (solid_angle.h SA_HEMISPHERE; the caller tests whether the point is on its shape). Its area density there is
+ * planar_sa_pdf with S = 2 pi. */
+inline bool planar_hemisphere_ab(PlanarLight pl, float3 x, float r0, float r1, float2* ab)
+{
+    float3 n = planar_normal(pl);
+    float3 towards_plane = dot3(n, pl.origin - x) >= 0.0f ? n : -n;
+    return planar_ray_coords(pl, x, cone_dir(towards_plane, 1.0f, r0, r1), ab);
 }
 
 #endif

@@ -15,22 +15,29 @@ inline bool quad_eval(const __global Light* l, float u, float v, float3 x, float
     return planar_contrib(l, pl, corner + u * edge_u + v * edge_v, x, n, e);
 }
 
-/* The spherical rectangle of quad pl at x, when it is sampled by solid angle there (solid_angle.h). */
-inline bool quad_solid_angle(const __global Light* l, PlanarLight pl, float3 x, SphRect* r)
+/* How quad pl is sampled at x (solid_angle.h SA_*), and its spherical rectangle there when it is by solid angle. */
+inline int quad_solid_angle(const __global Light* l, PlanarLight pl, float3 x, SphRect* r)
 {
     float3 dc = pl.origin + 0.5f * (pl.span_u + pl.span_v) - x;
     float extent2 = 0.25f * (dot3(pl.span_u, pl.span_u) + dot3(pl.span_v, pl.span_v));
-    return sa_wanted(l, extent2, dot3(dc, dc)) && sph_rect_setup(pl.origin, pl.span_u, pl.span_v, x, r) &&
-           sa_in_range(r->S);
+    if (!sa_wanted(l, extent2, dot3(dc, dc)) || !sph_rect_setup(pl.origin, pl.span_u, pl.span_v, x, r)) return SA_AREA;
+    return sa_choice(r->S);
 }
 
 inline float2 quad_sample(const __global Light* l, float3 x, float r0, float r1, float* pdf)
 {
     PlanarLight pl = planar_light(l);
     SphRect r;
-    if (!quad_solid_angle(l, pl, x, &r)) return planar_sample(l, r0, r1, pdf);
-    float2 st = sph_rect_sample(&r, r0, r1);
-    *pdf = planar_sa_pdf(pl, st, x, r.S);
+    int how = quad_solid_angle(l, pl, x, &r);
+    if (how == SA_AREA) return planar_sample(l, r0, r1, pdf);
+    float2 st;
+    if (how == SA_MAP) {
+        st = sph_rect_sample(&r, r0, r1);
+    } else if (!planar_hemisphere_ab(pl, x, r0, r1, &st) || !(st.x >= 0.0f && st.x < 1.0f && st.y >= 0.0f && st.y < 1.0f)) {
+        *pdf = 0.0f;
+        return (float2)(r0, r1);
+    }
+    *pdf = planar_sa_pdf(pl, st, x, sa_sampled_sr(how, r.S));
     return st;
 }
 
@@ -39,8 +46,8 @@ inline float quad_point_pdf(const __global Light* l, float3 x, const LightEval* 
 {
     PlanarLight pl = planar_light(l);
     SphRect r;
-    bool sa = quad_solid_angle(l, pl, x, &r);
-    return sa_point_pdf(sa, sa ? r.S : 0.0f, pl.area, e);
+    int how = quad_solid_angle(l, pl, x, &r);
+    return sa_point_pdf(how, how == SA_AREA ? 0.0f : r.S, pl.area, e);
 }
 
 /* The sample (u, v) of l that the ray x + t wi (t > 0) hits; false when it misses the quad. */

@@ -92,8 +92,17 @@ inline float2 soft_disk_sample(SphereLight sp, float dc, float omc, float r0, fl
     return (float2)(clamp_f(0.5f + 0.5f * k * a, 0.0f, 0.99999994f), clamp_f(0.5f + 0.5f * k * b, 0.0f, 0.99999994f));
 }
 
-/* Uniform in (u, v) for points, soft-falloff disks and shading points inside the sphere; from outside, uniform in
- * the solid angle of the visible cap, with *pdf converted to the sphere's area measure. */
+/* The area density of a point at distance dist seen under cos_l, drawn uniformly in a cone of 1 - cos = omc. */
+inline float cone_area_pdf(float cos_l, float dist, float omc)
+{
+    return cos_l > 0.0f ? cos_l / (dist * dist * 2.0f * RESTIRCL_PI * omc) : 0.0f;
+}
+
+/* Uniform in (u, v) for points, soft-falloff disks and shading points inside the sphere; from outside (touching
+ * included: area sampling there weighs a point by 1 / d^2, unbounded where a receiver touches the sphere), uniform in
+ * the solid angle of the visible cap, with *pdf converted to the sphere's area measure at the point that (u, v) maps
+ * back to, which sphere_eval evaluates: the weight contribution / pdf is then Le cos_x 2 pi omc however close to the
+ * cap's rim (cos_l -> 0) the point is. */
 inline float2 sphere_sample(const __global Light* l, float3 x, float r0, float r1, float* pdf)
 {
     SphereLight sp = sphere_light(l);
@@ -109,7 +118,7 @@ inline float2 sphere_sample(const __global Light* l, float3 x, float r0, float r
     float3 d = sp.centre - x;
     float dc2 = dot3(d, d);
     float r2 = r * r;
-    if (dc2 <= r2 * 1.0001f) {  /* inside or touching: uniform over the sphere's area */
+    if (!(dc2 > r2)) {  /* inside: uniform over the sphere's area */
         *pdf = 1.0f / (4.0f * RESTIRCL_PI * r2);
         return (float2)(r0, r1);
     }
@@ -128,14 +137,12 @@ inline float2 sphere_sample(const __global Light* l, float3 x, float r0, float r
     float3 s, t;
     light_onb(wc, &s, &t);
     float3 ny = -(sin_a * cos(phi) * s + sin_a * sin(phi) * t + cos_a * wc);
-    ny = norm3(ny);
-    /* area density of the point: pdf_omega * cos_l / dist^2 */
-    float3 y = sp.centre + r * ny;
-    float3 dy = x - y;
-    float dist2 = dot3(dy, dy);
-    float cos_l = dot3(ny, dy) * rsqrt(fmax_f(dist2, 1e-38f));
-    *pdf = (cos_l > 0.0f && dist2 > 0.0f) ? cos_l / (dist2 * 2.0f * RESTIRCL_PI * omc) : 0.0f;
-    return sphere_uv(ny);
+    float2 uv = sphere_uv(norm3(ny));
+    ny = sphere_dir(uv.x, uv.y);  /* the point sphere_eval will evaluate, and its density as area_contrib sees it */
+    float3 wi;
+    float dist, d2;
+    *pdf = towards(sp.centre + r * ny, x, &wi, &dist, &d2) ? cone_area_pdf(-dot3(ny, wi), dist, omc) : 0.0f;
+    return uv;
 }
 
 /* The sample (u, v) of l that the ray x + t wi (t > 0) hits: the nearer point of the sphere, or, with soft
@@ -188,16 +195,14 @@ inline float sphere_point_pdf(const __global Light* l, float3 x, const LightEval
         float3 w;
         float dc, omc;
         if (!soft_disk_cone(l, sp, x, &w, &dc, &omc)) return 1.0f / (RESTIRCL_PI * r * r);
-        float cos_l = -dot3(e->nl, e->wi);
-        return cos_l > 0.0f ? cos_l / (e->dist * e->dist * 2.0f * RESTIRCL_PI * omc) : 0.0f;
+        return cone_area_pdf(-dot3(e->nl, e->wi), e->dist, omc);
     }
     float3 d = sp.centre - x;
     float dc2 = dot3(d, d), r2 = r * r;
-    if (dc2 <= r2 * 1.0001f) return 1.0f / (4.0f * RESTIRCL_PI * r2);
+    if (!(dc2 > r2)) return 1.0f / (4.0f * RESTIRCL_PI * r2);
     float sin2max = r2 / dc2;
     float omc = sin2max / (1.0f + sqrt(fmax_f(0.0f, 1.0f - sin2max)));
-    float cos_l = -dot3(e->nl, e->wi);
-    return cos_l > 0.0f ? cos_l / (e->dist * e->dist * 2.0f * RESTIRCL_PI * omc) : 0.0f;
+    return cone_area_pdf(-dot3(e->nl, e->wi), e->dist, omc);
 }
 
 /* A point (radius 0) is a delta no ray meets. The host's half of this rule is python/restircl/lights/sphere.py

@@ -12,6 +12,7 @@ from restircl.cli.main import main
 from restircl.core import layouts as L
 from restircl.eval.stress import suite as stress
 from restircl.eval.stress.catalog import CASES
+from restircl.eval.stress.convergence import CONVERGING, SLOPE_RANGE, slope
 from restircl.eval.stress.judging import METHODS, format_table
 from restircl.eval.stress.references import analytic_direct
 from restircl.lights import quad, sphere
@@ -31,11 +32,37 @@ def test_stress_case(device, name):
         for v in (r.flicker, r.flicker_error, r.flicker_ratio, r.boiling):
             assert math.isfinite(v) and v >= 0, (r.case, r.method, r.flicker, r.flicker_error, r.boiling)
         assert r.flicker <= r.flicker_error * (1 + 1e-9) and r.flicker_ratio <= 1 + 1e-9
+        # the contact case's error falls as 1 / N for every method whose error vanishes (eval/stress/convergence.py);
+        # the other cases do not measure it
+        if name == "contact" and r.method in CONVERGING:
+            assert SLOPE_RANGE[0] <= r.slope <= SLOPE_RANGE[1], (r.method, r.slope, r.notes)
+        else:
+            assert math.isnan(r.slope), (r.case, r.method, r.slope)
         if name == "all_behind":  # an image that is exactly 0 neither flickers nor boils
             assert r.flicker == 0 and r.flicker_error == 0 and r.boiling == 0, (r.method, r.flicker, r.boiling)
         elif name != "long_animation" and r.method in ("uniform", "light_array", "ris"):
             # no reservoir history: the held frame's noise is still there, so its TAA output changes every frame
             assert r.flicker > 0, (r.case, r.method)
+
+
+@pytest.mark.slow
+def test_contact_full_size_error_falls_as_one_over_n(device):
+    """The full contact case (32 x 32, 16 runs): relMSE at 64, 256 and 1024 frames, slope near -1 for every method
+    whose error vanishes."""
+    results = stress.run(full=True, names=["contact"], methods=list(CONVERGING), device=device)
+    print("\n" + format_table(results))
+    for r in results:
+        assert r.passed and SLOPE_RANGE[0] <= r.slope <= SLOPE_RANGE[1], (r.method, r.slope, r.notes)
+
+
+def test_slope_of_the_error():
+    """The judge's slope: exactly -1 for errors proportional to 1 / N, the tail's -2/3 for N^(-2/3), and an error that
+    jumps up (a huge sample at the second count) gives a slope far above the bound."""
+    frames = (64, 256, 1024)
+    assert slope(frames, tuple(3.0 / n for n in frames)) == pytest.approx(-1.0, abs=1e-12)
+    assert slope(frames, tuple(n ** (-2 / 3) for n in frames)) == pytest.approx(-2 / 3, abs=1e-12)
+    assert slope(frames, (0.03, 6.0, 0.38)) > SLOPE_RANGE[1]  # issue 37's neon
+    assert slope(frames, (1e-3, 2e-4, 0.0)) == -math.inf
 
 
 def _record(kind: int, p, a=(0, 0, 0), b=(0, 0, 0), radiance=(1, 1, 1), radius: float = 0.0) -> list:

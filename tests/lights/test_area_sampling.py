@@ -3,7 +3,9 @@ solid_angle.h): the sampled points follow the density cos_l / (d^2 S) that the d
 bin probabilities integrated in numpy, overhead, close-up and grazing), the density integrates to one over the
 light's visible part, light_point_pdf (MIS with BSDF candidates) gives the same density, no NaN where the shading
 point lies on the light's plane, behind it, 1e-4 or 1e4 away; RIS and the unbiased ReSTIR modes agree with the
-exhaustive reference with it; and it cuts the per-frame variance of RIS where lights are large and close."""
+exhaustive reference with it; the weight of a sample stays bounded however close the shading point is, in every
+mode, since `area` too samples by solid angle next to a light; and it cuts the per-frame variance of RIS where lights
+are large and close."""
 
 import dataclasses
 import math
@@ -205,8 +207,49 @@ def test_no_nan_at_odd_shading_points(device, kind, mode):
         assert np.all(pdf[lit] > 0), (kind, name)
 
 
+# shading points closing in on a light at (0.2, -0.1, 1) (the quad, disk and soft point light; the triangle's plane is
+# z = 1 too): face to face under it, beside its edge (a receiver it stands on), and, for the spheres, at its surface
+def _closing_in(kind: str, d: float) -> list[tuple[np.ndarray, np.ndarray]]:
+    centre = np.array([0.2, -0.1, 1.0])
+    up = np.array([0.0, 0.0, 1.0])
+    if kind in ("soft", "sphere"):
+        out = np.array([0.6, 0.0, -0.8])  # from the centre, radius 0.3 (+ d) out
+        side = np.array([0.0, 1.0, 0.0])
+        return [(centre + (0.3 + d) * out, -out), (centre + (0.3 + d) * side, -side)]
+    edge = {"quad": np.array([0.8, -0.1, 1.0]), "disk": np.array([0.8, -0.1, 1.0]),
+            "triangle": np.array([0.7, -0.3, 1.0])}[kind]
+    side = np.array([1.0, 0.0, 0.0]) if kind != "triangle" else np.array([0.96, -0.28, 0.0])
+    return [(centre - d * up, up), (np.array([0.1, 0.0, 1.0]) - d * up, up), (edge + d * side - d * up, -side)]
+
+
+@pytest.mark.parametrize("kind", ["quad", "disk", "triangle", "soft", "sphere"])
+@pytest.mark.parametrize("mode", ["area", SA, "auto"])
+def test_weights_stay_bounded_next_to_the_light(device, kind, mode):
+    """The weight of a light sample, contribution / density = Le cos_x G / pdf, stays below 2 pi Le in every mode
+    however close the shading point is (1 cm .. 10 um): drawn uniformly in area next to the light it grows as 1 / d^2
+    (pi Le A / d^2), and a receiver touching an emitter got fireflies that never averaged out (issue 37). Solid angle
+    bounds it by Le S <= 2 pi Le (lights/solid_angle.h); beyond twice the light's radius, area sampling by pi Le."""
+    if kind == "soft":
+        light = Light("s", "point", (1, 1, 1), 50.0, translation(0.2, -0.1, 1.0), radius=0.3)
+        recs = scene_lights(Scene(lights=[light]), 0, area_sampling=mode).records
+    elif kind == "sphere":
+        light = Light("s", "point", (1, 1, 1), 50.0, translation(0.2, -0.1, 1.0), radius=0.3, soft_falloff=False)
+        recs = scene_lights(Scene(lights=[light]), 0, area_sampling=mode).records
+    else:
+        recs = records(kind, 1.0, mode)
+    le = float(recs[0]["L"][:3].max())
+    for d in (1e-2, 1e-3, 1e-4, 1e-5):
+        for x, n in _closing_in(kind, d):
+            out = sample(device, recs, x, n=n, count=20_000, seed=3)
+            pdf, contrib = out[:, 0, 3].astype(np.float64), out[:, 2, :3].astype(np.float64)
+            lit = contrib.any(axis=1)
+            assert lit.mean() > 0.5, (kind, mode, d, x)
+            w = contrib[lit].max(axis=1) / pdf[lit]
+            assert w.max() <= 2 * math.pi * le * 1.001, (kind, mode, d, x, w.max() / le)
+
+
 def test_modes_flag_only_the_lights_they_sample_by_solid_angle():
-    from restircl.lights.area_sampling import FLAG_SA_AUTO, FLAG_SOLID_ANGLE, sampling_flags
+    from restircl.lights.area_sampling import FLAG_SA_AUTO, FLAG_SA_NEAR, FLAG_SOLID_ANGLE, sampling_flags
 
     lights = [area_light("RECTANGLE"), area_light("ELLIPSE"),
               Light("p", "point", (1, 1, 1), 5.0, translation(0, 0, 1), radius=0.2),
@@ -214,7 +257,9 @@ def test_modes_flag_only_the_lights_they_sample_by_solid_angle():
               Light("sun", "sun", (1, 1, 1), 1.0, translation(0, 0, 1), angle=0.1)]
     scene = Scene([Mesh("tri", TRI, [[0, 1, 2]], 0)], [Material("lamp", (0, 0, 0), (1, 1, 1), 3.0)], lights)
     dl = scene_lights(scene, 0)
-    assert not sampling_flags(dl.records, dl.types, "area").any()
+    # area: by solid angle only near the light (never uniformly in area right next to it)
+    assert sampling_flags(dl.records, dl.types, "area").tolist() == [FLAG_SOLID_ANGLE | FLAG_SA_NEAR] * 3 + [
+        0, 0, FLAG_SOLID_ANGLE | FLAG_SA_NEAR]
     assert sampling_flags(dl.records, dl.types, SA).tolist() == [FLAG_SOLID_ANGLE] * 3 + [0, 0, FLAG_SOLID_ANGLE]
     assert sampling_flags(dl.records, dl.types, "auto").tolist() == [FLAG_SOLID_ANGLE | FLAG_SA_AUTO] * 3 + [
         0, 0, FLAG_SOLID_ANGLE | FLAG_SA_AUTO]
@@ -280,16 +325,18 @@ def test_estimators_with_solid_angle_sampling_match_reference(device, references
 
 
 @pytest.mark.parametrize("glossy", [False, True])
-def test_solid_angle_sampling_cuts_the_variance_of_large_close_lights(device, glossy):
-    """Not a timing test: per-frame variance of RIS (4 candidates, no BSDF candidates) on large_lights_scene with
-    area and with solid-angle sampling, the same seeds."""
+def test_area_mode_samples_large_close_lights_by_solid_angle(device, glossy):
+    """Not a timing test: per-frame variance of RIS (4 candidates, no BSDF candidates) on large_lights_scene, whose
+    shading points are all within twice some light's radius of it: `area` samples those lights by solid angle as
+    `solid_angle` does (lights/solid_angle.h SA_NEAR_RATIO), so its variance is solid angle's (measured 0.3 % and
+    0.7 % apart), not the 1.25x and more that uniform area sampling had there."""
     scene = large_lights_scene(W, H, glossy)
     var = {}
     for mode in ("area", SA):
         x = collect(scene, Settings(method="ris", candidates=4, bsdf_sampling="off", area_sampling=mode, seed=31,
                                     jitter=False), 512, device)
         var[mode] = luminance(x).var(axis=0).mean()
-    assert var[SA] < 0.8 * var["area"], var
+    assert abs(var["area"] / var[SA] - 1) < 0.05, var
 
 
 def test_trig_polynomials_match_numpy(device):

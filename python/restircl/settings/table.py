@@ -95,7 +95,8 @@ AREA_SAMPLING_CHOICES = (
     Choice("auto", "Auto", "Solid angle where an area light looks large from the shaded point, area elsewhere", 0),
     Choice("solid_angle", "Solid Angle", "Area lights, emissive triangles and soft point lights sampled uniformly "
            "in the solid angle they subtend (where float32 allows)", 1),
-    Choice("area", "Area", "Area lights and emissive triangles sampled uniformly in area", 2),
+    Choice("area", "Area", "Area lights and emissive triangles sampled uniformly in area, except within twice their "
+           "radius (there in solid angle, as uniform area sampling would give fireflies next to a light)", 2),
 )
 #: BSDF rays are tested against at most this many analytic lights (a loop per ray); beyond it the BSDF strategy
 #: leaves them to light sampling (pdf 0 in the MIS weights, which stay correct)

@@ -38,6 +38,8 @@ class Case:
     no_ghost: bool = False  # sequence: with TAA on, the frame under test must be its own sample (history rejected)
     long_batch: int = 100  # long: frames per batch mean
     long_warmup: int = 100  # long: frames before the batches start
+    convergence: tuple[int, ...] = ()  # still: frame counts whose relMSE must fall as 1 / N (stress/convergence.py)
+    convergence_runs: int = 8  # independent runs the relMSE at each of those counts is averaged over
 
 
 def _floor(size: float = 4.0, material: int = 0, z: float = 0.0) -> Mesh:

@@ -1,4 +1,5 @@
-"""Every case of the stress suite by name (eval/stress/cases.py: direct light; bounces.py: light that bounces)."""
+"""Every case of the stress suite by name (eval/stress/cases.py: direct light; contact.py: receivers touching emitters;
+bounces.py: light that bounces)."""
 
 from __future__ import annotations
 
@@ -20,10 +21,11 @@ from .cases import (
     teleport_cut,
     touching,
 )
+from .contact import contact
 
 CASES: dict[str, Callable[[bool], Case]] = {
     f.__name__ if f.__name__ != "offset" else "offset_1e5": f
-    for f in (power_span, million_lights, area_extremes, touching, grazing, offset, degenerate, all_behind,
+    for f in (power_span, million_lights, area_extremes, touching, grazing, contact, offset, degenerate, all_behind,
               teleport_cut, teleport, switch_off, long_animation, bounces.mirror_room, bounces.hidden_emitter,
               bounces.thousand_bounces, bounces.black_world)
 }

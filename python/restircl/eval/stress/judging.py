@@ -21,6 +21,7 @@ from ...render.pipeline import Renderer
 from ...settings.table import Settings
 from ..report.flicker import stats as flicker_stats
 from .cases import Case
+from .convergence import CONVERGING, convergence_runs
 from .references import Reference, luminance
 
 # name -> Settings overrides
@@ -73,6 +74,8 @@ class Result:
     flicker_error: float = math.nan
     flicker_ratio: float = math.nan
     boiling: float = math.nan
+    # cases with Case.convergence: the slope of log relMSE on log frames (eval/stress/convergence.py); NaN elsewhere
+    slope: float = math.nan
 
     def row(self) -> list[str]:
         def g(v: float) -> str:
@@ -81,12 +84,11 @@ class Result:
         return [self.case, self.method, str(self.nonfinite), g(self.max_value), g(self.rel_mse),
                 g(self.expected_rel_mse), f"{self.outliers}/{self.allowed}", g(self.z_image), g(self.rel_bias),
                 "pass" if self.passed else "FAIL", f"{self.seconds:.1f}", g(self.flicker), g(self.flicker_ratio),
-                g(self.boiling),
-                "; ".join(self.notes)]
+                g(self.boiling), g(self.slope), "; ".join(self.notes)]
 
 
 HEADER = ["case", "method", "NaN/Inf", "max", "relMSE", "expected", "z>4 px", "z image", "bias", "result", "s",
-          "flicker", "flk/err", "boil px", "notes"]
+          "flicker", "flk/err", "boil px", "slope", "notes"]
 FLICKER_FRAMES = 16  # consecutive outputs the flicker statistics are taken over
 FLICKER_WARMUP = 16  # still and sequence cases: frames of the held camera before them (history fills)
 
@@ -190,8 +192,11 @@ def run_method(case: Case, method: str, ref: Reference, device=None, seed: int =
         warnings.simplefilter("ignore")  # degenerate triangles are dropped with a warning: expected here
         r = Renderer(case.scene, _settings(case, method, seed0), device)
     seen = _Seen()
+    conv = None
     if case.kind == "still":
         values, samples = _still_runs(case, method, r, seed0, seen)
+        if case.convergence and method in CONVERGING:
+            conv = convergence_runs(case, r, seed0, ref.mean, seen)
     elif case.kind == "sequence":
         values, samples = _sequence_runs(case, r, seed0, seen, notes)
         if case.no_ghost:
@@ -206,6 +211,10 @@ def run_method(case: Case, method: str, ref: Reference, device=None, seed: int =
                  samples, notes)
     st = flicker_stats(method, "still", last, [ref.mean] * len(last))
     res.flicker, res.flicker_error, res.flicker_ratio, res.boiling = st.flicker, st.error, st.ratio, st.boiling
+    if conv is not None:
+        res.slope = conv.slope
+        if not conv.passed:
+            res.notes.append(conv.note())
     bad = [n for n in notes if not n.startswith("max ")]
     if bad and res.passed:
         res.passed = False

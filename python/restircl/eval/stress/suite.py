@@ -19,6 +19,9 @@ The biased ReSTIR mode must not be brighter than the reference beyond 4 standard
 15% that tests/render/test_restir.py bounds its darkening by. Every case requires zero NaN/Inf: the renderer's guard
 counters (Frame.guards) plus a scan of every array it returned. relMSE = mean (x - r)^2 / (r^2 + 0.01) of the mean
 image; `expected` is what the measured variances alone predict for it (a ratio near 1 means no visible bias).
+Cases that list frame counts in `convergence` (eval/stress/contact.py: receivers touching emitters) also judge
+every method whose error must vanish by how its relMSE falls with the frames: the slope of log relMSE on log N,
+-1 for an estimator of finite variance, must lie in [-1.3, -0.7] (eval/stress/convergence.py).
 
 Kinds of case: `still` (runs of a still camera, render_still), `sequence` (per run: a few frames, then the frame
 under test; its 1-sample image is the run's value, the mean of 8 samples of that frame for methods without
