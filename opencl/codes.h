@@ -35,10 +35,15 @@
 #define TEX_NONE     (-1)
 
 /* texture nodes (TexNode.op.x) (upload/textures.py NODE_KINDS) */
-#define TEXNODE_IMAGE      0
-#define TEXNODE_CHECKER    1
-#define TEXNODE_MIX        2
-#define TEXNODE_NORMAL_MAP 3
+#define TEXNODE_IMAGE          0
+#define TEXNODE_CHECKER        1
+#define TEXNODE_MIX            2
+#define TEXNODE_NORMAL_MAP     3
+#define TEXNODE_SEPARATE_COLOR 4
+#define TEXNODE_COMBINE_COLOR  5
+#define TEXNODE_MATH           6
+#define TEXNODE_VECTOR_MATH    7
+#define TEXNODE_INVERT         8
 
 /* image interpolation (TexNode.op.y) (materials/textures.py INTERPOLATIONS) */
 #define TEXINTERP_LINEAR  0
@@ -55,15 +60,81 @@
 #define TEXCOORD_OBJECT    2
 
 /* Mix Color blend modes (TexNode.op.y) (materials/textures.py MIX_BLENDS) */
-#define TEXMIX_MIX        0
-#define TEXMIX_MULTIPLY   1
-#define TEXMIX_ADD        2
-#define TEXMIX_SUBTRACT   3
-#define TEXMIX_SCREEN     4
-#define TEXMIX_DIFFERENCE 5
-#define TEXMIX_DARKEN     6
-#define TEXMIX_LIGHTEN    7
-#define TEXMIX_OVERLAY    8
+#define TEXMIX_MIX          0
+#define TEXMIX_MULTIPLY     1
+#define TEXMIX_ADD          2
+#define TEXMIX_SUBTRACT     3
+#define TEXMIX_SCREEN       4
+#define TEXMIX_DIFFERENCE   5
+#define TEXMIX_DARKEN       6
+#define TEXMIX_LIGHTEN      7
+#define TEXMIX_OVERLAY      8
+#define TEXMIX_BURN         9
+#define TEXMIX_DODGE        10
+#define TEXMIX_DIVIDE       11
+#define TEXMIX_SOFT_LIGHT   12
+#define TEXMIX_LINEAR_LIGHT 13
+#define TEXMIX_EXCLUSION    14
+#define TEXMIX_HUE          15
+#define TEXMIX_SATURATION   16
+#define TEXMIX_VALUE        17
+#define TEXMIX_COLOR        18
+
+/* Separate / Combine Color modes (TexNode.op.y) (materials/textures.py COLOR_MODES) */
+#define TEXCOLOR_RGB 0
+#define TEXCOLOR_HSV 1
+#define TEXCOLOR_HSL 2
+
+/* Math operations (TexNode.op.y) (materials/textures.py MATH_OPS) */
+#define TEXMATH_ADD            0
+#define TEXMATH_SUBTRACT       1
+#define TEXMATH_MULTIPLY       2
+#define TEXMATH_DIVIDE         3
+#define TEXMATH_MULTIPLY_ADD   4
+#define TEXMATH_POWER          5
+#define TEXMATH_LOGARITHM      6
+#define TEXMATH_SQRT           7
+#define TEXMATH_INVERSE_SQRT   8
+#define TEXMATH_ABSOLUTE       9
+#define TEXMATH_EXPONENT       10
+#define TEXMATH_MINIMUM        11
+#define TEXMATH_MAXIMUM        12
+#define TEXMATH_LESS_THAN      13
+#define TEXMATH_GREATER_THAN   14
+#define TEXMATH_SIGN           15
+#define TEXMATH_COMPARE        16
+#define TEXMATH_ROUND          17
+#define TEXMATH_FLOOR          18
+#define TEXMATH_CEIL           19
+#define TEXMATH_TRUNC          20
+#define TEXMATH_FRACT          21
+#define TEXMATH_MODULO         22
+#define TEXMATH_FLOORED_MODULO 23
+#define TEXMATH_SNAP           24
+#define TEXMATH_SINE           25
+#define TEXMATH_COSINE         26
+#define TEXMATH_TANGENT        27
+#define TEXMATH_ARCTAN2        28
+#define TEXMATH_RADIANS        29
+#define TEXMATH_DEGREES        30
+
+/* Vector Math operations (TexNode.op.y) (materials/textures.py VECTOR_OPS) */
+#define TEXVEC_ADD           0
+#define TEXVEC_SUBTRACT      1
+#define TEXVEC_MULTIPLY      2
+#define TEXVEC_DIVIDE        3
+#define TEXVEC_SCALE         4
+#define TEXVEC_ABSOLUTE      5
+#define TEXVEC_MINIMUM       6
+#define TEXVEC_MAXIMUM       7
+#define TEXVEC_FLOOR         8
+#define TEXVEC_CEIL          9
+#define TEXVEC_FRACTION      10
+#define TEXVEC_NORMALIZE     11
+#define TEXVEC_CROSS_PRODUCT 12
+#define TEXVEC_DOT_PRODUCT   13
+#define TEXVEC_LENGTH        14
+#define TEXVEC_DISTANCE      15
 
 /* texture programs (upload/textures.py) */
 #define MAX_TEX_PROGRAM 16

@@ -89,11 +89,13 @@ typedef struct {
     float4 m0;         /* rows of the coordinate mapping (Mapping node, Point): c' = (m0.c, m1.c, m2.c) + w */
     float4 m1;
     float4 m2;
-    int4 op;           /* x: TEXNODE_*; y: Mix blend (TEXMIX_*) / image interpolation (TEXINTERP_*); z: image
-                          extension (TEXEXT_*); w: coordinates (TEXCOORD_*) */
+    int4 op;           /* x: TEXNODE_*; y: Mix blend (TEXMIX_*) / image interpolation (TEXINTERP_*) / colour mode
+                          (TEXCOLOR_*) / operation (TEXMATH_*, TEXVEC_*); z: image extension (TEXEXT_*) / Separate
+                          Color's channel; w: coordinates (TEXCOORD_*) */
     int4 in;           /* x, y, z: node feeding a, b, the factor (-1: the constant); w: image index */
-    int4 blk;          /* x: first node of the program ending here; y: 1 = clamp the Mix factor; z: 1 = the image's
-                          texels are sRGB-encoded: decode after filtering (8-bit sRGB images, as Cycles); w: unused */
+    int4 blk;          /* x: first node of the program ending here; y: 1 = clamp the Mix factor / Math's result; z: 1 =
+                          the image's texels are sRGB-encoded: decode after filtering (8-bit sRGB images, as Cycles) /
+                          clamp the Mix result; w: 1 = the node gives a number (tex_number reads it as it is) */
 } TexNode;             /* 144 bytes */
 
 /* One image and its mip chain in the texel buffer: level 0 (width x height texels, bottom row first as Blender

@@ -37,10 +37,17 @@ inline ClosureInputs closure_constants(const __global Closure* c)
     return in;
 }
 
+/* the number a value input reads from the program ending at node root */
+inline float tex_input_number(const __global TexNode* nodes, const __global TexImage* images,
+                              const __global float4* texels, int root, const TexPoint* tp)
+{
+    return tex_number(nodes, root, texture_eval(nodes, images, texels, root, tp));
+}
+
 /* The inputs of closure c at the surface point tp: the constants, with every input that has a texture node
  * (c->tex, c->tex2) replaced by the node's value; a colour feeding a value input is read as its luminance, as
- * Blender converts it, and clamped to the input's range as Cycles clamps it (Metallic, Roughness and the Mix factor
- * to [0, 1], colours and Specular IOR Level to >= 0). */
+ * Blender converts it (a node that gives a number, as it is: tex_number), and clamped to the input's range as Cycles
+ * clamps it (Metallic, Roughness and the Mix factor to [0, 1], colours and Specular IOR Level to >= 0). */
 inline ClosureInputs closure_inputs(const __global Closure* c, const __global TexNode* nodes,
                                     const __global TexImage* images, const __global float4* texels,
                                     const TexPoint* tp)
@@ -50,13 +57,13 @@ inline ClosureInputs closure_inputs(const __global Closure* c, const __global Te
     in.normal = tp->ns;
     float3 zero = (float3)(0.0f);
     if (tex.x >= 0) in.base = fmax(texture_eval(nodes, images, texels, tex.x, tp).xyz, zero);
-    if (tex.y >= 0) in.metallic = clamp_f(tex_gray(texture_eval(nodes, images, texels, tex.y, tp).xyz), 0.0f, 1.0f);
-    if (tex.z >= 0) in.roughness = clamp_f(tex_gray(texture_eval(nodes, images, texels, tex.z, tp).xyz), 0.0f, 1.0f);
-    if (tex.w >= 0) in.specular = fmax_f(tex_gray(texture_eval(nodes, images, texels, tex.w, tp).xyz), 0.0f);
+    if (tex.y >= 0) in.metallic = clamp_f(tex_input_number(nodes, images, texels, tex.y, tp), 0.0f, 1.0f);
+    if (tex.z >= 0) in.roughness = clamp_f(tex_input_number(nodes, images, texels, tex.z, tp), 0.0f, 1.0f);
+    if (tex.w >= 0) in.specular = fmax_f(tex_input_number(nodes, images, texels, tex.w, tp), 0.0f);
     if (tex2.x >= 0) in.tint = fmax(texture_eval(nodes, images, texels, tex2.x, tp).xyz, zero);
     if (tex2.y >= 0) in.normal = texture_eval(nodes, images, texels, tex2.y, tp).xyz;
     if (tex2.z >= 0) {
-        float f = clamp_f(tex_gray(texture_eval(nodes, images, texels, tex2.z, tp).xyz), 0.0f, 1.0f);
+        float f = clamp_f(tex_input_number(nodes, images, texels, tex2.z, tp), 0.0f, 1.0f);
         in.weight = c->kind.z ? 1.0f - f : f;
     }
     return in;

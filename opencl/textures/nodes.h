@@ -1,12 +1,22 @@
 /* Texture programs (TexNode, types.h; built by python/restircl/upload/textures.py): the nodes of one material input
  * stored in evaluation order, each reading its inputs from constants or from earlier nodes' registers, so a node
  * graph is evaluated in one loop (no recursion in OpenCL C). Checker and Mix follow Blender's definitions
- * (Cycles' kernel/svm/checker.h and mix.h); the Normal Map node its tangent-space rule with Strength. */
+ * (Cycles' kernel/svm/checker.h and mix.h); the Normal Map node its tangent-space rule with Strength; the converter
+ * nodes (Separate / Combine Color, Math, Vector Math, Invert) are textures/converters.h. */
 #ifndef RESTIRCL_TEXTURE_NODES_H
 #define RESTIRCL_TEXTURE_NODES_H
 
+#include "textures/converters.h"
+
 /* a colour read by a value input (roughness, metallic, a factor), as Blender converts it: Rec.709 luminance */
 inline float tex_gray(float3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+
+/* the number a value input reads from the output v of node k: a node that gives a number (blk.w) holds it in every
+ * component and is read exactly; a colour is read as its grey */
+inline float tex_number(const __global TexNode* nodes, int k, float4 v)
+{
+    return nodes[k].blk.w ? v.x : tex_gray(v.xyz);
+}
 
 /* Blender's checker: 1 (color1) where the parity of floor(x) + floor(y) + floor(z) is odd, the coordinate nudged
  * off the integer lattice first as Blender does */
@@ -38,7 +48,8 @@ inline float3 tex_mix(int blend, float t, float3 a, float3 b)
     case TEXMIX_DARKEN: c = (float3)(fmin_f(a.x, b.x), fmin_f(a.y, b.y), fmin_f(a.z, b.z)); break;
     case TEXMIX_LIGHTEN: c = (float3)(fmax_f(a.x, b.x), fmax_f(a.y, b.y), fmax_f(a.z, b.z)); break;
     case TEXMIX_OVERLAY: return (float3)(tex_overlay(t, a.x, b.x), tex_overlay(t, a.y, b.y), tex_overlay(t, a.z, b.z));
-    default: c = b; break;
+    case TEXMIX_MIX: c = b; break;
+    default: return tex_mix_more(blend, t, a, b);
     }
     return a + t * (c - a);
 }
@@ -85,7 +96,10 @@ inline float4 texture_eval(const __global TexNode* nodes, const __global TexImag
         TexNode n = nodes[k];
         float4 a = n.in.x >= 0 ? reg[n.in.x - first] : n.a;
         float4 b = n.in.y >= 0 ? reg[n.in.y - first] : n.b;
-        float f = n.in.z >= 0 ? tex_gray(reg[n.in.z - first].xyz) : n.p.x;
+        float f = n.in.z >= 0 ? tex_number(nodes, n.in.z, reg[n.in.z - first]) : n.p.x;
+        /* a and b read as numbers (Combine Color, Math) */
+        float sa = n.in.x >= 0 ? tex_number(nodes, n.in.x, a) : a.x;
+        float sb = n.in.y >= 0 ? tex_number(nodes, n.in.y, b) : b.x;
         float lod;
         float4 out = (float4)(0.0f, 0.0f, 0.0f, 1.0f);
         switch (n.op.x) {
@@ -102,6 +116,24 @@ inline float4 texture_eval(const __global TexNode* nodes, const __global TexImag
         }
         case TEXNODE_MIX:
             out.xyz = tex_mix(n.op.y, n.blk.y ? clamp_f(f, 0.0f, 1.0f) : f, a.xyz, b.xyz);
+            if (n.blk.z) out.xyz = clamp(out.xyz, 0.0f, 1.0f);
+            break;
+        case TEXNODE_SEPARATE_COLOR:
+            out.xyz = (float3)(tex_separate(n.op.y, n.op.z, a.xyz));
+            break;
+        case TEXNODE_COMBINE_COLOR:
+            out.xyz = tex_combine(n.op.y, (float3)(sa, sb, f));
+            break;
+        case TEXNODE_MATH: {
+            float v = tex_math(n.op.y, sa, sb, f);
+            out.xyz = (float3)(n.blk.y ? clamp_f(v, 0.0f, 1.0f) : v);
+            break;
+        }
+        case TEXNODE_VECTOR_MATH:
+            out.xyz = tex_vector_math(n.op.y, a.xyz, b.xyz, f);
+            break;
+        case TEXNODE_INVERT:
+            out.xyz = a.xyz + f * (1.0f - 2.0f * a.xyz);
             break;
         case TEXNODE_NORMAL_MAP:
             out.xyz = tex_normal_map(a.xyz, n.p.x, tp);

@@ -16,7 +16,17 @@ from .core.program import KernelBuildError
 from .environment.world import Environment
 from .io.images import read_exr, write_exr, write_png
 from .materials.material import Material
-from .materials.textures import CheckerTexture, ImageTexture, MixColor, NormalMap
+from .materials.textures import (
+    CheckerTexture,
+    CombineColor,
+    ImageTexture,
+    Invert,
+    Math,
+    MixColor,
+    NormalMap,
+    SeparateColor,
+    VectorMath,
+)
 from .render.frame import Frame
 from .render.pipeline import Renderer
 from .render.still_method import still_settings
@@ -30,8 +40,9 @@ from .settings.spec import SettingError
 from .settings.table import Settings
 
 __all__ = [
-    "Camera", "CheckerTexture", "Device", "DeviceError", "Environment", "Frame", "ImageTexture", "KernelBuildError",
-    "Light", "Material", "Mesh", "MixColor", "NormalMap", "Renderer",
+    "Camera", "CheckerTexture", "CombineColor", "Device", "DeviceError", "Environment", "Frame", "ImageTexture",
+    "Invert", "KernelBuildError", "Light", "Material", "Math", "Mesh", "MixColor", "NormalMap", "Renderer",
+    "SeparateColor", "VectorMath",
     "Scene", "SceneError", "SceneFileError", "SettingError", "Settings", "choose_device", "get_device", "list_devices",
     "look_at", "read_exr", "scenes", "still_settings", "translation", "write_exr", "write_png",
 ]

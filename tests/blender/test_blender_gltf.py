@@ -53,3 +53,24 @@ def test_bake_of_a_packed_channel_is_the_image_channel(tmp_path, channel):
     # texel centres, antialiased over the texel (the ramp's kinks blur by a texel)
     tol = 0.02 if channel == "Green" else 0.15
     np.testing.assert_allclose(baked[inner], want[inner], atol=tol)
+
+
+def test_the_helmet_material_is_read_natively(tmp_path):
+    """Roughness and Metallic are one channel each of the ORM image (no bake), the occlusion group changes nothing
+    (as in Cycles), and the only warning is the textured emission's light (the export says it, once)."""
+    from restircl import ImageTexture, NormalMap, SeparateColor
+
+    from .test_blender_materials import export
+
+    _helmet(tmp_path)
+    exp = export(bake_resolution=16)
+    m = next(m for m in exp.scene.materials if m.name == "HelmetSource")
+    for field, channel in (("roughness", 1), ("metallic", 2)):
+        node = getattr(m, field)
+        assert isinstance(node, SeparateColor) and node.channel == channel and node.mode == "RGB"
+        assert isinstance(node.color, ImageTexture) and node.color.colorspace == "Non-Color"
+        np.testing.assert_array_equal(np.asarray(node.color.image)[::-1, :, channel],
+                                      np.round(orm_texels()[..., channel] * 255).astype(np.uint8))
+    assert isinstance(m.albedo, ImageTexture) and isinstance(m.normal, NormalMap)
+    assert isinstance(m.emission, ImageTexture) and m.emission_strength == 1.0
+    assert not any("baked" in w or "Group" in w or "glTF" in w for w in exp.warnings), exp.warnings

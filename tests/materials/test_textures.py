@@ -154,7 +154,7 @@ def blender_mix(blend: str, t: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.n
     return np.where(a < 0.5, low, high)  # OVERLAY
 
 
-@pytest.mark.parametrize("blend", MIX_BLENDS)
+@pytest.mark.parametrize("blend", MIX_BLENDS[:9])  # the others: test_converters.py
 def test_mix_blends_match_blender(device, blend):
     rng = np.random.default_rng(11)
     n = 512

@@ -164,7 +164,7 @@ BAD_MATERIALS = {
     "interp": (dict(albedo=ImageTexture(np.ones((2, 2)), interpolation="Cubic")), "interpolation must be one of"),
     "ext": (dict(albedo=ImageTexture(np.ones((2, 2)), extension="MIRROR")), "extension must be one of"),
     "mapping": (dict(albedo=CheckerTexture(mapping=np.eye(3))), "mapping must be a finite 4x4"),
-    "blend": (dict(albedo=MixColor(blend="HUE")), "blend must be one of"),
+    "blend": (dict(albedo=MixColor(blend="PIN_LIGHT")), "blend must be one of"),
     "nested": (dict(albedo=MixColor(a=CheckerTexture(color1=(2.0, -1.0, 0.0)))), "color1 must not be negative"),
     "strength": (dict(normal=NormalMap(strength=-1.0)), "strength must be finite and >= 0"),
     "image": (dict(albedo=ImageTexture(42)), "image must be an array or a file path"),

@@ -1,12 +1,15 @@
 """A colour or value input of a shader node -> a restircl Input: a constant, or a texture node of
-restircl.materials.textures (Image Texture, Checker Texture, Mix Color, Normal Map) whose own inputs are read the same
-way. Whatever else feeds an input is handed to the baker (bake.py); where that cannot be done, the input's own
-(unlinked) value is used, with a note."""
+restircl.materials.textures (Image Texture, Checker Texture, Mix Color, Normal Map, and the converters of
+converters.py: Separate / Combine Color, Math, Vector Math, Invert) whose own inputs are read the same way.
+Whatever else feeds an input is handed to the baker (bake.py); where that cannot be done, the input's own (unlinked)
+value is used, with a note."""
 
 from __future__ import annotations
 
 from collections.abc import Callable
 
+from .converters import KINDS as CONVERTERS
+from .converters import converter
 from .coords import Coords, coords_of
 from .images import image_data
 from .nodes import NodeLoop, Source, default_float, default_rgb, find_input, node_label, resolve
@@ -15,8 +18,6 @@ from .notes import Notes
 COLOR, VALUE = "color", "value"
 INTERPOLATIONS = {"Linear": "Linear", "Closest": "Closest", "Cubic": "Linear", "Smart": "Linear"}
 EXTENSIONS = {"REPEAT": "REPEAT", "EXTEND": "EXTEND", "CLIP": "CLIP", "MIRROR": "REPEAT"}
-MIX_BLENDS = ("MIX", "MULTIPLY", "ADD", "SUBTRACT", "SCREEN", "DIFFERENCE", "DARKEN", "LIGHTEN", "OVERLAY")
-CLAMP_MATTERS = ("ADD", "SUBTRACT")  # blends of [0, 1] inputs whose result can leave [0, 1]
 MIX_SOCKETS = {"RGBA": ("A_Color", "B_Color", "Result_Color"), "FLOAT": ("A_Float", "B_Float", "Result_Float")}
 
 USE_VALUE = object()  # a texture node that cannot be read (no image, no UV map): the input's own value is used
@@ -128,6 +129,8 @@ class InputReader:
             return self._checker(src, depth)
         if kind in ("ShaderNodeMix", "ShaderNodeMixRGB"):
             return self._mix(src, depth)
+        if kind in CONVERTERS:
+            return converter(src, self._read, depth)
         return None
 
     def _uv_ok(self, what: str, uv_map: str = "") -> bool:
@@ -192,6 +195,7 @@ class InputReader:
 
     def _mix(self, src: Source, depth: int):
         from restircl import MixColor
+        from restircl.materials.textures import MIX_BLENDS
 
         node = src.node
         if node.bl_idname == "ShaderNodeMixRGB":
@@ -202,7 +206,7 @@ class InputReader:
                 return None
             names, fac, clamp_factor, clamp_result = sockets[:2], "Factor_Float", node.clamp_factor, node.clamp_result
         blend = "MIX" if node.bl_idname == "ShaderNodeMix" and node.data_type == "FLOAT" else node.blend_type
-        if blend not in MIX_BLENDS or (clamp_result and blend in CLAMP_MATTERS):
+        if blend not in MIX_BLENDS:
             return None
         # a float mix too: its a and b as grey colours (a texture node's inputs are colours)
         a, b = (self._read(find_input(node, (n,)), src.stack, COLOR, depth + 1) for n in names)
@@ -210,7 +214,8 @@ class InputReader:
         if isinstance(f, float) and f < 0:
             self.notes.note(f"{node_label(node)} {node.name!r}: factor {f:g} is below 0; 0 is used")
             f = 0.0
-        return MixColor(a=a, b=b, factor=f, blend=blend, clamp_factor=bool(clamp_factor))
+        return MixColor(a=a, b=b, factor=f, blend=blend, clamp_factor=bool(clamp_factor),
+                        clamp_result=bool(clamp_result))
 
     def _baked(self, src: Source, want: str):
         what = f"{src.label()} {src.node.name!r}"

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from . import textures as tx
 from .closures.registry import KINDS
 from .material import DISTRIBUTIONS, MAX_LAYERS, Material
 from .textures import COORDS, EXTENSIONS, INTERPOLATIONS, MIX_BLENDS, CheckerTexture, ImageTexture, MixColor, NormalMap
@@ -153,6 +154,28 @@ def _check_node(node: object, what: str, path: list[object]) -> None:
         if not isinstance(node.strength, int | float) or not math.isfinite(node.strength) or node.strength < 0:
             raise MaterialError(f"{label}: strength must be finite and >= 0, got {node.strength!r}")
         _sub(node.color, f"{label}.color", True, path)
+    else:
+        _check_converter(node, label, path)
+
+
+# per converter node: (the table its option takes a value of, that option, its inputs as (name, is a colour))
+CONVERTERS = {
+    tx.SeparateColor: (tx.COLOR_MODES, "mode", (("color", True),)),
+    tx.CombineColor: (tx.COLOR_MODES, "mode", (("r", False), ("g", False), ("b", False))),
+    tx.Math: (tx.MATH_OPS, "op", (("a", False), ("b", False), ("c", False))),
+    tx.VectorMath: (tx.VECTOR_OPS, "op", (("a", True), ("b", True), ("scale", False))),
+    tx.Invert: ((), "", (("color", True), ("factor", False))),
+}
+
+
+def _check_converter(node: object, label: str, path: list[object]) -> None:
+    table, option, inputs = CONVERTERS[type(node)]
+    if option and getattr(node, option) not in table:
+        raise MaterialError(f"{label}: {option} must be one of {table}, got {getattr(node, option)!r}")
+    if isinstance(node, tx.SeparateColor) and node.channel not in (0, 1, 2):
+        raise MaterialError(f"{label}: channel must be 0, 1 or 2, got {node.channel!r}")
+    for name, colour in inputs:
+        _sub(getattr(node, name), f"{label}.{name}", colour, path)
 
 
 def _sub(value: object, what: str, colour: bool, path: list[object]) -> None:

@@ -56,7 +56,7 @@ class MaterialWriter:
                     self.arrays[f"image{k}"] = np.asarray(v)
             elif f.name == "mapping":
                 d["mapping"] = None if v is None else np.asarray(v, np.float64).tolist()
-            elif isinstance(v, str | bool):
+            elif isinstance(v, str | bool | int) and not isinstance(v, float):
                 d[f.name] = v
             else:
                 d[f.name] = self.value(v)
@@ -74,6 +74,8 @@ class MaterialReader:
                     value = d["image_path"] if "image_path" in d else arrays[f"image{k}"]
                 elif f.name == "mapping":
                     value = None if d.get("mapping") is None else np.asarray(d["mapping"], np.float64)
+                elif f.name not in d:  # a field newer than the file: the class default stays
+                    continue
                 else:
                     value = self.value(d[f.name])
                 setattr(node, f.name, value)

@@ -1,4 +1,5 @@
-"""Texture nodes that feed a material input (restircl.Material): an image, a checker, a colour mix, a normal map.
+"""Texture nodes that feed a material input (restircl.Material): an image, a checker, a colour mix, a normal map,
+and the converter nodes of PBR graphs (Separate / Combine Color, Math, Vector Math, Invert).
 
 A material input (base colour, roughness, metallic, ...) is a constant or one of these nodes; a node's own inputs
 may again be nodes (a Mix Color of an image and a checker), as in a Blender node graph. Texture coordinates follow
@@ -21,7 +22,19 @@ import numpy as np
 COORDS = ("uv", "generated", "object")
 INTERPOLATIONS = ("Linear", "Closest")
 EXTENSIONS = ("REPEAT", "EXTEND", "CLIP")
-MIX_BLENDS = ("MIX", "MULTIPLY", "ADD", "SUBTRACT", "SCREEN", "DIFFERENCE", "DARKEN", "LIGHTEN", "OVERLAY")
+# the first nine keep their device codes; the rest are the other blend modes Cycles has
+MIX_BLENDS = ("MIX", "MULTIPLY", "ADD", "SUBTRACT", "SCREEN", "DIFFERENCE", "DARKEN", "LIGHTEN", "OVERLAY", "BURN",
+              "DODGE", "DIVIDE", "SOFT_LIGHT", "LINEAR_LIGHT", "EXCLUSION", "HUE", "SATURATION", "VALUE", "COLOR")
+COLOR_MODES = ("RGB", "HSV", "HSL")  # Separate / Combine Color
+# Blender's Math node operations read natively (the node's `operation` names)
+MATH_OPS = ("ADD", "SUBTRACT", "MULTIPLY", "DIVIDE", "MULTIPLY_ADD", "POWER", "LOGARITHM", "SQRT", "INVERSE_SQRT",
+            "ABSOLUTE", "EXPONENT", "MINIMUM", "MAXIMUM", "LESS_THAN", "GREATER_THAN", "SIGN", "COMPARE", "ROUND",
+            "FLOOR", "CEIL", "TRUNC", "FRACT", "MODULO", "FLOORED_MODULO", "SNAP", "SINE", "COSINE", "TANGENT",
+            "ARCTAN2", "RADIANS", "DEGREES")
+# Vector Math operations read natively; the last three give a number (the node's Value output)
+VECTOR_OPS = ("ADD", "SUBTRACT", "MULTIPLY", "DIVIDE", "SCALE", "ABSOLUTE", "MINIMUM", "MAXIMUM", "FLOOR", "CEIL",
+              "FRACTION", "NORMALIZE", "CROSS_PRODUCT", "DOT_PRODUCT", "LENGTH", "DISTANCE")
+VECTOR_VALUE_OPS = ("DOT_PRODUCT", "LENGTH", "DISTANCE")
 
 
 @dataclass
@@ -60,6 +73,58 @@ class MixColor:
     factor: Input = 0.5
     blend: str = "MIX"
     clamp_factor: bool = True
+    clamp_result: bool = False
+
+
+@dataclass
+class SeparateColor:
+    """Blender's Separate Color (and the legacy Separate RGB / HSV / XYZ): one channel (0, 1, 2) of `color` in
+    `mode` (RGB, HSV or HSL). A number: read by a value input it is that channel exactly."""
+
+    color: Input = (0.8, 0.8, 0.8)
+    channel: int = 0
+    mode: str = "RGB"
+
+
+@dataclass
+class CombineColor:
+    """Blender's Combine Color (and the legacy Combine RGB / HSV / XYZ): a colour of three numbers in `mode`."""
+
+    r: Input = 0.0
+    g: Input = 0.0
+    b: Input = 0.0
+    mode: str = "RGB"
+
+
+@dataclass
+class Math:
+    """Blender's Math node on numbers (a colour input is read as its luminance): `op` of MATH_OPS on a, b, c;
+    `clamp` to [0, 1] after. A number."""
+
+    op: str = "ADD"
+    a: Input = 0.5
+    b: Input = 0.5
+    c: Input = 0.0
+    clamp: bool = False
+
+
+@dataclass
+class VectorMath:
+    """Blender's Vector Math node on colours taken as vectors: `op` of VECTOR_OPS on a, b (`scale` for SCALE).
+    DOT_PRODUCT, LENGTH and DISTANCE give a number, the others a vector."""
+
+    op: str = "ADD"
+    a: Input = (0.0, 0.0, 0.0)
+    b: Input = (0.0, 0.0, 0.0)
+    scale: Input = 1.0
+
+
+@dataclass
+class Invert:
+    """Blender's Invert Color: color blended towards 1 - color by `factor`."""
+
+    color: Input = (0.0, 0.0, 0.0)
+    factor: Input = 1.0
 
 
 @dataclass
@@ -71,11 +136,18 @@ class NormalMap:
     strength: float = 1.0
 
 
-Texture = ImageTexture | CheckerTexture | MixColor | NormalMap
+Texture = Union[ImageTexture, CheckerTexture, MixColor, NormalMap, SeparateColor, CombineColor, Math, VectorMath,  # noqa: UP007
+                Invert]
 # a material or node input: a number, an rgb triple, or a texture node
 Input = Union[float, tuple, Texture]  # noqa: UP007 (the forward references above need Union)
 
-TEXTURE_TYPES = (ImageTexture, CheckerTexture, MixColor, NormalMap)
+TEXTURE_TYPES = (ImageTexture, CheckerTexture, MixColor, NormalMap, SeparateColor, CombineColor, Math, VectorMath,
+                 Invert)
+
+
+def gives_number(node: object) -> bool:
+    """Whether a texture node's output is a number (a value input reads it as it is, not as a colour's grey)."""
+    return isinstance(node, SeparateColor | Math) or (isinstance(node, VectorMath) and node.op in VECTOR_VALUE_OPS)
 
 
 def is_texture(value: object) -> bool:

@@ -26,7 +26,7 @@ from ..core.program import opencl_dir
 from ..lights import area_sampling, camera_visible, pick_table, record, registry, sphere, tree
 from ..lights import environment as environment_light
 from ..materials.material import MAX_LAYERS
-from ..materials.textures import COORDS, EXTENSIONS, INTERPOLATIONS, MIX_BLENDS
+from ..materials.textures import COLOR_MODES, COORDS, EXTENSIONS, INTERPOLATIONS, MATH_OPS, MIX_BLENDS, VECTOR_OPS
 from ..scene.camera import CAMERA_TYPES
 from ..settings.table import BIAS_CORRECTIONS, BOILING_MODES, SHADE_METHODS, TAA_FILTERS
 from . import ggx_tables, tri_attributes
@@ -77,6 +77,11 @@ def families() -> tuple[Family, ...]:
         Family("texture coordinates (TexNode.op.w)", "materials/textures.py COORDS", _enum("TEXCOORD_", COORDS)),
         Family("Mix Color blend modes (TexNode.op.y)", "materials/textures.py MIX_BLENDS",
                _enum("TEXMIX_", MIX_BLENDS)),
+        Family("Separate / Combine Color modes (TexNode.op.y)", "materials/textures.py COLOR_MODES",
+               _enum("TEXCOLOR_", COLOR_MODES)),
+        Family("Math operations (TexNode.op.y)", "materials/textures.py MATH_OPS", _enum("TEXMATH_", MATH_OPS)),
+        Family("Vector Math operations (TexNode.op.y)", "materials/textures.py VECTOR_OPS",
+               _enum("TEXVEC_", VECTOR_OPS)),
         Family("texture programs", "upload/textures.py", (("MAX_TEX_PROGRAM", texture_pack.MAX_TEX_PROGRAM),),
                kind="constants"),
         Family("per-object attribute flags (ObjectInfo)", "upload/tri_attributes.py", (

@@ -22,6 +22,7 @@ import numpy as np
 
 from ..core import layouts as L
 from ..io.image_load import LINEAR_COLORSPACES, ImageReadError, mip_chain, read_image_file, to_linear_rgba
+from ..materials import textures as tx
 from ..materials.material import Material, material_inputs
 from ..materials.textures import (
     COORDS,
@@ -41,7 +42,9 @@ from ..scene.errors import SceneError
 MAX_TEX_PROGRAM = 16  # nodes in one input's program, the registers it is evaluated into (opencl/codes.h)
 MAGENTA = (1.0, 0.0, 1.0, 1.0)
 #: the texture node kinds by their device code (TEXNODE_<NAME>, opencl/codes.h)
-NODE_KINDS = (("IMAGE", ImageTexture), ("CHECKER", CheckerTexture), ("MIX", MixColor), ("NORMAL_MAP", NormalMap))
+NODE_KINDS = (("IMAGE", ImageTexture), ("CHECKER", CheckerTexture), ("MIX", MixColor), ("NORMAL_MAP", NormalMap),
+              ("SEPARATE_COLOR", tx.SeparateColor), ("COMBINE_COLOR", tx.CombineColor), ("MATH", tx.Math),
+              ("VECTOR_MATH", tx.VectorMath), ("INVERT", tx.Invert))
 NODE_CODE = {cls: code for code, (_, cls) in enumerate(NODE_KINDS)}
 MAX_TEXELS = 2**31 - 1  # int offsets on the device
 
@@ -60,8 +63,16 @@ def node_inputs(node: object) -> list[object]:
         return [node.a, node.b, node.factor]
     if isinstance(node, CheckerTexture):
         return [node.color1, node.color2]
-    if isinstance(node, NormalMap):
+    if isinstance(node, NormalMap | tx.SeparateColor):
         return [node.color]
+    if isinstance(node, tx.CombineColor):
+        return [node.r, node.g, node.b]
+    if isinstance(node, tx.Math):
+        return [node.a, node.b, node.c]
+    if isinstance(node, tx.VectorMath):
+        return [node.a, node.b, node.scale]
+    if isinstance(node, tx.Invert):
+        return [node.color, 0.0, node.factor]
     return []
 
 
@@ -194,9 +205,26 @@ class TexturePacker:
         elif isinstance(node, MixColor):
             r["op"][1] = MIX_BLENDS.index(node.blend)
             r["blk"][1] = int(bool(node.clamp_factor))
+            r["blk"][2] = int(bool(node.clamp_result))
         elif isinstance(node, NormalMap):
             r["p"][0] = float(node.strength)
+        else:
+            self._converter(r, node)
         return r
+
+    @staticmethod
+    def _converter(r: np.void, node: object) -> None:
+        """op.y: the mode or operation; op.z: Separate Color's channel; blk.y: Math's clamp; blk.w: gives a number."""
+        if isinstance(node, tx.SeparateColor | tx.CombineColor):
+            r["op"][1] = tx.COLOR_MODES.index(node.mode)
+        if isinstance(node, tx.SeparateColor):
+            r["op"][2] = int(node.channel)
+        elif isinstance(node, tx.Math):
+            r["op"][1] = tx.MATH_OPS.index(node.op)
+            r["blk"][1] = int(bool(node.clamp))
+        elif isinstance(node, tx.VectorMath):
+            r["op"][1] = tx.VECTOR_OPS.index(node.op)
+        r["blk"][3] = int(tx.gives_number(node))
 
     @staticmethod
     def _coords(r: np.void, node: ImageTexture | CheckerTexture) -> None:

@@ -1,0 +1,81 @@
+"""The converter nodes of PBR graphs -> restircl texture nodes (restircl.materials.textures): Separate / Combine Color
+and the legacy Separate / Combine RGB, HSV and XYZ, Math, Vector Math and Invert, read natively instead of baked.
+An operation the renderer does not have gives None: the caller bakes the node."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from .nodes import Source, find_input
+
+COLOR, VALUE = "color", "value"
+# node type -> the colour mode its channels are in (None: the node's own `mode`)
+SEPARATE = {"ShaderNodeSeparateColor": None, "ShaderNodeSeparateRGB": "RGB", "ShaderNodeSeparateHSV": "HSV",
+            "ShaderNodeSeparateXYZ": "RGB"}
+COMBINE = {"ShaderNodeCombineColor": None, "ShaderNodeCombineRGB": "RGB", "ShaderNodeCombineHSV": "HSV",
+           "ShaderNodeCombineXYZ": "RGB"}
+KINDS = (*SEPARATE, *COMBINE, "ShaderNodeMath", "ShaderNodeVectorMath", "ShaderNodeInvert")
+
+# read(socket, stack, want, depth) -> an Input
+Read = Callable[[object, tuple, str, int], object]
+
+
+def _enabled(sockets) -> list:
+    return [s for s in sockets if getattr(s, "enabled", True)]
+
+
+def converter(src: Source, read: Read, depth: int):
+    """The restircl node for a converter node's output `src`, or None to bake it."""
+    from restircl.materials.textures import COLOR_MODES
+
+    node, kind = src.node, src.kind
+    ins = _enabled(node.inputs)
+
+    def sub(sock, want: str):
+        return read(sock, src.stack, want, depth + 1)
+
+    if kind in SEPARATE or kind in COMBINE:
+        mode = (SEPARATE.get(kind) or COMBINE.get(kind)) or getattr(node, "mode", "RGB")
+        if mode not in COLOR_MODES:
+            return None
+        if kind in SEPARATE:
+            from restircl import SeparateColor
+
+            channel = next((i for i, s in enumerate(_enabled(node.outputs)) if s == src.socket), -1)
+            if channel not in (0, 1, 2) or not ins:
+                return None
+            return SeparateColor(color=sub(ins[0], COLOR), channel=channel, mode=mode)
+        from restircl import CombineColor
+
+        r, g, b = (sub(s, VALUE) for s in ins[:3])
+        return CombineColor(r=r, g=g, b=b, mode=mode)
+    if kind == "ShaderNodeMath":
+        return _math(node, ins, sub)
+    if kind == "ShaderNodeVectorMath":
+        return _vector_math(node, src, sub)
+    from restircl import Invert
+
+    return Invert(color=sub(find_input(node, ("Color",)), COLOR), factor=sub(find_input(node, ("Fac",)), VALUE))
+
+
+def _math(node, ins: list, sub):
+    from restircl import Math
+    from restircl.materials.textures import MATH_OPS
+
+    if node.operation not in MATH_OPS:
+        return None
+    values = [sub(s, VALUE) for s in ins[:3]] + [0.0] * (3 - len(ins[:3]))
+    return Math(op=node.operation, a=values[0], b=values[1], c=values[2], clamp=bool(node.use_clamp))
+
+
+def _vector_math(node, src: Source, sub):
+    from restircl import VectorMath
+    from restircl.materials.textures import VECTOR_OPS, VECTOR_VALUE_OPS
+
+    op = node.operation
+    if op not in VECTOR_OPS or (src.socket.identifier == "Value") != (op in VECTOR_VALUE_OPS):
+        return None
+    a, b = (find_input(node, (n,)) for n in ("Vector", "Vector_001"))
+    scale = find_input(node, ("Scale",))
+    return VectorMath(op=op, a=sub(a, COLOR), b=sub(b, COLOR) if b is not None else (0.0, 0.0, 0.0),
+                      scale=sub(scale, VALUE) if scale is not None else 1.0)
