@@ -74,3 +74,49 @@ def test_the_helmet_material_is_read_natively(tmp_path):
     assert isinstance(m.albedo, ImageTexture) and isinstance(m.normal, NormalMap)
     assert isinstance(m.emission, ImageTexture) and m.emission_strength == 1.0
     assert not any("baked" in w or "Group" in w or "glTF" in w for w in exp.warnings), exp.warnings
+
+
+def _noise_material(name: str):
+    from .test_blender_materials import principled
+
+    mat, tree, p = principled(name)
+    noise = tree.nodes.new("ShaderNodeTexNoise")  # a graph the renderer bakes
+    tree.links.new(noise.outputs["Fac"], p.inputs["Roughness"])
+    return mat
+
+
+@pytest.mark.parametrize("case", ["no UV map", "zero-area UV map"])
+def test_a_failed_bake_is_reported_and_the_value_used(case):
+    """A bake that cannot write a texel is said in the export's warnings (Blender's report), never a silent zero."""
+    from .test_blender_export_textures import plane
+    from .test_blender_materials import export, warnings_of
+
+    fresh_scene()
+    ob = plane(_noise_material("Noisy"), uv=case != "no UV map")
+    if case == "zero-area UV map":
+        uv = ob.data.uv_layers[0].data
+        for loop in uv:
+            loop.uv = (0.5, 0.5)
+    exp = export(bake_resolution=16)
+    m = next(m for m in exp.scene.materials if m.name == "Noisy")
+    assert m.roughness == pytest.approx(0.5)  # the Principled BSDF's own Roughness, as the warning says
+    mine = warnings_of(exp.warnings, "Noisy")
+    want = "needs a UV map" if case == "no UV map" else "failed: the baked 16x16 image is all zero"
+    assert any(want in w and "Noise Texture" in w and "the input's value is used" in w for w in mine), mine
+
+
+def test_the_report_of_a_failed_bake_reaches_blender(tmp_path, monkeypatch):
+    """F12 of a scene whose bake fails: the engine reports the failure (RenderEngine.report) and renders."""
+    from .test_blender_export_textures import plane
+    from .test_blender_support import record_engine, render_to
+
+    sc = fresh_scene()
+    ob = plane(_noise_material("Noisy"))
+    for loop in ob.data.uv_layers[0].data:
+        loop.uv = (0.25, 0.25)
+    sc.render.engine = "RESTIRCL"
+    sc.restircl.bake_resolution = 16
+    sc.restircl.samples = 1
+    reports, _stats = record_engine(monkeypatch)
+    render_to(sc, tmp_path / "out.exr")
+    assert any("Noise Texture" in r and "failed" in r and "all zero" in r for r in reports), reports

@@ -1,8 +1,10 @@
 """Baking a node graph the renderer does not evaluate (a Noise Texture, a Color Ramp, ...) to an image, through
 Cycles' own bake: the socket that feeds the input is wired for a moment into an Emission shader on the Material
 Output, and an Emit bake on the object's UV map writes what it outputs into a float image (what glTF exporters
-do). Everything is put back afterwards, also when the bake fails; a failure is a note, and the input's own value
-is used."""
+do). Everything is put back afterwards, also when the bake fails. Every baked image is checked: all zero, or one
+value where a texture feeds the graph, is a failed bake (no texel of the object's UV map was written: a zero-area or
+missing UV map, faces outside it). A failure is a note in the export's warnings, which Blender's report shows, and the
+input's own value is used."""
 
 from __future__ import annotations
 
@@ -33,10 +35,38 @@ class Baker:
             self.notes.note(f"baking {src.label()} {src.node.name!r} failed ({str(e).strip()}); "
                             "the input's value is used")
             return None
-        self.count += 1
         image = pixels[..., 0] if want == "value" else pixels[..., :3]
+        why = bake_failure(image, src.node)
+        if why:
+            self.notes.note(f"baking {src.label()} {src.node.name!r} failed: {why}; the input's value is used")
+            return None
+        self.count += 1
         return ImageTexture(image=np.ascontiguousarray(image), colorspace="Non-Color", coords="uv",
                             name=f"{self.mat.name}/{src.node.name} (baked)")
+
+
+def bake_failure(image: np.ndarray, node) -> str:
+    """Why a baked image cannot be what the graph gives ("" when it may be): all zero, or constant while a texture
+    node feeds the graph."""
+    if not np.all(np.isfinite(image)):
+        return "the baked image holds NaN or infinite texels"
+    if not np.any(image):
+        return (f"the baked {image.shape[1]}x{image.shape[0]} image is all zero (does the object's UV map cover "
+                "an area?)")
+    if float(image.max() - image.min()) <= 1e-6 and _has_texture(node):
+        return f"the baked image is one value ({float(image.flat[0]):g}) while a texture feeds it"
+    return ""
+
+
+def _has_texture(node, limit: int = 64) -> bool:
+    todo, seen = [node], 0
+    while todo and seen < limit:
+        n = todo.pop()
+        seen += 1
+        if n.bl_idname.startswith("ShaderNodeTex") and n.bl_idname != "ShaderNodeTexCoord":
+            return True
+        todo.extend(lk.from_node for s in n.inputs if s.is_linked for lk in s.links)
+    return False
 
 
 def _original_socket(mat, src: Source):
