@@ -1,5 +1,6 @@
 """Real assets as Blender's glTF importer makes them (tests/blender/gltf_scenes.py): the importer's node setup, the
-bake of a packed occlusion-roughness-metallic channel, and the export of the helmet material."""
+bake of a packed occlusion-roughness-metallic channel, the native export of the helmet material, failed bakes in the
+report, and the helmet scene against Cycles (slow: about a minute)."""
 
 from __future__ import annotations
 
@@ -11,7 +12,7 @@ restircl = pytest.importorskip("restircl")
 
 from .gltf_scenes import SIZE, import_helmet, orm_texels  # noqa: E402
 from .test_blender_materials import fresh_scene  # noqa: E402
-from .test_blender_support import ensure_registered  # noqa: E402
+from .test_blender_support import ensure_registered, needs_renderer  # noqa: E402
 
 pytestmark = pytest.mark.blender
 
@@ -120,3 +121,22 @@ def test_the_report_of_a_failed_bake_reaches_blender(tmp_path, monkeypatch):
     reports, _stats = record_engine(monkeypatch)
     render_to(sc, tmp_path / "out.exr")
     assert any("Noise Texture" in r and "failed" in r and "all zero" in r for r in reports), reports
+
+
+@pytest.mark.slow
+@needs_renderer
+def test_the_helmet_agrees_with_cycles(tmp_path, record_property):
+    """The issue's scene at 64x48 (tests/blender/gltf_scenes.py), direct light: F12 against Cycles, relMSE < 1e-2.
+    The helmet's emissive image is unlinked first: a textured emission lights other surfaces as if it were white
+    (its own warning; sampling the light by its texture is left for later), which this test does not measure."""
+    from .gltf_scenes import helmet_scene
+    from .test_blender_support import cycles_and_ours
+
+    sc = helmet_scene(tmp_path, 64, 48)
+    tree = bpy.data.objects["Helmet"].data.materials[0].node_tree
+    emission = tree.nodes["Principled BSDF"].inputs["Emission Color"]
+    tree.links.remove(emission.links[0])
+    err, ratio = cycles_and_ours(tmp_path, sc, 256, 64, "glTF helmet", bake_resolution=64)
+    record_property("relmse", err)
+    assert err < 1e-2, f"glTF helmet: relMSE {100 * err:.3f} % against Cycles"
+    assert ratio == pytest.approx(1.0, abs=0.02)
