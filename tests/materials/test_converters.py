@@ -240,3 +240,22 @@ def test_a_channel_feeding_roughness_is_that_texel_channel_exactly(device):
     np.testing.assert_array_equal(got, flat[:, 1] * np.float32(0.5) + np.float32(0.25))
     grey = flat.astype(np.float64) @ np.array([0.2126, 0.7152, 0.0722])
     np.testing.assert_allclose(_numbers(device, img, uv), grey, rtol=1e-6)
+
+
+def test_converters_survive_the_scene_file_tables():
+    from restircl.materials.file import MaterialReader, MaterialWriter
+
+    img = ImageTexture(np.zeros((2, 2, 3), np.float32), colorspace="Non-Color")
+    sep = SeparateColor(img, channel=1, mode="HSV")
+    m = Material("m", kind="principled", roughness=Math("POWER", sep, 2.0, 0.0, clamp=True),
+                 albedo=MixColor(img, sep, factor=0.3, blend="SOFT_LIGHT", clamp_result=True))
+    arrays: dict = {}
+    writer = MaterialWriter(arrays)
+    d = writer.material(m)
+    back = MaterialReader(writer.nodes, arrays).material(d)
+    s = back.roughness.a
+    assert isinstance(s, SeparateColor) and s.channel == 1 and isinstance(s.channel, int) and s.mode == "HSV"
+    assert back.roughness.op == "POWER" and back.roughness.clamp is True and back.roughness.b == 2.0
+    assert back.albedo.blend == "SOFT_LIGHT" and back.albedo.clamp_result is True and back.albedo.b is s
+    del writer.nodes[d["albedo"]["node"]]["clamp_result"]  # a file written before the field: its default
+    assert MaterialReader(writer.nodes, arrays).material(d).albedo.clamp_result is False
