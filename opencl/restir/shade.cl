@@ -1,6 +1,7 @@
 /* ReSTIR pass 6: one shadow ray to the pixel's final sample: f * Le * G * V * W, plus emission seen directly.
  * visible_known: the reuse passes already kept W = 0 for samples occluded at this pixel (unbiased mode with
- * visibility reuse), so the shadow ray is left out. */
+ * visibility reuse), so the shadow ray is left out. Clamp Direct clamps the emission seen and the shaded sample, each
+ * as one contribution (direct/clamp.h); the resampling before it is not clamped. */
 
 __kernel void restir_shade(const __global GSample* gbuf, const __global GlossySample* glossy, const __global BVHNode* nodes, const __global Tri* tris,
                            const __global Light* lights, const __global Reservoir* res,
