@@ -24,6 +24,10 @@
 #include "direct/target.h"
 #include "direct/visibility.h"
 #include "guards.h"
+#ifdef HAS_LIGHT_PASSES
+#include "film/light_passes.h"
+#endif
+#include "direct/clamp.h"
 #include "direct/bsdf_candidates.h"
 #include "direct/bsdf_mis.h"
 #include "direct/ris.h"

@@ -330,7 +330,9 @@ typedef struct {
     int candidates;        /* RIS candidates per pixel (shade_direct, METHOD_RIS) */
     int visible_known;     /* restir_shade: the reuse passes already zeroed occluded samples */
     int bsdf_mis_sample;   /* shade_direct, METHOD_RIS: 1 = one BSDF sample beside the reservoir's (direct/bsdf_mis.h) */
-} ShadeParams;             /* 80 bytes */
+    float clamp_direct;    /* Clamp Direct (direct/clamp.h; 0: off) */
+    int pad0, pad1, pad2;
+} ShadeParams;             /* 96 bytes */
 
 /* Pass 7: temporal accumulation (taa/taa.cl). */
 typedef struct {

@@ -17,7 +17,7 @@ import warnings
 from dataclasses import dataclass
 
 from . import compat, export, light_paths, preview, render_result
-from .properties import make_settings
+from .properties import make_settings, render_kwargs
 
 MAX_REPORTED_WARNINGS = 8
 
@@ -115,7 +115,7 @@ def _render(engine, depsgraph) -> None:
     device_spec = scene.restircl.device.strip() or None
     job = _Job(engine, depsgraph, restircl, known, int(scene.frame_current), bool(engine.is_animation),
                (scene.name, view_layer.name), device_spec,
-               (tuple(sorted(scene.restircl.settings_kwargs().items())), device_spec))
+               (tuple(sorted(render_kwargs(scene.restircl, view_layer=view_layer).items())), device_spec))
 
     session = _SESSIONS.get(job.key)
     new_sequence = not _continues(job, session)
@@ -196,7 +196,7 @@ def _start_session(job: _Job, session: _Session | None) -> _Session | None:
         device_label = restircl.choose_device(job.device_spec)[0].label
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            settings = make_settings(restircl, job.props)
+            settings = make_settings(restircl, job.props, view_layer=job.depsgraph.view_layer)
             if not job.animation and hasattr(restircl, "still_settings"):  # F12: the still estimator
                 settings = restircl.still_settings(settings, exp.scene)
             renderer = restircl.Renderer(exp.scene, settings, device=job.device_spec)

@@ -25,11 +25,25 @@ def pass_on(view_layer, p) -> bool:
     return owner is None or bool(getattr(owner, name, True))  # the add-on's own toggles: on when unregistered
 
 
+def light_passes_on(view_layer) -> bool:
+    """Whether the view layer has one of Cycles' light passes on (their toggles, as Cycles has them): the renderer
+    then writes them (Settings.light_passes, which the add-on sets from here, not from its own property)."""
+    return any(p.requires == "light_passes" and pass_on(view_layer, p) for p in PASSES)
+
+
+def requirement_met(scene, view_layer, p) -> bool:
+    """Whether the render setting pass `p` requires is on (the light passes: a toggle of the view layer)."""
+    if p.requires is None:
+        return True
+    if p.requires == "light_passes":
+        return light_passes_on(view_layer)
+    return bool(getattr(getattr(scene, "restircl", None), p.requires, False))
+
+
 def register_passes(engine, scene, view_layer) -> None:
     """RenderEngine.update_render_passes: the passes of restircl.render.passes.PASSES the view layer has turned on."""
-    props = getattr(scene, "restircl", None)
     for p in PASSES:
-        if p.requires is not None and not getattr(props, p.requires, False):
+        if not requirement_met(scene, view_layer, p):
             continue
         if pass_on(view_layer, p):
             engine.register_pass(scene, view_layer, blender_name(p, blender_version()), len(p.channels), p.channels,

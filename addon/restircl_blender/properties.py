@@ -12,7 +12,7 @@ from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, Po
 from restircl import Settings
 from restircl.settings.spec import Declared, Range, declared, setting
 
-from . import light_paths
+from . import light_paths, passes
 
 INT_MIN, INT_MAX = -(1 << 31), (1 << 31) - 1  # Blender's IntProperty holds a C int
 
@@ -115,11 +115,20 @@ RestirclViewLayerSettings = _group("RestirclViewLayerSettings", declared(ViewLay
 CLASSES = (RestirclRenderSettings, RestirclViewLayerSettings)
 
 
-def make_settings(restircl, props, scene=None):
+def make_settings(restircl, props, scene=None, view_layer=None):
     """restircl.Settings from scene.restircl (its properties are generated from the same table) and the Light Paths
-    of `scene`'s Cycles settings (settings_kwargs); `restircl` is the package the caller imported, so that the
+    of `scene`'s Cycles settings (render_kwargs); `restircl` is the package the caller imported, so that the
     engine, the viewport and the previews report a missing one alike."""
-    return restircl.Settings(**props.settings_kwargs(scene))
+    return restircl.Settings(**render_kwargs(props, scene, view_layer))
+
+
+def render_kwargs(props, scene=None, view_layer=None) -> dict:
+    """settings_kwargs, with the light passes on where `view_layer` (a render's) has one of their toggles on: the
+    view layer's pass toggles decide them, as in Cycles (passes.light_passes_on)."""
+    kwargs = props.settings_kwargs(scene)
+    if view_layer is not None:
+        kwargs["light_passes"] = passes.light_passes_on(view_layer)
+    return kwargs
 
 
 def register() -> None:

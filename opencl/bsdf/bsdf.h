@@ -20,12 +20,21 @@
  * cos_x > 0). The lobes are evaluated about their own normal s->nl; the caller's cosine is about s->n, so on a
  * normal-mapped pixel (where the two differ) their f is rescaled by cos(nl) / cos(n), and every part gets its
  * bump_shadowing. */
-inline float3 bsdf_eval(const Surface* s, float3 wo, float3 wi)
+/* The Lambert part of bsdf_eval alone: what the light passes count as diffuse (film/light_passes.h). */
+inline float3 bsdf_eval_diffuse(const Surface* s, float3 wi)
 {
     float3 f = lambert_eval(s->mat.albedo);
 #ifdef HAS_TEXTURES
     if (s->bumped) f *= bump_shadowing(s->nb, s->n, wi, true);
+#else
+    (void)wi;
 #endif
+    return f;
+}
+
+inline float3 bsdf_eval(const Surface* s, float3 wo, float3 wi)
+{
+    float3 f = bsdf_eval_diffuse(s, wi);
 #ifdef HAS_GLOSSY
     float3 fl = (float3)(0.0f);
     for (int k = 0; k < s->mat.lobes; ++k) fl += lobe_eval(&s->mat.lobe[k], s->nl, wo, wi);

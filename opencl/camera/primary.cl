@@ -18,7 +18,8 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
                       const __global TexImage* tex_images, const __global float4* texels,
                       const __global float* ggx_tables,
                       const __global Light* lights, const __global float4* camera_lights,
-                      __global GSample* gbuf, __global GlossySample* glossy, __global float4* vector)
+                      __global GSample* gbuf, __global GlossySample* glossy, __global float4* vector,
+                      __global float4* light_passes)
 {
     int x = get_global_id(0), y = get_global_id(1);
     int w = cam->width, h = cam->height;
@@ -31,8 +32,13 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
     float3 sun_seen = (float3)(0.0f);  /* the suns a ray that misses sees (lights/camera_visible.h) */
 #ifdef HAS_CAMERA_LIGHTS
     if (camera_light_pixel(lights, camera_lights, cam, prev_cam, next_cam, o, d, hit.t,
-                           gbuf + i, glossy + i, vector + i, &sun_seen))
+                           gbuf + i, glossy + i, vector + i, &sun_seen)) {
+#ifdef HAS_LIGHT_PASSES  /* a light the camera sees is emission (Cycles' Emission pass) */
+        light_pass_seen(light_passes, w * h, i, gbuf[i].emission.xyz, (float3)(0.0f), (float3)(0.0f),
+                        (float3)(0.0f));
+#endif
         return;
+    }
 #else
     (void)lights;
     (void)camera_lights;
@@ -45,8 +51,13 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
         g.gnormal = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
         g.albedo = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
         g.emission = (float4)(sun_seen, 0.0f);  /* a sun the ray sees is in front of the world */
+        float3 world_seen = (float3)(0.0f);
 #ifdef HAS_ENVIRONMENT
-        g.emission.xyz += environment_seen(lights, d);
+        world_seen = environment_seen(lights, d);
+        g.emission.xyz += world_seen;
+#endif
+#ifdef HAS_LIGHT_PASSES  /* the suns are lights (Emission), the world is the Environment */
+        light_pass_seen(light_passes, w * h, i, sun_seen, world_seen, (float3)(0.0f), (float3)(0.0f));
 #endif
         g.motion = (float4)(0.0f, 0.0f, 1.0f, INFINITY);  /* the background: reprojected by direction */
         float4 vec = (float4)(0.0f);
@@ -99,4 +110,17 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
 #endif
     gbuf[i] = g;
     vector[i] = vec;
+#ifdef HAS_LIGHT_PASSES
+    float3 gloss_colour = (float3)(0.0f);
+#ifdef HAS_GLOSSY
+    if (materials[as_int(g.gnormal.w)].info.y > 0) {  /* as accumulate_aux reads the lobes (still/accumulate.cl) */
+        int lobes = as_int(gx.wo.w);
+        if (lobes > 0) gloss_colour += lobe_albedo(&gx.lobe0);
+        if (lobes > 1) gloss_colour += lobe_albedo(&gx.lobe1);
+    }
+#endif
+    light_pass_seen(light_passes, w * h, i, g.emission.xyz, (float3)(0.0f), g.albedo.xyz, gloss_colour);
+#else
+    (void)light_passes;
+#endif
 }

@@ -38,13 +38,13 @@ inline float3 bsdf_mis_term(const Surface* s, const __global Light* rec, int typ
     return unshadowed_contrib(s, &e) / (p_l + p_b);
 }
 
-/* Draw one BSDF direction at s and return its MIS-weighted, shadowed contribution (the lights it meets). With QMC
+/* Draw one BSDF direction at s (*wi_out) and return its MIS-weighted, shadowed contribution (the lights it meets). With QMC
  * (q->on) the direction comes from the pixel's Sobol pair QMC_BSDF_MIS: where the light sample's shadow ray is
  * blocked (a sun behind an occluder) this sample carries the sky, and stratified across a still's frames its
  * error falls faster than with random numbers, as the light sample's does. */
 inline float3 bsdf_mis_sample(const Surface* s, const __global Light* lights, const LightPick* lp,
                               const __global BVHNode* nodes, const __global Tri* tris, const __global int* tri_light,
-                              BsdfSource b, uint* rng, const Qmc* q)
+                              BsdfSource b, uint* rng, const Qmc* q, float3* wi_out)
 {
     float2 u;
     if (q->on) {
@@ -57,6 +57,7 @@ inline float3 bsdf_mis_sample(const Surface* s, const __global Light* lights, co
     float pdf;
     float3 c = (float3)(0.0f);
     bsdf_sample(s, s->wo, u.x, u.y, &wi, &pdf);
+    *wi_out = wi;
     if (!(pdf > 0.0f)) return c;
     for (int l = 0; l < b.analytic; ++l) {
         const __global Light* rec = &lights[l];

@@ -1,7 +1,8 @@
 /* Direct lighting with one light sample per pixel, without reuse: the samplers `uniform`, `light_array` and
  * `ris` (candidates from the light array or the presampled light tiles; optionally one more, BSDF-sampled
  * direction combined with it by MIS, direct/bsdf_mis.h), and the exhaustive `reference` (every light, one sample each).
- * One shadow ray per light sample. */
+ * One shadow ray per light sample. Each contribution of direct light is clamped by Clamp Direct on its own
+ * (direct/clamp.h) and, where light passes are on, split into them (film/light_passes.h). */
 
 __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySample* glossy, const __global BVHNode* nodes, const __global Tri* tris,
                            const __global Light* lights, const __global int* slots, const __global float* light_pdf,
@@ -9,8 +10,8 @@ __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySa
                            const __global int2* tree_distant,
                            const __global Light* tile_rec, const __global int2* tile_info,
                            const __global int* tri_light, const __global ushort* pick_table,
-                           volatile __global int* guards, __global float4* out, FrameParams frame_params,
-                           ShadeParams params)
+                           volatile __global int* guards, __global float4* out, __global float4* light_passes,
+                           FrameParams frame_params, ShadeParams params)
 {
     const int pixel_count = frame_params.pixels;
     const uint frame = frame_params.sample, seed = frame_params.seed;
@@ -20,7 +21,9 @@ __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySa
     int i = get_global_id(0);
     if (i >= pixel_count) return;
     Surface s = surface_load(gbuf, glossy, i);
-    float3 c = gbuf[i].emission.xyz;
+    const float clamp = params.clamp_direct, k_seen = clamp_scale(gbuf[i].emission.xyz, clamp);
+    float3 c = gbuf[i].emission.xyz * k_seen;
+    float3 pass_d = (float3)(0.0f), pass_g = (float3)(0.0f);  /* the light passes' diffuse and glossy direct */
     if (s.valid && light_count > 0) {
         uint rng = rng_seed((uint)i, frame, seed, 1u);
         LightEval e;
@@ -38,22 +41,27 @@ __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySa
             res_finalize(&r, r.M);
             /* W > 0: a candidate of target > 0 was picked, and e holds its evaluation */
             if (r.W > 0.0f && visible(nodes, tris, &s, &e))
-                c += unshadowed_contrib(&s, &e) * r.W;
-            if (bsdf.mis_sample) c += bsdf_mis_sample(&s, lights, &lp, nodes, tris, tri_light, bsdf, &rng, &q);
+                c += direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) * r.W, clamp, &pass_d, &pass_g);
+            if (bsdf.mis_sample) {  /* the lights its ray meets, as one contribution */
+                float3 wi;
+                float3 m = bsdf_mis_sample(&s, lights, &lp, nodes, tris, tri_light, bsdf, &rng, &q, &wi);
+                c += direct_contribution(&s, wi, m, clamp, &pass_d, &pass_g);
+            }
         } else {
             float2 uv;
             float pdf;
             int light = light_draw(method == METHOD_UNIFORM, lights, light_count, slots, slot_count, light_pdf, s.x, &rng, &uv, &pdf);
             if (pdf > 0.0f && light_eval(&lights[light], uv.x, uv.y, s.x, s.n, &e) && visible(nodes, tris, &s, &e))
-                c += unshadowed_contrib(&s, &e) / pdf;
+                c += direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) / pdf, clamp, &pass_d, &pass_g);
         }
     }
+    direct_passes(light_passes, pixel_count, i, pass_d, pass_g, k_seen);
     out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), 1.0f);
 }
 
 __kernel void shade_reference(const __global GSample* gbuf, const __global GlossySample* glossy, const __global BVHNode* nodes, const __global Tri* tris,
                               const __global Light* lights, volatile __global int* guards, __global float4* out,
-                              FrameParams frame_params, ShadeParams params)
+                              __global float4* light_passes, FrameParams frame_params, ShadeParams params)
 {
     const int pixel_count = frame_params.pixels;
     const uint frame = frame_params.sample, seed = frame_params.seed;
@@ -61,7 +69,9 @@ __kernel void shade_reference(const __global GSample* gbuf, const __global Gloss
     int i = get_global_id(0);
     if (i >= pixel_count) return;
     Surface s = surface_load(gbuf, glossy, i);
-    float3 c = gbuf[i].emission.xyz;
+    const float clamp = params.clamp_direct, k_seen = clamp_scale(gbuf[i].emission.xyz, clamp);
+    float3 c = gbuf[i].emission.xyz * k_seen;
+    float3 pass_d = (float3)(0.0f), pass_g = (float3)(0.0f);
     if (s.valid) {
         uint rng = rng_seed((uint)i, frame, seed, 2u);
         for (int l = 0; l < light_count; ++l) {
@@ -70,8 +80,9 @@ __kernel void shade_reference(const __global GSample* gbuf, const __global Gloss
             float2 uv = light_sample(&lights[l], s.x, r0, r1, &pdf);
             LightEval e;
             if (pdf > 0.0f && light_eval(&lights[l], uv.x, uv.y, s.x, s.n, &e) && visible(nodes, tris, &s, &e))
-                c += unshadowed_contrib(&s, &e) / pdf;
+                c += direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) / pdf, clamp, &pass_d, &pass_g);
         }
     }
+    direct_passes(light_passes, pixel_count, i, pass_d, pass_g, k_seen);
     out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), 1.0f);
 }

@@ -2,7 +2,7 @@
  * sample. From the pixel's G-buffer surface the path walks (path/walk.h): it samples the BSDF, traces the ray and, at
  * every vertex it reaches, estimates the direct light there by NEE (path/nee.h) while the rays it traces count the
  * emitters they meet (path/emitters.h), the two combined by MIS (path/mis.h), within Cycles' Light Paths. The result,
- * with its own guard, also goes to `indirect` (a pass). Animation and viewport frames with ReSTIR GI take the same
+ * with its own guard, also goes to `indirect` (a pass) and, where light passes are on, to Diffuse or Glossy Indirect. Animation and viewport frames with ReSTIR GI take the same
  * walk from the secondary vertex instead (restir_gi/initial.cl). */
 
 __kernel void path_trace(const __global GSample* gbuf, const __global GlossySample* glossy,
@@ -14,7 +14,8 @@ __kernel void path_trace(const __global GSample* gbuf, const __global GlossySamp
                          const __global float* light_pdf, const __global LightTreeNode* tree_nodes,
                          const __global int2* tree_info, const __global int2* tree_distant,
                          const __global int* tri_light, volatile __global int* guards, __global float4* sample,
-                         __global float4* indirect, FrameParams frame_params, PathParams params)
+                         __global float4* indirect, __global float4* light_passes, FrameParams frame_params,
+                         PathParams params)
 {
     int i = get_global_id(0);
     if (i >= frame_params.pixels) return;
@@ -29,4 +30,9 @@ __kernel void path_trace(const __global GSample* gbuf, const __global GlossySamp
     L = guard_finite(L, guards, GUARD_NONFINITE_SAMPLE);
     indirect[i] = (float4)(L, 1.0f);
     sample[i].xyz += L;
+#ifdef HAS_LIGHT_PASSES  /* all of it is bounced light, diffuse or glossy by the first scatter (Cycles' passes) */
+    light_pass_indirect(light_passes, frame_params.pixels, i, L, st.pass_diffuse);
+#else
+    (void)light_passes;
+#endif
 }

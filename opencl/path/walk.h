@@ -23,6 +23,10 @@ typedef struct {
     int bounces;
     int diffuse;
     int gloss;
+#ifdef HAS_LIGHT_PASSES
+    float3 pass_diffuse;  /* the diffuse share of the first scatter's BSDF (film/light_passes.h), which all its light
+                             takes; 0 until it scatters (a zero initialiser leaves it 0) */
+#endif
 } PathState;
 
 /* c scaled down where its rgb sum as it reaches the pixel (prefix * c) exceeds 3x the clamp (0: off). */
@@ -83,6 +87,12 @@ inline float3 path_walk(const PathScene* ps, PathState* st, uint* rng, const Qmc
         float cos_n = dot3(st->s.n, wi);
         if (!(pdf > 0.0f) || !(cos_n > 0.0f)) break;
         const float3 T_before = st->T;
+#ifdef HAS_LIGHT_PASSES
+#ifndef LIGHT_PASSES_BY_LAST_BOUNCE  /* defined only by the negative control of tests/render/test_light_passes.py */
+        if (st->bounces == 0)
+#endif
+            st->pass_diffuse = light_pass_share(f, bsdf_eval_diffuse(&st->s, wi));
+#endif
         st->T *= f * (cos_n / pdf);
         ++st->bounces;
         if (part < 0) ++st->diffuse; else ++st->gloss;

@@ -6,7 +6,7 @@
 __kernel void gi_shade(const __global GSample* gbuf, const __global GlossySample* glossy,
                        const __global BVHNode* nodes, const __global Tri* tris, const __global GIReservoir* res,
                        volatile __global int* guards, __global float4* sample, __global float4* indirect,
-                       FrameParams frame_params, GIShadeParams params)
+                       __global float4* light_passes, FrameParams frame_params, GIShadeParams params)
 {
     int i = get_global_id(0);
     if (i >= frame_params.pixels) return;
@@ -21,4 +21,11 @@ __kernel void gi_shade(const __global GSample* gbuf, const __global GlossySample
     c = guard_finite(c, guards, GUARD_NONFINITE_SAMPLE);
     indirect[i] = (float4)(c, 1.0f);
     sample[i].xyz += c;
+#ifdef HAS_LIGHT_PASSES  /* diffuse or glossy by the BSDF at the visible point towards x_s: the first bounce's */
+    float3 share = (float3)(0.0f);
+    if (s.valid && gi_has_sample(&r)) share = light_pass_diffuse_share(&s, normalize(r.pos.xyz - s.x));
+    light_pass_indirect(light_passes, frame_params.pixels, i, c, share);
+#else
+    (void)light_passes;
+#endif
 }

@@ -36,3 +36,13 @@ __kernel void accumulate_aux(const __global GSample* gbuf, const __global Glossy
     albedo_sum[i] += (float4)(clamp_f(a.x, 0.0f, 1.0f), clamp_f(a.y, 0.0f, 1.0f), clamp_f(a.z, 0.0f, 1.0f), 0.0f);
     normal_sum[i] += (float4)(g.normal.xyz, 0.0f);
 }
+
+/* The still render's running sums of the light passes' planes (film/light_passes.h): light and colours summed
+ * alike, so that the host's division of a light by its colour is a ratio of sums, as Cycles divides */
+__kernel void accumulate_light_passes(const __global float4* light_passes, __global float4* sums,
+                                      FrameParams frame_params)
+{
+    int i = get_global_id(0);
+    if (i >= frame_params.pixels * LPASS_COUNT) return;
+    sums[i] += light_passes[i];
+}

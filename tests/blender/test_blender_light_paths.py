@@ -49,16 +49,17 @@ def set_light_paths(sc) -> None:
     c = sc.cycles
     c.max_bounces, c.diffuse_bounces, c.glossy_bounces, c.min_light_bounces = 3, 2, 1, 1
     c.sample_clamp_indirect = 5.0
+    c.sample_clamp_direct = 7.0
     c.use_light_tree = False  # Cycles applies its light threshold only without the light tree
     c.light_sampling_threshold = 0.25
     p = sc.restircl
     p.max_bounces, p.diffuse_bounces, p.glossy_bounces, p.min_light_bounces = 7, 6, 5, 4
-    p.clamp_indirect, p.light_threshold = 50.0, 0.5
+    p.clamp_indirect, p.light_threshold, p.clamp_direct = 50.0, 0.5, 40.0
 
 
 def assert_cycles_light_paths(s) -> None:
-    got = (s.max_bounces, s.diffuse_bounces, s.glossy_bounces, s.min_light_bounces, s.clamp_indirect)
-    assert got == (3, 2, 1, 1, 5.0)
+    got = (s.max_bounces, s.diffuse_bounces, s.glossy_bounces, s.min_light_bounces, s.clamp_indirect, s.clamp_direct)
+    assert got == (3, 2, 1, 1, 5.0, 7.0)
     assert s.light_threshold == pytest.approx(0.25)
 
 
@@ -78,11 +79,12 @@ def test_values_outside_restircl_range_are_clamped_with_a_warning():
     from restircl_blender import light_paths
 
     cycles = SimpleNamespace(max_bounces=5000, diffuse_bounces=-3, glossy_bounces=2, min_light_bounces=0,
-                             sample_clamp_indirect=-1.0, light_sampling_threshold=math.nan, use_light_tree=False)
+                             sample_clamp_indirect=-1.0, light_sampling_threshold=math.nan, use_light_tree=False,
+                             sample_clamp_direct=-2.0)
     values, messages = light_paths.read(SimpleNamespace(cycles=cycles))
     assert values == {"max_bounces": 1024, "diffuse_bounces": 0, "glossy_bounces": 2, "min_light_bounces": 0,
-                      "clamp_indirect": 0.0, "light_threshold": 0.0}
-    assert len(messages) == 4
+                      "clamp_direct": 0.0, "clamp_indirect": 0.0, "light_threshold": 0.0}
+    assert len(messages) == 5
     for prop, used in (("max_bounces", "1024"), ("diffuse_bounces", "0"), ("sample_clamp_indirect", "0.0"),
                        ("light_sampling_threshold", "0.0")):
         assert any(prop in m and m.endswith(f"{used} is used") for m in messages), (prop, messages)
@@ -92,7 +94,7 @@ def test_values_outside_restircl_range_are_clamped_with_a_warning():
 def test_a_release_without_a_property_keeps_restircl_setting():
     from restircl_blender import light_paths
 
-    cycles = SimpleNamespace(max_bounces=2, sample_clamp_direct=0.0)
+    cycles = SimpleNamespace(max_bounces=2, transmission_bounces=12)
     assert light_paths.read(SimpleNamespace(cycles=cycles)) == ({"max_bounces": 2}, [])
 
 
@@ -101,7 +103,7 @@ def test_settings_kwargs_take_cycles_light_paths_and_threshold_follows_the_light
     set_light_paths(sc)
     kw = sc.restircl.settings_kwargs()
     assert (kw["max_bounces"], kw["diffuse_bounces"], kw["glossy_bounces"], kw["min_light_bounces"]) == (3, 2, 1, 1)
-    assert kw["clamp_indirect"] == 5.0 and kw["light_threshold"] == pytest.approx(0.25)
+    assert kw["clamp_indirect"] == 5.0 and kw["light_threshold"] == pytest.approx(0.25) and kw["clamp_direct"] == 7.0
     assert kw["method"] == sc.restircl.method  # the rest is restircl's own
     sc.cycles.use_light_tree = True
     assert sc.restircl.settings_kwargs()["light_threshold"] == 0.0
@@ -189,15 +191,15 @@ def test_f12_reports_clamped_and_unapplied_light_paths(tmp_path, monkeypatch):
     sc = small_scene()
     sc.cycles.max_bounces = 1
     sc.cycles["min_light_bounces"] = 5000  # the ID property itself: beyond Cycles' own limit (and restircl's)
-    sc.cycles.sample_clamp_direct = 2.0
+    sc.cycles.sample_clamp_direct = 2.0  # applied: not reported
     sc.cycles.volume_bounces = 3
     reports, _stats = record_engine(monkeypatch)
     render_to(sc, tmp_path / "warned.exr")
     assert np.all(np.isfinite(read_exr_passes(tmp_path / "warned.exr")["Combined"]))
     ours = [m for m in reports if "Light Paths" in m]
-    assert len(ours) == 3, reports
+    assert len(ours) == 2, reports
     assert any("min_light_bounces" in m and "1024 is used" in m for m in ours), ours
-    assert sum("Clamp Direct" in m and "not applied" in m for m in ours) == 1, ours
+    assert not any("Clamp Direct" in m for m in ours), ours
     assert sum("Volume bounces" in m and "not applied" in m for m in ours) == 1, ours
     assert all(m.startswith("restircl: ") for m in ours)
     sc.cycles.sample_clamp_direct = 0.0  # back at Cycles' default: nothing to report

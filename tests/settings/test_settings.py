@@ -32,7 +32,7 @@ BEFORE = (
     ("boiling_filter", 0.0), ("temporal_permutation", False),
     ("taa_filter", "bilinear"), ("taa_dilation", False),
     ("realtime_filter", False), ("filter_iterations", 4), ("disocclusion_boost", 0),
-    ("denoise", False),
+    ("denoise", False), ("light_passes", False),
     ("still_method", "auto"),
     ("area_sampling", "area"),
     ("light_proposal", "auto"),
@@ -41,7 +41,7 @@ BEFORE = (
     ("sampler", "auto"),
     ("visibility_max_age", 0), ("visibility_max_distance", 2.0),
     ("max_bounces", 0), ("diffuse_bounces", 4), ("glossy_bounces", 4), ("min_light_bounces", 0),
-    ("clamp_indirect", 0.0), ("light_threshold", 0.0),
+    ("clamp_direct", 0.0), ("clamp_indirect", 0.0), ("light_threshold", 0.0),
     ("gi_reuse", True), ("gi_temporal", True), ("gi_spatial_neighbours", 4), ("gi_radius", 10.0), ("gi_m_cap", 8.0),
     ("gi_bias_correction", "pairwise"), ("gi_boiling_filter", 0.0), ("gi_disocclusion_boost", 0))
 NUMBERS = [d for d in declared(Settings) if d.spec.range is not None]

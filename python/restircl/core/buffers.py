@@ -49,4 +49,5 @@ class FrameBuffers:
         self.cameras = [alloc(context, L.CAMERA.itemsize) for _ in range(3)]  # current, previous, next
         self.vector = alloc(context, n * 16)
         self.none = alloc(context, 16)  # bound to the tile arguments of kernels that run without tiles
+        self.light_passes = self.none  # the light passes' planes (render/light_passes.py), where they are on
         cl.enqueue_fill_buffer(queue, self.guards, np.int32(0), 0, 4 * L.GUARD_COUNT)

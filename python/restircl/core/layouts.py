@@ -85,7 +85,8 @@ SPATIAL_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), ("spatial_neighbours"
                            *_ints("bias_correction", "visibility_reuse", "pass_index", "boost_neighbours"),
                            ("fresh_m", np.float32), ("pad0", np.int32)])
 SHADE_PARAMS = np.dtype([("sampler", SAMPLER_PARAMS), *_ints("method", "candidates", "visible_known",
-                                                              "bsdf_mis_sample")])
+                                                              "bsdf_mis_sample"), ("clamp_direct", np.float32),
+                         *_ints("pad0", "pad1", "pad2")])
 TAA_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), *_floats("alpha_min", "gamma"),
                        *_ints("moving", "max_history", "reset", "filter", "dilate", "pad0")])
 

@@ -31,6 +31,14 @@ class Frame:
     features: list[str] = field(default_factory=list)
     error_estimate: float | None = None  # relMSE estimated from two half buffers (still renders)
     noisy_image: np.ndarray | None = None  # (H, W, 4) the colour before denoising (Settings.denoise), else None
+    # Cycles' light passes (Settings.light_passes, render/light_passes.py), (H, W, 3) each, else None
+    diffuse_direct: np.ndarray | None = None
+    diffuse_indirect: np.ndarray | None = None
+    glossy_direct: np.ndarray | None = None
+    glossy_indirect: np.ndarray | None = None
+    glossy_color: np.ndarray | None = None
+    emission: np.ndarray | None = None
+    environment: np.ndarray | None = None
 
 
 class DeviceFrame(NamedTuple):

@@ -31,7 +31,27 @@ PASSES = (
     Pass("albedo", "RGB", "Albedo", "Diffuse Color", "COLOR", "use_pass_diffuse_color", blender_4="DiffCol"),
     # the image before the denoiser, as Cycles keeps it when denoising
     Pass("noisy_image", "RGBA", "NoisyImage", "Noisy Image", "COLOR", None, requires="denoise"),
+    # Cycles' light passes (Settings.light_passes; docs/design.md "Light passes"): the direct and the bounced light
+    # of the diffuse and the glossy parts of the first surface, each divided by its colour pass, and what the camera
+    # sees of the emitters and of the world
+    Pass("diffuse_direct", "RGB", "DiffDir", "Diffuse Direct", "COLOR", "use_pass_diffuse_direct",
+         blender_4="DiffDir", requires="light_passes"),
+    Pass("diffuse_indirect", "RGB", "DiffInd", "Diffuse Indirect", "COLOR", "use_pass_diffuse_indirect",
+         blender_4="DiffInd", requires="light_passes"),
+    Pass("glossy_direct", "RGB", "GlossDir", "Glossy Direct", "COLOR", "use_pass_glossy_direct",
+         blender_4="GlossDir", requires="light_passes"),
+    Pass("glossy_indirect", "RGB", "GlossInd", "Glossy Indirect", "COLOR", "use_pass_glossy_indirect",
+         blender_4="GlossInd", requires="light_passes"),
+    Pass("glossy_color", "RGB", "GlossCol", "Glossy Color", "COLOR", "use_pass_glossy_color", blender_4="GlossCol",
+         requires="light_passes"),
+    Pass("emission", "RGB", "Emit", "Emission", "COLOR", "use_pass_emit", blender_4="Emit", requires="light_passes"),
+    Pass("environment", "RGB", "Env", "Environment", "COLOR", "use_pass_environment", blender_4="Env",
+         requires="light_passes"),
 )
+# The per-pixel planes the kernels write where light passes are on (LPASS_* in opencl/codes.h, in this order): the
+# light of each kind before any division, and the colours of the first surface (render/light_passes.py divides)
+LIGHT_PLANES = ("diffuse_direct", "diffuse_indirect", "glossy_direct", "glossy_indirect", "emission", "environment",
+                "diffuse_color", "glossy_color")
 
 
 def blender_name(p: Pass, version: tuple[int, ...]) -> str:

@@ -45,6 +45,7 @@ from .denoise import denoise_by_gbuffer
 from .features import describe, renderer_flags
 from .frame import DeviceFrame, Frame, read_aovs, read_colour, read_gbuffer, read_guards, read_image
 from .history import History
+from .light_passes import fill_frame, read_planes
 from .plan import FramePlan, FrameSituation, light_source, plan_frame
 from .restir_gi import RestirGI
 from .stages import (
@@ -116,6 +117,8 @@ class Renderer:
         self.restir_gi = RestirGI(*stage, paths=self.paths)
         self.taa = Taa(*stage)
         self.still = StillAccumulation(self.kernels, self.pixels, (self.height, self.width))
+        if self.flags.get("HAS_LIGHT_PASSES"):  # the planes of the light passes (general builds write them too)
+            self.buffers.light_passes = self.still.use_light_passes()
         self.pick_table = PickTable(self.kernels, self.pixels)
 
     def _build(self) -> None:
@@ -132,8 +135,7 @@ class Renderer:
         self.build_seconds = time.perf_counter() - t0
         self.kernels = Kernels(self.device, self.program)
 
-    def reset(self) -> None:
-        """Drop all history (ReSTIR reservoirs, TAA, accumulation)."""
+    def reset(self) -> None:  # drop all history (ReSTIR reservoirs, TAA, accumulation)
         self.history.invalidate()
         self._last_frame = None
 
@@ -141,11 +143,10 @@ class Renderer:
 
     def render_frame(self, frame: int, *, still: bool = False, aovs: bool = True, sample: int | None = None) -> Frame:
         """Render animation frame `frame`, carrying history from the previous call (reset on a camera cut).
-        aovs=False reads back the colour and the noisy sample only (no depth, normal, vector, albedo): a real-time
-        viewer needs no more, and the G-buffer read-back cost ~20 ms per 640x360 frame on a 2-core CPU.
-        `sample` is this frame's random stream key (and jitter index), by default the frames rendered so far: a
-        render split into chunks (farm/cluster.py) keys every frame by its number, so that its noise does not depend on
-        where a chunk began."""
+        aovs=False reads back the colour and the noisy sample only (no other pass): a real-time viewer needs no
+        more, and the G-buffer read-back cost ~20 ms per 640x360 frame on a 2-core CPU. `sample` is this frame's
+        random stream key (and jitter index), by default the frames rendered so far: a render split into chunks
+        (farm/cluster.py) keys every frame by its number, so that its noise does not depend on where one began."""
         if sample is not None:
             self._sample = int(sample) % (1 << 32)  # FrameParams.sample is a uint
         t0 = time.perf_counter()
@@ -158,10 +159,9 @@ class Renderer:
         return out
 
     def render_view(self, camera: Camera, *, cut: bool = False, aovs: bool = False) -> Frame:
-        """A frame of an interactive view (the viewport): frame 0 of the scene seen by `camera`, which may differ
-        from the last call's view in transform, lens, shift or kind (of the renderer's size). The history is
-        reprojected from the last call's view as in an animation, or dropped when `cut`; calls with an unchanged
-        view accumulate as a still camera's animation frames do. The renderer's scene takes `camera` as its camera."""
+        """A frame of an interactive view (the viewport): frame 0 of the scene seen by `camera` (of the renderer's
+        size), whose view may differ from the last call's. The history is reprojected from the last call's view as
+        in an animation, or dropped when `cut`; the renderer's scene takes `camera` as its camera."""
         if (int(camera.width), int(camera.height)) != (self.width, self.height):
             raise SceneError(f"camera: the view is {camera.width}x{camera.height}, the renderer "
                              f"{self.width}x{self.height}; make a new Renderer for another size")
@@ -280,7 +280,7 @@ class Renderer:
     def read_frame(self, color_buf: cl.Buffer, gbuf: cl.Buffer, frame: int, scale: float = 1.0,
                    aovs: bool = True) -> Frame:
         """Read back a frame rendered by run_frame: its colour from `color_buf` times `scale` (a still render's
-        sum), the noisy sample, the guard counters and (aovs) the passes of G-buffer `gbuf`."""
+        sum), the noisy sample, the guard counters and (aovs) the passes of G-buffer `gbuf` and the light passes."""
         q = self.device.queue
         color, noisy, bad = read_colour(q, color_buf, self.buffers.sample, (self.height, self.width), scale)
         self.guard_totals["nonfinite_sample"] += bad
@@ -289,6 +289,8 @@ class Renderer:
                     features=list(self.features))
         if aovs:
             read_aovs(q, out, gbuf, self.buffers.vector)
+            if self.settings.light_passes:  # this frame's (a still's means replace them: render/still.py)
+                fill_frame(out, read_planes(q, self.buffers.light_passes, (self.height, self.width)))
         return out
 
     def read_gbuffer(self, gbuf: cl.Buffer | None = None) -> np.ndarray:
@@ -355,8 +357,7 @@ class Renderer:
         return self.device_scene.triangle_count
 
     @property
-    def sample_buf(self) -> cl.Buffer:
-        """This frame's noisy estimate s_n."""
+    def sample_buf(self) -> cl.Buffer:  # this frame's noisy estimate s_n
         return self.buffers.sample
 
     @property

@@ -94,4 +94,4 @@ class RestirGI(Stage):
         self.kernels.launch("gi_shade", pixel_count(state), gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
                             **self.scene.geometry, res=h.gi_reservoirs(h.cur), guards=self.buffers.guards,
                             sample=self.buffers.sample, indirect=self.paths.indirect_buffer(state),
-                            frame_params=state.frame_params, params=params)
+                            light_passes=self.buffers.light_passes, frame_params=state.frame_params, params=params)

@@ -120,7 +120,7 @@ class Primary(Stage):
                             **self.scene.surface, ggx_tables=self.scene.ggx_tables_buf or b.none,
                             object_motion=self.scene.motion_buf, lights=self.scene.lights_buf,
                             camera_lights=self.scene.camera_lights_buf, gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
-                            vector=b.vector)
+                            vector=b.vector, light_passes=b.light_passes)
 
 
 class LightTiles(Stage):
@@ -261,13 +261,13 @@ class Shade(Stage):
         h = self.history
         return {"gbuf": h.gbuf(h.cur), "glossy": h.glossy(h.cur), **self.scene.geometry,
                 "lights": self.scene.lights_buf, "guards": self.buffers.guards, "out": self.buffers.sample,
-                "frame_params": state.frame_params}
+                "light_passes": self.buffers.light_passes, "frame_params": state.frame_params}
 
     def restir(self, state: FrameState) -> None:
         """Shade the reservoir this frame leaves as history."""
         s, h = self.settings, self.history
         known = s.visibility_reuse and s.bias_correction != "none"
-        params = L.pack(L.SHADE_PARAMS, sampler=state.sampler, visible_known=int(known))
+        params = L.pack(L.SHADE_PARAMS, sampler=state.sampler, visible_known=int(known), clamp_direct=s.clamp_direct)
         self.kernels.launch("restir_shade", pixel_count(state), **self._common(state), res=h.reservoirs(h.cur),
                             params=params)
 
@@ -275,14 +275,14 @@ class Shade(Stage):
         """pick_table: the still render's per-pixel light pick, where state.plan.pick_table says the frame uses it."""
         params = L.pack(L.SHADE_PARAMS, sampler=state.sampler, method=self.method_codes[state.plan.method],
                         candidates=self.settings.candidates,
-                        bsdf_mis_sample=int(state.plan.mis_sample))
+                        bsdf_mis_sample=int(state.plan.mis_sample), clamp_direct=self.settings.clamp_direct)
         self.kernels.launch("shade_direct", pixel_count(state), **self._common(state), slots=self.scene.slots_buf,
                             light_pdf=self.scene.light_pdf_buf, **self.scene.light_tree_args, **tiles,
                             tri_light=self.scene.tri_light_buf, pick_table=pick_table or self.buffers.none,
                             params=params)
 
     def reference(self, state: FrameState) -> None:
-        params = L.pack(L.SHADE_PARAMS, sampler=state.sampler)
+        params = L.pack(L.SHADE_PARAMS, sampler=state.sampler, clamp_direct=self.settings.clamp_direct)
         self.kernels.launch("shade_reference", pixel_count(state), **self._common(state), params=params)
 
 
@@ -298,6 +298,7 @@ class Paths(Stage):
         h = self.history
         self.kernels.launch("path_trace", pixel_count(state), gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
                             **self.arguments(state), sample=self.buffers.sample, indirect=self.indirect_buffer(state),
+                            light_passes=self.buffers.light_passes,
                             params=path_params(self.scene, self.settings, state.plan))
 
     def indirect_buffer(self, state: FrameState) -> cl.Buffer:

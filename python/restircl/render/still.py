@@ -29,6 +29,8 @@ from .camera import halton
 from .denoise import denoise_frame
 from .frame import DeviceFrame, Frame, read_image
 from .history import History
+from .light_passes import fill_frame, planes_buffer, read_planes
+from .passes import LIGHT_PLANES
 from .qmc import still_key, still_uses_sobol
 
 HALF_BLOCK = 8  # frames per block of a still render's two half buffers (error_estimate)
@@ -56,6 +58,14 @@ class StillAccumulation:
         self.sum_half = alloc(context, pixels * 16)
         self.counts = (0, 0)  # (samples accumulated, of which in half buffer 1)
         self.aux: tuple[cl.Buffer, ...] | None = None  # sums of the denoiser's albedo, normal and emission images
+        self.light_planes: cl.Buffer | None = None  # each frame's light passes (render/light_passes.py), where on
+        self.light_sums: cl.Buffer | None = None  # ... and their sums
+
+    def use_light_passes(self) -> cl.Buffer:
+        """Sum the light passes' planes of each sample too; returns the buffer of a frame's planes."""
+        self.light_planes = planes_buffer(self.kernels.device.context, self.pixels)
+        self.light_sums = planes_buffer(self.kernels.device.context, self.pixels)
+        return self.light_planes
 
     def clear(self, aux: bool = False) -> None:
         """Start a still render; with `aux`, also sum the denoiser's guide images (add_aux)."""
@@ -64,6 +74,9 @@ class StillAccumulation:
             self.aux = tuple(alloc(context, self.pixels * 16) for _ in range(3))
         for b in (self.sum, self.sum_half, *(self.aux if aux and self.aux else ())):
             cl.enqueue_fill_buffer(self.kernels.device.queue, b, np.float32(0), 0, self.pixels * 16)
+        if self.light_sums is not None:
+            cl.enqueue_fill_buffer(self.kernels.device.queue, self.light_sums, np.float32(0), 0,
+                                   self.pixels * 16 * len(LIGHT_PLANES))
         self.counts = (0, 0)
 
     def add_aux(self, gbuf: cl.Buffer, glossy: cl.Buffer, frame_params: np.void) -> None:
@@ -85,6 +98,9 @@ class StillAccumulation:
     def add(self, sample: cl.Buffer, frame_params: np.void, half: int) -> None:
         self.kernels.launch("accumulate", (self.pixels,), sample=sample, sum=self.sum, sum_half=self.sum_half,
                             frame_params=frame_params, in_half=np.int32(half))
+        if self.light_sums is not None:
+            self.kernels.launch("accumulate_light_passes", (self.pixels * len(LIGHT_PLANES),),
+                                light_passes=self.light_planes, sums=self.light_sums, frame_params=frame_params)
         done, n_half = self.counts
         self.counts = (done + 1, n_half + half)
 
@@ -262,4 +278,7 @@ def _result(r: FrameSource, frame: int, gbuf: cl.Buffer, stage: dict[str, float]
         albedo, normal, emission = acc.aux_images(done)
         if denoise_frame(out, albedo, normal, emission):  # the passes show the guides the denoiser saw, as in Cycles
             out.albedo, out.normal = albedo, normal
+    if r.settings.light_passes:  # the light passes of the mean, and the mean colours they were divided by
+        assert acc.light_sums is not None
+        fill_frame(out, read_planes(acc.kernels.device.queue, acc.light_sums, acc.shape, 1.0 / done))
     return out

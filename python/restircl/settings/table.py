@@ -227,6 +227,9 @@ class Settings:
     denoise: bool = setting(False, "Denoise", "Filter each finished image with Intel Open Image Denoise (pyoidn), "
                             "guided by the albedo and normal of the same pixels; the image before it is kept as the "
                             "Noisy Image pass", flag="--denoise", panel="sampling")
+    light_passes: bool = setting(False, "Light Passes", "Write Cycles' light passes (Diffuse and Glossy Direct, "
+                                 "Indirect and Color, Emission, Environment); the add-on turns this on from the view "
+                                 "layer's pass toggles", flag="--light-passes")
 
     still_method: str = setting("auto", "Still Method", "The estimator of still renders (F12, a still camera): "
                                 "animations and the viewport keep Method", flag="--still-method",
@@ -277,6 +280,11 @@ class Settings:
                                      "a path (it starts at the third vertex with 0, as in Cycles)",
                                      flag="--min-light-bounces", range=Range(int, 0, 1024), panel="light_paths",
                                      soft_max=32)
+    clamp_direct: float = setting(0.0, "Clamp Direct", "Light Paths: the largest value of one contribution of direct "
+                                  "light: the emitters the camera sees, light samples at the first surface and the "
+                                  "emitters its BSDF rays meet (biased, fewer fireflies; 0: off)",
+                                  flag="--clamp-direct", range=Range(float, 0, finite=True), panel="light_paths",
+                                  soft_max=100.0)
     clamp_indirect: float = setting(0.0, "Clamp Indirect", "Light Paths: the largest value of one contribution of "
                                     "bounced light (biased, fewer fireflies; 0: off)", flag="--clamp-indirect",
                                     range=Range(float, 0, finite=True), panel="light_paths", soft_max=100.0)

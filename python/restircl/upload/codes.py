@@ -27,6 +27,7 @@ from ..lights import area_sampling, camera_visible, pick_table, record, registry
 from ..lights import environment as environment_light
 from ..materials.material import MAX_LAYERS
 from ..materials.textures import COLOR_MODES, COORDS, EXTENSIONS, INTERPOLATIONS, MATH_OPS, MIX_BLENDS, VECTOR_OPS
+from ..render.passes import LIGHT_PLANES
 from ..scene.camera import CAMERA_TYPES
 from ..settings.table import BIAS_CORRECTIONS, BOILING_MODES, SHADE_METHODS, TAA_FILTERS
 from . import ggx_tables, tri_attributes
@@ -95,6 +96,8 @@ def families() -> tuple[Family, ...]:
                _enum("BOIL_", BOILING_MODES)),
         Family("TAA history filters (Settings.taa_filter)", "settings/table.py TAA_FILTERS",
                _enum("TAA_", TAA_FILTERS)),
+        Family("the planes of the light passes", "render/passes.py LIGHT_PLANES",
+               (*_enum("LPASS_", LIGHT_PLANES), ("LPASS_COUNT", len(LIGHT_PLANES))), kind="constants"),
         Family("camera kinds (Camera.kind)", "scene/camera.py CAMERA_TYPES", _enum("CAMERA_", CAMERA_TYPES)),
         Family("guard counters", "core/layouts.py GUARD_NAMES",
                (*_enum("GUARD_", L.GUARD_NAMES[: L.GUARD_COUNT - 1]), ("GUARD_COUNT", L.GUARD_COUNT)),

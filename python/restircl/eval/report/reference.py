@@ -64,8 +64,8 @@ def emissive_triangle_count(scene: Scene, frame: int = 0) -> int:
 
 
 #: the Light Paths a reference copies from the settings it is a reference for
-LIGHT_PATHS = ("max_bounces", "diffuse_bounces", "glossy_bounces", "min_light_bounces", "clamp_indirect",
-               "light_threshold")
+LIGHT_PATHS = ("max_bounces", "diffuse_bounces", "glossy_bounces", "min_light_bounces", "clamp_direct",
+               "clamp_indirect", "light_threshold")
 
 
 def overrides_tag(overrides: dict | None) -> str:
