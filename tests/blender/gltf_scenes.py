@@ -125,20 +125,56 @@ def import_helmet(folder: Path, name: str = "Helmet", radius: float = 0.6, locat
     return new[0]
 
 
+def _stage(sc, floor: float, key: tuple, spot: tuple, points: list[tuple]) -> None:
+    """A grey floor of side `floor`, an area light key = (location, energy, size), a spot = (location, energy) and
+    point lights (location, energy, colour, radius), all hidden from the camera."""
+    scenes.quad("Floor", floor, material=scenes.diffuse_material("FloorGrey", (0.5, 0.5, 0.5)))
+    scenes.light("AREA", "Key", key[0], (math.radians(35), 0, math.radians(-40)), energy=key[1], size=key[2])
+    scenes.light("SPOT", "Spot", spot[0], (math.radians(45), 0, math.radians(45)), energy=spot[1],
+                 spot_size=math.radians(60), shadow_soft_size=0.2)
+    for k, (location, energy, colour, radius) in enumerate(points):
+        scenes.light("POINT", f"P{k}", location, energy=energy, shadow_soft_size=radius, color=colour)
+    for ob in sc.objects:
+        if ob.type == "LIGHT":
+            ob.visible_camera = False
+
+
 def helmet_scene(folder: Path, width: int, height: int):
     """The issue's scene at small size: the helmet on a grey floor under an area light, a spot and a few points."""
     sc = scenes.new_scene(width, height)
     import_helmet(folder)
-    scenes.quad("Floor", 6.0, material=scenes.diffuse_material("FloorGrey", (0.5, 0.5, 0.5)))
-    scenes.light("AREA", "Key", (-1.5, -1.5, 3.0), (math.radians(35), 0, math.radians(-40)), energy=300.0, size=1.0)
-    scenes.light("SPOT", "Spot", (2.0, -2.0, 2.5), (math.radians(45), 0, math.radians(45)), energy=400.0,
-                 spot_size=math.radians(60), shadow_soft_size=0.2)
-    for k in range(4):
-        a = 2 * math.pi * k / 4
-        scenes.light("POINT", f"P{k}", (1.6 * math.cos(a), 1.6 * math.sin(a), 1.4), energy=20.0,
-                     shadow_soft_size=0.1, color=(1.0, 0.85, 0.7))
-    for ob in sc.objects:
-        if ob.type == "LIGHT":
-            ob.visible_camera = False
+    ring = [((1.6 * math.cos(a), 1.6 * math.sin(a), 1.4), 20.0, (1.0, 0.85, 0.7), 0.1)
+            for a in (2 * math.pi * k / 4 for k in range(4))]
+    _stage(sc, 6.0, ((-1.5, -1.5, 3.0), 300.0, 1.0), ((2.0, -2.0, 2.5), 400.0), ring)
     scenes.camera((0, -3.6, 2.2), (0, 0, 0.5), lens=40.0)
+    return sc
+
+
+def import_real_helmet(path: Path):
+    """Khronos' DamagedHelmet (restircl.eval.assets) through Blender's glTF importer, standing on z = 0."""
+    bpy.ops.preferences.addon_enable(module="io_scene_gltf2")
+    before = set(bpy.data.objects)
+    bpy.ops.import_scene.gltf(filepath=str(path))
+    ob = next(o for o in bpy.data.objects if o not in before and o.type == "MESH")
+    bpy.context.view_layer.update()
+    zmin = min((ob.matrix_world @ v.co).z for v in ob.data.vertices)
+    root = ob
+    while root.parent is not None:
+        root = root.parent
+    root.location.z -= zmin
+    return ob
+
+
+def real_helmet_scene(path: Path, width: int, height: int):
+    """The issue's scene: the real helmet on a grey floor under an area light, a spot and 30 small point lights
+    (two rings of warm ones around it, at three heights)."""
+    sc = scenes.new_scene(width, height)
+    import_real_helmet(path)
+    ring = []
+    for k in range(30):
+        r, a = 2.2 + 0.4 * (k % 2), 2 * math.pi * k / 30
+        ring.append(((r * math.cos(a), r * math.sin(a), 0.6 + 0.25 * (k % 3)), 8.0,
+                     (1.0, 0.8 - 0.01 * k, 0.6 + 0.01 * k), 0.05))
+    _stage(sc, 8.0, ((-2.0, -2.5, 4.0), 600.0, 1.5), ((2.5, -2.5, 3.0), 500.0), ring)
+    scenes.camera((0.6, -4.5, 2.3), (0, 0, 0.9), lens=45.0)
     return sc

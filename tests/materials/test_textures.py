@@ -323,7 +323,7 @@ def test_mips_remove_aliasing_on_a_grazing_plane(device, monkeypatch, interp):
     f = render(scene())
     far = np.isfinite(f.depth) & (f.depth > 15.0)  # tens of texels per pixel
     with_mips = f.albedo[far][:, 0]
-    monkeypatch.setattr(tp, "mip_chain", lambda level0: [level0])
+    monkeypatch.setattr(tp, "mip_chain", lambda level0, encoded=False: [level0])
     without = render(scene()).albedo[far][:, 0]
     assert far.sum() > 200
     var_with, var_without = with_mips.var(), without.var()

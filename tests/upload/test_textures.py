@@ -90,6 +90,17 @@ def test_mip_chain_halves_rounding_up_and_keeps_the_mean():
     np.testing.assert_allclose(mip_chain(even)[-1][0, 0], even.mean(axis=(0, 1)), rtol=1e-5)
 
 
+def test_an_encoded_mip_level_decodes_to_the_mean_light_of_its_texels():
+    """A 2x2 sRGB-encoded block, one texel white (1.0) and three black: its 1x1 level must decode to the mean light
+    0.25 (encoded 0.5371), not to the decoded mean encoding 0.25 (0.0508); alpha and level 0 stay as they are."""
+    img = np.zeros((2, 2, 4), np.float32)
+    img[0, 0, :3] = 1.0
+    img[..., 3] = (0.2, 0.4), (0.6, 0.8)
+    levels = mip_chain(img, encoded=True)
+    assert levels[0] is img
+    np.testing.assert_allclose(levels[1][0, 0], (0.53709, 0.53709, 0.53709, 0.5), atol=1e-4)
+
+
 # ---- image files --------------------------------------------------------------------------------------------
 
 def test_png_and_exr_files_are_read(tmp_path):
@@ -279,22 +290,30 @@ def test_uv_textures_on_a_mesh_without_uvs_warn():
         Renderer(scene, Settings(method="light_array"))
 
 
-def test_textured_emission_lights_with_its_white_bound_and_says_so():
-    """What docs/textures.md states: as a light, a textured emission shines with white x Emission Strength (its
-    light records are those of a constant white emission), and the upload warns, naming the material."""
+def test_an_emission_image_lights_by_its_texels_and_other_graphs_say_so():
+    """What docs/textures.md states: as a light, each triangle of an emission image shines with the image's mean
+    over its UV footprint (decoded, then averaged) times Emission Strength; another texture graph keeps the white
+    bound (its records are those of a constant white emission) and the upload warns, naming the material."""
     from restircl.lights.device_lights import scene_lights
     from restircl.upload.textures import warn_textured_emission
 
-    img = np.random.default_rng(4).random((4, 4, 3)).astype(np.float32)
-    textured = facing_square(Material("glow", albedo=(0.0, 0.0, 0.0), emission=ImageTexture(img),
-                                      emission_strength=3.0), 8)
-    white = facing_square(Material("glow", albedo=(0.0, 0.0, 0.0), emission=(1.0, 1.0, 1.0),
-                                   emission_strength=3.0), 8)
-    a, b = scene_lights(textured, 0).records, scene_lights(white, 0).records
-    assert len(a) == len(b) > 1  # the two emissive triangles (and the sun)
-    np.testing.assert_array_equal(a, b)
+    def square(emission):
+        return facing_square(Material("glow", albedo=(0.0, 0.0, 0.0), emission=emission, emission_strength=3.0), 8)
+
+    # one row, left texel sRGB 64, right 200: decoded 0.05127 and 0.57758 (IEC 61966-2-1)
+    image = ImageTexture(np.array([[64, 200]], np.uint8), interpolation="Closest")
+    textured, white = square(image), square((1.0, 1.0, 1.0))
+    checker = square(CheckerTexture((1.0, 1.0, 1.0), (0.0, 0.0, 0.0)))
+    recs = scene_lights(textured, 0).records.view(np.float32).reshape(-1, 16)[1:]  # the sun first
+    uvs = textured.meshes[0].uvs
+    # the triangle below the diagonal u = v has 3/4 of its area at u > 1/2, the other 1/4
+    right = np.where(uvs[:, :, 0].sum(1) > uvs[:, :, 1].sum(1), 0.75, 0.25)
+    want = 3.0 * (right * 0.57758044 + (1 - right) * 0.05126946)
+    np.testing.assert_allclose(recs[:, 12], want, rtol=1e-5)
+    np.testing.assert_array_equal(scene_lights(checker, 0).records, scene_lights(white, 0).records)
     with pytest.warns(UserWarning, match="material 0 'glow' has a textured emission"):
-        warn_textured_emission(textured.meshes, textured.materials)
+        warn_textured_emission(checker.meshes, checker.materials)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         warn_textured_emission(white.meshes, white.materials)
+        warn_textured_emission(textured.meshes, textured.materials)

@@ -25,6 +25,12 @@ def srgb_to_linear(c: np.ndarray) -> np.ndarray:
     return np.where(c <= 0.04045, c / 12.92, np.power((np.maximum(c, 0.0) + 0.055) / 1.055, 2.4))
 
 
+def linear_to_srgb(c: np.ndarray) -> np.ndarray:
+    """The sRGB transfer function (IEC 61966-2-1): srgb_to_linear's inverse."""
+    c = np.maximum(np.asarray(c, dtype=np.float64), 0.0)
+    return np.where(c <= 0.0031308, c * 12.92, 1.055 * np.power(c, 1.0 / 2.4) - 0.055)
+
+
 def read_image_file(path: str | Path) -> np.ndarray:
     """The pixels of an image file, top row first, as the file stores them: (H, W, C) uint8/uint16/float32."""
     path = Path(path)
@@ -88,9 +94,17 @@ def to_linear_rgba(pixels: np.ndarray, colorspace: str) -> np.ndarray:
     return np.ascontiguousarray(out, dtype=np.float32)
 
 
-def mip_chain(level0: np.ndarray) -> list[np.ndarray]:
+def mip_chain(level0: np.ndarray, encoded: bool = False) -> list[np.ndarray]:
     """Level 0 and each halved level, rounded up (2x2 box filter; an odd row or column is repeated first), down to
-    1x1: the sizes opencl/textures/image.h steps through."""
+    1x1: the sizes opencl/textures/image.h steps through. With `encoded` (sRGB-encoded colour, decoded after
+    filtering) the box filter averages the decoded colour and each level is encoded back, so a level decodes to the
+    mean light of its texels, as the average of many point samples does (a minified image of sparse bright texels,
+    averaged in its encoding, is several times too dark); level 0 stays as it is."""
+    if encoded:
+        rgb = mip_chain(srgb_to_linear(level0[..., :3]).astype(np.float32))
+        alpha = mip_chain(np.ascontiguousarray(level0[..., 3:]))
+        return [level0] + [np.ascontiguousarray(np.concatenate([linear_to_srgb(c), a], axis=-1), dtype=np.float32)
+                           for c, a in zip(rgb[1:], alpha[1:], strict=True)]
     levels = [level0]
     a = level0
     while a.shape[0] > 1 or a.shape[1] > 1:

@@ -18,6 +18,7 @@ from .area_sampling import apply_sampling_flags
 from .light_type import PlacedLight
 from .record import LANES
 from .registry import type_of
+from .textured_emission import triangle_radiance
 from .triangle import TYPE as TRIANGLE
 from .triangle import emissive_triangles
 
@@ -78,8 +79,7 @@ def scene_lights(scene: Scene, frame: int, world=None, area_sampling: str = "are
         power.append(kind.power(placed))
         types.append(kind.code)
         sources.append(len(sources) - (packed is not None))
-    rad = np.array([m.radiance for m in scene.materials]).reshape(-1, 3) if scene.materials else np.zeros((0, 3))
-    tri_recs, tri_power, tri_src = emissive_triangles(world, rad)
+    tri_recs, tri_power, tri_src = emissive_triangles(world, triangle_radiance(scene, world))
     all_recs = np.concatenate([np.array(recs, np.float32).reshape(-1, LANES), tri_recs]) if recs else tri_recs
     records = np.zeros(len(all_recs), L.LIGHT)
     flat = records.view(np.float32).reshape(-1, LANES)

@@ -39,10 +39,10 @@ TYPE = LightType("triangle", code=0, flag="HAS_TRIANGLE_LIGHTS",
 
 def emissive_triangles(world, radiance: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Records (n, 16), power (n,) and source (n,: -1 - triangle index) of the triangles of `world`
-    (scene.WorldTriangles) whose material has radiance > 0; `radiance` is (materials, 3)."""
-    if not (len(world) and len(radiance)):
+    (scene.WorldTriangles) whose radiance is > 0; `radiance` is (triangles, 3) (textured_emission.py)."""
+    if not len(world):
         return np.zeros((0, LANES), np.float32), np.zeros(0), np.zeros(0, np.int64)
-    le = radiance[world.material]
+    le = np.asarray(radiance, np.float64).reshape(len(world), 3)
     emissive = np.nonzero(np.any(le > 0, axis=1))[0]
     if not len(emissive):
         return np.zeros((0, LANES), np.float32), np.zeros(0), np.zeros(0, np.int64)

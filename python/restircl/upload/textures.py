@@ -22,6 +22,7 @@ import numpy as np
 
 from ..core import layouts as L
 from ..io.image_load import LINEAR_COLORSPACES, ImageReadError, mip_chain, read_image_file, to_linear_rgba
+from ..lights.textured_emission import sampled_emission
 from ..materials import textures as tx
 from ..materials.material import Material, material_inputs
 from ..materials.textures import (
@@ -252,7 +253,7 @@ class TexturePacker:
             img = self._loaded.get(key)
             if img is None:
                 texels, encoded, nonfinite = self._load(node, label)
-                img = LoadedImage(mip_chain(texels), encoded, nonfinite)
+                img = LoadedImage(mip_chain(texels, encoded), encoded, nonfinite)
             self._slot[key] = len(self.images)
             self.images[key] = img
         return self._slot[key], self.images[key].encoded
@@ -334,13 +335,14 @@ def warn_missing_uv_maps(meshes: list, materials: list[Material]) -> None:
 
 
 def warn_textured_emission(meshes: list, materials: list[Material]) -> None:
-    """A mesh whose material has a textured emission: camera rays see the texture, but as a light each of its
+    """A mesh whose material has a textured emission that the host cannot average (another node than an Image
+    Texture on the UV map: lights/textured_emission.py): camera rays see the texture, but as a light each of its
     triangles shines with the constant bound, white times Emission Strength (Material.radiance): it lights other
     surfaces as if it were white (docs/textures.md). Worth a warning naming the material, once each."""
     used = {int(i) for mesh in meshes for i in np.unique(mesh.material_ids)}
     for i in sorted(used):
         m = materials[i]
-        if is_texture(m.emission) and m.emission_strength > 0:
+        if is_texture(m.emission) and m.emission_strength > 0 and sampled_emission(m) is None:
             warnings.warn(f"material {i} {m.name!r} has a textured emission: the camera sees the texture, but it "
-                          f"lights other surfaces as if it were white, with strength {m.emission_strength:g}",
-                          stacklevel=3)
+                          f"lights other surfaces as if it were white, with strength {m.emission_strength:g} (only "
+                          f"an Image Texture on the UV map lights them by its texels)", stacklevel=3)

@@ -1,0 +1,87 @@
+"""Real glTF sample models (restircl.eval.assets: $RESTIRCL_ASSETS or ~/.cache/restircl/assets; tools/fetch_assets.py
+gets them) through Blender's own glTF importer: the node types each uses and how the export reads them, and the
+issue's scene against Cycles (slow). Every test skips, saying why, when its asset is absent."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+restircl = pytest.importorskip("restircl")
+
+from restircl.eval import assets  # noqa: E402
+
+from .test_blender_materials import fresh_scene  # noqa: E402
+from .test_blender_support import ensure_registered, needs_renderer  # noqa: E402
+
+pytestmark = pytest.mark.blender
+
+# The DamagedHelmet's material as the importer sets it up (bpy 5.0.1), and how the export reads each node type.
+HELMET_NODES = {"ShaderNodeBsdfPrincipled": 1, "ShaderNodeOutputMaterial": 1, "ShaderNodeGroup": 1,
+                "ShaderNodeTexImage": 5, "ShaderNodeSeparateColor": 2, "ShaderNodeNormalMap": 1, "ShaderNodeUVMap": 1}
+
+
+@pytest.fixture
+def helmet_path():
+    path, why = assets.find("DamagedHelmet.glb")
+    if path is None:
+        pytest.skip(why)
+    ensure_registered()
+    return path
+
+
+def test_the_helmet_import_has_the_packed_orm_setup(helmet_path):
+    from .gltf_scenes import import_real_helmet
+
+    fresh_scene()
+    ob = import_real_helmet(helmet_path)
+    (mat,) = ob.data.materials
+    kinds: dict[str, int] = {}
+    for n in mat.node_tree.nodes:
+        kinds[n.bl_idname] = kinds.get(n.bl_idname, 0) + 1
+    assert kinds == HELMET_NODES
+    assert ob.data.uv_layers.keys() == ["UVMap", "UVMap.001"]  # the occlusion reads the second through a UV Map node
+
+
+def test_the_helmet_material_is_read_natively(helmet_path):
+    """Metallic and roughness are channels 2 and 1 of one ORM image lookup, nothing is baked, the occlusion group
+    is ignored as Cycles ignores it, and the emissive image is the emission."""
+    from restircl import ImageTexture, NormalMap, SeparateColor
+
+    from .gltf_scenes import import_real_helmet
+    from .test_blender_materials import export
+
+    fresh_scene()
+    ob = import_real_helmet(helmet_path)
+    exp = export(bake_resolution=16)
+    (m,) = [m for m in exp.scene.materials if m.name == ob.data.materials[0].name]
+    orm = None
+    for field, channel in (("roughness", 1), ("metallic", 2)):
+        node = getattr(m, field)
+        assert isinstance(node, SeparateColor) and node.channel == channel
+        assert isinstance(node.color, ImageTexture) and node.color.colorspace == "Non-Color"
+        orm = np.asarray(node.color.image) if orm is None else orm
+        np.testing.assert_array_equal(np.asarray(node.color.image), orm)  # one image read for both channels
+    texels = orm
+    assert texels.shape[:2] == (2048, 2048) and texels[..., 2].mean() > 100  # mostly metal (blue channel)
+    assert isinstance(m.albedo, ImageTexture) and isinstance(m.normal, NormalMap)
+    assert isinstance(m.emission, ImageTexture) and m.emission_strength == 1.0
+    assert not any("bake" in w or "Group" in w or "glTF" in w for w in exp.warnings), exp.warnings
+
+
+@pytest.mark.slow
+@needs_renderer
+@pytest.mark.xfail(strict=True, reason="mip filtering of the 2048^2 normal and roughness maps, minified ~30x at "
+                   "64x48, before shading (Cycles averages shaded samples): relMSE 5.2 %, mean 0.946 (docs/blender.md)")
+def test_the_real_helmet_agrees_with_cycles(helmet_path, tmp_path, record_property):
+    """The issue's scene (tests/blender/gltf_scenes.py real_helmet_scene) at 64x48, direct light: F12 against
+    Cycles, relMSE < 1e-2 and image means within 2 %."""
+    from .gltf_scenes import real_helmet_scene
+    from .test_blender_support import cycles_and_ours
+
+    sc = real_helmet_scene(helmet_path, 64, 48)
+    err, ratio = cycles_and_ours(tmp_path, sc, 256, 64, "DamagedHelmet", bake_resolution=64)
+    record_property("relmse", err)
+    assert err < 1e-2, f"DamagedHelmet: relMSE {100 * err:.3f} % against Cycles"
+    assert ratio == pytest.approx(1.0, abs=0.02)
