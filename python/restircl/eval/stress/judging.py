@@ -142,14 +142,15 @@ def _judge(case: Case, method: str, values: np.ndarray, ref: Reference, nonfinit
     lref = luminance(ref.mean)
     sigma = np.sqrt(lse**2 + ref.lum_se**2)
     # exact pixels: both sides have no spread beyond rounding (identical float32 values give a standard deviation
-    # of 1e-17 in float64, not 0); they must agree to the rounding of float32 sums of `terms` terms
+    # of 1e-17 in float64, not 0); they must agree to the rounding of float32 sums of `terms` terms, and of the
+    # float32 running sum of a run's frames (each addition rounds: the error grows with the frame count)
     scale = np.maximum(np.abs(lref), np.abs(lm))
     live = sigma > 16 * F32_EPS * scale + 1e-30
     z = np.abs(lm - lref)[live] / sigma[live]
     outliers = int((z > Z).sum())
     allowed = _allowed_outliers(int(live.sum()), dof)
     exact = ~live
-    tol = (16 + ref.terms) * F32_EPS * scale[exact] + 1e-30
+    tol = (16 + ref.terms + samples // max(k, 1)) * F32_EPS * scale[exact] + 1e-30
     bad_exact = int((np.abs(lm - lref)[exact] > tol).sum())
     img = lum.mean(axis=(1, 2))
     img_se = math.hypot(float(img.std(ddof=1)) / math.sqrt(k), ref.image_se)
