@@ -23,7 +23,7 @@ from restircl.settings.table import JOINT_LIMITS, METHODS, kernel_defines
 # fields come last
 BEFORE = (
     ("method", "restir"), ("candidates", 8), ("temporal", True), ("spatial", True), ("spatial_neighbours", 2),
-    ("spatial_radius", 30.0), ("spatial_passes", 1), ("bias_correction", "pairwise"), ("m_cap", 20.0),
+    ("spatial_radius", 5.0), ("spatial_passes", 1), ("bias_correction", "pairwise"), ("m_cap", 5.0),
     ("visibility_reuse", True), ("taa", True), ("alpha_min", 0.1), ("gamma", 1.0), ("max_history", 256),
     ("depth_tolerance", 0.1), ("normal_angle", 25.0), ("slots_per_light", 4.0), ("light_tiles", "auto"),
     ("light_tile_count", 128), ("light_tile_size", 1024), ("light_change_ratio", 2.0), ("jitter", True),
@@ -31,7 +31,7 @@ BEFORE = (
     ("bsdf_sampling", "auto"), ("bsdf_candidates", 1), ("warmup_frames", 0),
     ("boiling_filter", 0.0), ("temporal_permutation", False),
     ("taa_filter", "bilinear"), ("taa_dilation", False),
-    ("realtime_filter", False), ("filter_iterations", 4), ("disocclusion_boost", 0),
+    ("realtime_filter", False), ("filter_iterations", 4), ("disocclusion_boost", 8),
     ("denoise", False), ("light_passes", False),
     ("still_method", "auto"),
     ("area_sampling", "area"),

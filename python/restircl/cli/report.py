@@ -23,7 +23,8 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     rp.add_argument("scene", nargs="?", help="built-in scene, scene file (.npz) or .blend (needs bpy)")
     rp.add_argument("--width", type=COUNT, default=None)
     rp.add_argument("--height", type=COUNT, default=None)
-    rp.add_argument("--methods", default=None, help="comma-separated subset (default: all)")
+    rp.add_argument("--methods", default=None, help="comma-separated subset (default: all); a method with settings "
+                    "changed is written base+key=value, e.g. restir+m_cap=5+candidates=16")
     rp.add_argument("--budgets", type=POSITIVE.parse_list, default="0.25,0.5,1,2,4",
                     help="seconds, comma-separated (%(default)s)")
     rp.add_argument("--modes", default=None,
@@ -52,6 +53,7 @@ def run(a: argparse.Namespace) -> int:
     from ..eval.cycles import bridge as cycles
     from ..eval.report import main as report
     from ..eval.report.methods import METHODS as REPORT_METHODS
+    from ..eval.report.methods import method_overrides
 
     if a.replot:
         for path in report.replot(Path(a.replot)):
@@ -60,9 +62,8 @@ def run(a: argparse.Namespace) -> int:
     if not a.scene:
         raise ValueError("report: give a SCENE (or --replot JSON)")
     methods = a.methods.split(",") if a.methods else list(REPORT_METHODS)
-    unknown = [m for m in methods if m not in REPORT_METHODS]
-    if unknown:
-        raise ValueError(f"unknown methods {unknown}; choose from {', '.join(REPORT_METHODS)}")
+    for m in methods:
+        method_overrides(m)  # an unknown method or setting fails here, before any rendering
     cache = Path(a.cache_dir) if a.cache_dir else None
     if a.flicker:
         return _flicker(a, methods, cache)

@@ -133,7 +133,7 @@ class Settings:
     spatial_neighbours: int = setting(2, "Neighbours", "Neighbour reservoirs merged per spatial pass",
                                       flag="--neighbours", range=Range(int, 0, 16), panel="reuse",
                                       applies_when=_SPATIAL, kernel_limit="MAX_NEIGHBOURS")
-    spatial_radius: float = setting(30.0, "Radius", "Radius of the spatial neighbourhood in pixels", flag="--radius",
+    spatial_radius: float = setting(5.0, "Radius", "Radius of the spatial neighbourhood in pixels", flag="--radius",
                                     range=Range(float, 1, finite=True), panel="reuse", applies_when=_SPATIAL,
                                     soft_max=100.0, subtype="PIXEL")
     spatial_passes: int = setting(1, "Passes", "Spatial reuse passes", flag="--passes", range=Range(int, 0, 8),
@@ -141,7 +141,7 @@ class Settings:
     bias_correction: str = setting("pairwise", "Bias Correction", "How reuse weighs the merged reservoirs",
                                    flag="--bias-correction", choices=BIAS_CHOICES, panel="reuse",
                                    applies_when=_RESTIR)
-    m_cap: float = setting(20.0, "History Cap", "Cap of the temporal history M, as a multiple of the candidates",
+    m_cap: float = setting(5.0, "History Cap", "Cap of the temporal history M, as a multiple of the candidates",
                            flag="--m-cap", range=Range(float, 1, finite=True), panel="reuse", applies_when=_TEMPORAL,
                            soft_max=100.0)
     visibility_reuse: bool = setting(True, "Visibility Reuse", "Shadow-test the initial sample before reuse; "
@@ -220,7 +220,7 @@ class Settings:
     filter_iterations: int = setting(4, "Filter Iterations", "Real-time filter: a-trous iterations (taps 1, 2, 4, "
                                      "... pixels apart)", flag="--filter-iterations", range=Range(int, 1, 8),
                                      panel="taa", applies_when=(("taa", (True,)), ("realtime_filter", (True,))))
-    disocclusion_boost: int = setting(0, "Disocclusion Boost", "ReSTIR: spatial neighbours for a pixel whose "
+    disocclusion_boost: int = setting(8, "Disocclusion Boost", "ReSTIR: spatial neighbours for a pixel whose "
                                       "temporal pass found no history (disocclusion, off-screen), in place of "
                                       "Neighbours when larger (0: off)", flag="--disocclusion-boost",
                                       range=Range(int, 0, 16), panel="reuse", applies_when=_SPATIAL)

@@ -26,5 +26,35 @@ METHODS: dict[str, dict] = {
 }
 
 
+def _value(text: str, default: object) -> object:
+    """A setting's value written on the command line, as the type of its default."""
+    if isinstance(default, bool):
+        if text.lower() not in ("true", "false", "1", "0", "on", "off"):
+            raise ValueError(f"not a boolean: {text!r}")
+        return text.lower() in ("true", "1", "on")
+    if isinstance(default, int):
+        return int(text)
+    if isinstance(default, float):
+        return float(text)
+    return text
+
+
+def method_overrides(name: str) -> dict:
+    """The Settings overrides of a method name: one of METHODS, or one of them with settings changed, written
+    `base+key=value+key=value` (e.g. `restir+m_cap=5+candidates=16`), so that a report compares variants of a
+    method side by side in one run."""
+    head, *parts = name.split("+")
+    if head not in METHODS:
+        raise ValueError(f"unknown method {head!r}; choose from {', '.join(METHODS)}")
+    out = dict(METHODS[head])
+    defaults = Settings()
+    for part in parts:
+        key, sep, text = part.partition("=")
+        if not sep or not hasattr(defaults, key):
+            raise ValueError(f"{name!r}: {part!r} is not key=value of a setting")
+        out[key] = _value(text, getattr(defaults, key))
+    return out
+
+
 def method_settings(name: str, base: Settings | None, seed: int) -> Settings:
-    return Settings(**{**(base.__dict__ if base else {}), **METHODS[name], "seed": seed})
+    return Settings(**{**(base.__dict__ if base else {}), **method_overrides(name), "seed": seed})

@@ -36,7 +36,7 @@ Z = 4.0  # standard errors
 BIASED_DARKENING = 0.15  # the bound tests/render/test_restir.py puts on the biased mode's darkening
 F32_EPS = 2.0**-24
 
-# ReSTIR's temporal and spatial reuse with the default cap (20 x candidates) make run means heavy-tailed (a lucky
+# ReSTIR's temporal and spatial reuse with a history cap of 20 x candidates make run means heavy-tailed (a lucky
 # sample persists for tens of frames, tests/render/test_restir.py); the still cases use the cap 4x so that a few dozen
 # runs can judge them. The long animation keeps the default cap: that is where the cap itself is under test.
 STILL_SETTINGS = dict(jitter=False, taa=False, m_cap=4.0)

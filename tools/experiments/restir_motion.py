@@ -1,0 +1,110 @@
+"""ReSTIR DI + TAA against RIS + TAA on an orbiting camera at equal CPU time per frame: docs/measurements/
+temporal-stability.md, "ReSTIR DI in motion against RIS".
+
+Every method renders the orbit with TAA, k frames along the same camera path per animation frame (as
+`restircl report --moving` does, eval/report/moving.py), k = the budget's CPU time over the method's own CPU time per
+frame, rounded (at least 1); the budget is the CPU time of one frame of `--budget-method` (default: ReSTIR with its
+defaults, the add-on's animation render). CPU time (time.process_time), not wall time: the machine is shared and its
+load moves the wall time of a frame by tens of percent. The error of every `--every`-th frame is the relMSE against
+that frame's converged reference (cached). Methods are `restircl report` names, with settings changed written
+`base+key=value` (eval/report/methods.py).
+
+    python -m tools.experiments.restir_motion --scene garden_orbit --methods ris,restir,restir+m_cap=5 --seeds 3
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+from restircl.eval.report.moving import MovingReport, _taa_rows, frame_time_ms
+from restircl.eval.report.reference import get_reference
+from restircl.eval.scenes.motion_validation import MOTION_SCENES, motion_scene
+
+
+def cpu_times(scene, methods: list[str], repeats: int) -> dict[str, float]:
+    """Median CPU ms per animation frame of each method, over `repeats` interleaved measurements."""
+    got: dict[str, list[float]] = {m: [] for m in methods}
+    for _ in range(repeats):
+        for m in methods:
+            got[m].append(frame_time_ms(scene, m, frames=6)[1])
+    return {m: float(np.median(v)) for m, v in got.items()}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--scene", default="garden_orbit", choices=sorted(MOTION_SCENES))
+    ap.add_argument("--width", type=int, default=192)
+    ap.add_argument("--height", type=int, default=108)
+    ap.add_argument("--frames", type=int, default=24)
+    ap.add_argument("--every", type=int, default=4)
+    ap.add_argument("--methods", default="ris,restir")
+    ap.add_argument("--budget-method", default="restir")
+    ap.add_argument("--seeds", type=int, default=3)
+    ap.add_argument("--equal-frames", action="store_true", help="k = 1 for every method (error per frame)")
+    ap.add_argument("--ceil", action="store_true", help="k rounded up (every method gets at least the budget)")
+    ap.add_argument("--repeats", type=int, default=2, help="interleaved CPU-time measurements per method")
+    ap.add_argument("--ref-seconds", type=float, default=10.0)
+    ap.add_argument("--cache-dir", default="out/refs")
+    ap.add_argument("--out", default=None, help="JSON file for the figures")
+    a = ap.parse_args()
+    methods = a.methods.split(",")
+    scene = motion_scene(a.scene, a.width, a.height, a.frames)
+    evaluated = sorted({*range(0, scene.frames, a.every), scene.frames - 1})
+    refs = {f: get_reference(scene, f, a.ref_seconds, cache_dir=Path(a.cache_dir), log=lambda s: None).image
+            for f in evaluated}
+    t_start = time.time()
+    load0 = os.getloadavg()[0]
+    timed = list(dict.fromkeys([a.budget_method, *methods]))
+    cpu = cpu_times(scene, timed, a.repeats)
+    budget = cpu[a.budget_method]
+    def k_of(m: str) -> int:
+        if a.equal_frames:
+            return 1
+        share = budget / cpu[m]
+        return max(1, math.ceil(share - 0.02) if a.ceil else int(share + 0.5))
+
+    ks = {m: k_of(m) for m in methods}
+    errs: dict[str, list[float]] = {m: [] for m in methods}
+    per_frame: dict[str, list[list[float]]] = {m: [] for m in methods}
+    for seed in range(1, a.seeds + 1):
+        for m in methods:
+            rep = MovingReport(scene.name, "", a.width, a.height, budget)
+            _taa_rows(rep, scene, m, ks[m], refs, None, None, seed)
+            errs[m].append(float(np.mean([r.rel_mse for r in rep.rows if r.frame > 0])))
+            per_frame[m].append([r.rel_mse for r in rep.rows])
+    load1 = os.getloadavg()[0]
+    base = methods[0]
+    print(f"{scene.name} {a.width}x{a.height}, {scene.frames} frames, budget {budget:.1f} CPU ms per frame "
+          f"({a.budget_method}), load {load0:.1f} -> {load1:.1f}, {time.time() - t_start:.0f} s")
+    print("relMSE: the mean over the evaluated frames after frame 0 (the cold start, one sample for every method); "
+          "per frame: the mean over the seeds")
+    print(f"{'method':<56} {'cpu ms':>7} {'k':>3} {'cpu ms x k':>10} {'relMSE per seed':>30} {'mean':>8} "
+          f"{'/ ' + base:>8}")
+    rows = []
+    for m in methods:
+        mean = float(np.mean(errs[m]))
+        ratio = mean / float(np.mean(errs[base]))
+        per_seed = " ".join(f"{e:.4f}" for e in errs[m])
+        frames = np.mean(per_frame[m], axis=0)
+        print(f"{m:<56} {cpu[m]:>7.1f} {ks[m]:>3} {cpu[m] * ks[m]:>10.1f} {per_seed:>30} {mean:>8.4f} {ratio:>8.3f}"
+              f"   per frame {' '.join(f'{e:.3f}' for e in frames)}", flush=True)
+        rows.append({"method": m, "cpu_ms": cpu[m], "k": ks[m], "rel_mse_per_seed": errs[m],
+                     "mean_rel_mse_after_0": mean,
+                     "rel_mse_per_frame": np.mean(per_frame[m], axis=0).tolist(),
+                     "ratio_to_first": ratio})
+    if a.out:
+        Path(a.out).parent.mkdir(parents=True, exist_ok=True)
+        Path(a.out).write_text(json.dumps({
+            "scene": scene.name, "width": a.width, "height": a.height, "frames": scene.frames,
+            "evaluated": evaluated, "budget_method": a.budget_method, "budget_cpu_ms": budget,
+            "load": [load0, load1], "seeds": a.seeds, "rows": rows}, indent=1))
+
+
+if __name__ == "__main__":
+    main()
