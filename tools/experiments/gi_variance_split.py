@@ -1,8 +1,9 @@
 """How the variance per sample of F12's still path splits between the direct light and each further bounce, on a
 tuning scene (tools/experiments/gi_variance.py measures the error against Cycles' reference): the relMSE that the
 spread over seeds gives (per pixel the variance of the N-sample image over the seeds, relative to the reference's
-square + 0.01, as rel_mse), at Max Bounces 0, 1, 2 and 4, so that each bounce's added variance shows; with the
-worst 0.1 % of pixels' share (fireflies).
+square + 0.01, as rel_mse; the seeds' mean where the kind has no Cycles reference), at Max Bounces 0, 1, 2 and 4,
+so that each bounce's added variance shows; with the worst 0.1 % of pixels' share (fireflies). --overrides: Settings
+fields as JSON (e.g. '{"path_light_pick": "array"}').
 
     python -m tools.experiments.gi_variance_split --kind gi_tuning_room --samples 32 --seeds 4
 """
@@ -37,7 +38,9 @@ def main() -> None:
         raise SystemExit("interior and outdoor are validation scenes: tune on gi_tuning_room")
     import json
 
-    ref = reference(a.kind, LightPaths.of(4), Path(a.cache_dir)).astype(np.float64)
+    # without a Cycles reference of the kind, the seeds' mean stands in for it (it only scales the terms)
+    found = list(Path(a.cache_dir).glob(f"cycles_reference_{a.kind}_*"))
+    ref = reference(a.kind, LightPaths.of(4), Path(a.cache_dir)).astype(np.float64) if found else None
     scene = scene_of_kind(a.kind)
     mats = material_map(scene)
     for b in (int(x) for x in a.bounces.split(",")):
@@ -46,7 +49,8 @@ def main() -> None:
         for seed in range(a.seeds):
             r = Renderer(scene, replace(s, seed=300 + seed))
             imgs.append(r.render_still(0, a.samples).color[..., :3].astype(np.float64))
-        var = np.var(np.stack(imgs), axis=0, ddof=1) / (ref * ref + 0.01)
+        mean = ref if ref is not None else np.mean(imgs, axis=0)
+        var = np.var(np.stack(imgs), axis=0, ddof=1) / (mean * mean + 0.01)
         t = var.mean(axis=-1)
         order = np.sort(t.ravel())[::-1]
         per = "  ".join(f"{m.name} {t[mats == i].sum() / t.size:.1e}" for i, m in enumerate(scene.materials)

@@ -7,6 +7,9 @@ pass's levers are measured and chosen, so that the validation scenes stay untouc
                     roughness 0.22), a glossy box and a diffuse table; lit by 20 ceiling spots in a 4 x 5 grid
                     (radius 3 cm, wider cones aimed further out, other powers) and an emissive mesh, a strip of
                     light (an open tube) along the back wall
+    gi_tuning_yard  a scene of the validation scene `outdoor`'s kind: a ground under a generated HDRI with its sun
+                    elsewhere (higher, to the left), a brushed metal sphere (roughness 0.3), a glossy blue box, two
+                    diffuse blocks, a wall and, in its shadow, an emissive box (a glowing bench)
 
 Materials are constant, as in the validation scenes, so the Cycles bridge writes the same Principled BSDFs.
 """
@@ -15,17 +18,20 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...environment.world import Environment
 from ...materials.material import Material
 from ...scene.camera import Camera
 from ...scene.light import Light
 from ...scene.mesh import Mesh
 from ...scene.scene import Scene
 from ...scene.transforms import look_at, translation
+from ...scenes.hdri_sky import sky_map
 from ...scenes.shapes import box, icosphere, merge, quad
 from .held_out import HEIGHT, WIDTH, placed, rot_x, rot_z, tube
 from .validation import ceiling_spots, wall_with_window
 
-KINDS = ("gi_tuning_room",)
+KINDS = ("gi_tuning_room", "gi_tuning_yard")
+YARD_SUN = (-0.45, 0.35, 0.82)  # gi_tuning_yard: towards the sun, about 55 degrees up, to the left
 ROOM = (4.5, 6.5, 3.0)  # x, y, height (m)
 SPOTS = (4, 5)  # ceiling spots along x and y
 
@@ -78,8 +84,32 @@ def gi_tuning_room(width: int = WIDTH, height: int = HEIGHT) -> Scene:
     return Scene([Mesh("gi_tuning_room", v, t, m)], materials, _spots(), cam, name="gi_tuning_room")
 
 
+def gi_tuning_yard(width: int = WIDTH, height: int = HEIGHT) -> Scene:
+    """Objects on a ground under a sunny HDRI, and a glowing box in a wall's shadow, for tuning."""
+    materials = [Material("ground", (0.35, 0.38, 0.3)),
+                 Material("metal", (0.85, 0.85, 0.88), metallic=1.0, roughness=0.3),
+                 Material("blue_gloss", (0.1, 0.2, 0.6), roughness=0.25, specular=0.5),
+                 Material("block", (0.55, 0.5, 0.48)), Material("wall", (0.7, 0.68, 0.66)),
+                 Material("glow", (0.0, 0.0, 0.0), (1.0, 0.6, 0.3), 6.0)]
+    parts = [placed(quad(40, 40), np.eye(4), 0),
+             placed(icosphere(3, 0.45), translation(-0.8, 0.0, 0.45), 1),
+             placed(box((0.8, 0.6, 0.7)), translation(0.9, 0.7, 0.35) @ rot_z(-25), 2),
+             placed(box((0.5, 0.5, 1.1)), translation(2.0, -0.6, 0.55) @ rot_z(10), 3),
+             placed(box((0.6, 0.6, 0.4)), translation(-2.1, 1.2, 0.2) @ rot_z(40), 3),
+             placed(box((4.0, 0.3, 2.2)), translation(-0.3, 2.8, 1.1) @ rot_z(6), 4),
+             placed(box((1.2, 0.3, 0.35)), translation(0.6, 2.2, 0.175) @ rot_z(6), 5)]
+    v, t, m = merge(parts)
+    world = Environment("tuning_sky", color=(1.0, 1.0, 1.0), strength=1.0,
+                        image=sky_map(256, 512, sun=np.array(YARD_SUN)))
+    cam = Camera(look_at((-0.8, -5.5, 2.2), (0.2, 1.0, 0.4)), width, height, lens=28.0)
+    return Scene([Mesh("gi_tuning_yard", v, t, m)], materials, [], cam, name="gi_tuning_yard", environment=world)
+
+
+BUILDERS = {"gi_tuning_room": gi_tuning_room, "gi_tuning_yard": gi_tuning_yard}
+
+
 def gi_tuning(kind: str, width: int = WIDTH, height: int = HEIGHT) -> Scene:
-    """The tuning scene of `kind` (gi_tuning_room) at width x height."""
-    if kind != "gi_tuning_room":
+    """The tuning scene of `kind` (gi_tuning_room, gi_tuning_yard) at width x height."""
+    if kind not in BUILDERS:
         raise ValueError(f"no tuning scene {kind!r}; kinds: {', '.join(KINDS)}")
-    return gi_tuning_room(width, height).validate()
+    return BUILDERS[kind](width, height).validate()
