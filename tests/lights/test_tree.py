@@ -11,7 +11,7 @@ import pytest
 from restircl import scenes
 from restircl.core.program import build_program
 from restircl.lights.device_lights import scene_lights
-from restircl.lights.tree import build_light_tree, inorder_leaves, light_bounds, merge_cones, pmf
+from restircl.lights.tree import build_light_tree, inorder_leaves, light_bounds, merge_cones, path_tree, pmf
 from restircl.render.features import general_flags
 
 from ..helpers import mixed_lights_scene
@@ -246,3 +246,30 @@ def test_proposal_setting_flags_and_tiles(device):
                                        specialise=False), device)
     np.testing.assert_array_equal(general.render_frame(0, still=True).noisy, a)
     assert not Renderer(scene, Settings(method="light_array", light_proposal="tree"), device).uses_light_tree
+
+
+def test_path_light_pick_chooses_the_tree_for_path_vertices():
+    """Settings.path_light_pick: array never, tree and auto wherever there are two lights or more (a tree over one
+    light picks it); with one light neither."""
+    two, one = np.array([0, 3]), np.array([3])
+    assert not path_tree("array", False, two) and not path_tree("array", True, two)
+    assert path_tree("tree", False, two) and path_tree("auto", False, two) and path_tree("auto", True, two)
+    assert not path_tree("tree", False, one) and not path_tree("auto", True, one)
+
+
+def test_path_tree_leaves_the_direct_light_alone(device):
+    """Bounces build the tree for the path's NEE only: the still's direct light keeps its per-pixel table, and Max
+    Bounces 0 builds no tree (its images stay those of before)."""
+    from restircl import Renderer, Settings
+    from restircl.render.still_method import still_settings
+
+    scene = mixed_lights_scene(16, 12)
+    direct = Renderer(scene, still_settings(Settings(method="ris").validate(), scene), device)
+    assert not direct.path_light_tree and not direct.flags["HAS_LIGHT_TREE"]
+    assert direct.device_scene.light_tree is None
+    paths = Renderer(scene, still_settings(Settings(method="ris", max_bounces=2).validate(), scene), device)
+    assert paths.path_light_tree and not paths.uses_light_tree and paths.flags["HAS_LIGHT_TREE"]
+    assert paths.device_scene.light_tree is not None
+    assert direct.flags["HAS_PICK_TABLE"] == paths.flags["HAS_PICK_TABLE"]
+    array = Renderer(scene, Settings(method="ris", max_bounces=2, path_light_pick="array").validate(), device)
+    assert not array.path_light_tree and array.device_scene.light_tree is None

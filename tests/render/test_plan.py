@@ -201,3 +201,17 @@ def test_restir_gi_reuses_its_history_where_restir_may():
     assert not plan(replace(gi_next, still=True), max_bounces=1, gi_boiling_filter=0.5).gi_boiling
     # the same frame again (a still camera's animation or an unchanged viewport) keeps it
     assert plan(replace(gi_next, frame=2), max_bounces=1).gi_temporal
+
+
+def test_path_vertices_pick_from_the_tree_the_renderer_built_for_them():
+    """NEE at path vertices takes the tree where the renderer built it for them (FrameSituation.path_light_tree) and
+    there are two lights or more; the direct light's candidates keep their own source (the per-pixel table of a
+    still RIS frame stays)."""
+    still = replace(NEXT, still=True, pick_table=True)
+    p = plan(replace(still, path_light_tree=True), method="ris", max_bounces=2)
+    assert p.paths and p.path_light_tree
+    assert not p.light_tree and p.pick_table
+    assert not plan(replace(still, path_light_tree=False), method="ris", max_bounces=2).path_light_tree
+    assert not plan(replace(still, path_light_tree=True, light_count=1), method="ris", max_bounces=2).path_light_tree
+    # the candidates' tree alone does not make the path pick from it: the renderer says so by path_light_tree
+    assert not plan(replace(still, light_tree=True), method="ris", max_bounces=2).path_light_tree

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core import layouts as L
+from ..settings.table import Settings
 from .bounds import DISTANT
 from .registry import groups
 
@@ -220,6 +221,31 @@ def tree_proposal(method: str, proposal: str, types: np.ndarray) -> bool:
     if method not in ("ris", "restir") or proposal in ("array", "pixel") or len(types) < 2:
         return False
     return proposal == "tree" or tree_pays(types)
+
+
+def path_tree_pays(types: np.ndarray) -> bool:
+    """path_light_pick="auto": whether NEE at path vertices picks from the tree rather than the light array. A
+    vertex draws one light, where a pixel's direct light draws several candidates (whose RIS finds the good ones
+    among cheap array picks), and a bounce reaches surfaces that most lights do not face or barely reach (walls far
+    from most spots): measured on the tuning room (eval/scenes/gi_tuning.py), docs/measurements/error-vs-time.md,
+    "Global illumination against Cycles"."""
+    return len(types) >= 2
+
+
+def path_tree(pick: str, candidates_tree: bool, types: np.ndarray) -> bool:
+    """Whether NEE at path vertices picks from the light tree, for Settings.path_light_pick, lights of these LIGHT_*
+    types, and whether the RIS candidates already take theirs from it (auto then keeps it)."""
+    if pick == "array" or len(types) < 2:
+        return False
+    return pick == "tree" or candidates_tree or path_tree_pays(types)
+
+
+def light_trees(settings: Settings, types: np.ndarray) -> tuple[bool, bool]:
+    """(RIS candidates from the tree, NEE at path vertices from the tree) for a renderer with these settings and
+    lights of these LIGHT_* types; the tree is built where either is true."""
+    s = settings
+    candidates = tree_proposal(s.method, s.light_proposal, types)
+    return candidates, s.max_bounces > 0 and path_tree(s.path_light_pick, candidates, types)
 
 
 # ---- the host's reference of the device's branch probabilities (tests; opencl/lights/tree.h) ----------------

@@ -15,7 +15,8 @@ from .plan import stills_use_pick_table
 LIGHT_FLAGS = FEATURE_FLAGS  # light type code -> HAS_<TYPE>_LIGHTS, from each type's entry (restircl.lights)
 # HAS_GLOSSY: some material has a specular lobe; HAS_TEXTURES: some material input is a texture node
 MATERIAL_FLAGS = ("HAS_GLOSSY", "HAS_TEXTURES")
-# HAS_LIGHT_TREE: RIS candidates come from the light tree (Settings.light_proposal, lights/tree.py)
+# HAS_LIGHT_TREE: RIS candidates (Settings.light_proposal) or NEE at path vertices (Settings.path_light_pick) come
+# from the light tree (lights/tree.py)
 # HAS_CAMERA_LIGHTS: camera rays test the lights visible to the camera that have a shape (lights/camera_visible.py)
 # HAS_PICK_TABLE: still RIS renders pick lights from a per-pixel table (lights/pick_table.py)
 # HAS_PATHS: light bounces after the primary hit (Settings.max_bounces > 0: the path pass, opencl/path/)
@@ -55,9 +56,10 @@ def general_flags() -> dict[str, bool]:
 
 
 def renderer_flags(scene: Scene, ds: DeviceScene, settings: Settings, *, interactive: bool,
-                   light_tree: bool) -> dict[str, bool]:
+                   light_tree: bool, path_light_tree: bool = False) -> dict[str, bool]:
     """The flags of a renderer of `scene` (uploaded as `ds`) with `settings`: what they need (Settings.specialise),
-    else every feature. interactive: the view may change and objects move by edits (Renderer's interactive)."""
+    else every feature. interactive: the view may change and objects move by edits (Renderer's interactive).
+    light_tree: RIS candidates come from the tree; path_light_tree: NEE at path vertices does."""
     if not settings.specialise:
         return general_flags()
     cam = scene.camera
@@ -65,7 +67,8 @@ def renderer_flags(scene: Scene, ds: DeviceScene, settings: Settings, *, interac
     moving_camera = interactive or (cam is not None and bool(np.any(cam.transforms != cam.transforms[:1])))
     # a light the camera sees that moves needs motion vectors of its own
     moving = moving_camera or ds.moving_objects or (ds.moving_lights and bool(ds.camera_lights))
-    return derive_flags(ds.lights.type_set, moving, ds.moving_objects or interactive, ds.material_flags, light_tree,
+    return derive_flags(ds.lights.type_set, moving, ds.moving_objects or interactive, ds.material_flags,
+                        light_tree or path_light_tree,
                         camera_lights=bool(ds.camera_lights),
                         pick_table=stills_use_pick_table(settings, ds.sampled_light_count, light_tree),
                         paths=settings.max_bounces > 0, gi_reuse=settings.gi_reuse,

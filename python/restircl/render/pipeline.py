@@ -33,7 +33,7 @@ from ..core.program import build_program
 from ..lights.array import LightArray
 from ..lights.device_lights import DeviceLights
 from ..lights.pick_table import PickTable
-from ..lights.tree import tree_proposal
+from ..lights.tree import light_trees
 from ..scene.camera import Camera
 from ..scene.errors import SceneError
 from ..scene.scene import Scene
@@ -124,11 +124,11 @@ class Renderer:
     def _build(self) -> None:
         """Compile the program with the features this scene and settings need (render/features.py)."""
         s, ds = self.settings, self.device_scene
-        self.uses_light_tree = tree_proposal(s.method, s.light_proposal, ds.lights.types)
-        if self.uses_light_tree:
+        self.uses_light_tree, self.path_light_tree = light_trees(s, ds.lights.types)
+        if self.uses_light_tree or self.path_light_tree:
             ds.use_light_tree()
         self.flags = flags = renderer_flags(self.scene, ds, s, interactive=self.interactive,
-                                            light_tree=self.uses_light_tree)
+                                            light_tree=self.uses_light_tree, path_light_tree=self.path_light_tree)
         self.features = describe(flags)
         t0 = time.perf_counter()
         self.program = build_program(self.device, flags)
@@ -260,7 +260,8 @@ class Renderer:
             lights_switched=ds.lights_switched, light_count=ds.sampled_light_count,
             environment=ds.lights.environment is not None, glossy=ds.material_flags.get("HAS_GLOSSY", False),
             analytic_lights=ds.analytic_lights, triangle_lights=ds.triangle_lights, sobol=sobol,
-            light_tree=self.uses_light_tree, pick_table=self.pick_table.active, still=still,
+            light_tree=self.uses_light_tree, path_light_tree=self.path_light_tree,
+            pick_table=self.pick_table.active, still=still,
             camera_moved=camera_moved(cam, frame, self._last_frame, self._prev_view),
             scene_moves=ds.moving_lights or ds.moving_objects or ds.edited, gi_history_valid=self.history.gi_valid)
 

@@ -40,6 +40,7 @@ class FrameSituation:
     triangle_lights: bool = False  # some light is an emissive triangle
     sobol: bool = False  # the frame draws from the Sobol sequence (FrameParams.qmc)
     light_tree: bool = False  # the renderer built a light tree for its candidates (lights/tree.py tree_proposal)
+    path_light_tree: bool = False  # ... or for NEE at path vertices (lights/tree.py path_tree)
     pick_table: bool = False  # a still render whose build has the per-pixel pick table (lights/pick_table.py)
     still: bool = False  # a frame of a still render, averaged (else an animation or viewport frame)
     camera_moved: bool = False  # the camera sees from elsewhere than at the last frame (render/camera.py)
@@ -178,7 +179,7 @@ def path_plan(settings: Settings, situation: FrameSituation, restir_history: boo
     s, x = settings, situation
     bounces = s.max_bounces > 0
     gi = bounces and s.gi_reuse and not x.still
-    return {"paths": bounces and not gi, "path_light_tree": x.light_tree and x.light_count > 1,
+    return {"paths": bounces and not gi, "path_light_tree": x.path_light_tree and x.light_count > 1,
             "path_analytic": x.analytic_lights if x.analytic_lights <= BSDF_ANALYTIC_MAX else 0,
             "path_triangles": x.triangle_lights, "gi": gi,
             "gi_temporal": gi and s.gi_temporal and restir_history and x.gi_history_valid,

@@ -57,6 +57,14 @@ BOILING_MODE_CHOICES = (
 )
 BOILING_MODES = tuple(c.id for c in BOILING_MODE_CHOICES)
 
+PATH_LIGHT_PICK_CHOICES = (
+    Choice("auto", "Auto", "The light tree wherever the scene has two lights or more (render/plan.py "
+           "path_tree_pays), else the light array", 0),
+    Choice("array", "Light Array", "Every path vertex picks its light from the power-proportional light array", 1),
+    Choice("tree", "Light Tree", "Every path vertex picks its light from the light tree: by power, distance and "
+           "orientation (a spot's cone, an area light's side) at the vertex", 2),
+)
+
 LIGHT_PROPOSAL_CHOICES = (
     Choice("auto", "Auto", "Still RIS renders of at most 16 lights: the per-pixel table (it measured better than "
            "the light array at equal time there); else the light tree where it measured better than the light "
@@ -321,6 +329,10 @@ class Settings:
                                          "temporal pass found no history (disocclusion, off-screen), in place of "
                                          "Neighbours when larger (0: off)", flag="--gi-disocclusion-boost",
                                          range=Range(int, 0, 16), panel="gi", applies_when=_GI)
+    path_light_pick: str = setting("auto", "Bounce Light Pick", "Light Paths: where next-event estimation at the "
+                                   "vertices of bounced light picks its light (the direct light keeps Light "
+                                   "Proposal)", flag="--path-light-pick", choices=PATH_LIGHT_PICK_CHOICES,
+                                   panel="lights")
 
     def validate(self) -> Settings:
         check(self)

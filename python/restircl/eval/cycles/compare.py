@@ -84,9 +84,11 @@ OURS: dict[str, dict] = {
     # the light tree as the candidates' proposal (lights/tree.py)
     "default_tree": {"light_proposal": "tree"},
     "ris_tree": {"method": "ris", "light_proposal": "tree"},
+    # F12's still path with NEE at path vertices from the light array (the bounced light's pick before the tree)
+    "auto_path_array": {"path_light_pick": "array"},
 }
 #: our methods whose settings go through still_settings, as F12's and the CLI's still renders do
-STILL_PATH = ("auto", "auto_random", "auto_array", "auto_solid", "auto_solid_near")
+STILL_PATH = ("auto", "auto_random", "auto_array", "auto_solid", "auto_solid_near", "auto_path_array")
 #: what a comparison runs unless told otherwise; any of OURS may be named
 METHODS = ("cycles", "default", "auto", "ris")
 ALL_METHODS = ("cycles", *OURS)

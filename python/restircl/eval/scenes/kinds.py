@@ -1,18 +1,20 @@
-"""Every scene kind `restircl compare` renders, by name: the held-out kinds (held_out.py) and the validation kinds
-of global illumination (validation.py)."""
+"""Every scene kind `restircl compare` renders, by name: the held-out kinds (held_out.py), the validation kinds
+of global illumination (validation.py) and its tuning kind (gi_tuning.py)."""
 
 from __future__ import annotations
 
 from ...scene.scene import Scene
-from . import held_out, validation
+from . import gi_tuning, held_out, validation
 
-KINDS = held_out.KINDS + validation.KINDS
+KINDS = held_out.KINDS + validation.KINDS + gi_tuning.KINDS
 
 
 def scene_of_kind(kind: str, width: int = held_out.WIDTH, height: int = held_out.HEIGHT) -> Scene:
-    """The held-out or validation scene of `kind` at width x height."""
+    """The held-out, validation or tuning scene of `kind` at width x height."""
     if kind in held_out.KINDS:
         return held_out.held_out(kind, width, height)
     if kind in validation.KINDS:
         return validation.validation(kind, width, height)
+    if kind in gi_tuning.KINDS:
+        return gi_tuning.gi_tuning(kind, width, height)
     raise ValueError(f"no scene kind {kind!r}; kinds: {', '.join(KINDS)}")

@@ -25,6 +25,7 @@ Principled BSDFs, and the lights are those of docs/units.md.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 
@@ -93,19 +94,28 @@ def _up() -> np.ndarray:
     return m
 
 
-def _spots() -> list[Light]:
-    """SPOTS ceiling spots 5 cm below the ceiling, pointing down and a little outwards, warm and cool in turn."""
-    sx, sy, sz = ROOM
-    nx, ny = SPOTS
+def ceiling_spots(room: tuple[float, float, float], grid: tuple[int, int], drop: float, aim: tuple[float, float],
+                  radius: float, size_deg: float, blend: float, colour: Callable[[int, int], tuple],
+                  power: Callable[[int, int], float]) -> list[Light]:
+    """A grid of spots `drop` below the ceiling of a room centred on the origin, the spot of cell (i, j) at (x, y)
+    aiming at (aim_x x, aim_y y) on the floor (1: straight down, more: outwards), of colour(i, j) and power(i, j)."""
+    sx, sy, sz = room
+    nx, ny = grid
     out = []
     for i in range(nx):
         for j in range(ny):
             x, y = (i + 0.5) / nx * sx - sx / 2, (j + 0.5) / ny * sy - sy / 2
-            colour = (1.0, 0.85, 0.7) if (i + j) % 2 else (0.85, 0.9, 1.0)
-            out.append(Light(f"spot{i}_{j}", "spot", colour, 25.0 + 5.0 * ((3 * i + j) % 4),
-                             look_at((x, y, sz - 0.05), (1.15 * x, 1.15 * y, 0.0)), radius=0.04,
-                             spot_size=math.radians(75), spot_blend=0.35))
+            out.append(Light(f"spot{i}_{j}", "spot", colour(i, j), power(i, j),
+                             look_at((x, y, sz - drop), (aim[0] * x, aim[1] * y, 0.0)), radius=radius,
+                             spot_size=math.radians(size_deg), spot_blend=blend))
     return out
+
+
+def _spots() -> list[Light]:
+    """SPOTS ceiling spots 5 cm below the ceiling, pointing down and a little outwards, warm and cool in turn."""
+    return ceiling_spots(ROOM, SPOTS, 0.05, (1.15, 1.15), 0.04, 75, 0.35,
+                         lambda i, j: (1.0, 0.85, 0.7) if (i + j) % 2 else (0.85, 0.9, 1.0),
+                         lambda i, j: 25.0 + 5.0 * ((3 * i + j) % 4))
 
 
 def interior(width: int = WIDTH, height: int = HEIGHT) -> Scene:
