@@ -260,9 +260,8 @@ class Renderer:
             lights_switched=ds.lights_switched, light_count=ds.sampled_light_count,
             environment=ds.lights.environment is not None, glossy=ds.material_flags.get("HAS_GLOSSY", False),
             analytic_lights=ds.analytic_lights, triangle_lights=ds.triangle_lights, sobol=sobol,
-            light_tree=self.uses_light_tree, path_light_tree=self.path_light_tree,
-            pick_table=self.pick_table.active, still=still,
-            camera_moved=camera_moved(cam, frame, self._last_frame, self._prev_view),
+            light_tree=self.uses_light_tree, path_light_tree=self.path_light_tree, pick_table=self.pick_table.active,
+            still=still, camera_moved=camera_moved(cam, frame, self._last_frame, self._prev_view),
             scene_moves=ds.moving_lights or ds.moving_objects or ds.edited, gi_history_valid=self.history.gi_valid)
 
     @property
