@@ -19,8 +19,8 @@ from restircl import Renderer, Settings, still_settings
 from restircl.eval.metrics import rel_mse
 from restircl.scenes.textured import textured_room
 
-REF = "/tmp/texture_filter_ref_{}.npy"
-REF_SAMPLES = 1024
+REF = "/tmp/texture_filter_ref_{}_16k.npy"
+REF_SAMPLES = 16384
 SEEDS = (1, 2, 3)
 
 
