@@ -145,7 +145,7 @@ typedef struct {
     int width;
     int height;
     int kind;         /* CAMERA_PERSP or CAMERA_ORTHO */
-    int pad1;
+    int texture_full; /* 1: camera rays read images at full resolution; 0: at their ray cone's mip level */
 } Camera;             /* 112 bytes */
 
 /* ---- per-pixel buffers ------------------------------------------------------------------------ */

@@ -77,9 +77,10 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
         return;
     }
     const SceneSurfaces sc = {tris, materials, tri_attr, objects, closures, tex_nodes, tex_images, texels, ggx_tables};
-    /* smooth shading and texture coordinates, filtered over the pixel's ray cone */
+    /* smooth shading and texture coordinates, textures filtered over the pixel's ray cone, or read at full
+     * resolution (a footprint of 0: level 0) where the frame's samples are averaged (render/plan.py texture_full) */
     GlossySample gx;
-    hit_gsample(&sc, hit, d, camera_footprint(cam, d, hit.t), &g, &gx);
+    hit_gsample(&sc, hit, d, cam->texture_full ? 0.0f : camera_footprint(cam, d, hit.t), &g, &gx);
     float3 p = g.pos.xyz;
     int obj = as_int(g.albedo.w);
     g.pos.w = camera_depth(cam, p);

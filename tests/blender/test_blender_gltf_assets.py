@@ -11,6 +11,7 @@ bpy = pytest.importorskip("bpy")
 restircl = pytest.importorskip("restircl")
 
 from restircl.eval import assets  # noqa: E402
+from restircl.eval import blender_scenes as scenes  # noqa: E402
 
 from .test_blender_materials import fresh_scene  # noqa: E402
 from .test_blender_support import ensure_registered, needs_renderer  # noqa: E402
@@ -72,16 +73,34 @@ def test_the_helmet_material_is_read_natively(helmet_path):
 
 @pytest.mark.slow
 @needs_renderer
-@pytest.mark.xfail(strict=True, reason="mip filtering of the 2048^2 normal and roughness maps, minified ~30x at "
-                   "64x48, before shading (Cycles averages shaded samples): relMSE 5.2 %, mean 0.946 (docs/blender.md)")
 def test_the_real_helmet_agrees_with_cycles(helmet_path, tmp_path, record_property):
-    """The issue's scene (tests/blender/gltf_scenes.py real_helmet_scene) at 64x48, direct light: F12 against
-    Cycles, relMSE < 1e-2 and image means within 2 %."""
+    """The issue's scene (tests/blender/gltf_scenes.py real_helmet_scene) at 48x36, direct light: F12 (its default
+    still estimator, textures read at full resolution) against Cycles, relMSE < 1e-2 and image means within 2 %.
+    Both sides converged: Cycles at 4096 samples is 0.11 % from itself under another seed, F12 at 1024 estimates
+    its own relMSE at 0.23 % (measured when written: relMSE 0.26 %, mean 0.998). Negative control: the same still
+    reading the mip level of the pixel's ray cone (which averages the 2048^2 normal and roughness maps, minified
+    ~40x, before shading) was 4.5 % off."""
     from .gltf_scenes import real_helmet_scene
-    from .test_blender_support import cycles_and_ours
+    from .test_blender_support import read_exr_passes, relmse, render_to
 
-    sc = real_helmet_scene(helmet_path, 64, 48)
-    err, ratio = cycles_and_ours(tmp_path, sc, 256, 64, "DamagedHelmet", bake_resolution=64)
-    record_property("relmse", err)
-    assert err < 1e-2, f"DamagedHelmet: relMSE {100 * err:.3f} % against Cycles"
+    sc = real_helmet_scene(helmet_path, 48, 36)
+    scenes.cycles_direct_only(sc, samples=4096, seed=1, threads=2)
+    render_to(sc, tmp_path / "cycles.exr")
+    cyc = read_exr_passes(tmp_path / "cycles.exr")["Combined"][..., :3]
+    assert cyc.mean() > 0.01, "the comparison scene is dark: nothing is tested"
+    sc.render.engine = "RESTIRCL"
+    sc.restircl.samples, sc.restircl.bake_resolution = 1024, 64
+    errs = {}
+    for mode in ("auto", "mip"):
+        sc.restircl.texture_filter = mode
+        render_to(sc, tmp_path / f"ours_{mode}.exr")
+        ours = read_exr_passes(tmp_path / f"ours_{mode}.exr")["Combined"][..., :3]
+        errs[mode] = relmse(ours, cyc)
+        print(f"DamagedHelmet, texture_filter {mode}: relMSE {100 * errs[mode]:.3f} %  "
+              f"mean ours/cycles {ours.mean() / cyc.mean():.4f}")
+        if mode == "auto":
+            ratio = float(ours.mean() / cyc.mean())
+    record_property("relmse", errs["auto"])
+    assert errs["auto"] < 1e-2, f"DamagedHelmet: relMSE {100 * errs['auto']:.3f} % against Cycles"
     assert ratio == pytest.approx(1.0, abs=0.02)
+    assert errs["mip"] > 2 * 1e-2  # the bound tells the filters apart

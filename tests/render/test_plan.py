@@ -52,6 +52,17 @@ def test_still_frames_have_no_taa_and_no_boiling_filter():
     assert a.boiling and a.taa and a.filter
 
 
+@pytest.mark.parametrize("method", ["restir", "ris", "reference"])
+def test_stills_read_textures_at_full_resolution_and_frames_at_their_mip_level(method):
+    still = replace(NEXT, still=True)
+    assert plan(still, method=method).texture_full  # auto
+    assert not plan(method=method).texture_full
+    assert plan(still, method=method, texture_filter="full").texture_full
+    assert plan(method=method, texture_filter="full").texture_full
+    assert not plan(still, method=method, texture_filter="mip").texture_full
+    assert not plan(method=method, texture_filter="mip").texture_full
+
+
 def test_one_light_runs_the_light_array_sampler_unless_sobol_or_environment():
     one = replace(NEXT, light_count=1)
     assert plan(one, method="ris").method == "light_array"

@@ -34,7 +34,7 @@ CAMERA = np.dtype(
         ("width", np.int32),
         ("height", np.int32),
         ("kind", np.int32),
-        ("pad1", np.int32),
+        ("texture_full", np.int32),
     ]
 )
 GSAMPLE = np.dtype(

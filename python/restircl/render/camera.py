@@ -25,7 +25,9 @@ def jitter(frame: int) -> tuple[float, float]:
     return halton(k, 2) - 0.5, halton(k, 3) - 0.5
 
 
-def camera_record(cam: Camera, frame: int, jitter_px: tuple[float, float] = (0.0, 0.0)) -> np.ndarray:
+def camera_record(cam: Camera, frame: int, jitter_px: tuple[float, float] = (0.0, 0.0),
+                  texture_full: bool = False) -> np.ndarray:
+    """texture_full: the camera's rays read images at full resolution (render/plan.py texture_full)."""
     m = Scene.at(cam.transforms, frame)
     right = m[:3, 0] / np.linalg.norm(m[:3, 0])
     fwd = -m[:3, 2] / np.linalg.norm(m[:3, 2])
@@ -42,6 +44,7 @@ def camera_record(cam: Camera, frame: int, jitter_px: tuple[float, float] = (0.0
     rec["jitter"][0, :2] = jitter_px
     rec["width"] = cam.width
     rec["height"] = cam.height
+    rec["texture_full"] = int(texture_full)
     return rec
 
 

@@ -81,6 +81,7 @@ class FramePlan:
     gi_temporal: bool = False  # ... its temporal reuse
     gi_boiling: bool = False  # ... its boiling filter (biased: the animation path only, as ReSTIR DI's)
     gi_spatial: bool = False  # ... its spatial reuse
+    texture_full: bool = False  # camera rays read images at full resolution (else the mip level of their ray cone)
 
 
 def effective_method(settings: Settings, light_count: int, environment: bool, sobol: bool) -> str:
@@ -167,7 +168,16 @@ def plan_frame(settings: Settings, situation: FrameSituation) -> FramePlan:
         boiling=restir and s.boiling_filter > 0 and not x.still,  # biased: the animation path only
         spatial=restir and s.spatial and s.spatial_neighbours > 0,
         taa=taa, taa_moving=taa and (x.scene_moves or (history and x.camera_moved)),
-        filter=taa and s.realtime_filter, **path_plan(s, x, restir_history))
+        filter=taa and s.realtime_filter, texture_full=texture_full(s, x.still), **path_plan(s, x, restir_history))
+
+
+def texture_full(settings: Settings, still: bool) -> bool:
+    """Whether camera rays read images at full resolution (textures/image.h level 0): a still's samples are
+    averaged, and the average of shaded full-resolution samples is the pixel Cycles converges to, where shading a
+    mip level's averaged normals or roughness is not; animation and viewport frames ("auto") read the mip level of
+    their ray cone, whose prefiltered texels keep each frame's texture aliasing, and so TAA's flicker, down."""
+    mode = settings.texture_filter
+    return mode == "full" or (mode == "auto" and still)
 
 
 def path_plan(settings: Settings, situation: FrameSituation, restir_history: bool) -> dict:

@@ -112,7 +112,8 @@ class Primary(Stage):
     def run(self, state: FrameState, camera: Camera, prev_camera: Camera | None = None) -> None:
         """prev_camera: the previous frame's camera where it is another one (an interactive view)."""
         q, b, h = self.kernels.device.queue, self.buffers, self.history
-        cl.enqueue_copy(q, b.cameras[0], camera_record(camera, state.plan.frame, state.jitter))
+        cl.enqueue_copy(q, b.cameras[0], camera_record(camera, state.plan.frame, state.jitter,
+                                                         state.plan.texture_full))
         cl.enqueue_copy(q, b.cameras[1], camera_record(prev_camera or camera, state.plan.prev_frame))
         cl.enqueue_copy(q, b.cameras[2], camera_record(camera, state.plan.next_frame))
         self.kernels.launch("primary", image_size(state), cam=b.cameras[0],

@@ -106,6 +106,15 @@ AREA_SAMPLING_CHOICES = (
     Choice("area", "Area", "Area lights and emissive triangles sampled uniformly in area, except within twice their "
            "radius (there in solid angle, as uniform area sampling would give fireflies next to a light)", 2),
 )
+TEXTURE_FILTER_CHOICES = (
+    Choice("auto", "Auto", "Still renders (F12) read images at full resolution, as Cycles does; animation and "
+           "viewport frames filter them over the pixel's ray cone", 0),
+    Choice("full", "Full Resolution", "Every render reads images at full resolution (Linear: bilinear, Closest: the "
+           "nearest texel) per sample, so that averaged samples filter them over the pixel as Cycles does", 1),
+    Choice("mip", "Mip Levels", "Every render reads images from the mip level of the camera ray cone's footprint: "
+           "less noise per frame, but a minified normal or roughness map is averaged before shading", 2),
+)
+TEXTURE_FILTERS = tuple(c.id for c in TEXTURE_FILTER_CHOICES)
 #: BSDF rays are tested against at most this many analytic lights (a loop per ray); beyond it the BSDF strategy
 #: leaves them to light sampling (pdf 0 in the MIS weights, which stay correct)
 BSDF_ANALYTIC_MAX = 64
@@ -333,6 +342,10 @@ class Settings:
                                    "vertices of bounced light picks its light (the direct light keeps Light "
                                    "Proposal)", flag="--path-light-pick", choices=PATH_LIGHT_PICK_CHOICES,
                                    panel="lights")
+    texture_filter: str = setting("auto", "Texture Filter", "How camera rays read image textures: at full "
+                                  "resolution per sample (Cycles' way: the converged image matches it) or from mip "
+                                  "levels filtered over the pixel (steadier frames)", flag="--texture-filter",
+                                  choices=TEXTURE_FILTER_CHOICES, panel="sampling")
 
     def validate(self) -> Settings:
         check(self)
