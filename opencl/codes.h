@@ -44,6 +44,8 @@
 #define TEXNODE_MATH           6
 #define TEXNODE_VECTOR_MATH    7
 #define TEXNODE_INVERT         8
+#define TEXNODE_HSV            9
+#define TEXNODE_COLOR_RAMP     10
 
 /* image interpolation (TexNode.op.y) (materials/textures.py INTERPOLATIONS) */
 #define TEXINTERP_LINEAR  0
@@ -135,6 +137,11 @@
 #define TEXVEC_DOT_PRODUCT   13
 #define TEXVEC_LENGTH        14
 #define TEXVEC_DISTANCE      15
+
+/* Color Ramp interpolations (TexNode.op.y) (materials/textures.py RAMP_INTERPOLATIONS) */
+#define TEXRAMP_LINEAR   0
+#define TEXRAMP_CONSTANT 1
+#define TEXRAMP_EASE     2
 
 /* texture programs (upload/textures.py) */
 #define MAX_TEX_PROGRAM 16

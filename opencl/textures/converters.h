@@ -56,6 +56,18 @@ inline float3 tex_hsl_to_rgb(float3 hsl)
     return hsl.z + chroma * (tex_hue_rgb(hsl.x) - 0.5f);
 }
 
+/* Hue/Saturation/Value: c turned by hsv.x - 0.5 in hue, its saturation scaled by hsv.y (clamped to [0, 1]) and its
+ * value by hsv.z, blended with c by t and clamped at 0 (an oversaturated colour can go negative) */
+inline float3 tex_hsv_adjust(float3 c, float3 hsv, float t)
+{
+    float3 h = tex_rgb_to_hsv(c);
+    h.x += hsv.x + 0.5f;
+    h.x -= floor(h.x);
+    h.y = clamp_f(h.y * hsv.y, 0.0f, 1.0f);
+    h.z *= hsv.z;
+    return fmax(c + t * (tex_hsv_to_rgb(h) - c), (float3)(0.0f));
+}
+
 /* Separate Color: channel k of c in mode (TEXCOLOR_*) */
 inline float tex_separate(int mode, int k, float3 c)
 {

@@ -2,7 +2,8 @@
  * stored in evaluation order, each reading its inputs from constants or from earlier nodes' registers, so a node
  * graph is evaluated in one loop (no recursion in OpenCL C). Checker and Mix follow Blender's definitions
  * (Cycles' kernel/svm/checker.h and mix.h); the Normal Map node its tangent-space rule with Strength; the converter
- * nodes (Separate / Combine Color, Math, Vector Math, Invert) are textures/converters.h. */
+ * nodes (Separate / Combine Color, Math, Vector Math, Invert, Hue/Saturation/Value) are textures/converters.h;
+ * Color Ramp reads its stops from the texel buffer. */
 #ifndef RESTIRCL_TEXTURE_NODES_H
 #define RESTIRCL_TEXTURE_NODES_H
 
@@ -85,6 +86,25 @@ inline float3 tex_normal_map(float3 color, float strength, const TexPoint* tp)
     return tp->backfacing ? -m : m;
 }
 
+/* Color Ramp: t among the stops of image-table entry img (textures.py _ramp: colours in its first row, positions
+ * in the second), clamped to the first and last; interp: TEXRAMP_* */
+inline float4 tex_color_ramp(const __global TexImage* images, const __global float4* texels, int img, int interp,
+                             float t)
+{
+    TexImage im = images[img];
+    const __global float4* col = texels + im.offset;
+    const __global float4* pos = col + im.width;
+    int n = im.width;
+    if (!(t > pos[0].x)) return col[0];
+    if (t >= pos[n - 1].x) return col[n - 1];
+    int k = 0;
+    while (k + 2 < n && t >= pos[k + 1].x) ++k;  /* pos[k] <= t < pos[k + 1] */
+    if (interp == TEXRAMP_CONSTANT) return col[k];
+    float f = (t - pos[k].x) / (pos[k + 1].x - pos[k].x);
+    if (interp == TEXRAMP_EASE) f = f * f * (3.0f - 2.0f * f);
+    return col[k] + f * (col[k + 1] - col[k]);
+}
+
 /* The value of node `root` at tp: its program (nodes blk.x .. root) evaluated in order into registers. */
 inline float4 texture_eval(const __global TexNode* nodes, const __global TexImage* images,
                            const __global float4* texels, int root, const TexPoint* tp)
@@ -134,6 +154,13 @@ inline float4 texture_eval(const __global TexNode* nodes, const __global TexImag
             break;
         case TEXNODE_INVERT:
             out.xyz = a.xyz + f * (1.0f - 2.0f * a.xyz);
+            break;
+        case TEXNODE_HSV:
+            out.xyz = tex_hsv_adjust(a.xyz, b.xyz, f);
+            break;
+        case TEXNODE_COLOR_RAMP:
+            out = tex_color_ramp(images, texels, n.in.w, n.op.y, f);
+            if (n.blk.w) out.xyz = (float3)(out.w);
             break;
         case TEXNODE_NORMAL_MAP:
             out.xyz = tex_normal_map(a.xyz, n.p.x, tp);

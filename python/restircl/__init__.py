@@ -18,7 +18,9 @@ from .io.images import read_exr, write_exr, write_png
 from .materials.material import Material
 from .materials.textures import (
     CheckerTexture,
+    ColorRamp,
     CombineColor,
+    HueSaturationValue,
     ImageTexture,
     Invert,
     Math,
@@ -40,8 +42,9 @@ from .settings.spec import SettingError
 from .settings.table import Settings
 
 __all__ = [
-    "Camera", "CheckerTexture", "CombineColor", "Device", "DeviceError", "Environment", "Frame", "ImageTexture",
-    "Invert", "KernelBuildError", "Light", "Material", "Math", "Mesh", "MixColor", "NormalMap", "Renderer",
+    "Camera", "CheckerTexture", "ColorRamp", "CombineColor", "Device", "DeviceError", "Environment", "Frame",
+    "HueSaturationValue", "ImageTexture", "Invert", "KernelBuildError", "Light", "Material", "Math", "Mesh", "MixColor",
+    "NormalMap", "Renderer",
     "SeparateColor", "VectorMath",
     "Scene", "SceneError", "SceneFileError", "SettingError", "Settings", "choose_device", "get_device", "list_devices",
     "look_at", "read_exr", "scenes", "still_settings", "translation", "write_exr", "write_png",

@@ -1,5 +1,5 @@
-"""Export of texture nodes (Image, Checker, Mix Color, Normal Map, Mapping), images packed and on disk, the
-Cycles bake of other graphs, and the meshes' UV maps and corner normals."""
+"""Export of texture nodes (Image, Checker, Mix Color, Normal Map, Mapping, Color Ramp, Hue/Saturation/Value),
+images packed and on disk, the Cycles bake of other graphs, and the meshes' UV maps and corner normals."""
 
 from __future__ import annotations
 
@@ -11,7 +11,14 @@ import pytest
 bpy = pytest.importorskip("bpy")
 restircl = pytest.importorskip("restircl")
 
-from restircl import CheckerTexture, ImageTexture, MixColor, NormalMap  # noqa: E402
+from restircl import (  # noqa: E402
+    CheckerTexture,
+    ColorRamp,
+    HueSaturationValue,
+    ImageTexture,
+    MixColor,
+    NormalMap,
+)
 
 from .test_blender_materials import (  # noqa: E402
     add_node,
@@ -185,6 +192,37 @@ def test_checker_and_mix_color_nodes():
     assert isinstance(m.roughness, MixColor) and m.roughness.blend == "SCREEN"
     assert isinstance(m.roughness.factor, CheckerTexture)
     assert not warnings_of(exp.warnings, "Chk")
+
+
+def test_color_ramp_and_hue_saturation_value_nodes():
+    """A Color Ramp (Ease, its Alpha into Hue/Saturation/Value's Hue, its Color into Roughness) is read natively;
+    a B-Spline ramp is baked."""
+    sc = fresh_scene()
+    sc.restircl.bake_resolution = 8
+    mat, tree, p = principled("Ramp")
+    chk = add_node(tree, "ShaderNodeTexChecker", {"Scale": 3.0})
+    ramp = tree.nodes.new("ShaderNodeValToRGB")
+    ramp.color_ramp.interpolation = "EASE"
+    ramp.color_ramp.elements[1].position = 0.6
+    ramp.color_ramp.elements[1].color = (1.0, 0.5, 0.25, 0.4)
+    hsv = add_node(tree, "ShaderNodeHueSaturation", {"Saturation": 1.5, "Value": 0.7, "Fac": 0.9})
+    tree.links.new(chk.outputs["Fac"], ramp.inputs["Fac"])
+    tree.links.new(ramp.outputs["Alpha"], hsv.inputs["Hue"])
+    tree.links.new(hsv.outputs["Color"], p.inputs["Base Color"])
+    tree.links.new(ramp.outputs["Color"], p.inputs["Roughness"])
+    plane(mat)
+    m, exp = material_of("Ramp")
+    h, r = m.albedo, m.roughness
+    assert isinstance(h, HueSaturationValue) and (h.saturation, h.value) == pytest.approx((1.5, 0.7))
+    assert h.factor == pytest.approx(0.9) and h.color == pytest.approx((0.8, 0.8, 0.8))
+    assert isinstance(h.hue, ColorRamp) and h.hue.alpha and isinstance(h.hue.factor, CheckerTexture)
+    assert isinstance(r, ColorRamp) and not r.alpha and r.interpolation == "EASE"
+    assert r.positions == pytest.approx((0.0, 0.6)) and r.colors[1] == pytest.approx((1.0, 0.5, 0.25, 0.4))
+    assert not warnings_of(exp.warnings, "Ramp")
+    ramp.color_ramp.interpolation = "B_SPLINE"
+    m, exp = material_of("Ramp")
+    assert isinstance(m.roughness, ImageTexture)
+    assert any("Color Ramp" in w for w in warnings_of(exp.warnings, "Ramp"))
 
 
 def test_normal_map_node():

@@ -1,5 +1,6 @@
 """The converter nodes of PBR graphs -> restircl texture nodes (restircl.materials.textures): Separate / Combine Color
-and the legacy Separate / Combine RGB, HSV and XYZ, Math, Vector Math and Invert, read natively instead of baked.
+and the legacy Separate / Combine RGB, HSV and XYZ, Math, Vector Math, Invert, Hue/Saturation/Value and Color
+Ramp (RGB colour mode; Linear, Constant and Ease), read natively instead of baked.
 An operation the renderer does not have gives None: the caller bakes the node."""
 
 from __future__ import annotations
@@ -14,7 +15,8 @@ SEPARATE = {"ShaderNodeSeparateColor": None, "ShaderNodeSeparateRGB": "RGB", "Sh
             "ShaderNodeSeparateXYZ": "RGB"}
 COMBINE = {"ShaderNodeCombineColor": None, "ShaderNodeCombineRGB": "RGB", "ShaderNodeCombineHSV": "HSV",
            "ShaderNodeCombineXYZ": "RGB"}
-KINDS = (*SEPARATE, *COMBINE, "ShaderNodeMath", "ShaderNodeVectorMath", "ShaderNodeInvert")
+KINDS = (*SEPARATE, *COMBINE, "ShaderNodeMath", "ShaderNodeVectorMath", "ShaderNodeInvert", "ShaderNodeHueSaturation",
+         "ShaderNodeValToRGB")
 
 # read(socket, stack, want, depth) -> an Input
 Read = Callable[[object, tuple, str, int], object]
@@ -53,6 +55,14 @@ def converter(src: Source, read: Read, depth: int):
         return _math(node, ins, sub)
     if kind == "ShaderNodeVectorMath":
         return _vector_math(node, src, sub)
+    if kind == "ShaderNodeValToRGB":
+        return _color_ramp(node, src, sub)
+    if kind == "ShaderNodeHueSaturation":
+        from restircl import HueSaturationValue
+
+        hue, sat, val, fac = (sub(find_input(node, (n,)), VALUE) for n in ("Hue", "Saturation", "Value", "Fac"))
+        return HueSaturationValue(color=sub(find_input(node, ("Color",)), COLOR), hue=hue, saturation=sat, value=val,
+                                  factor=fac)
     from restircl import Invert
 
     return Invert(color=sub(find_input(node, ("Color",)), COLOR), factor=sub(find_input(node, ("Fac",)), VALUE))
@@ -79,3 +89,17 @@ def _vector_math(node, src: Source, sub):
     scale = find_input(node, ("Scale",))
     return VectorMath(op=op, a=sub(a, COLOR), b=sub(b, COLOR) if b is not None else (0.0, 0.0, 0.0),
                       scale=sub(scale, VALUE) if scale is not None else 1.0)
+
+
+def _color_ramp(node, src: Source, sub):
+    """A Color Ramp in RGB mode with an interpolation the renderer has (B-Spline and Cardinal are baked)."""
+    from restircl import ColorRamp
+    from restircl.materials.textures import RAMP_INTERPOLATIONS
+
+    ramp = node.color_ramp
+    if ramp.color_mode != "RGB" or ramp.interpolation not in RAMP_INTERPOLATIONS or not len(ramp.elements):
+        return None
+    stops = [(float(e.position), tuple(float(c) for c in e.color)) for e in ramp.elements]
+    return ColorRamp(factor=sub(find_input(node, ("Fac",)), VALUE), positions=tuple(p for p, _ in stops),
+                     colors=tuple(c for _, c in stops), interpolation=ramp.interpolation,
+                     alpha=src.socket.identifier == "Alpha")

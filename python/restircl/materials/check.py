@@ -165,6 +165,9 @@ CONVERTERS = {
     tx.Math: (tx.MATH_OPS, "op", (("a", False), ("b", False), ("c", False))),
     tx.VectorMath: (tx.VECTOR_OPS, "op", (("a", True), ("b", True), ("scale", False))),
     tx.Invert: ((), "", (("color", True), ("factor", False))),
+    tx.HueSaturationValue: ((), "", (("color", True), ("hue", False), ("saturation", False), ("value", False),
+                                     ("factor", False))),
+    tx.ColorRamp: (tx.RAMP_INTERPOLATIONS, "interpolation", (("factor", False),)),
 }
 
 
@@ -174,8 +177,24 @@ def _check_converter(node: object, label: str, path: list[object]) -> None:
         raise MaterialError(f"{label}: {option} must be one of {table}, got {getattr(node, option)!r}")
     if isinstance(node, tx.SeparateColor) and node.channel not in (0, 1, 2):
         raise MaterialError(f"{label}: channel must be 0, 1 or 2, got {node.channel!r}")
+    if isinstance(node, tx.ColorRamp):
+        _check_ramp(node, label)
     for name, colour in inputs:
         _sub(getattr(node, name), f"{label}.{name}", colour, path)
+
+
+def _check_ramp(node: tx.ColorRamp, label: str) -> None:
+    try:
+        pos = np.asarray(node.positions, np.float64).reshape(-1)
+        cols = [np.asarray(c, np.float64).reshape(-1) for c in node.colors]
+    except (TypeError, ValueError) as exc:
+        raise MaterialError(f"{label}: positions and colors must be numbers ({exc})") from exc
+    if len(pos) == 0 or len(pos) != len(cols):
+        raise MaterialError(f"{label}: needs as many positions as colors, at least one, got {len(pos)} and "
+                            f"{len(cols)}")
+    if any(c.size not in (3, 4) for c in cols) or not np.all(np.isfinite(pos)) or \
+            not all(np.all(np.isfinite(c)) for c in cols):
+        raise MaterialError(f"{label}: positions must be finite numbers and colors finite rgb or rgba")
 
 
 def _sub(value: object, what: str, colour: bool, path: list[object]) -> None:

@@ -83,8 +83,8 @@ class MaterialReader:
     def value(self, v: object) -> object:
         if isinstance(v, dict):
             return self.nodes[int(v["node"])]
-        if isinstance(v, list):
-            return tuple(float(x) for x in v)
+        if isinstance(v, list):  # a colour, or a list of them (a Color Ramp's stops)
+            return tuple(self.value(x) if isinstance(x, list) else float(x) for x in v)
         return v
 
     def material(self, d: dict) -> Material:

@@ -1,5 +1,6 @@
 """Texture nodes that feed a material input (restircl.Material): an image, a checker, a colour mix, a normal map,
-and the converter nodes of PBR graphs (Separate / Combine Color, Math, Vector Math, Invert).
+and the converter nodes of PBR graphs (Separate / Combine Color, Math, Vector Math, Invert, Hue/Saturation/Value,
+Color Ramp).
 
 A material input (base colour, roughness, metallic, ...) is a constant or one of these nodes; a node's own inputs
 may again be nodes (a Mix Color of an image and a checker), as in a Blender node graph. Texture coordinates follow
@@ -35,6 +36,7 @@ MATH_OPS = ("ADD", "SUBTRACT", "MULTIPLY", "DIVIDE", "MULTIPLY_ADD", "POWER", "L
 VECTOR_OPS = ("ADD", "SUBTRACT", "MULTIPLY", "DIVIDE", "SCALE", "ABSOLUTE", "MINIMUM", "MAXIMUM", "FLOOR", "CEIL",
               "FRACTION", "NORMALIZE", "CROSS_PRODUCT", "DOT_PRODUCT", "LENGTH", "DISTANCE")
 VECTOR_VALUE_OPS = ("DOT_PRODUCT", "LENGTH", "DISTANCE")
+RAMP_INTERPOLATIONS = ("LINEAR", "CONSTANT", "EASE")  # Color Ramp interpolations read natively
 
 
 @dataclass
@@ -128,6 +130,32 @@ class Invert:
 
 
 @dataclass
+class HueSaturationValue:
+    """Blender's Hue/Saturation/Value node: `color` in HSV, its hue turned by `hue` - 0.5, its saturation scaled by
+    `saturation` (then clamped to [0, 1]) and its value by `value`; blended with `color` by `factor`, then clamped
+    at 0."""
+
+    color: Input = (0.8, 0.8, 0.8)
+    hue: Input = 0.5
+    saturation: Input = 1.0
+    value: Input = 1.0
+    factor: Input = 1.0
+
+
+@dataclass
+class ColorRamp:
+    """Blender's Color Ramp (RGB colour mode): `factor` looked up among the stops (`positions` in [0, 1], each with
+    an rgba of `colors`), clamped to the first and last stop; between stops LINEAR blends, EASE blends by
+    smoothstep, CONSTANT takes the stop at or below. `alpha`: the node's Alpha output (a number) instead of Color."""
+
+    factor: Input = 0.5
+    positions: tuple = (0.0, 1.0)
+    colors: tuple = ((0.0, 0.0, 0.0, 1.0), (1.0, 1.0, 1.0, 1.0))
+    interpolation: str = "LINEAR"
+    alpha: bool = False
+
+
+@dataclass
 class NormalMap:
     """Blender's Normal Map node, tangent space of the UV map: `color` (a Non-Color image, usually) -> a shading
     normal, blended with the interpolated normal by `strength`."""
@@ -137,16 +165,18 @@ class NormalMap:
 
 
 Texture = Union[ImageTexture, CheckerTexture, MixColor, NormalMap, SeparateColor, CombineColor, Math, VectorMath,  # noqa: UP007
-                Invert]
+                Invert, HueSaturationValue, ColorRamp]
 # a material or node input: a number, an rgb triple, or a texture node
 Input = Union[float, tuple, Texture]  # noqa: UP007 (the forward references above need Union)
 
 TEXTURE_TYPES = (ImageTexture, CheckerTexture, MixColor, NormalMap, SeparateColor, CombineColor, Math, VectorMath,
-                 Invert)
+                 Invert, HueSaturationValue, ColorRamp)
 
 
 def gives_number(node: object) -> bool:
     """Whether a texture node's output is a number (a value input reads it as it is, not as a colour's grey)."""
+    if isinstance(node, ColorRamp):
+        return bool(node.alpha)
     return isinstance(node, SeparateColor | Math) or (isinstance(node, VectorMath) and node.op in VECTOR_VALUE_OPS)
 
 

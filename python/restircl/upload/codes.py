@@ -26,7 +26,16 @@ from ..core.program import opencl_dir
 from ..lights import area_sampling, camera_visible, pick_table, record, registry, sphere, tree
 from ..lights import environment as environment_light
 from ..materials.material import MAX_LAYERS
-from ..materials.textures import COLOR_MODES, COORDS, EXTENSIONS, INTERPOLATIONS, MATH_OPS, MIX_BLENDS, VECTOR_OPS
+from ..materials.textures import (
+    COLOR_MODES,
+    COORDS,
+    EXTENSIONS,
+    INTERPOLATIONS,
+    MATH_OPS,
+    MIX_BLENDS,
+    RAMP_INTERPOLATIONS,
+    VECTOR_OPS,
+)
 from ..render.passes import LIGHT_PLANES
 from ..scene.camera import CAMERA_TYPES
 from ..settings.table import BIAS_CORRECTIONS, BOILING_MODES, SHADE_METHODS, TAA_FILTERS
@@ -83,6 +92,8 @@ def families() -> tuple[Family, ...]:
         Family("Math operations (TexNode.op.y)", "materials/textures.py MATH_OPS", _enum("TEXMATH_", MATH_OPS)),
         Family("Vector Math operations (TexNode.op.y)", "materials/textures.py VECTOR_OPS",
                _enum("TEXVEC_", VECTOR_OPS)),
+        Family("Color Ramp interpolations (TexNode.op.y)", "materials/textures.py RAMP_INTERPOLATIONS",
+               _enum("TEXRAMP_", RAMP_INTERPOLATIONS)),
         Family("texture programs", "upload/textures.py", (("MAX_TEX_PROGRAM", texture_pack.MAX_TEX_PROGRAM),),
                kind="constants"),
         Family("per-object attribute flags (ObjectInfo)", "upload/tri_attributes.py", (

@@ -45,7 +45,8 @@ MAGENTA = (1.0, 0.0, 1.0, 1.0)
 #: the texture node kinds by their device code (TEXNODE_<NAME>, opencl/codes.h)
 NODE_KINDS = (("IMAGE", ImageTexture), ("CHECKER", CheckerTexture), ("MIX", MixColor), ("NORMAL_MAP", NormalMap),
               ("SEPARATE_COLOR", tx.SeparateColor), ("COMBINE_COLOR", tx.CombineColor), ("MATH", tx.Math),
-              ("VECTOR_MATH", tx.VectorMath), ("INVERT", tx.Invert))
+              ("VECTOR_MATH", tx.VectorMath), ("INVERT", tx.Invert), ("HSV", tx.HueSaturationValue),
+              ("COLOR_RAMP", tx.ColorRamp))
 NODE_CODE = {cls: code for code, (_, cls) in enumerate(NODE_KINDS)}
 MAX_TEXELS = 2**31 - 1  # int offsets on the device
 
@@ -74,7 +75,23 @@ def node_inputs(node: object) -> list[object]:
         return [node.a, node.b, node.scale]
     if isinstance(node, tx.Invert):
         return [node.color, 0.0, node.factor]
+    if isinstance(node, tx.HueSaturationValue):
+        return [node.color, _hsv_vector(node), node.factor]
+    if isinstance(node, tx.ColorRamp):
+        return [0.0, 0.0, node.factor]
     return []
+
+
+def _hsv_vector(node: tx.HueSaturationValue) -> object:
+    """The node's (hue, saturation, value) as the device reads them, in b: constants as they are, else one Combine
+    Color of the three, made once per node while they stay the same (node ids identify a program's nodes)."""
+    hsv = (node.hue, node.saturation, node.value)
+    if not any(is_texture(v) for v in hsv):
+        return tuple(constant_float(v) for v in hsv)
+    kept = node.__dict__.get("_combined")
+    if kept is None or any(x is not y for x, y in zip((kept.r, kept.g, kept.b), hsv, strict=True)):
+        kept = node.__dict__["_combined"] = tx.CombineColor(*hsv)
+    return kept
 
 
 @dataclass
@@ -209,6 +226,10 @@ class TexturePacker:
             r["blk"][2] = int(bool(node.clamp_result))
         elif isinstance(node, NormalMap):
             r["p"][0] = float(node.strength)
+        elif isinstance(node, tx.ColorRamp):
+            r["op"][1] = tx.RAMP_INTERPOLATIONS.index(node.interpolation)
+            r["in"][3] = self._ramp(node)
+            r["blk"][3] = int(tx.gives_number(node))
         else:
             self._converter(r, node)
         return r
@@ -238,6 +259,21 @@ class TexturePacker:
         # root of its volume scale
         det = abs(np.linalg.det(m[:2, :2])) ** 0.5 if node.coords == "uv" else abs(np.linalg.det(m[:3, :3])) ** (1 / 3)
         r["p"][1] = math.log2(max(float(det), 1e-30))
+
+    def _ramp(self, node: tx.ColorRamp) -> int:
+        """The image-table slot of a ramp's stops: a 2-row "image" in the texel buffer, its rgba colours in the first
+        row and positions in the second (x), sorted by position (stably, as Blender keeps them)."""
+        order = sorted(range(len(node.positions)), key=lambda k: float(node.positions[k]))
+        stops = np.zeros((2, len(order), 4), np.float32)
+        for j, k in enumerate(order):
+            c = tuple(float(x) for x in node.colors[k])
+            stops[0, j] = (*c[:3], c[3] if len(c) > 3 else 1.0)
+            stops[1, j, 0] = float(node.positions[k])
+        key = ("ramp", stops.tobytes())
+        if key not in self.images:
+            self._slot[key] = len(self.images)
+            self.images[key] = LoadedImage([stops], False)
+        return self._slot[key]
 
     # ---- images --------------------------------------------------------------------------------------
 
