@@ -44,6 +44,9 @@ __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySa
             float2 uv;
             float pdf;
             int light = light_draw(method == METHOD_UNIFORM, lights, light_count, slots, slot_count, light_pdf, s.x, &rng, &uv, &pdf);
+#ifdef TEST_PICK_PDF_SCALE  /* negative controls of the tests only (tests/bias_controls.py): a wrong pdf */
+            pdf *= TEST_PICK_PDF_SCALE;
+#endif
             if (pdf > 0.0f && light_eval(&lights[light], uv.x, uv.y, s.x, s.n, &e) && visible(nodes, tris, &s, &e))
                 c += unshadowed_contrib(&s, &e) / pdf;
         }
