@@ -106,7 +106,7 @@ def test_environment_is_seen_where_camera_rays_miss(device, reference):
 
 def test_bsdf_mis_sample_cuts_the_variance_under_a_sun(device):
     """Not a timing test: per-frame variance of RIS with and without the BSDF MIS sample (same light candidates)
-    on the held-out sky (a sun of 1e3 times the sky, 0.68 of the map's power, and objects that shade the floor).
+    on the tuning sky (a sun of 1e3 times the sky, 0.68 of the map's power, and objects that shade the floor).
     Where the sun is occluded, RIS's one shadow ray still goes to it most of the time; the BSDF sample's own ray
     samples the sky there. The relative variance weighs the shadows as relMSE does (the plain variance, led by
     the bright sunlit pixels, fell 0.0136 -> 0.0110). On sky_occluders, whose 16 x 32 map has no sun texel, it

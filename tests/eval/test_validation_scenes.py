@@ -1,6 +1,6 @@
 """The validation scenes of global illumination (restircl/eval/scenes/validation.py): what they are made of (the
 materials, lights, emitters and world the issue names), valid, deterministic, sized, resolved by kind beside the
-held-out scenes (eval/scenes/kinds.py), and rendered finite with and without bounces."""
+tuning scenes (eval/scenes/kinds.py), and rendered finite with and without bounces."""
 
 from __future__ import annotations
 

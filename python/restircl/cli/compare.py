@@ -1,4 +1,4 @@
-"""`restircl compare`: ours against Cycles at equal wall time on the held-out scenes (restircl/eval/cycles, imported
+"""`restircl compare`: ours against Cycles at equal wall time on the tuning scenes (restircl/eval/cycles, imported
 when the command runs; needs bpy)."""
 
 from __future__ import annotations
@@ -9,8 +9,8 @@ from .arguments import BOUNCES, COUNT, POSITIVE, SECONDS
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
-    c = sub.add_parser("compare", help="ours against Cycles at equal wall time on the held-out scenes (needs bpy)",
-                       description="Render the held-out scenes (studio, neon, garden; sky, an HDRI world, with "
+    c = sub.add_parser("compare", help="ours against Cycles at equal wall time on the tuning scenes (needs bpy)",
+                       description="Render the tuning scenes (studio, neon, garden; sky, an HDRI world, with "
                                    "--kinds; the validation scenes interior and outdoor) with Cycles (direct light "
                                    "only, or --max-bounces) and our methods (default: ReSTIR as "
                                    "for an animation; auto: F12's still estimator; ris and the other still "
@@ -18,7 +18,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
                                    "compare their relMSE against a cached 2 x N-spp Cycles image: tables, CSV/JSON, "
                                    "plot.")
     c.add_argument("--kinds", default="studio,neon,garden",
-                   help="held-out kinds (studio, neon, garden, sky) and the validation kinds of global "
+                   help="tuning kinds (studio, neon, garden, sky) and the validation kinds of global "
                         "illumination (interior, outdoor) (%(default)s)")
     c.add_argument("--methods", default="cycles,default,auto,ris")
     c.add_argument("--budgets", type=POSITIVE.parse_list, default="1,4,16", help="seconds (%(default)s)")

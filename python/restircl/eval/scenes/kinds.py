@@ -1,4 +1,4 @@
-"""Every scene kind `restircl compare` renders, by name: the held-out kinds (held_out.py) and the validation kinds
+"""Every scene kind `restircl compare` renders, by name: the tuning kinds (held_out.py) and the validation kinds
 of global illumination (validation.py)."""
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ KINDS = held_out.KINDS + validation.KINDS
 
 
 def scene_of_kind(kind: str, width: int = held_out.WIDTH, height: int = held_out.HEIGHT) -> Scene:
-    """The held-out or validation scene of `kind` at width x height."""
+    """The tuning or validation scene of `kind` at width x height."""
     if kind in held_out.KINDS:
         return held_out.held_out(kind, width, height)
     if kind in validation.KINDS:
