@@ -8,6 +8,8 @@ a test that asserts it rejects one of these builds.
 - TEST_WITHOUT_MIXTURE_PDF: light candidates keep their own pdf beside BSDF candidates instead of the mixture
   density (direct/ris.h): a dropped MIS weight, where both strategies reach a light it is counted twice.
 - TEST_WITHOUT_MIS_WEIGHT: the light sample's MIS weight against the BSDF MIS sample is 1 (direct/bsdf_mis.h).
+- TEST_REFERENCE_PDF_SCALE=s: the exhaustive `reference` method's light pdf times s (direct/direct.cl), for the
+  check of the renderer against the independent numpy path tracer (render/test_path_reference.py).
 - PATH_ROULETTE_WITHOUT_DIVIDE, GI_WITHOUT_JACOBIAN: the path pass and ReSTIR GI (render/test_paths.py,
   render/test_restir_gi.py)."""
 

@@ -71,6 +71,9 @@ __kernel void shade_reference(const __global GSample* gbuf, const __global Gloss
             float r0 = rng_next(&rng), r1 = rng_next(&rng);
             float pdf;
             float2 uv = light_sample(&lights[l], s.x, r0, r1, &pdf);
+#ifdef TEST_REFERENCE_PDF_SCALE  /* negative control of the tests only (tests/bias_controls.py): a wrong pdf */
+            pdf *= TEST_REFERENCE_PDF_SCALE;
+#endif
             LightEval e;
             if (pdf > 0.0f && light_eval(&lights[l], uv.x, uv.y, s.x, s.n, &e) && visible(nodes, tris, &s, &e))
                 c += unshadowed_contrib(&s, &e) / pdf;
