@@ -4,8 +4,8 @@ still estimator's rules and constants (render/still_method.py), the light tree's
 sunny-world threshold (environment/sun.py) and the area-sampling modes were chosen on them, so a figure measured
 here is a figure on the scenes the rules were fitted to. (The module keeps its name, held_out.py, and the compare
 kinds theirs, studio, neon, garden and sky, so that scripts and recorded commands keep working.) The validation
-scenes, built once and never tuned on, are eval/scenes/validation.py's; a change is finished when its figures are
-given on both sets.
+scenes, built once and never tuned on, are eval/scenes/validation.py's and validation_direct.py's; a change is
+finished when its figures are given on both sets.
 
     studio  few large, close lights: an area light of each shape (square, rectangle, disk, ellipse, 1-2 m wide),
             two spots with blend and a sun, over a lumpy closed mesh of 5120 triangles (a monkey stand-in), a

@@ -1,12 +1,12 @@
-"""Every scene kind `restircl compare` renders, by name: the tuning kinds (held_out.py) and the validation kinds
-of global illumination (validation.py)."""
+"""Every scene kind `restircl compare` renders, by name: the tuning kinds (held_out.py), the validation kinds of
+global illumination (validation.py) and of direct light (validation_direct.py)."""
 
 from __future__ import annotations
 
 from ...scene.scene import Scene
-from . import held_out, validation
+from . import held_out, validation, validation_direct
 
-KINDS = held_out.KINDS + validation.KINDS
+KINDS = held_out.KINDS + validation.KINDS + validation_direct.KINDS
 
 
 def scene_of_kind(kind: str, width: int = held_out.WIDTH, height: int = held_out.HEIGHT) -> Scene:
@@ -15,4 +15,6 @@ def scene_of_kind(kind: str, width: int = held_out.WIDTH, height: int = held_out
         return held_out.held_out(kind, width, height)
     if kind in validation.KINDS:
         return validation.validation(kind, width, height)
+    if kind in validation_direct.KINDS:
+        return validation_direct.validation_direct(kind, width, height)
     raise ValueError(f"no scene kind {kind!r}; kinds: {', '.join(KINDS)}")
