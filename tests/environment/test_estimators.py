@@ -108,9 +108,10 @@ def test_the_harnesses_reject_a_dropped_mis_weight_and_a_wrong_pdf(device, refer
     (tests/bias_controls.py): both checks above must reject them."""
     built_with(monkeypatch, "TEST_WITHOUT_MIS_WEIGHT")
     s = Settings(method="ris", candidates=4, seed=5, jitter=False, **RIS["mis_sample"])
-    samples = collect(sky_occluders(), s, FRAMES, device)
+    # a quarter of the frames: the bias (measured +9 % to +22 % per channel) is ten times the full size's bound (1 %)
+    samples = collect(sky_occluders(), s, FRAMES // 4, device)
     with pytest.raises(AssertionError, match="outliers|image means"):
-        assert_mean_equals_reference(samples, reference, BATCHES, "ris mis_sample without its weight")
+        assert_mean_equals_reference(samples, reference[: FRAMES // 4], BATCHES, "ris mis_sample without its weight")
     monkeypatch.undo()
     wrong_pdf(monkeypatch)
     runs = run_means(sky_occluders(), Settings(method="restir", jitter=False, taa=False, seed=9), RUNS, RUN_FRAMES,
