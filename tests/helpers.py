@@ -119,10 +119,21 @@ def assert_mean_equals_reference(samples: np.ndarray, reference: np.ndarray, bat
     z = np.abs(m - mr) / np.where(exact, 1.0, sigma)
     assert np.all(np.abs(m - mr)[exact] <= 1e-5 * np.abs(mr[exact]) + 1e-12), label
     n_out = int((z[~exact] > 4).sum())
-    assert n_out <= allowed_outliers(int((~exact).sum()), batches), (label, n_out, np.sort(z.ravel())[-5:])
     mi, si = batch_stats(samples.mean(axis=(1, 2)), batches)
     mr2, sr2 = batch_stats(reference.mean(axis=(1, 2)), batches)
-    assert np.all(np.abs(mi - mr2) <= 4 * np.sqrt(si**2 + sr2**2)), (label, mi, mr2, si, sr2)
+    print_power(label, mi / mr2 - 1.0, np.sqrt(si**2 + sr2**2) / mr2)
+    print(f"{label}: {n_out} pixels beyond 4 standard errors, allowed {allowed_outliers(int((~exact).sum()), batches)}")
+    assert n_out <= allowed_outliers(int((~exact).sum()), batches), (label, "outliers", n_out,
+                                                                     np.sort(z.ravel())[-5:])
+    assert np.all(np.abs(mi - mr2) <= 4 * np.sqrt(si**2 + sr2**2)), (label, "image means", mi, mr2, si, sr2)
+
+
+def print_power(label: str, bias, se) -> None:
+    """The image mean's relative bias and the smallest relative bias its 4-standard-error bound rejects: the power
+    of the check, in the test's output (pytest -s, or the captured output of a failure)."""
+    b, e = np.atleast_1d(bias), np.atleast_1d(se)
+    print(f"{label}: image mean {' '.join(f'{x:+.2%}' for x in b)}, rejects |bias| > "
+          f"{' '.join(f'{4 * x:.2%}' for x in e)}")
 
 
 def rel_mse(x: np.ndarray, ref: np.ndarray) -> float:

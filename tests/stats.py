@@ -82,3 +82,27 @@ def disagreement(mean: np.ndarray, se: np.ndarray, expected: np.ndarray, *, batc
     if np.any((image_z > Z) & (pooled > 0)):
         problems.append(f"image means {image_z.round(2)} standard errors off")
     return problems
+
+
+def weighted_image_bias(runs: np.ndarray, ref: np.ndarray, ref_se: np.ndarray) -> tuple[float, float]:
+    """Relative bias of independent runs (runs, H, W) against a reference image (mean, standard error) over the
+    image, each pixel weighted by 1 / (its standard deviation over runs), and its standard error.
+
+    Why weighted: the plain image mean is ruled by the noisiest pixels (a few bright ones under ReSTIR's heavy
+    tails); weighting by inverse deviation lets the many quiet pixels speak (on the occluder scene, the biased ReSTIR
+    mode: the standard error 0.4-0.5 % instead of 0.8-2 % at 24 runs). Why cross-fitted: weights taken from the
+    same runs they weigh favour runs that came out low (a bright outlier raises its pixel's deviation and lowers
+    its own weight); each half of the runs is weighed by the other half's deviations, so every weight is
+    independent of the values it weighs and the mean stays unbiased. Runs of one half are independent given the
+    weights: the standard error combines the two halves' sample variances and the reference's."""
+    halves = (runs[: len(runs) // 2], runs[len(runs) // 2:])
+    means, variances = [], []
+    for k, half in enumerate(halves):
+        sd = halves[1 - k].std(axis=0, ddof=1)
+        live = (sd > 1e-9 * np.abs(ref)) & (ref_se > 1e-9 * np.abs(ref))
+        w = np.where(live, 1.0 / np.where(live, sd, 1.0), 0.0)
+        level = float((w * ref).sum())
+        per_run = ((half - ref) * w).sum(axis=(1, 2)) / level
+        means.append(float(per_run.mean()))
+        variances.append(float(per_run.var(ddof=1)) / len(per_run) + float(((w * ref_se) ** 2).sum()) / level**2)
+    return 0.5 * (means[0] + means[1]), 0.5 * math.sqrt(variances[0] + variances[1])

@@ -48,14 +48,32 @@ class RestirclPanel:
         draw_settings(layout, context.scene.restircl, properties.SCENE_SETTINGS, self.settings_panel, self.header)
 
 
+def refusal(props) -> tuple[str, tuple[str, ...]] | None:
+    """Why the core refuses the settings the panels hold together, or None. Each property's range is one the core
+    accepts alone; a joint limit (Tile Count x Tile Size, settings.table.JOINT_LIMITS) is checked only on the whole
+    settings, so the panel says it next to the values instead of letting the render stop on it."""
+    import restircl
+
+    try:
+        properties.make_settings(restircl, props).validate()
+    except restircl.SettingError as exc:
+        return str(exc), tuple(exc.names)
+    return None
+
+
 def draw_settings(layout, props, settings, panel: str, skip: str | None = None) -> None:
     col = layout.column()
+    refused = refusal(props)
+    names = refused[1] if refused is not None else ()
     for d in settings:
         if d.spec.panel != panel or d.name == skip:
             continue
         row = col.row()
         row.active = all(getattr(props, name) in values for name, values in d.spec.applies_when)
+        row.alert = d.name in names
         row.prop(props, d.name)
+    if refused is not None and any(d.spec.panel == panel and d.name in names for d in settings):
+        col.label(text=refused[0], icon="ERROR")
 
 
 class RESTIRCL_PT_sampling(RestirclPanel, bpy.types.Panel):

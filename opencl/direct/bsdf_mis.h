@@ -23,6 +23,9 @@ inline float bsdf_mis_light_weight(const Surface* s, const __global Light* rec, 
                                    float p_light, const LightEval* e)
 {
     float p_b = light_hittable(rec, type, index, b.analytic, b.triangles) ? bsdf_pdf_light_measure(s, e) : 0.0f;
+#ifdef TEST_WITHOUT_MIS_WEIGHT  /* negative control (tests/bias_controls.py): the light sample's MIS weight dropped */
+    return 1.0f;
+#endif
     return p_b > 0.0f ? p_light / (p_light + p_b) : 1.0f;
 }
 

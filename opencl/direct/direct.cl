@@ -51,6 +51,9 @@ __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySa
             float2 uv;
             float pdf;
             int light = light_draw(method == METHOD_UNIFORM, lights, light_count, slots, slot_count, light_pdf, s.x, &rng, &uv, &pdf);
+#ifdef TEST_PICK_PDF_SCALE  /* negative controls of the tests only (tests/bias_controls.py): a wrong pdf */
+            pdf *= TEST_PICK_PDF_SCALE;
+#endif
             if (pdf > 0.0f && light_eval(&lights[light], uv.x, uv.y, s.x, s.n, &e) && visible(nodes, tris, &s, &e))
                 c += direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) / pdf, clamp, &pass_d, &pass_g);
         }
@@ -78,6 +81,9 @@ __kernel void shade_reference(const __global GSample* gbuf, const __global Gloss
             float r0 = rng_next(&rng), r1 = rng_next(&rng);
             float pdf;
             float2 uv = light_sample(&lights[l], s.x, r0, r1, &pdf);
+#ifdef TEST_REFERENCE_PDF_SCALE  /* negative control of the tests only (tests/bias_controls.py): a wrong pdf */
+            pdf *= TEST_REFERENCE_PDF_SCALE;
+#endif
             LightEval e;
             if (pdf > 0.0f && light_eval(&lights[l], uv.x, uv.y, s.x, s.n, &e) && visible(nodes, tris, &s, &e))
                 c += direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) / pdf, clamp, &pass_d, &pass_g);

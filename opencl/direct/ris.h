@@ -90,15 +90,20 @@ inline void ris_candidates(const Surface* s, const __global Light* lights, const
             float py;
             float2 uv = light_sample_typed(rec[k], type[k], s->x, r0[k], r1[k], &py);
             float pdf = pick_pdf[k] * py;
+#ifdef TEST_PICK_PDF_SCALE  /* negative controls of the tests only (tests/bias_controls.py): a wrong pdf */
+            pdf *= TEST_PICK_PDF_SCALE;
+#endif
             float t = pdf > 0.0f ? target_of_record(s, rec[k], uv.x, uv.y, &e) : 0.0f;
             if (bsdf.mis_sample && t > 0.0f) {
                 float m = bsdf_mis_light_weight(s, rec[k], type[k], light[k], bsdf, pdf, &e);
                 t *= m;
                 e.contrib *= m;  /* the contribution the shade multiplies by W: f m_l */
             }
+#ifndef TEST_WITHOUT_MIXTURE_PDF  /* negative control (tests/bias_controls.py): light candidates keep p_light */
             if (bsdf.count > 0 && t > 0.0f)
                 pdf = mis_mixture_pdf(n_light, pdf, n_bsdf,
                                       bsdf_pdf_of_light_sample(s, rec[k], type[k], light[k], bsdf, &e));
+#endif
             bool picked = q->on ? res_update_remap(r, light[k], uv.x, uv.y, t / pdf, t, &sel, 1.0f)
                                 : res_update(r, light[k], uv.x, uv.y, t / pdf, t, rnd[k], 1.0f);
             if (picked) *chosen = e;

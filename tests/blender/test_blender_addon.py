@@ -178,8 +178,8 @@ class _Layout:
         assert hasattr(owner, name), name
         self.drawn.append(name)
 
-    def label(self, **_kw):
-        pass
+    def label(self, text: str = "", **_kw):
+        self.drawn.append(("label", text))
 
 
 def test_panels_draw_every_setting_once():
@@ -197,7 +197,33 @@ def test_panels_draw_every_setting_once():
         cls.draw(panel, context)
     toggles = [p.blender_toggle.rpartition(".")[2] for p in PASSES if p.blender_toggle]
     # a setting of no panel is set by the add-on itself (light_passes: from the view layer's pass toggles)
-    assert sorted(drawn) == sorted([d.name for d in _scene_settings() if d.spec.panel is not None] + toggles)
+    panelled = [d.name for d in _scene_settings() if d.spec.panel is not None]
+    assert sorted(x for x in drawn if isinstance(x, str)) == sorted(panelled + toggles)
+
+
+def test_the_panel_says_why_the_core_refuses_light_tiles():
+    """Tile Size 65536 is in its own range but, with the default 128 tiles, 8,388,608 entries exceed the core's
+    4,194,304: the Light Sampling panel marks both values and shows the core's message; within the limit, nothing."""
+    ensure_registered()
+    from restircl_blender import properties, ui
+
+    sc = scenes.new_scene(8, 8)
+    p = sc.restircl
+    drawn: list = []
+
+    def draw() -> list:
+        drawn.clear()
+        ui.draw_settings(_Layout(drawn), p, properties.SCENE_SETTINGS, "lights")
+        return [x[1] for x in drawn if isinstance(x, tuple)]
+
+    assert p.light_tile_count == 128 and draw() == []
+    p.light_tile_size = 65536
+    labels = draw()
+    assert len(labels) == 1 and "8388608 light tile entries, more than 4194304" in labels[0], labels
+    assert ui.refusal(p)[1] == ("light_tile_count", "light_tile_size")
+    p.light_tile_count = 64  # 64 x 65536 = 4,194,304: accepted
+    assert draw() == [] and ui.refusal(p) is None
+    p.light_tile_count, p.light_tile_size = 128, 1024
 
 
 def test_every_pass_reaches_blender():

@@ -10,6 +10,7 @@ from restircl import Environment, Material, Settings, look_at
 from restircl.eval.scenes.held_out import held_out
 from restircl.scenes.hdri_sky import sky_map
 
+from ..bias_controls import built_with, wrong_pdf
 from ..helpers import (
     allowed_outliers,
     assert_mean_equals_reference,
@@ -18,8 +19,10 @@ from ..helpers import (
     luminance,
     mean_and_se,
     occluder_scene,
+    print_power,
     run_means,
 )
+from ..stats import weighted_image_bias
 
 W, H = 16, 12
 FRAMES, BATCHES = 2048, 32
@@ -71,19 +74,24 @@ CONFIGS = [pytest.param(c, marks=[] if c == "pairwise" else pytest.mark.slow) fo
 
 
 def assert_runs_match(runs: np.ndarray, reference: np.ndarray, label: str) -> None:
-    """As test_restir.assert_matches, with the sky pixels (camera rays that miss: the same value in every frame
-    and run, up to the rounding of the means) compared exactly instead of by a z-score over a zero deviation."""
+    """As test_restir.assert_matches, including its weighted image mean (which leaves the sky pixels out), with
+    the sky pixels (camera rays that miss: the same value in every frame and run, up to the rounding of the means)
+    compared exactly instead of by a z-score over a zero deviation."""
     a, sa = mean_and_se(luminance(runs))
     b, sb = batch_stats(luminance(reference), 32)
     sigma = np.sqrt(sa**2 + sb**2)
     exact = sigma <= 1e-7 * np.abs(b)
     assert np.all(np.abs(a - b)[exact] <= 1e-5 * np.abs(b[exact])), label
     z = np.abs(a - b)[~exact] / sigma[~exact]
-    assert (z > 4).sum() <= allowed_outliers(int((~exact).sum()), RUNS), (label, np.sort(z)[-5:])
     img = luminance(runs).mean(axis=(1, 2))
     se_img = img.std(ddof=1) / np.sqrt(len(img))
     _, se_ref = batch_stats(luminance(reference).mean(axis=(1, 2)), 32)
-    assert abs(img.mean() - b.mean()) <= 4 * np.hypot(se_img, se_ref), (label, img.mean(), b.mean())
+    bias_w, se_w = weighted_image_bias(luminance(runs), b, sb)
+    print_power(f"{label} (plain)", img.mean() / b.mean() - 1.0, np.hypot(se_img, se_ref) / b.mean())
+    print_power(f"{label} (weighted)", bias_w, se_w)
+    assert (z > 4).sum() <= allowed_outliers(int((~exact).sum()), RUNS), (label, "outliers", np.sort(z)[-5:])
+    assert abs(img.mean() - b.mean()) <= 4 * np.hypot(se_img, se_ref), (label, "image means", img.mean(), b.mean())
+    assert abs(bias_w) <= 4 * se_w, (label, "weighted image means", bias_w, se_w)
 
 
 @pytest.mark.parametrize("config", CONFIGS)
@@ -92,6 +100,24 @@ def test_unbiased_restir_with_environment_matches_reference(device, reference, c
     runs = run_means(sky_occluders(), s, RUNS, RUN_FRAMES, device)
     assert np.all(np.isfinite(runs))
     assert_runs_match(runs, reference, f"sky {config}")
+
+
+def test_the_harnesses_reject_a_dropped_mis_weight_and_a_wrong_pdf(device, reference, monkeypatch):
+    """Negative controls: RIS with the BSDF MIS sample, its light sample's MIS weight dropped (the part of the sky
+    the BSDF sample also covers counted twice), and pairwise ReSTIR with a light pdf 2 % too small
+    (tests/bias_controls.py): both checks above must reject them."""
+    built_with(monkeypatch, "TEST_WITHOUT_MIS_WEIGHT")
+    s = Settings(method="ris", candidates=4, seed=5, jitter=False, **RIS["mis_sample"])
+    # a quarter of the frames: the bias (measured +9 % to +22 % per channel) is ten times the full size's bound (1 %)
+    samples = collect(sky_occluders(), s, FRAMES // 4, device)
+    with pytest.raises(AssertionError, match="outliers|image means"):
+        assert_mean_equals_reference(samples, reference[: FRAMES // 4], BATCHES, "ris mis_sample without its weight")
+    monkeypatch.undo()
+    wrong_pdf(monkeypatch)
+    runs = run_means(sky_occluders(), Settings(method="restir", jitter=False, taa=False, seed=9), RUNS, RUN_FRAMES,
+                     device)
+    with pytest.raises(AssertionError, match="outliers|image means"):
+        assert_runs_match(runs, reference, "sky pairwise, wrong pdf")
 
 
 def test_environment_is_seen_where_camera_rays_miss(device, reference):
@@ -106,7 +132,7 @@ def test_environment_is_seen_where_camera_rays_miss(device, reference):
 
 def test_bsdf_mis_sample_cuts_the_variance_under_a_sun(device):
     """Not a timing test: per-frame variance of RIS with and without the BSDF MIS sample (same light candidates)
-    on the held-out sky (a sun of 1e3 times the sky, 0.68 of the map's power, and objects that shade the floor).
+    on the tuning sky (a sun of 1e3 times the sky, 0.68 of the map's power, and objects that shade the floor).
     Where the sun is occluded, RIS's one shadow ray still goes to it most of the time; the BSDF sample's own ray
     samples the sky there. The relative variance weighs the shadows as relMSE does (the plain variance, led by
     the bright sunlit pixels, fell 0.0136 -> 0.0110). On sky_occluders, whose 16 x 32 map has no sun texel, it

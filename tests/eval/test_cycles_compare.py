@@ -1,4 +1,4 @@
-"""`restircl compare` (restircl/eval/cycles_compare*.py): the held-out scenes written into bpy match ours (lights,
+"""`restircl compare` (restircl/eval/cycles_compare*.py): the tuning scenes written into bpy match ours (lights,
 power, camera, geometry), and the whole comparison runs on a tiny budget (48x27, a few samples) and writes its
 files; with Light Paths (--max-bounces) every render of both sides gets them and the references are keyed on them.
 The full comparison (192x108, 1/4/16 s, 2 x 1024-spp reference) is not a test: docs/measurements/error-vs-time.md."""

@@ -1,4 +1,4 @@
-"""The held-out scenes of `restircl compare` (restircl/eval/scenes/held_out.py): the three kinds of issue 23 with the
+"""The tuning scenes of `restircl compare` (restircl/eval/scenes/held_out.py): the three kinds of issue 23 with the
 lights, counts and powers the issue names, valid and deterministic."""
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ def test_valid_deterministic_and_sized(kind):
 
 
 def test_unknown_kind_is_named():
-    with pytest.raises(ValueError, match="no held-out scene 'forest'"):
+    with pytest.raises(ValueError, match="no tuning scene 'forest'"):
         H.held_out("forest")
 
 

@@ -1,6 +1,6 @@
 """The validation scenes of global illumination (restircl/eval/scenes/validation.py): what they are made of (the
 materials, lights, emitters and world the issue names), valid, deterministic, sized, resolved by kind beside the
-held-out scenes (eval/scenes/kinds.py), and rendered finite with and without bounces."""
+tuning scenes (eval/scenes/kinds.py), and rendered finite with and without bounces."""
 
 from __future__ import annotations
 
@@ -45,7 +45,8 @@ def test_valid_deterministic_and_sized(kind):
 
 
 def test_kinds_resolve_beside_the_held_out_ones():
-    assert set(K.KINDS) == set(H.KINDS) | {"interior", "outdoor", "gi_tuning_room", "gi_tuning_yard"}
+    assert set(K.KINDS) == set(H.KINDS) | {"interior", "outdoor", "gallery", "gi_tuning_room", "gi_tuning_yard"}
+    assert K.scene_of_kind("gallery", 48, 27).name == "gallery"
     assert K.scene_of_kind("interior", 48, 27).name == "interior"
     assert K.scene_of_kind("garden", 48, 27).name == "garden"
     with pytest.raises(ValueError, match="no scene kind 'forest'"):
@@ -103,3 +104,22 @@ def test_renders_finite_with_and_without_bounces(kind, device):
         assert np.all(np.isfinite(img)) and img.min() >= 0.0, (kind, b)
         means[b] = float(img.mean())
     assert means[12] > (1.3 if kind == "interior" else 1.02) * means[0], means
+
+
+def test_direct_light_validation_gallery():
+    """The direct-light validation kind: deterministic, valid, 48 spots, 120 points over 3 decades, an area light
+    of three shapes and an emissive sign; it renders finite and lit."""
+    from restircl.eval.scenes import validation_direct as VD
+
+    a, b = VD.validation_direct("gallery", 48, 27), VD.validation_direct("gallery", 48, 27)
+    assert [x.power for x in a.lights] == [x.power for x in b.lights]
+    types = [x.type for x in a.lights]
+    assert types.count("spot") == 48 and types.count("point") == 120 and types.count("area") == 3
+    assert {x.shape for x in a.lights if x.type == "area"} == {"SQUARE", "DISK", "RECTANGLE"}
+    points = [x.power for x in a.lights if x.type == "point"]
+    assert max(points) / min(points) > 100
+    assert _emissive_triangles(a) > 0
+    img = Renderer(a, Settings(method="ris", seed=1)).render_still(0, 4).color[..., :3]
+    assert np.all(np.isfinite(img)) and img.mean() > 0
+    with pytest.raises(ValueError, match="no direct-light validation scene"):
+        VD.validation_direct("interior")

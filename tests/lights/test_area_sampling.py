@@ -19,6 +19,7 @@ from restircl.core.program import build_program
 from restircl.lights.device_lights import scene_lights
 from restircl.render.features import general_flags
 
+from ..bias_controls import wrong_pdf
 from ..helpers import batch_stats, collect, luminance, mean_and_se, run_means
 from ..render.test_bsdf_candidates import BATCHES, SIZES, H, W, assert_unbiased, large_lights_scene
 from ..stats import pooled_chi2
@@ -322,6 +323,20 @@ def test_estimators_with_solid_angle_sampling_match_reference(device, references
     # pixels that see an emitter directly are exact, up to the float rounding of the accumulation (1e-16 relative)
     exact = np.abs(mr) * 1e-9
     assert_unbiased(m, np.where(se < exact, 0.0, se), (mr, np.where(sr < exact, 0.0, sr)), n_stats, case)
+
+
+def test_the_harness_rejects_a_wrong_pdf(device, references, monkeypatch):
+    """Negative control: the "ris" case with a light pdf 5 % too small (tests/bias_controls.py) is rejected. This
+    check's image-mean bound is 1.5-2.2 % at the quick size (printed): the large lights' bright, noisy pixels rule
+    the plain image mean, and the 2 % pdf error of the other controls measured +1.4 % here (the camera sees the
+    emitters), inside it; its per-pixel check did not see it either."""
+    mr, sr = references["large"]
+    wrong_pdf(monkeypatch, 0.95)
+    s = Settings(**{"area_sampling": SA, "seed": 41, "jitter": False, **UNBIASED_CASES["ris"][1]})
+    m, se = batch_stats(luminance(collect(SCENES["large"](W, H), s, FRAMES, device)), BATCHES)
+    exact = np.abs(mr) * 1e-9
+    with pytest.raises(AssertionError, match="outliers|image means"):
+        assert_unbiased(m, np.where(se < exact, 0.0, se), (mr, np.where(sr < exact, 0.0, sr)), BATCHES, "wrong pdf")
 
 
 @pytest.mark.parametrize("glossy", [False, True])

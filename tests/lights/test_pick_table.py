@@ -11,6 +11,7 @@ from restircl import Renderer
 from restircl.lights.pick_table import FLOOR, MAX_LIGHTS, ONE, uses_table
 
 from .. import helpers as h
+from ..bias_controls import wrong_pdf
 from ..render.test_estimators import SIZES
 
 W, H = 16, 12
@@ -78,3 +79,13 @@ def test_ris_with_the_table_matches_reference(device, reference, extra):
     samples, _ = collect_with_table(h.mixed_lights_scene(W, H), s, frames, device)
     assert np.all(np.isfinite(samples))
     h.assert_mean_equals_reference(samples, reference, batches, f"table {extra}")
+
+
+def test_the_harness_rejects_a_wrong_pdf(device, reference, monkeypatch):
+    """Negative control: the table's candidates with a pdf 2 % too small (tests/bias_controls.py) are rejected."""
+    frames, batches = SIZES["quick"]
+    wrong_pdf(monkeypatch)
+    s = h.Settings(method="ris", candidates=2, seed=9, jitter=False, sampler="random")
+    samples, _ = collect_with_table(h.mixed_lights_scene(W, H), s, frames, device)
+    with pytest.raises(AssertionError, match="outliers|image means"):
+        h.assert_mean_equals_reference(samples, reference, batches, "table, wrong pdf")

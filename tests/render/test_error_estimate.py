@@ -8,9 +8,11 @@ The estimate compares two half buffers. Measured when written (64x36, 4 seeds, e
 0.75-1.17. Not tracked: `uniform` on many_lights (0.02-0.08: its error is a few fireflies that the halves have not
 seen yet) and the bias of the biased ReSTIR modes (the halves share it; on cornell_box the estimate is 0.3x the
 true relMSE at 256 samples, where the bias dominates). At the edge: `light_array` on many_lights at 64 samples, for
-the same reason as `uniform` (a random light per pixel: fireflies the halves have not all seen yet), median
-0.49-0.55 over the seeds whichever reference it is measured against (0.50-0.51 with references of 2048 and 4096
-frames, 2026-12-04); it is checked at 256 samples only (0.64-0.87).
+the same reason as `uniform` (a random light per pixel: fireflies the halves have not all seen yet). Its ratio
+varies much between seeds: over 24 seeds (100-123), log(estimate / true) had mean -0.621 and standard deviation
+0.447 at 64 samples, -0.442 and 0.365 at 256 (the median of 3 seeds falls below 0.5 at 256 samples one time in six).
+It has its own test: the geometric mean over 24 other seeds within 4 standard errors of the measured mean, at both
+counts: an estimate that reads about 0.54x the true error at 64 samples and 0.64x at 256.
 """
 
 from __future__ import annotations
@@ -31,8 +33,6 @@ SEEDS = 3
 # taken out of the measured error (true_rel_mse); measured: many_lights 2.7e-3 at 1024 frames, 14 % of the smallest
 # true relMSE checked (ris at 256 samples, 0.019); cornell_box 1.4e-4 at 1024 frames, a quarter of that at 4096.
 REF_FRAMES = {"many_lights": 1024, "cornell_box": 4096}
-# sample counts not checked for a (scene, method): at the edge of the factor of two (the module's docstring)
-AT_THE_EDGE = {("many_lights", "light_array"): (64,)}
 
 
 @pytest.fixture(scope="module")
@@ -64,7 +64,7 @@ def test_halves_are_blocks_of_equal_size():
 
 
 @pytest.mark.parametrize("scene_name,method", [
-    ("many_lights", "light_array"), ("many_lights", "ris"), ("many_lights", "restir_spatial"),
+    ("many_lights", "ris"), ("many_lights", "restir_spatial"),
     ("many_lights", "restir_temporal"),
     ("many_lights", "restir"), ("cornell_box", "ris"), ("cornell_box", "restir_spatial"),
     ("cornell_box", "restir_temporal"),
@@ -89,9 +89,33 @@ def test_estimate_tracks_true_relmse(refs, device, scene_name, method, record_pr
     record_property("median_ratio", med)
     print(scene_name, method, {n: [round(x, 2) for x in v] for n, v in ratios.items()})
     for n, m in med.items():
-        if n in AT_THE_EDGE.get((scene_name, method), ()):
-            continue
         assert 0.5 <= m <= 2.0, f"{scene_name} {method}: estimate / true relMSE {m:.2f} at {n} samples"
+
+
+# log(estimate / true relMSE) of light_array on many_lights (64x36), seeds 100-123: mean, standard deviation
+LIGHT_ARRAY_LOG_RATIO = {64: (-0.621, 0.447), 256: (-0.442, 0.365)}
+LIGHT_ARRAY_SEEDS = range(200, 224)  # not the seeds of the measurement
+
+
+def test_light_array_estimate_reads_low_by_its_measured_amount(refs, device):
+    """light_array's estimate under-reads (fireflies the halves have not yet seen): its geometric mean ratio over 24
+    seeds is within 4 standard errors (sd / sqrt(24)) of the measured one, at 64 and 256 samples."""
+    scene, ref = refs["many_lights"]
+    logs: dict[int, list[float]] = {n: [] for n in LIGHT_ARRAY_LOG_RATIO}
+    for seed in LIGHT_ARRAY_SEEDS:
+        r = Renderer(scene, Settings(**METHODS["light_array"], seed=seed), device)
+
+        def checkpoint(done: int, _secs: float, r=r) -> None:
+            if done in logs:
+                logs[done].append(float(np.log(r.error_estimate(*r.still_counts) / true_rel_mse(r.mean_image(), ref))))
+
+        r.render_still(0, max(LIGHT_ARRAY_LOG_RATIO), checkpoint=checkpoint)
+    for n, (mu, sd) in LIGHT_ARRAY_LOG_RATIO.items():
+        got = float(np.mean(logs[n]))
+        bound = 4 * sd / np.sqrt(len(LIGHT_ARRAY_SEEDS))
+        print(f"light_array at {n}: geometric mean ratio {np.exp(got):.3f}, allowed {np.exp(mu - bound):.3f}-"
+              f"{np.exp(mu + bound):.3f}")
+        assert abs(got - mu) <= bound, (n, np.exp(got))
 
 
 def test_target_error_stops_a_still_render(refs, device):

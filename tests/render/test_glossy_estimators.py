@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 from restircl.scenes.builtin import material_balls
 
+from ..bias_controls import wrong_pdf
 from ..helpers import Settings, assert_mean_equals_reference, collect
 
 FRAMES = 1024
@@ -29,3 +30,11 @@ def test_sampler_mean_equals_reference_with_glossy_bsdf(device, scene, reference
     samples = collect(scene, Settings(method=method, candidates=4, seed=7, jitter=False), FRAMES, device)
     assert np.all(np.isfinite(samples))
     assert_mean_equals_reference(samples, reference, BATCHES, method)
+
+
+def test_the_harness_rejects_a_wrong_pdf(device, scene, reference, monkeypatch):
+    """Negative control: RIS with a light pdf 2 % too small (tests/bias_controls.py) must be rejected."""
+    wrong_pdf(monkeypatch)
+    samples = collect(scene, Settings(method="ris", candidates=4, seed=7, jitter=False), FRAMES, device)
+    with pytest.raises(AssertionError, match="outliers|image means"):
+        assert_mean_equals_reference(samples, reference, BATCHES, "ris, wrong pdf")

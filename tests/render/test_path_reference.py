@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from restircl import Camera, Environment, Light, Material, Mesh, Renderer, Scene, Settings, look_at, translation
 
+from ..bias_controls import built_with
 from ..helpers import batch_stats, collect
 from ..stats import disagreement
 from .path_reference import (
@@ -325,6 +326,10 @@ def test_direct_light_matches_renderer(device, light, world, visible):
     """The bridge: the reference's direct light (camera-seen emission + b = 0) on path_test_scene equals the
     renderer's converged direct light (method "reference", no jitter) within 4 standard errors of the two. The
     renderer's camera rays stop at a light they see: the reference does so where the light is visible."""
+    assert _bridge_problems(device, light, world, visible) == []
+
+
+def _bridge_problems(device, light, world, visible) -> list[str]:
     scene = path_test_scene(light=light, world=world, light_visible=visible).validate()
     frames = collect(scene, Settings(method="reference", jitter=False, seed=11), BRIDGE_FRAMES, device)
     mr, ser = batch_stats(frames, BRIDGE_BATCHES)
@@ -332,4 +337,14 @@ def test_direct_light_matches_renderer(device, light, world, visible):
     assert np.any(e.emission > 0)  # the emissive patch, or the light the camera sees
     mean, se = e.direct
     sigma = np.sqrt(se**2 + ser**2)
-    assert disagreement(mean, sigma, mr, batches=BRIDGE_BATCHES, exact_rtol=1e-6) == []
+    return disagreement(mean, sigma, mr, batches=BRIDGE_BATCHES, exact_rtol=1e-6)
+
+
+def test_the_bridge_rejects_a_wrong_pdf(device, monkeypatch):
+    """Negative control: the renderer's `reference` method with a light pdf 5 % too small (tests/bias_controls.py)
+    must disagree with the numpy tracer. The bridge's image-mean bound is 1.3-1.7 % of the image (4 standard errors,
+    mostly the numpy tracer's), of which the camera-seen emission is 17-25 %: a 2 % pdf error (1.2-1.4 % of the
+    image, measured) is at its edge, 5 % (3-4 %) is beyond it."""
+    built_with(monkeypatch, "TEST_REFERENCE_PDF_SCALE=0.95f")
+    problems = _bridge_problems(device, "both", None, False)
+    assert any("image means" in p or "values beyond" in p for p in problems), problems

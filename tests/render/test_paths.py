@@ -12,8 +12,8 @@ import math
 import numpy as np
 import pytest
 from restircl import Renderer, Settings
-from restircl.render import pipeline
 
+from ..bias_controls import built_with
 from ..stats import disagreement
 from .path_reference import path_test_scene, trace_paths
 
@@ -54,9 +54,7 @@ def test_the_harness_rejects_roulette_without_its_divide(device, monkeypatch):
     """Negative control: the kernel built with PATH_ROULETTE_WITHOUT_DIVIDE drops Russian roulette's 1/q, so the
     light of the bounces after the second comes out too dark (about 5 % of the image at 8 bounces); the check above
     must fail on it."""
-    build = pipeline.build_program
-    monkeypatch.setattr(pipeline, "build_program", lambda device, flags=None, **kw: build(
-        device, flags, extra_options=("-DPATH_ROULETTE_WITHOUT_DIVIDE=1",), **kw))
+    built_with(monkeypatch, "PATH_ROULETTE_WITHOUT_DIVIDE=1")
     problems = _against_reference(path_test_scene(light="both"), 8, "ris")
     assert any("image means" in p for p in problems), problems
 

@@ -16,7 +16,8 @@ from restircl.core.program import build_program
 from restircl.render.qmc import still_key, still_uses_sobol
 from scipy import stats
 
-from ..helpers import batch_stats, collect, constant, luminance, mixed_lights_scene
+from ..bias_controls import wrong_pdf
+from ..helpers import batch_stats, collect, constant, luminance, mixed_lights_scene, print_power
 from ..stats import pooled_chi2
 
 SRC = """
@@ -259,28 +260,48 @@ def reference(device):
     return collect(mixed_lights_scene(W, H), Settings(method="reference", seed=101, jitter=False), 4096, device)
 
 
+def sobol_problems(runs: np.ndarray, reference: np.ndarray) -> list[str]:
+    """Why RUNS independent run means (runs, H, W, 3) are not the exhaustive reference's mean: per pixel within 4
+    standard errors (t-statistics with RUNS - 1 dof: the expected count beyond 4 plus four of its standard
+    deviations, plus one, may exceed it), exact where neither varies, and over the image per channel."""
+    lum = luminance(runs)
+    m, se = lum.mean(axis=0), lum.std(axis=0, ddof=1) / math.sqrt(len(lum))
+    mr, ser = batch_stats(luminance(reference), 64)
+    sigma = np.sqrt(se**2 + ser**2)
+    exact = constant(sigma, mr)
+    problems = []
+    if not np.all(np.abs(m - mr)[exact] <= 1e-5 * np.abs(mr[exact]) + 1e-12):
+        problems.append("exact pixels differ")
+    z = np.abs(m - mr)[~exact] / sigma[~exact]
+    p = 2 * stats.t.sf(4.0, RUNS - 1)
+    if int((z > 4).sum()) > math.ceil(z.size * p + 4 * math.sqrt(z.size * p) + 1):
+        problems.append(f"outliers: {int((z > 4).sum())}, largest z {np.sort(z)[-5:]}")
+    img, img_r = runs.mean(axis=(1, 2)), reference.mean(axis=(1, 2))
+    se_i = img.std(axis=0, ddof=1) / math.sqrt(len(img))
+    _, se_r = batch_stats(img_r, 64)
+    bound = 4 * np.sqrt(se_i**2 + se_r**2)
+    print_power("sobol ris", img.mean(axis=0) / img_r.mean(axis=0) - 1.0, bound / 4 / img_r.mean(axis=0))
+    if np.any(np.abs(img.mean(axis=0) - img_r.mean(axis=0)) > bound):
+        problems.append(f"image means {img.mean(axis=0)} against {img_r.mean(axis=0)}")
+    return problems
+
+
 @pytest.mark.parametrize("extra", [{}, {"bsdf_sampling": "on"}, {"candidates": 9}, {"bsdf_mis_sample": True}])
 def test_sobol_ris_mean_equals_reference(device, reference, extra):
     # RUNS runs of 32 frames are independent (own keys); their means are compared with the exhaustive reference
     s = Settings(**{"method": "ris", "sampler": "sobol", "candidates": 4, "jitter": False, **extra})
     runs = run_means(mixed_lights_scene(W, H), s, RUNS, 32, device)
     assert np.isfinite(runs).all()
-    lum = luminance(runs)
-    m, se = lum.mean(axis=0), lum.std(axis=0, ddof=1) / math.sqrt(len(lum))
-    mr, ser = batch_stats(luminance(reference), 64)
-    sigma = np.sqrt(se**2 + ser**2)
-    exact = constant(sigma, mr)
-    assert np.all(np.abs(m - mr)[exact] <= 1e-5 * np.abs(mr[exact]) + 1e-12)
-    z = np.abs(m - mr)[~exact] / sigma[~exact]
-    # t-statistics with RUNS - 1 dof: the expected count beyond 4 plus four of its standard deviations, plus one
-    p = 2 * stats.t.sf(4.0, RUNS - 1)
-    n = z.size
-    assert int((z > 4).sum()) <= math.ceil(n * p + 4 * math.sqrt(n * p) + 1), np.sort(z)[-5:]
-    # over the image, per channel
-    img, img_r = runs.mean(axis=(1, 2)), reference.mean(axis=(1, 2))
-    se_i = img.std(axis=0, ddof=1) / math.sqrt(len(img))
-    _, se_r = batch_stats(img_r, 64)
-    assert np.all(np.abs(img.mean(axis=0) - img_r.mean(axis=0)) <= 4 * np.sqrt(se_i**2 + se_r**2))
+    problems = sobol_problems(runs, reference)
+    assert not problems, problems
+
+
+def test_the_harness_rejects_a_wrong_pdf(device, reference, monkeypatch):
+    """Negative control: Sobol RIS with a light pdf 2 % too small (tests/bias_controls.py) must be rejected."""
+    wrong_pdf(monkeypatch)
+    s = Settings(method="ris", sampler="sobol", candidates=4, jitter=False)
+    problems = sobol_problems(run_means(mixed_lights_scene(W, H), s, RUNS, 32, device), reference)
+    assert any(p.startswith(("outliers", "image means")) for p in problems), problems
 
 
 def total_variance(runs: np.ndarray) -> tuple[float, float]:

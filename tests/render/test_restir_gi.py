@@ -22,8 +22,8 @@ import pyopencl as cl
 import pytest
 from restircl import Light, Renderer, Scene, Settings, translation
 from restircl.core import layouts as L
-from restircl.render import pipeline
 
+from ..bias_controls import built_with
 from ..stats import Z, disagreement
 from .path_reference import path_test_scene, trace_paths
 
@@ -80,9 +80,7 @@ def test_the_harness_rejects_reuse_without_the_jacobian(device, reference, monke
     """Negative control: built with GI_WITHOUT_JACOBIAN, a sample moved to another visible point keeps its W
     (and the band test only asks that both sides see it): measured 5.5-6 % too bright over the image (standard
     error 0.5-0.8 %), which the check above must reject."""
-    build = pipeline.build_program
-    monkeypatch.setattr(pipeline, "build_program", lambda device, flags=None, **kw: build(
-        device, flags, extra_options=("-DGI_WITHOUT_JACOBIAN=1",), **kw))
+    built_with(monkeypatch, "GI_WITHOUT_JACOBIAN=1")
     problems = _against_reference(reference)
     assert any("image means" in p for p in problems), problems
 

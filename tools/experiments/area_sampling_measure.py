@@ -1,4 +1,4 @@
-"""Area against solid-angle light sampling (setting area_sampling) on the held-out scenes of issue 23, measured
+"""Area against solid-angle light sampling (setting area_sampling) on the tuning scenes of issue 23, measured
 against the cached Cycles references of `restircl compare` (pass --cache-dir; nothing is rendered in Cycles):
 relMSE at equal frames (per seed, with the seconds of the same render) and at equal wall time (budgets). The
 reference is the cache's one image of the kind at 192x108 (its key, the scene file's digest, changes with the file

@@ -1,4 +1,4 @@
-"""RIS on the held-out neon before and after the fix of the contact fireflies (docs/measurements/error-vs-time.md,
+"""RIS on the tuning neon before and after the fix of the contact fireflies (docs/measurements/error-vs-time.md,
 "Contact fireflies"): per seed, the relMSE at 64, 256 and 1024 frames against a reference image, the largest value
 one frame gave a pixel, and the CPU milliseconds per frame. Run it with PYTHONPATH at another checkout's python/ for
 the before side.

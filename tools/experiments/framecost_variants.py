@@ -73,7 +73,7 @@ def timing(width: int, height: int, rounds: int, variants: dict[str, dict]) -> N
 
 
 def moving_garden(width: int, height: int, frames: int = 16) -> Scene:
-    """The held-out garden with its camera dollying sideways and in along one path (6 m), in `frames` frames."""
+    """The tuning garden with its camera dollying sideways and in along one path (6 m), in `frames` frames."""
     scene = held_out("garden", width, height)
     cams = []
     for f in range(frames):

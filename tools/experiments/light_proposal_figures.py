@@ -1,7 +1,7 @@
 """Figures of the light tree against the light array (docs/measurements/benchmarks.md,
 docs/measurements/error-vs-time.md), side by side in one run: for RIS and ReSTIR with candidates from either
 proposal, the relMSE of one frame and of `frames` frames against a reference (the cached Cycles references of the
-held-out garden and neon, never re-rendered: pass their cache dir; our own converged image for many_lights, cached
+tuning garden and neon, never re-rendered: pass their cache dir; our own converged image for many_lights, cached
 in --own-cache), the error at equal wall time, the frame time and the tree's build time, with the load average
 before and after.
 

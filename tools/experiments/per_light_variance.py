@@ -1,4 +1,4 @@
-"""Issue 23, lever 1: where the held-out studio's per-sample error comes from. Renders the scene with all its lights
+"""Issue 23, lever 1: where the tuning studio's per-sample error comes from. Renders the scene with all its lights
 and with each light alone, with Cycles (direct light only) and with F12's still path (`still_settings`: the per-pixel
 light pick, and with --array the light array's), two independent renders of N samples each, and prints the relMSE
 of one N-sample image estimated from the pair: mean((a - b)^2 / 2 / (r^2 + 0.01)), r the mean of every render of

@@ -1,4 +1,4 @@
-"""Where F12's error on the held-out sky lies, against Cycles' at the same sample count
+"""Where F12's error on the tuning sky lies, against Cycles' at the same sample count
 (docs/measurements/error-vs-time.md, "A world alone: one candidate"): per-pixel squared relative error of the
 luminance against the cached 2 x 1024-spp Cycles reference, averaged over two seeds each, grouped by deciles of the
 reference's brightness (the darkest deciles are the shadows, lit by the sky alone). Needs bpy and the reference

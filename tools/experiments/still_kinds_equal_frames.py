@@ -1,4 +1,4 @@
-"""F12's still path on held-out kinds at equal frames: relMSE against the cached 2 x 1024-spp Cycles reference at
+"""F12's still path on tuning kinds at equal frames: relMSE against the cached 2 x 1024-spp Cycles reference at
 128 and 512 frames, seeds 7 and 8, and CPU ms per frame (docs/measurements/error-vs-time.md, "A light candidate as
 one Sobol point"). Run it with PYTHONPATH at another checkout's python/ for the before side. Needs bpy and the
 references.

@@ -1,4 +1,4 @@
-"""Held-out studio, F12's path against the same with the BSDF MIS sample (whose direction now comes from the Sobol
+"""Tuning studio, F12's path against the same with the BSDF MIS sample (whose direction now comes from the Sobol
 sequence) and with 1 candidate: relMSE against the cached Cycles reference at 128 and 512 frames, CPU ms per frame
 (docs/measurements/error-vs-time.md, "A world alone: one candidate", last paragraph). Needs bpy and the reference.
 

@@ -7,7 +7,7 @@ shadow ray towards an occluded sun).
     python -m tools.experiments.world_alone_candidates --world sunny|grey \
         [--variants alias:4,alias:1,alias:2,cdf:1] [--rounds 2] [--seeds 7,8]
 
-`--world sunny`: the held-out sky, against the cached Cycles reference; `--world grey`: the same sky without its
+`--world sunny`: the tuning sky, against the cached Cycles reference; `--world grey`: the same sky without its
 sun, against our own RIS reference (4096 random frames, 4 candidates).
 """
 

@@ -1,4 +1,4 @@
-"""`restircl compare`: ours against Cycles at equal wall time on the held-out scenes (restircl/eval/cycles, imported
+"""`restircl compare`: ours against Cycles at equal wall time on the tuning scenes (restircl/eval/cycles, imported
 when the command runs; needs bpy)."""
 
 from __future__ import annotations
@@ -9,19 +9,19 @@ from .arguments import BOUNCES, COUNT, POSITIVE, SECONDS
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
-    c = sub.add_parser("compare", help="ours against Cycles at equal wall time on the held-out scenes (needs bpy)",
-                       description="Render the held-out scenes (studio, neon, garden; sky, an HDRI world, with "
-                                   "--kinds; the validation scenes interior and outdoor and the tuning scenes "
-                                   "gi_tuning_room and gi_tuning_yard) with Cycles (direct light "
-                                   "only, or --max-bounces) and our methods (default: ReSTIR as "
+    c = sub.add_parser("compare", help="ours against Cycles at equal wall time on the tuning scenes (needs bpy)",
+                       description="Render the tuning scenes (studio, neon, garden; sky, an HDRI world, with "
+                                   "--kinds; the validation scenes interior, outdoor and gallery and the tuning "
+                                   "scenes of global illumination gi_tuning_room and gi_tuning_yard) with Cycles "
+                                   "(direct light only, or --max-bounces) and our methods (default: ReSTIR as "
                                    "for an animation; auto: F12's still estimator; ris and the other still "
                                    "candidates of eval/cycles_compare.OURS) for each wall-time budget, and "
                                    "compare their relMSE against a cached 2 x N-spp Cycles image: tables, CSV/JSON, "
                                    "plot.")
     c.add_argument("--kinds", default="studio,neon,garden",
-                   help="held-out kinds (studio, neon, garden, sky), the validation kinds of global "
-                        "illumination (interior, outdoor) and its tuning kinds (gi_tuning_room, gi_tuning_yard) "
-                        "(%(default)s)")
+                   help="tuning kinds (studio, neon, garden, sky), the validation kinds (interior, outdoor: global "
+                        "illumination; gallery: direct light) and the tuning kinds of global illumination "
+                        "(gi_tuning_room, gi_tuning_yard) (%(default)s)")
     c.add_argument("--methods", default="cycles,default,auto,ris")
     c.add_argument("--budgets", type=POSITIVE.parse_list, default="1,4,16", help="seconds (%(default)s)")
     c.add_argument("--reps", type=COUNT, default=3, help="repetitions of every budget (%(default)s)")

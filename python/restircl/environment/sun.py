@@ -5,7 +5,7 @@ the sun is occluded, and the sky in the shadows is left to the few other samples
 (docs/measurements/error-vs-time.md, "The sky's sun").
 
 The measure: the share of the map's power (luminance x solid angle) in its brightest texels that together cover
-SUN_SOLID_ANGLE_FRACTION of the sphere. A 1.6-degree sun of 1e3 times the sky holds 0.68 of the held-out `sky`'s
+SUN_SOLID_ANGLE_FRACTION of the sphere. A 1.6-degree sun of 1e3 times the sky holds 0.68 of the tuning `sky`'s
 power in 2e-4 of the sphere; a sky without a sun has a few percent in its brightest 1 %."""
 
 from __future__ import annotations

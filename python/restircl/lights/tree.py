@@ -209,7 +209,7 @@ def _fill_internal(leaves: int, lo, hi, axis, theta_o, theta_e, phi, two_sided) 
 def tree_pays(types: np.ndarray) -> bool:
     """light_proposal="auto": whether the tree beats the light array at equal time for lights of these types.
     Not yet anywhere measured: on the 2-core CPU (PoCL) a tree candidate halved RIS's per-frame error on the
-    held-out garden (300 point lights) but cost 2.5-4x an array candidate, and gave 10 % on neon; at equal time the
+    tuning garden (300 point lights) but cost 2.5-4x an array candidate, and gave 10 % on neon; at equal time the
     array won on both (docs/measurements/benchmarks.md, "Light tree"). So auto keeps the array until a device measures
     otherwise."""
     return False

@@ -3,7 +3,7 @@
 ReSTIR's reuse is built for animation: temporal reuse carries a pixel's samples from frame to frame and spatial
 reuse shares them between neighbours, so a frame is worth more than an independent one while the camera moves.
 Accumulated over the frames of a still camera, the same reuse makes consecutive frames correlated and the mean
-converges slower than the mean of independent frames. Measured on the held-out scenes
+converges slower than the mean of independent frames. Measured on the tuning scenes
 (docs/measurements/error-vs-time.md, "The estimator of a still"), RULE below picks what converged fastest per
 second. Animations and the viewport keep Settings.method as it is; only the entry points of a still render (the
 CLI's still mode, the add-on's F12) call still_settings, and Renderer.render_still renders with the settings it was
@@ -36,7 +36,7 @@ RULE: dict[str, dict] = {
     "mesh_lights": {"method": "ris", "bsdf_sampling": "on"},
 }
 #: what `auto` adds where the world has a sun (environment/sun.py): the BSDF MIS sample (opencl/direct/bsdf_mis.h),
-#: which replaces the BSDF candidates, measured on the held-out sky (docs/measurements/error-vs-time.md, "The sky's
+#: which replaces the BSDF candidates, measured on the tuning sky (docs/measurements/error-vs-time.md, "The sky's
 #: sun"): relMSE x seconds 3.4-4x below RIS's; with it 4 light candidates did better per second than the default 8
 #: (2 and 4 were even within the noise), so auto lowers the candidates to SUNNY_CANDIDATES where they are at their
 #: default
@@ -64,7 +64,7 @@ FEW_LIGHTS_CANDIDATES = 2
 #: relMSE at 64 frames of cornell_box was 1.8x that of one candidate, in more time per frame:
 #: docs/measurements/error-vs-time.md, "One light"). The same for a world that is the only light (with a sun, beside
 #: its BSDF MIS sample): one point drawn by inverting the world's cumulative table (qmc.environment_table) keeps the
-#: Sobol strata that resampling scatters; on the held-out sky 0.74x the relMSE of 4 candidates at equal frames in
+#: Sobol strata that resampling scatters; on the tuning sky 0.74x the relMSE of 4 candidates at equal frames in
 #: 0.6x the CPU time, without its sun 0.38x that of 2 candidates from the alias table in 0.7x the time
 #: (docs/measurements/error-vs-time.md, "A world alone: one candidate")
 ONE_LIGHT_CANDIDATES = 1

@@ -1,4 +1,4 @@
-"""Ours against Cycles at equal wall time on the held-out scenes (`restircl compare`, issue 23).
+"""Ours against Cycles at equal wall time on the tuning scenes (`restircl compare`, issue 23).
 
 Per scene kind (eval/scenes/held_out.py; the validation scenes of global illumination, eval/scenes/validation.py, by
 their kinds too: eval/scenes/kinds.py) and per wall-time budget (1, 4, 16 s), each method renders a still image from

@@ -1,6 +1,6 @@
 """Which estimator converges fastest on a still camera (the measurement behind render/still_method.py, issue 23).
 
-Per held-out scene kind and per candidate (cycles_compare.OURS: Settings overrides), a still render of `samples`
+Per tuning scene kind and per candidate (cycles_compare.OURS: Settings overrides), a still render of `samples`
 frames, its relMSE against the cached 2 x 1024-spp Cycles reference, and its seconds per sample: wall clock and
 the process's CPU time (every PoCL thread), which a loaded machine disturbs less. The figure of merit of an
 unbiased estimator is the inverse efficiency relMSE x seconds (constant while relMSE falls as 1/n): the smaller,

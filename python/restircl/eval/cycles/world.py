@@ -49,7 +49,7 @@ def world_to_bpy(bpy, sc, env: Environment) -> None:
 
 def set_world_map(sc, resolution: int) -> None:
     """Cycles' importance map of scene sc's world: 0 leaves Blender's default (Automatic, which Cycles builds in
-    every render call's synchronisation: seconds for the held-out sky on 2 cores,
+    every render call's synchronisation: seconds for the tuning sky on 2 cores,
     docs/measurements/error-vs-time.md), else Manual at `resolution` (the map's width)."""
     if resolution and sc.world is not None:
         sc.world.cycles.sampling_method = "MANUAL"

@@ -1,20 +1,23 @@
-"""Every scene kind `restircl compare` renders, by name: the held-out kinds (held_out.py), the validation kinds
-of global illumination (validation.py) and its tuning kind (gi_tuning.py)."""
+"""Every scene kind `restircl compare` renders, by name: the tuning kinds (held_out.py, gi_tuning.py for global
+illumination), the validation kinds of global illumination (validation.py) and of direct light
+(validation_direct.py)."""
 
 from __future__ import annotations
 
 from ...scene.scene import Scene
-from . import gi_tuning, held_out, validation
+from . import gi_tuning, held_out, validation, validation_direct
 
-KINDS = held_out.KINDS + validation.KINDS + gi_tuning.KINDS
+KINDS = held_out.KINDS + validation.KINDS + validation_direct.KINDS + gi_tuning.KINDS
 
 
 def scene_of_kind(kind: str, width: int = held_out.WIDTH, height: int = held_out.HEIGHT) -> Scene:
-    """The held-out, validation or tuning scene of `kind` at width x height."""
+    """The tuning or validation scene of `kind` at width x height."""
     if kind in held_out.KINDS:
         return held_out.held_out(kind, width, height)
     if kind in validation.KINDS:
         return validation.validation(kind, width, height)
     if kind in gi_tuning.KINDS:
         return gi_tuning.gi_tuning(kind, width, height)
+    if kind in validation_direct.KINDS:
+        return validation_direct.validation_direct(kind, width, height)
     raise ValueError(f"no scene kind {kind!r}; kinds: {', '.join(KINDS)}")

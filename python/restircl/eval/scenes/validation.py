@@ -2,7 +2,7 @@
 --max-bounces 4`): scenes built to check that a converged render of ours with bounces agrees with Cycles', and to
 measure error against time with the same Light Paths on both sides.
 
-They are validation scenes, not held-out scenes that happen to have bounces: nothing in the renderer, its settings
+They are validation scenes, not tuning scenes that happen to have bounces: nothing in the renderer, its settings
 or the still path's rule (render/still_method.py) is tuned on them, and they were written after the path pass was
 done, so an agreement measured on them is not one that was fitted. A lever measured on them to choose a setting
 would make them tuning scenes; such a lever belongs on other scenes, and these stay as they are.
@@ -14,7 +14,7 @@ would make them tuning scenes; such a lever belongs on other scenes, and these s
               mesh, the open shade of a floor lamp (a tube of 576 triangles)
     outdoor   a ground under a generated HDRI with a sun in it (environment only, no light objects: the sky
               generator of the built-in `sky`, its sun disk 1.6 degrees wide and ~1e3 above the sky, towards
-              another direction than the held-out sky's), a chrome sphere (metallic 1, roughness 0.2), a glossy red
+              another direction than the tuning sky's), a chrome sphere (metallic 1, roughness 0.2), a glossy red
               box (roughness 0.3, specular 0.5), a diffuse lumpy mesh, a diffuse wall that casts a shadow, and an
               emissive torus lying in that shadow
 

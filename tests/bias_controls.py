@@ -1,0 +1,35 @@
+"""Negative controls of the unbiasedness tests: the kernels built with a test hook that makes an estimator biased
+on purpose (`#ifdef` blocks in opencl/, compiled out of every ordinary build, so the images stay bit-identical).
+A statistical test that passes the biased build has no power to see that bias; each harness pairs its checks with
+a test that asserts it rejects one of these builds.
+
+- TEST_PICK_PDF_SCALE=s: every light sample's source pdf times s (direct/ris.h, direct/direct.cl): a wrong pdf;
+  the direct light comes out 1/s times too bright (with BSDF candidates or a BSDF MIS sample, a little less).
+- TEST_WITHOUT_MIXTURE_PDF: light candidates keep their own pdf beside BSDF candidates instead of the mixture
+  density (direct/ris.h): a dropped MIS weight, where both strategies reach a light it is counted twice.
+- TEST_WITHOUT_MIS_WEIGHT: the light sample's MIS weight against the BSDF MIS sample is 1 (direct/bsdf_mis.h).
+- TEST_REFERENCE_PDF_SCALE=s: the exhaustive `reference` method's light pdf times s (direct/direct.cl), for the
+  check of the renderer against the independent numpy path tracer (render/test_path_reference.py).
+- PATH_ROULETTE_WITHOUT_DIVIDE, GI_WITHOUT_JACOBIAN: the path pass and ReSTIR GI (render/test_paths.py,
+  render/test_restir_gi.py)."""
+
+from __future__ import annotations
+
+import pytest
+from restircl.render import pipeline
+
+# A pdf 2 % too small: the direct light 2.04 % too bright, the size of the biased ReSTIR mode's darkening
+# (render/test_restir.py) that the quick sizes must be able to see.
+PDF_SCALE = 0.98
+
+
+def built_with(monkeypatch: pytest.MonkeyPatch, *defines: str) -> None:
+    """Every renderer made after this call builds its kernels with `defines` (-D options) added."""
+    build = pipeline.build_program
+    options = tuple(f"-D{d}" for d in defines)
+    monkeypatch.setattr(pipeline, "build_program", lambda device, flags=None, **kw: build(
+        device, flags, extra_options=options, **kw))
+
+
+def wrong_pdf(monkeypatch: pytest.MonkeyPatch, scale: float = PDF_SCALE) -> None:
+    built_with(monkeypatch, f"TEST_PICK_PDF_SCALE={scale!r}f")
