@@ -184,14 +184,16 @@ def references(reference_samples):
 
 
 def assert_unbiased(mean: np.ndarray, se: np.ndarray, ref: tuple[np.ndarray, np.ndarray], n_stats: int,
-                    label: str) -> None:
-    """Per pixel within 4 standard errors (outliers as the t-distribution allows) and the image mean too."""
+                    label: str, image_se: float | None = None) -> None:
+    """Per pixel within 4 standard errors (outliers as the t-distribution allows) and the image mean too. image_se:
+    the standard error of the image mean measured from independent runs (spatial reuse correlates neighbouring
+    pixels, so their standard errors do not add up as independent ones); None: from the pixels' own."""
     mr, sr = ref
     sigma = np.sqrt(se**2 + sr**2)
     live = ~constant(sigma, mr)
     assert np.all(np.abs(mean - mr)[~live] <= 1e-5 * np.abs(mr[~live]) + 1e-12), label
     z = np.abs(mean - mr)[live] / sigma[live]
-    se_img = math.sqrt(float((se**2).sum())) / se.size  # pixels of one estimate are close to independent
+    se_img = math.sqrt(float((se**2).sum())) / se.size if image_se is None else image_se
     sr_img = math.sqrt(float((sr**2).sum())) / sr.size
     print_power(label, mean.mean() / mr.mean() - 1.0, math.hypot(se_img, sr_img) / mr.mean())
     assert (z > 4).sum() <= allowed_outliers(int(live.sum()), n_stats), (label, "outliers", np.sort(z)[-5:])
