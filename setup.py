@@ -18,7 +18,7 @@ setup(
         # libclang: the OpenCL C front end for NVIDIA, AMD and SPIR targets (tests/test_portability.py)
         # distributed: the farm's engine (restircl render --workers/--scheduler, docs/farm.md; pure Python)
         # flip-evaluator: the FLIP columns of restircl report and eval/report/denoise.py (empty, with a note, without)
-        "test": ["pytest>=8", "ruff>=0.5", "scipy>=1.10", "matplotlib>=3.7", "libclang>=16", "distributed>=2024.8",
+        "test": ["pytest>=8", "pytest-xdist>=3", "ruff>=0.5", "scipy>=1.10", "matplotlib>=3.7", "libclang>=16", "distributed>=2024.8",
                  "pyoidn>=2.5", "flip-evaluator>=1.7"],
         "farm": ["distributed>=2024.8"],
         "denoise": ["pyoidn>=2.5"],  # Intel Open Image Denoise (Settings.denoise)

@@ -48,6 +48,9 @@ class Release:
 ALL_BLENDER_TESTS = (*sorted(str(p.relative_to(ROOT)) for p in (ROOT / "tests" / "blender").glob("test_blender_*.py")),
                      "tests/blender/test_viewport_blender.py", "tests/blender/test_viewport_draw.py",
                      "tests/blender/test_ortho_blender.py", "tests/tools/test_build_extension.py")
+#: two pytest workers, each taking whole files (module fixtures stay in one process): most tests wait on one core
+#: (kernel builds, Python), so the 2-core machines finish in about half the time
+PARALLEL = ("-n", "2", "--dist", "loadfile")
 RELEASES = {
     "5.3": Release("3.13", "5.3.0", (), ALL_BLENDER_TESTS),
     "4.2": Release("3.11", "4.2.23", ("numpy<2",),
@@ -81,7 +84,7 @@ def ensure_venv(name: str, release: Release, venv_root: Path, python: str) -> Pa
     """The release's virtual environment, (re)made when its requirements differ from the ones it was made with."""
     venv = venv_root / name
     exe = venv / "bin" / "python"
-    requirements = [f"bpy=={release.bpy}", "pytest>=8", *release.extra]
+    requirements = [f"bpy=={release.bpy}", "pytest>=8", "pytest-xdist>=3", *release.extra]
     stamp = venv / "restircl-requirements.txt"
     wanted = "\n".join(requirements) + "\n"
     if exe.exists() and stamp.exists() and stamp.read_text() == wanted:
@@ -135,7 +138,7 @@ def main(argv: list[str] | None = None) -> int:
         env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
         env["RESTIRCL_EXTENSION_ZIP"] = str(extension_zip)
         t0 = time.perf_counter()
-        rc = run([str(exe), "-m", "pytest", "-q", "-p", "no:cacheprovider", *release.tests], cwd=ROOT,
+        rc = run([str(exe), "-m", "pytest", "-q", "-p", "no:cacheprovider", *PARALLEL, *release.tests], cwd=ROOT,
                  env=env).returncode
         verdict = "ok" if rc == 0 else f"FAILED (pytest exit {rc})"
         results[name] = f"{verdict}: bpy {release.bpy}, set-up {setup_s:.0f} s, tests {time.perf_counter() - t0:.0f} s"
