@@ -24,7 +24,9 @@ from restircl.eval.report.moving import run_moving
 from restircl.eval.report.reference import get_reference
 
 W = H = 32
-BUDGETS = (0.05, 0.1, 0.2, 0.4)
+# long and far enough apart (16x) that the slope against seconds has its power while another pytest worker shares the
+# CPU (with 0.05..0.4 s the spread of the two relMSE figures was as large as the fall being tested)
+BUDGETS = (0.1, 0.2, 0.4, 0.8, 1.6)
 
 
 def quiet(_msg: str) -> None:
