@@ -2,8 +2,9 @@
  * sample. From the pixel's G-buffer surface the path walks (path/walk.h): it samples the BSDF, traces the ray and, at
  * every vertex it reaches, estimates the direct light there by NEE (path/nee.h) while the rays it traces count the
  * emitters they meet (path/emitters.h), the two combined by MIS (path/mis.h), within Cycles' Light Paths. The result,
- * with its own guard, also goes to `indirect` (a pass) and, where light passes are on, to Diffuse or Glossy Indirect. Animation and viewport frames with ReSTIR GI take the same
- * walk from the secondary vertex instead (restir_gi/initial.cl). */
+ * with its own guard, also goes to `indirect` (a pass) and, where light passes are on, to Diffuse or Glossy
+ * Indirect. Animation and viewport frames with ReSTIR GI take the same walk from the secondary vertex instead
+ * (restir_gi/initial.cl). */
 
 __kernel void path_trace(const __global GSample* gbuf, const __global GlossySample* glossy,
                          const __global BVHNode* nodes, const __global Tri* tris, const __global Material* materials,

@@ -20,6 +20,14 @@
  * long they last. */
 inline float boil_measure(const Reservoir* r, int mode) { return mode != BOIL_WEIGHT ? r->W * r->target : r->W; }
 
+/* Whether measure m stands above `threshold` times the mean of the others in its tile (st: their sum and count, m
+ * included); never for a reservoir alone in its tile. Shared with ReSTIR GI's filter (restir_gi/boiling.cl). */
+inline bool boil_outlier(float m, float2 st, float threshold)
+{
+    float others = st.y - 1.0f;
+    return others >= 1.0f && m > threshold * ((st.x - m) / others);
+}
+
 __kernel void boiling_tiles(const __global Reservoir* res, __global float2* tile_stats, FrameParams frame_params,
                             int tiles_x, int mode)
 {
@@ -49,11 +57,7 @@ __kernel void boiling_filter(__global Reservoir* res, const __global float2* til
     Reservoir r = res[i];
     if (r.light < 0 || !(r.W > 0.0f) || !finite_f(r.W)) return;
     float2 st = tile_stats[(y / BOIL_TILE) * tiles_x + x / BOIL_TILE];
-    float others = st.y - 1.0f;
-    if (others < 1.0f) return;  /* alone in its tile: nothing to compare with */
-    float m = boil_measure(&r, mode);
-    float mean_others = (st.x - m) / others;
-    if (m > threshold * mean_others) {
+    if (boil_outlier(boil_measure(&r, mode), st, threshold)) {
         if (mode == BOIL_FORGET)
             r.M = fmin_f(r.M, 1.0f);
         else

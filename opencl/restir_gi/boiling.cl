@@ -1,11 +1,10 @@
-/* ReSTIR GI's boiling filter (boiling_filter, boiling_mode; run after its temporal pass, as ReSTIR DI's is after
- * its own, restir/boiling.cl, which explains the tiles and the threshold): a secondary sample whose contribution
- * to its pixel (target x W, the luminance it adds; W alone with the weight mode) stands far above the mean of the
- * others in its 8x8 tile is emptied, or (forget) keeps its sample but its M drops to 1. GI's outliers are a lucky
- * L_o (a path that found a light from close by) or a sample moved across a corner with a large Jacobian; the
- * spatial pass spreads them, the temporal pass holds them for up to gi_m_cap frames. Biased: animation path only. */
-
-#define GI_BOIL_TILE 8
+/* ReSTIR GI's boiling filter (boiling_filter, boiling_mode; run after its temporal pass, as ReSTIR DI's is after its
+ * own, restir/boiling.cl, which explains the tiles and the threshold, and shares its tile size and test): a secondary
+ * sample whose contribution to its pixel (target x W, the luminance it adds; W alone with the weight mode) stands far
+ * above the mean of the others in its 8x8 tile is emptied, or (forget) keeps its sample but its M drops to 1. GI's
+ * outliers are a lucky L_o (a path that found a light from close by) or a sample moved across a corner with a large
+ * Jacobian; the spatial pass spreads them, the temporal pass holds them for up to gi_m_cap frames. Biased: animation
+ * path only. */
 
 inline float gi_boil_measure(const GIReservoir* r, int mode) { return mode != BOIL_WEIGHT ? r->W * r->target : r->W; }
 
@@ -13,12 +12,12 @@ __kernel void gi_boiling_tiles(const __global GIReservoir* res, __global float2*
                                int tiles_x, int mode)
 {
     int t = get_global_id(0);
-    int tiles_y = (frame_params.height + GI_BOIL_TILE - 1) / GI_BOIL_TILE;
+    int tiles_y = (frame_params.height + BOIL_TILE - 1) / BOIL_TILE;
     if (t >= tiles_x * tiles_y) return;
-    int x0 = (t % tiles_x) * GI_BOIL_TILE, y0 = (t / tiles_x) * GI_BOIL_TILE;
+    int x0 = (t % tiles_x) * BOIL_TILE, y0 = (t / tiles_x) * BOIL_TILE;
     float2 st = (float2)(0.0f);
-    for (int y = y0; y < min(y0 + GI_BOIL_TILE, frame_params.height); ++y) {
-        for (int x = x0; x < min(x0 + GI_BOIL_TILE, frame_params.width); ++x) {
+    for (int y = y0; y < min(y0 + BOIL_TILE, frame_params.height); ++y) {
+        for (int x = x0; x < min(x0 + BOIL_TILE, frame_params.width); ++x) {
             GIReservoir r = res[y * frame_params.width + x];
             if (gi_has_sample(&r) && finite_f(r.W)) st += (float2)(gi_boil_measure(&r, mode), 1.0f);
         }
@@ -34,10 +33,8 @@ __kernel void gi_boiling_filter(__global GIReservoir* res, const __global float2
     int i = y * frame_params.width + x;
     GIReservoir r = res[i];
     if (!gi_has_sample(&r) || !finite_f(r.W)) return;
-    float2 st = tile_stats[(y / GI_BOIL_TILE) * tiles_x + x / GI_BOIL_TILE];
-    if (st.y < 2.0f) return;  /* alone in its tile */
-    float m = gi_boil_measure(&r, mode);
-    if (!(m > threshold * (st.x - m) / (st.y - 1.0f))) return;
+    float2 st = tile_stats[(y / BOIL_TILE) * tiles_x + x / BOIL_TILE];
+    if (!boil_outlier(gi_boil_measure(&r, mode), st, threshold)) return;
     if (mode == BOIL_FORGET)
         r.M = fmin_f(r.M, 1.0f);
     else
