@@ -43,3 +43,47 @@ def test_the_check_sees_errors():
     tu = cindex.Index.create().parse("broken.cl", args=_clang_args(TARGETS[0]), unsaved_files=[("broken.cl", src)])
     messages = " ".join(d.spelling for d in tu.diagnostics)
     assert "undefined_name" in messages and "changes value" in messages
+
+
+def _diagnostics(tu) -> list[str]:
+    return [f"{d.location.file}:{d.location.line}: {d.spelling}" for d in tu.diagnostics
+            if d.severity >= cindex.Diagnostic.Warning]
+
+
+REQUIRES = {"HAS_GI_REUSE": "HAS_PATHS"}  # ReSTIR GI reuses the paths' vertices (render/features.py sets both)
+
+
+@pytest.mark.parametrize("flag", sorted(ALL_FLAGS))
+def test_each_feature_alone_parses_without_optional_extensions(flag):
+    """One feature on (with the one it needs), the others off, as scenes of one kind compile it, for a device
+    that has none of OpenCL's optional extensions: no cl_khr_fp64 (Apple's GPUs and Intel's Arc have no doubles,
+    so a double literal or type would be an error or a silent float there), no byte-addressable stores, no 3D
+    image writes."""
+    flags = {name: name in (flag, REQUIRES.get(flag)) for name in ALL_FLAGS}
+    args = [*_clang_args(TARGETS[2]), "-Xclang", "-cl-ext=-all", "-nogpulib", f"-I{opencl_dir()}",
+            *format_options(flags)]
+    tu = cindex.Index.create().parse(str(opencl_dir() / MAIN_SOURCE), args=args)
+    diags = _diagnostics(tu)
+    assert not diags, "\n".join(diags)
+
+
+def test_without_fp64_a_double_is_reported():
+    """The check above would see a double: the same parse of a kernel with one reports it."""
+    src = "__kernel void k(__global float* a) { a[0] = a[0] * 1.5; }"
+    args = [*_clang_args(TARGETS[2]), "-Xclang", "-cl-ext=-all"]
+    tu = cindex.Index.create().parse("double.cl", args=args, unsaved_files=[("double.cl", src)])
+    assert any("cl_khr_fp64" in d for d in _diagnostics(tu))
+
+
+@pytest.mark.parametrize("target", TARGETS)
+def test_the_source_as_built_parses_with_no_include_path(target):
+    """What build_program hands the driver, the headers written in (core/source_inline.py), parses with no -I."""
+    from restircl.core.source_inline import inline_includes
+
+    text = inline_includes((opencl_dir() / MAIN_SOURCE).read_text(), MAIN_SOURCE, opencl_dir())
+    args = [*_clang_args(target), "-nogpulib", *format_options(dict.fromkeys(ALL_FLAGS, True))]
+    tu = cindex.Index.create().parse("inlined.cl", args=args, unsaved_files=[("inlined.cl", text)])
+    diags = _diagnostics(tu)
+    assert not diags, "\n".join(diags)
+    included = {Path(str(inc.include)).resolve() for inc in tu.get_includes()}
+    assert not [p for p in included if p.is_relative_to(opencl_dir().resolve())], "a header was left to include"
