@@ -87,3 +87,60 @@ def test_the_source_as_built_parses_with_no_include_path(target):
     assert not diags, "\n".join(diags)
     included = {Path(str(inc.include)).resolve() for inc in tu.get_includes()}
     assert not [p for p in included if p.is_relative_to(opencl_dir().resolve())], "a header was left to include"
+
+
+def _call_graph(tu) -> dict[str, set[str]]:
+    """Function name -> the functions its body calls, for the functions defined in opencl/."""
+    root = str(opencl_dir())
+    graph: dict[str, set[str]] = {}
+
+    def calls(node, into: set[str]) -> None:
+        for child in node.get_children():
+            if child.kind == cindex.CursorKind.CALL_EXPR and child.referenced is not None:
+                into.add(child.referenced.spelling)
+            calls(child, into)
+
+    for node in tu.cursor.get_children():
+        if node.kind == cindex.CursorKind.FUNCTION_DECL and node.is_definition() and node.location.file \
+                and str(node.location.file.name).startswith(root):
+            calls(node, graph.setdefault(node.spelling, set()))
+    return graph
+
+
+def _cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """The call cycles of `graph` (each once, from its first function in sorted order)."""
+    found, state = [], {}
+
+    def visit(name: str, path: list[str]) -> None:
+        state[name] = "open"
+        for callee in sorted(graph.get(name, ())):
+            if state.get(callee) == "open":
+                found.append(path[path.index(callee):] + [callee])
+            elif callee not in state and callee in graph:
+                visit(callee, path + [callee])
+        state[name] = "done"
+
+    for name in sorted(graph):
+        if name not in state:
+            visit(name, [name])
+    return found
+
+
+def test_no_function_calls_itself_directly_or_through_others():
+    """OpenCL C has no recursion (1.2 spec, 6.9): PoCL on the CPU may build a recursive call, a GPU compiler
+    refuses it or inlines without end. The call graph of the whole program with every feature on has no cycle."""
+    args = [*_clang_args(TARGETS[2]), "-nogpulib", f"-I{opencl_dir()}",
+            *format_options(dict.fromkeys(ALL_FLAGS, True))]
+    tu = cindex.Index.create().parse(str(opencl_dir() / MAIN_SOURCE), args=args)
+    graph = _call_graph(tu)
+    assert len(graph) > 200 and "shade" in " ".join(graph)  # the walk saw the program
+    cycles = _cycles(graph)
+    assert not cycles, "\n".join(" -> ".join(c) for c in cycles)
+
+
+def test_the_call_graph_check_sees_recursion():
+    src = ("float f(float x);\nfloat g(float x) { return f(x) + 1.0f; }\nfloat f(float x) { return x > 1.0f ? "
+           "g(x - 1.0f) : x; }\n__kernel void k(__global float* a) { a[0] = f(a[0]); }\n")
+    path = opencl_dir() / "recursion_probe.cl"  # a name under opencl/, given as an unsaved file: nothing written
+    tu = cindex.Index.create().parse(str(path), args=_clang_args(TARGETS[2]), unsaved_files=[(str(path), src)])
+    assert _cycles(_call_graph(tu)) == [["f", "g", "f"]]
