@@ -78,10 +78,8 @@ def run(cmd: list[str]) -> None:
 
 
 def pinned(name: str) -> str:
-    try:
-        return f"{name}=={importlib.metadata.version(name)}"
-    except importlib.metadata.PackageNotFoundError:
-        return name
+    version = _installed(name)
+    return name if version is None else f"{name}=={version}"
 
 
 def normalise(name: str) -> str:
@@ -153,8 +151,9 @@ def wheel_pythons(name: str, python_versions: list[str]) -> set[str]:
 
 
 def select_wheels(folder: Path, platform: str, python_versions: list[str], names: list[str]) -> list[Path]:
-    """From `folder`, the wheels of `names` for `platform`: for each distribution and Python, the highest version
-    that installs there; a distribution missing for one of them is an error."""
+    """From `folder`, the wheels of `names` for `platform`: for each distribution and Python, the version installed
+    in this Python where the folder has it, else the highest that installs there; a distribution missing for one
+    of them is an error."""
     if (folder / platform).is_dir():  # a cache: one folder per platform
         folder = folder / platform
     chosen: list[Path] = []
@@ -165,10 +164,18 @@ def select_wheels(folder: Path, platform: str, python_versions: list[str], names
                     and platform in wheel_platforms(p.name) and version in wheel_pythons(p.name, [version])]
             if not fits:
                 raise SystemExit(f"no wheel of {name} for {platform}, CPython {version} in {folder}")
-            best = max(fits, key=lambda p: _release_key(p.name.split("-")[1]))
+            installed = [p for p in fits if p.name.split("-")[1] == _installed(name)]  # the tested one, if cached
+            best = max(installed or fits, key=lambda p: _release_key(p.name.split("-")[1]))
             if best not in chosen:
                 chosen.append(best)
     return chosen
+
+
+def _installed(name: str) -> str | None:
+    try:
+        return importlib.metadata.version(name)
+    except importlib.metadata.PackageNotFoundError:
+        return None
 
 
 def _release_key(version: str) -> tuple:

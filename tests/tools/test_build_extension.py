@@ -248,3 +248,23 @@ def test_built_zips_in_dist_hold_only_their_platform(request):
         files = tool.check_zip(path, ["3.11", "3.13"], names)
         assert any(f.startswith("pyoidn-") for f in files), path.name
         assert any(f.startswith("pocl_binary_distribution-") for f in files) == (platform == "linux-x64")
+
+
+def test_selection_takes_the_tested_version_over_a_newer_cached_one(tmp_path):
+    """The cache keeps every version downloaded: the zip gets the one installed here (the tested combination)
+    where the cache has it, else the newest; for each Python, never another platform's."""
+    import importlib.metadata
+
+    tool = _tool()
+    here = importlib.metadata.version("pyopencl")
+    for version in (here, "9999.0"):
+        for cp in ("cp311", "cp313"):
+            _fake_wheel(tmp_path, f"pyopencl-{version}-{cp}-{cp}-win_amd64.whl")
+    for version in ("1.0", "3.0", "2.0"):  # a distribution not installed here: the newest
+        _fake_wheel(tmp_path, f"not_installed_here-{version}-py3-none-any.whl")
+    chosen = tool.select_wheels(tmp_path, "windows-x64", ["3.11", "3.13"], ["pyopencl", "not-installed-here"])
+    assert [p.name for p in chosen] == [f"pyopencl-{here}-cp311-cp311-win_amd64.whl",
+                                        f"pyopencl-{here}-cp313-cp313-win_amd64.whl",
+                                        "not_installed_here-3.0-py3-none-any.whl"]
+    with pytest.raises(SystemExit, match="no wheel of pyopencl for macos-arm64, CPython 3.11"):
+        tool.select_wheels(tmp_path, "macos-arm64", ["3.11"], ["pyopencl"])
