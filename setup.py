@@ -14,7 +14,8 @@ setup(
     package_data={"restircl.opencl": ["**/*.h", "**/*.cl"], "restircl.upload": ["ggx_tables.npz"]},
     install_requires=["numpy>=1.24", "pyopencl>=2024.1", "openexr>=3.3", "pillow>=10"],
     extras_require={
-        "pocl": ["pyopencl[pocl]>=2024.1"],
+        # PoCL's wheels exist for Linux only: elsewhere the extra adds nothing and the system's OpenCL is used
+        "pocl": ['pyopencl[pocl]>=2024.1; sys_platform == "linux"'],
         # libclang: the OpenCL C front end for NVIDIA, AMD and SPIR targets (tests/test_portability.py)
         # distributed: the farm's engine (restircl render --workers/--scheduler, docs/farm.md; pure Python)
         # flip-evaluator: the FLIP columns of restircl report and eval/report/denoise.py (empty, with a note, without)

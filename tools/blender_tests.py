@@ -99,8 +99,8 @@ def ensure_venv(name: str, release: Release, venv_root: Path, python: str) -> Pa
 
 def build_zip(out: Path) -> Path:
     run([sys.executable, str(ROOT / "tools" / "build_extension.py"), "--output-dir", str(out), "--build-dir",
-         str(out / "build")], check=True)
-    return next(out.glob("restircl-*.zip"))
+         str(out / "build"), "--platform", "linux-x64"], check=True)
+    return next(out.glob("restircl-*-linux_x64.zip"))
 
 
 def current_bpy() -> str | None:

@@ -22,7 +22,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-from restircl import Camera, Renderer, Scene, Settings
+from restircl import Camera, DeviceError, KernelBuildError, Renderer, Scene, Settings
 from restircl.render.camera import views_differ
 
 from .viewport_edit import SceneEdit, apply_edit
@@ -223,7 +223,8 @@ class ViewportSession:
                 self._frame(view, edits)
                 self.on_frame()
         except Exception as exc:  # shown in the header; the session stops
-            traceback.print_exc()
+            if not isinstance(exc, (DeviceError, KernelBuildError)):  # the user's to fix: the message says it all
+                traceback.print_exc()
             with self._cond:
                 self.error = f"{type(exc).__name__}: {exc}"
                 self._cond.notify_all()

@@ -1,12 +1,13 @@
 """Install the extension zip with Blender's own installer into an empty user folder, enable it, and F12 one small
-scene with restircl and with Cycles. Run by tests/blender/test_blender_extension.py in a process of its own:
+scene with restircl and with Cycles, then with restircl's Denoise. Run by tests/blender/test_blender_extension.py
+in a process of its own:
 
     python -S tests/blender/extension_install_script.py ZIP OUTDIR SITE
 
 SITE holds only bpy and the modules bpy needs (-S leaves out the rest of site-packages), so restircl, pyopencl,
-PoCL, OpenEXR and Pillow can come only from the wheels in the zip; so does the scene builder this uses
-(restircl.eval.blender_scenes, part of the restircl wheel). The caller points BLENDER_USER_* at empty folders
-before this starts, since bpy reads them when it is imported. Prints one JSON line last.
+PoCL, OpenEXR, Pillow and pyoidn (the denoiser) can come only from the wheels in the zip; so does the scene
+builder this uses (restircl.eval.blender_scenes, part of the restircl wheel). The caller points BLENDER_USER_* at
+empty folders before this starts, since bpy reads them when it is imported. Prints one JSON line last.
 """
 
 from __future__ import annotations
@@ -31,11 +32,12 @@ report["install_s"] = time.perf_counter() - t0
 report["enabled"] = "bl_ext.user_default.restircl" in bpy.context.preferences.addons
 engines = {getattr(c, "bl_idname", None) for c in bpy.types.RenderEngine.__subclasses__()}
 report["engine"] = "RESTIRCL" in engines
+import pyoidn  # noqa: E402  (the denoiser: bundled, so Denoise works without a pip install)
 import pyopencl  # noqa: E402
 import restircl  # noqa: E402
 from restircl.eval import blender_scenes as scenes  # noqa: E402
 
-report["modules"] = {m.__name__: m.__file__ for m in (restircl, pyopencl, scenes)}
+report["modules"] = {m.__name__: m.__file__ for m in (restircl, pyopencl, scenes, pyoidn)}
 report["extensions_dir"] = bpy.utils.user_resource("EXTENSIONS")
 
 sc = scenes.comparison_scene("mixed", 48, 36, reset=False)
@@ -49,4 +51,7 @@ scenes.exr_output(sc, str(outdir / "ours.exr"))
 t0 = time.perf_counter()
 bpy.ops.render.render(write_still=True)
 report["f12_s"] = time.perf_counter() - t0
+sc.restircl.denoise = True  # with the bundled pyoidn: the Noisy Image pass beside a denoised Combined
+scenes.exr_output(sc, str(outdir / "denoised.exr"))
+bpy.ops.render.render(write_still=True)
 print(json.dumps(report))

@@ -37,8 +37,8 @@ def extension_zip(tmp_path_factory) -> Path:
         return Path(given)
     out = tmp_path_factory.mktemp("dist")
     subprocess.run([sys.executable, str(ROOT / "tools" / "build_extension.py"), "--output-dir", str(out),
-                    "--build-dir", str(out / "build")], check=True, timeout=900)
-    return next(out.glob("restircl-*.zip"))
+                    "--build-dir", str(out / "build"), "--platform", "linux-x64"], check=True, timeout=900)
+    return next(out.glob("restircl-*-linux_x64.zip"))
 
 
 def _requirements(dist: importlib.metadata.Distribution) -> list[str]:
@@ -97,3 +97,9 @@ def test_installed_zip_enables_and_renders_like_cycles(extension_zip, tmp_path):
     print(f"Blender {report['blender']} (Python {report['python']}): install {report['install_s']:.1f} s, "
           f"F12 {report['f12_s']:.1f} s, relMSE against Cycles {100 * err:.3f} %")
     assert err < BOUND
+    # Denoise with the zip's pyoidn (imported above from the extension's wheels): the image before it is kept as
+    # the Noisy Image pass, and the denoiser changed the image
+    denoised = read_exr_passes(tmp_path / "denoised.exr")
+    assert "pyoidn" in report["modules"] and "Noisy Image" in denoised, sorted(denoised)
+    assert np.all(np.isfinite(denoised["Combined"]))
+    assert np.abs(denoised["Combined"][..., :3] - denoised["Noisy Image"][..., :3]).max() > 1e-4

@@ -258,6 +258,27 @@ def test_nan_transform_reports():
     assert "restircl:" in msg and "NaN" in msg and "unexpected" not in msg
 
 
+def test_no_device_that_builds_is_one_report_naming_what_to_install(monkeypatch, capfd):
+    """On a machine where no OpenCL device builds the kernels (a Windows PC without a GPU driver's OpenCL, say),
+    F12 gives one error report that says what to install on this system, and no traceback."""
+    import sys
+
+    from restircl.core import device as device_mod
+    from restircl.core.install_hint import install_hint
+
+    sc = small_scene()
+    sc.restircl.device = ""
+    monkeypatch.delenv("RESTIRCL_DEVICE", raising=False)
+    monkeypatch.setattr(device_mod, "build_problem", lambda dev: "cannot build kernels: test")
+    for name, module in list(sys.modules.items()):  # no renderer kept from an earlier F12 of the same scene
+        if name.endswith("restircl_blender.engine"):
+            module.clear_sessions()
+    capfd.readouterr()
+    msg = render_error(sc)
+    assert "restircl: no OpenCL device can build kernels; " + install_hint() in msg and "unexpected" not in msg
+    assert "Traceback" not in "".join(capfd.readouterr())
+
+
 def test_negative_light_and_emission_strength_render(tmp_path):
     """Negative strengths are left out (a warning at export: blender/test_blender_export.py), never a failed render."""
     sc = small_scene(samples=2)

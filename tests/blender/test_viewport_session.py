@@ -234,3 +234,22 @@ def test_pixel_size_scales_the_render():
     assert scaled_size(960, 540, 2) == (480, 270)
     assert scaled_size(961, 541, 1) == (961, 541)
     assert scaled_size(3, 3, 8) == (1, 1)
+
+
+def test_no_device_that_builds_is_the_header_message_without_a_traceback(monkeypatch, capfd):
+    """Without an OpenCL device that builds the kernels the session stops with the error (shown in the viewport's
+    header), naming what to install; the console gets no traceback, as for F12."""
+    import restircl_blender.viewport_session as vs
+    from restircl import DeviceError
+
+    def no_device(*_args, **_kwargs):
+        raise DeviceError("no OpenCL device can build kernels; install a driver")
+
+    monkeypatch.setattr(vs, "Renderer", no_device)
+    capfd.readouterr()
+    sess = session()
+    sess.set_view(view_camera(orbit_view(0.0), perspective(0.6), W, H))
+    assert sess.wait(1) is None
+    assert sess.error == "DeviceError: no OpenCL device can build kernels; install a driver"
+    assert sess.stop()
+    assert "Traceback" not in "".join(capfd.readouterr())

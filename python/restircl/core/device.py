@@ -18,6 +18,8 @@ from dataclasses import dataclass
 
 import pyopencl as cl
 
+from .install_hint import install_hint
+
 ENV_VAR = "RESTIRCL_DEVICE"
 
 _PROBE_SOURCE = "__kernel void restircl_probe(__global float* a) { a[get_global_id(0)] = sqrt(a[get_global_id(0)]); }"
@@ -61,10 +63,7 @@ def list_devices() -> list[tuple[DeviceInfo, cl.Device]]:
     try:
         platforms = cl.get_platforms()
     except cl.Error as exc:  # no ICD loader or no platform at all
-        raise DeviceError(
-            f"no OpenCL platform found ({exc}); install PoCL: pip install 'pyopencl[pocl]' "
-            "or apt-get install pocl-opencl-icd"
-        ) from exc
+        raise DeviceError(f"no OpenCL platform found ({exc}); {install_hint()}") from exc
     out: list[tuple[DeviceInfo, cl.Device]] = []
     for pi, platform in enumerate(platforms):
         try:
@@ -75,9 +74,7 @@ def list_devices() -> list[tuple[DeviceInfo, cl.Device]]:
             info = DeviceInfo(pi, di, platform.name.strip(), dev.name.strip(), _type_name(dev))
             out.append((info, dev))
     if not out:
-        raise DeviceError(
-            "no OpenCL device found; install PoCL: pip install 'pyopencl[pocl]' or apt-get install pocl-opencl-icd"
-        )
+        raise DeviceError(f"no OpenCL device found; {install_hint()}")
     return out
 
 
@@ -131,7 +128,7 @@ def _first_that_builds(devices: list[tuple[DeviceInfo, cl.Device]]) -> tuple[Dev
                 return info, dev
             failed.append(f"{info.label}: {problem}")
     listing = "\n  ".join(failed)
-    raise DeviceError(f"no OpenCL device can build kernels:\n  {listing}")
+    raise DeviceError(f"no OpenCL device can build kernels; {install_hint()}:\n  {listing}")
 
 
 def choose_device(spec: str | None = None) -> tuple[DeviceInfo, cl.Device]:

@@ -18,6 +18,7 @@ import pyopencl as cl
 from ..bvh import packets as bvh_packets
 from ..settings.table import kernel_defines
 from .device import Device
+from .source_inline import inline_includes
 
 MAIN_SOURCE = "restircl.cl"
 # Denormals flushed to zero: on x86 CPUs a float op on a denormal operand takes a microcode assist, and our records
@@ -80,8 +81,9 @@ def build_program(
     """Build (or fetch from the cache) the program for `flags`. `source` replaces the main file's text."""
     src_dir = opencl_dir()
     text = source if source is not None else (src_dir / MAIN_SOURCE).read_text()
-    # the array limits the kernels share with validate() come from the settings table
-    options = [f"-I{src_dir}", *BASE_OPTIONS, *format_options(kernel_defines()), *format_options(bvh_packets.defines()),
+    # the array limits the kernels share with validate() come from the settings table; no -I: the headers are
+    # written into the source (source_inline.py), as drivers split options at the spaces of an install path
+    options = [*BASE_OPTIONS, *format_options(kernel_defines()), *format_options(bvh_packets.defines()),
                *format_options(flags or {}),
                *extra_options]
     for opt in options:
@@ -91,10 +93,11 @@ def build_program(
     prog = _PROGRAMS.get(key)
     if prog is not None:
         return prog
+    name = MAIN_SOURCE if source is None else "program.cl"
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", cl.CompilerWarning)
-            prog = cl.Program(device.context, text).build(options=options)
+            prog = cl.Program(device.context, inline_includes(text, name, src_dir)).build(options=options)
     except cl.RuntimeError as exc:
         log = str(exc)
         m = _LOCATION.search(log)
