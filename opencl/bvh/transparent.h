@@ -20,6 +20,16 @@
 #ifndef RESTIRCL_BVH_TRANSPARENT_H
 #define RESTIRCL_BVH_TRANSPARENT_H
 
+/* The w of a frame's sample (the shading kernels write it): 1 where the camera ray stopped at a surface or a light,
+ * 0 where it went on to the world. A still render's mean of it is the pixel's coverage, Film > Transparent's alpha:
+ * seen through a surface of coverage a to the world, a. Without transparent surfaces it stays 1 (the film's alpha
+ * then comes from the depth). */
+#ifdef HAS_TRANSPARENCY
+#define film_coverage(g) ((g).pos.w < INFINITY ? 1.0f : 0.0f)
+#else
+#define film_coverage(g) 1.0f
+#endif
+
 #ifdef HAS_TRANSPARENCY
 
 #include "surface/alpha.h"
@@ -114,7 +124,9 @@ inline bool trace_any_transparent(const __global BVHNode* nodes, const __global 
 }
 
 #define trace_closest(nodes, tris, o, d, tmax) trace_closest_transparent(nodes, tris, o, d, tmax)
+#ifndef TEST_OPAQUE_SHADOWS  /* negative control of the tests only (tests/bias_controls.py): shadows ignore alpha */
 #define trace_any(nodes, tris, o, d, tmax) trace_any_transparent(nodes, tris, o, d, tmax)
+#endif
 
 #endif
 

@@ -59,7 +59,7 @@ __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySa
         }
     }
     direct_passes(light_passes, pixel_count, i, pass_d, pass_g, k_seen);
-    out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), 1.0f);
+    out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), film_coverage(gbuf[i]));
 }
 
 __kernel void shade_reference(const __global GSample* gbuf, const __global GlossySample* glossy, const __global BVHNode* nodes, const __global Tri* tris,
@@ -90,5 +90,5 @@ __kernel void shade_reference(const __global GSample* gbuf, const __global Gloss
         }
     }
     direct_passes(light_passes, pixel_count, i, pass_d, pass_g, k_seen);
-    out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), 1.0f);
+    out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), film_coverage(gbuf[i]));
 }

@@ -27,6 +27,19 @@ def _mean(colour) -> float:
 
 def split(terms: list[Term], notes: Notes) -> tuple[list[Term], object]:
     """(the terms with the transparent part taken out and renormalised, the coverage: a number or a texture)."""
+    out, coverage = _split(terms, notes)
+    from restircl.materials.alpha import AlphaError, alpha_source
+
+    try:
+        alpha_source(coverage)
+    except AlphaError:
+        notes.note(f"an alpha driven by a {type(coverage).__name__} node (only a constant or an Image Texture on "
+                   "the UV map) is left out: the surface renders opaque")
+        return [dataclasses.replace(t, closure=_opaque(t.closure)) if t.closure is not None else t for t in out], 1.0
+    return out, coverage
+
+
+def _split(terms: list[Term], notes: Notes) -> tuple[list[Term], object]:
     clear = [t for t in terms if t.transparent is not None]
     rest = [t for t in terms if t.transparent is None]
     closures = [t for t in rest if t.closure is not None]

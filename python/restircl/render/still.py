@@ -57,6 +57,7 @@ class StillAccumulation:
         self.sum = alloc(context, pixels * 16)
         self.sum_half = alloc(context, pixels * 16)
         self.counts = (0, 0)  # (samples accumulated, of which in half buffer 1)
+        self.coverage_summed = False  # the samples' w is the coverage (HAS_TRANSPARENCY builds)
         self.aux: tuple[cl.Buffer, ...] | None = None  # sums of the denoiser's albedo, normal and emission images
         self.light_planes: cl.Buffer | None = None  # each frame's light passes (render/light_passes.py), where on
         self.light_sums: cl.Buffer | None = None  # ... and their sums
@@ -106,6 +107,10 @@ class StillAccumulation:
 
     def _read(self, buf: cl.Buffer) -> np.ndarray:
         return read_image(self.kernels.device.queue, buf, self.shape).reshape(self.pixels, 4)
+
+    def coverage(self, done: int) -> np.ndarray:
+        """(H, W) mean of the samples' w: the film's alpha where rays pass through surfaces."""
+        return (self._read(self.sum)[:, 3] / max(done, 1)).reshape(self.shape).astype(np.float32)
 
     def mean_image(self) -> np.ndarray:
         """(H, W, 3) running mean of the still render in progress."""
@@ -274,6 +279,8 @@ def _result(r: FrameSource, frame: int, gbuf: cl.Buffer, stage: dict[str, float]
     out.stage_ms = {k: v / done for k, v in stage.items()}
     out.ms = (time.perf_counter() - t0) * 1e3 / done
     out.error_estimate = acc.error_estimate(done, n_half) if done >= 2 else None
+    if acc.coverage_summed:  # the samples' w: 1 where the camera ray stopped (bvh/transparent.h film_coverage)
+        out.coverage = acc.coverage(done)
     if r.settings.denoise:
         albedo, normal, emission = acc.aux_images(done)
         if denoise_frame(out, albedo, normal, emission):  # the passes show the guides the denoiser saw, as in Cycles
