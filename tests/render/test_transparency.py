@@ -145,3 +145,45 @@ def test_camera_rays_end_black_after_transparent_max_bounces(device):
     assert np.all(one.coverage == 0.0) and one.color[..., :3].mean() > 0.1
     seen_world = _stack(4, 5, world=True)  # no floor: the world, alpha 0
     assert np.all(seen_world.coverage == 0.0) and seen_world.color[..., :3].mean() > 0.1
+
+
+def test_a_thousand_stacked_cards_cost_a_bounded_time(device):
+    """Every ray meets a thousand cards of coverage 0.5, but passes at most Transparent Max Bounces (8) of them:
+    a frame costs a few times the frame of one card (3-4x measured at 32x24, load 18), far from a thousand."""
+    import time
+
+    from restircl.eval.scenes.alpha_cards import card_stack
+
+    def seconds(cards: int) -> float:
+        r = Renderer(card_stack(cards, 0.5, 32, 24, spacing=1e-3), Settings(method="ris"))
+        r.render_still(0, samples=2)
+        t0 = time.perf_counter()
+        f = r.render_still(0, samples=32)
+        assert np.isfinite(f.color).all()
+        return time.perf_counter() - t0
+
+    one, many = min(seconds(1) for _ in range(2)), min(seconds(1000) for _ in range(2))
+    assert many < 40 * one, (many, one)
+
+
+def test_the_primary_hit_is_the_first_surface_not_passed(device):
+    """The G-buffer that ReSTIR, TAA and the motion vectors read holds the first surface a camera ray stops at: where
+    the leaf image is cut out (alpha 0) the floor behind, exactly as without the leaves; where it is opaque, the
+    leaf."""
+    from restircl.eval.scenes.alpha_cards import alpha_cards
+
+    def depth(scene) -> np.ndarray:
+        return Renderer(scene, Settings(method="ris", jitter=False)).render_still(0, samples=1).depth
+
+    with_leaves = alpha_cards(48, 36, pane_alpha=1.0)
+    without = alpha_cards(48, 36, pane_alpha=1.0)
+    without.meshes = [m for m in without.meshes if not m.name.startswith("leaf")]
+    cards = alpha_cards(48, 36, pane_alpha=1.0)
+    cards.materials[1].alpha = 1.0  # the leaves' quads, opaque
+    d_leaves, d_plain, d_cards = depth(with_leaves), depth(without), depth(cards)
+    on_card = d_cards < d_plain
+    assert np.all((d_leaves >= d_cards) & (d_leaves <= d_plain))  # between the nearest quad and the floor
+    cut_out = on_card & (d_leaves > d_cards)  # through the nearest quad's cut-out, to another leaf or the floor
+    leaf = on_card & (d_leaves == d_cards)
+    assert cut_out.sum() > 10 and leaf.sum() > 10, (cut_out.sum(), leaf.sum())
+    assert np.all(d_leaves[~on_card] == d_plain[~on_card])

@@ -124,7 +124,11 @@ class DeviceScene:
         objects' history (compiled in by Renderer(interactive=True))."""
         if materials:
             self._textures = None
+            transparent = self.material_flags.get("HAS_TRANSPARENCY", False)
             self._upload_materials()
+            # coverage records live in the Tri array (upload/alpha.py): it goes up again where some coverage may have
+            # changed
+            geometry = geometry or transparent or self.material_flags["HAS_TRANSPARENCY"]
         if geometry or moved:
             self._geometry_key = None
         emissive = {i for i, m in enumerate(self.scene.materials) if m.is_emissive}
