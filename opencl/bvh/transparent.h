@@ -123,6 +123,31 @@ inline bool trace_any_transparent(const __global BVHNode* nodes, const __global 
     return h.prim >= 0;
 }
 
+/* The fraction of the light along a shadow ray that passes: the product of 1 - a over the surfaces it meets, 0 at
+ * an opaque one or past the bound (Cycles' transparent shadows, deterministic: direct/visibility.h transmittance). */
+inline float trace_transmittance(const __global BVHNode* nodes, const __global Tri* tris, float3 o, float3 d,
+                                 float tmax)
+{
+#ifdef TEST_OPAQUE_SHADOWS
+    return trace_any(nodes, tris, o, d, tmax) ? 0.0f : 1.0f;
+#else
+    if (!trace_any(nodes, tris, o, d, tmax)) return 1.0f;
+    float3 oo = o;
+    float travelled = 0.0f, through = 1.0f;
+    for (int k = 0; k <= TRANSPARENT_MAX_BOUNCES; ++k) {
+        Hit h = trace_closest(nodes, tris, oo, d, tmax - travelled);
+        if (h.prim < 0) return through;
+        if (k == TRANSPARENT_MAX_BOUNCES) return 0.0f;
+        through *= 1.0f - surface_coverage(tris, h.prim, h.u, h.v);
+        if (!(through > 0.0f)) return 0.0f;
+        travelled += h.t;
+        if (!(travelled < tmax)) return through;
+        oo = transparent_continue(tris, h, oo, d);
+    }
+    return 0.0f;
+#endif
+}
+
 #define trace_closest(nodes, tris, o, d, tmax) trace_closest_transparent(nodes, tris, o, d, tmax)
 #ifndef TEST_OPAQUE_SHADOWS  /* negative control of the tests only (tests/bias_controls.py): shadows ignore alpha */
 #define trace_any(nodes, tris, o, d, tmax) trace_any_transparent(nodes, tris, o, d, tmax)
