@@ -49,11 +49,13 @@ inline float transparent_uniform(float3 o, float3 d, int prim, int k)
     return (float)(h >> 8) * (1.0f / 16777216.0f);
 }
 
-/* Does the ray stop at hit h, the k-th surface it met? */
-inline bool transparent_stops(const __global Tri* tris, Hit h, float3 o, float3 d, int k)
+/* Does the ray stop at hit h, the k-th surface it met? u0 in [0, 1): the number of the first surface (k = 0), or
+ * negative to hash it as the others' */
+inline bool transparent_stops(const __global Tri* tris, Hit h, float3 o, float3 d, int k, float u0)
 {
     float a = surface_coverage(tris, h.prim, h.u, h.v);
-    return a >= 1.0f || transparent_uniform(o, d, h.prim, k) < a;
+    float u = k == 0 && u0 >= 0.0f ? u0 : transparent_uniform(o, d, h.prim, k);
+    return a >= 1.0f || u < a;
 }
 
 /* The origin that continues a ray past hit h at t along d: just off the triangle on the far side. */
@@ -70,7 +72,7 @@ inline float3 transparent_continue(const __global Tri* tris, Hit h, float3 o, fl
  * k >= TRANSPARENT_MAX_BOUNCES and k > 0 (Cycles counts passes: it ends the path at the surface after the pass
  * that reached the bound), that surface is returned and *ended set. */
 inline Hit trace_through(const __global BVHNode* nodes, const __global Tri* tris, float3 o, float3 d, float tmax,
-                         bool camera, bool* ended)
+                         bool camera, float u0, bool* ended)
 {
     float3 oo = o;
     float travelled = 0.0f;
@@ -79,7 +81,7 @@ inline Hit trace_through(const __global BVHNode* nodes, const __global Tri* tris
         Hit h = trace_closest(nodes, tris, oo, d, tmax - travelled);
         if (h.prim < 0) return h;
         bool bound = camera ? k > 0 && k >= TRANSPARENT_MAX_BOUNCES : k >= TRANSPARENT_MAX_BOUNCES;
-        if (bound || transparent_stops(tris, h, oo, d, k)) {
+        if (bound || transparent_stops(tris, h, oo, d, k, u0)) {
             *ended = bound;
             if (k > 0) h.t = dot3(oo + h.t * d - o, d) / dot3(d, d);
             return h;
@@ -100,15 +102,22 @@ inline Hit trace_closest_transparent(const __global BVHNode* nodes, const __glob
                                      float tmax)
 {
     bool ended;
-    return trace_through(nodes, tris, o, d, tmax, true, &ended);
+    return trace_through(nodes, tris, o, d, tmax, true, -1.0f, &ended);
 }
 
 /* A camera ray: as trace_closest_transparent, but a ray that reached the bound ends: prim TRANSPARENT_ENDED at the
- * surface where it ended. */
-inline Hit trace_camera(const __global BVHNode* nodes, const __global Tri* tris, float3 o, float3 d, float tmax)
+ * surface where it ended. Its choice at the first surface is stratified over the frames: the frame's point of the
+ * camera's sequence (Camera.jitter.z) turned by a hash of the pixel, so that a pixel behind a half-transparent pane
+ * sees pane and floor in even turns, as Cycles' stratified numbers make it (pure coins left 2-4x its error on the
+ * alpha scene); the surfaces behind draw hashed numbers (a second number of the same sequence would be tied to
+ * the first). */
+inline Hit trace_camera(const __global BVHNode* nodes, const __global Tri* tris, float3 o, float3 d, float tmax,
+                        float sequence, uint pixel)
 {
     bool ended;
-    Hit h = trace_through(nodes, tris, o, d, tmax, true, &ended);
+    float u0 = sequence + (float)(pcg_hash(pixel ^ 0x6a09e667u) >> 8) * (1.0f / 16777216.0f);
+    u0 = u0 >= 1.0f ? u0 - 1.0f : u0;
+    Hit h = trace_through(nodes, tris, o, d, tmax, true, u0, &ended);
     if (ended) h.prim = TRANSPARENT_ENDED;
     return h;
 }
@@ -119,7 +128,7 @@ inline bool trace_any_transparent(const __global BVHNode* nodes, const __global 
 {
     if (!trace_any(nodes, tris, o, d, tmax)) return false;  /* nothing on the way: the common case, cheaply */
     bool ended;
-    Hit h = trace_through(nodes, tris, o, d, tmax, false, &ended);
+    Hit h = trace_through(nodes, tris, o, d, tmax, false, -1.0f, &ended);
     return h.prim >= 0;
 }
 
