@@ -63,3 +63,13 @@ def test_tail_records():
     assert L.float_bits_to_int(tri0[0, 3:]).tolist() == [base]
     assert tail[texels - base].tolist() == [1.0, 0.0, 0.0, 0.0]  # alpha 255, 0 (and padding)
     assert len(tail) == texels - base + 1
+
+
+def test_scene_file_keeps_alpha(tmp_path):
+    from restircl.scene.file import load_scene, save_scene
+
+    save_scene(alpha_cards(8, 6), tmp_path / "alpha.json")
+    back = load_scene(tmp_path / "alpha.json", Scene)
+    leaf, pane = back.materials[1].alpha, back.materials[2].alpha
+    assert isinstance(leaf, ImageTexture) and leaf.alpha and leaf.image.shape == (32, 32, 4)
+    assert pane == 0.5 and back.materials[0].alpha == 1.0
