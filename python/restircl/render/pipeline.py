@@ -117,7 +117,6 @@ class Renderer:
         self.restir_gi = RestirGI(*stage, paths=self.paths)
         self.taa = Taa(*stage)
         self.still = StillAccumulation(self.kernels, self.pixels, (self.height, self.width))
-        self.still.coverage_summed = bool(self.flags.get("HAS_TRANSPARENCY"))
         if self.flags.get("HAS_LIGHT_PASSES"):  # the planes of the light passes (general builds write them too)
             self.buffers.light_passes = self.still.use_light_passes()
         self.pick_table = PickTable(self.kernels, self.pixels)

@@ -57,7 +57,6 @@ class StillAccumulation:
         self.sum = alloc(context, pixels * 16)
         self.sum_half = alloc(context, pixels * 16)
         self.counts = (0, 0)  # (samples accumulated, of which in half buffer 1)
-        self.coverage_summed = False  # the samples' w is the coverage (HAS_TRANSPARENCY builds)
         self.aux: tuple[cl.Buffer, ...] | None = None  # sums of the denoiser's albedo, normal and emission images
         self.light_planes: cl.Buffer | None = None  # each frame's light passes (render/light_passes.py), where on
         self.light_sums: cl.Buffer | None = None  # ... and their sums
@@ -144,6 +143,7 @@ class FrameSource(Protocol):
     history: History
     still: StillAccumulation
     qmc: tuple[int, int, int] | None  # FrameParams (qmc, qmc_index, qmc_key) of the next frame; None: its own
+    flags: dict  # the program's feature flags (render/features.py)
 
     @property
     def sample_buf(self) -> cl.Buffer: ...
@@ -279,7 +279,7 @@ def _result(r: FrameSource, frame: int, gbuf: cl.Buffer, stage: dict[str, float]
     out.stage_ms = {k: v / done for k, v in stage.items()}
     out.ms = (time.perf_counter() - t0) * 1e3 / done
     out.error_estimate = acc.error_estimate(done, n_half) if done >= 2 else None
-    if acc.coverage_summed:  # the samples' w: 1 where the camera ray stopped (bvh/transparent.h film_coverage)
+    if r.flags.get("HAS_TRANSPARENCY"):  # the samples' w: 1 where the camera ray stopped (transparent.h film_coverage)
         out.coverage = acc.coverage(done)
     if r.settings.denoise:
         albedo, normal, emission = acc.aux_images(done)
