@@ -31,7 +31,7 @@ def alpha_zero(full: bool) -> Case:
 
 def stacked_cards(full: bool) -> Case:
     """A thousand cards of coverage 0.5, 1 mm apart, over a lit floor: Transparent Max Bounces (8) bounds the work
-    of every ray; exhaustive reference. ReSTIR's biased mode darkens more than elsewhere (-26 % measured, 12x9):
+    of every ray; exhaustive reference. ReSTIR's biased mode darkens more than elsewhere (-26 to -29 %, 12x9):
     a shadow ray passes the stack by chance (bvh/transparent.h), and a neighbour whose ray was blocked counts in M
     with nothing; the unbiased modes re-test visibility and hold."""
     w, h = (32, 24) if full else (12, 9)
