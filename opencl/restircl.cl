@@ -5,6 +5,7 @@
 #include "sampling/rng.h"
 #include "sampling/qmc.h"
 #include "bvh/traverse.h"
+#include "bvh/transparent.h"
 #include "camera/camera.h"
 #include "lights/lights.h"
 #include "lights/camera_visible.h"

@@ -11,7 +11,9 @@ a test that asserts it rejects one of these builds.
 - TEST_REFERENCE_PDF_SCALE=s: the exhaustive `reference` method's light pdf times s (direct/direct.cl), for the
   check of the renderer against the independent numpy path tracer (render/test_path_reference.py).
 - PATH_ROULETTE_WITHOUT_DIVIDE, GI_WITHOUT_JACOBIAN: the path pass and ReSTIR GI (render/test_paths.py,
-  render/test_restir_gi.py)."""
+  render/test_restir_gi.py).
+- TEST_OPAQUE_SHADOWS: shadow rays stop at transparent and alpha-masked surfaces as at opaque ones
+  (bvh/transparent.h; render/test_transparency.py, blender/test_alpha_cycles.py)."""
 
 from __future__ import annotations
 

@@ -26,13 +26,13 @@ FROM_CYCLES = (
     ("clamp_direct", "sample_clamp_direct"),
     ("clamp_indirect", "sample_clamp_indirect"),
     ("light_threshold", "light_sampling_threshold"),
+    ("transparent_max_bounces", "transparent_max_bounces"),
 )
 # Cycles' Light Paths that restircl has no counterpart for yet: property, its label, and Cycles' default (used where
 # the property's own RNA default cannot be read); a value other than the default is reported, not applied
 NOT_APPLIED = (
     ("transmission_bounces", "Transmission bounces", 12),
     ("volume_bounces", "Volume bounces", 0),
-    ("transparent_max_bounces", "Transparent bounces", 8),
 )
 _DECLARED = {d.name: d for d in declared(Settings)}
 

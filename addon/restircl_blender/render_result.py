@@ -56,7 +56,8 @@ def _pass_data(frame, p, height: int, width: int) -> np.ndarray | None:
 
 
 def _combined(frame, height: int, width: int, film_transparent: bool) -> np.ndarray | None:
-    """RGBA of the image; with a transparent film, alpha 0 where the camera ray hits nothing."""
+    """RGBA of the image; with a transparent film, alpha 0 where the camera ray hits nothing (in a scene with
+    transparent surfaces, the share of the samples whose camera ray stopped at a surface)."""
     colour = _pass_data(frame, PASSES[0], height, width)
     if colour is None:
         return None
@@ -66,7 +67,10 @@ def _combined(frame, height: int, width: int, film_transparent: bool) -> np.ndar
     depth = getattr(frame, "depth", None)
     if depth is not None and np.shape(depth)[:2] != (height, width):
         depth = None
-    if film_transparent and depth is not None:
+    coverage = getattr(frame, "coverage", None)
+    if film_transparent and coverage is not None and np.shape(coverage)[:2] == (height, width):
+        colour[..., 3] = coverage  # the mean over the samples: a surface's coverage where rays pass through it
+    elif film_transparent and depth is not None:
         colour[..., 3] = np.isfinite(np.asarray(depth, dtype=np.float32)).reshape(height, width)
     elif not film_transparent:
         colour[..., 3] = 1.0

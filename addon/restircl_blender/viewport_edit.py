@@ -7,8 +7,8 @@ that only what changed is uploaded (DeviceScene.edit), and the history is droppe
   when an image changed); the history stays, except where a light switched or its power jumped (DeviceScene
   decides, as for animated lights);
 - another geometry (topology), a light added or removed: uploaded again and the history is dropped;
-- what the compiled kernels cannot show (a new light type, a material that becomes glossy, textured or
-  emissive, another world, objects added or removed): a new renderer.
+- what the compiled kernels cannot show (a new light type, a material that becomes glossy, textured,
+  emissive or transparent, another world, objects added or removed): a new renderer.
 No bpy here: the add-on fills SceneEdit from depsgraph.updates (viewport.py), tests fill it by hand."""
 
 from __future__ import annotations
@@ -45,16 +45,17 @@ def _geometry(mesh) -> tuple:
 
 def _kernel_needs(scene: Scene) -> tuple:
     """What of a scene decides the compiled kernels beyond the light array (features.py): the light types and
-    which materials are glossy, textured or emissive, the world."""
+    which materials are glossy, textured or emissive, whether any is transparent, the world."""
     from restircl.lights.camera_visible import camera_light_indices
     from restircl.lights.registry import type_of
+    from restircl.upload.alpha import scene_is_transparent
     from restircl.upload.materials import uses_glossy, uses_textures
 
     # the device light types (a square and a disk area light are two) and whether the camera sees any light
     light_types = sorted({type_of(lt).code for lt in scene.lights})
     return (light_types, bool(camera_light_indices(scene)), [uses_glossy(m) for m in scene.materials],
             [uses_textures(m) for m in scene.materials], [m.is_emissive for m in scene.materials],
-            fingerprint(env=scene.environment))
+            fingerprint(env=scene.environment), scene_is_transparent(scene))
 
 
 def _move(objects, name: str, matrix: np.ndarray) -> tuple[int, np.ndarray] | None:

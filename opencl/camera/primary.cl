@@ -28,7 +28,11 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
     float2 ray_px = (float2)((float)x + 0.5f + cam->jitter.x, (float)y + 0.5f + cam->jitter.y);
     float3 o, d;
     camera_ray(cam, ray_px.x, ray_px.y, &o, &d);
+#ifdef HAS_TRANSPARENCY  /* the first surface the ray does not pass (bvh/transparent.h) */
+    Hit hit = trace_camera(nodes, tris, o, d, INFINITY, cam->jitter.z, (uint)i);
+#else
     Hit hit = trace_closest(nodes, tris, o, d, INFINITY);
+#endif
     float3 sun_seen = (float3)(0.0f);  /* the suns a ray that misses sees (lights/camera_visible.h) */
 #ifdef HAS_CAMERA_LIGHTS
     if (camera_light_pixel(lights, camera_lights, cam, prev_cam, next_cam, o, d, hit.t,
@@ -45,6 +49,25 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
 #endif
     GSample g;
     g.motion = (float4)(0.0f);
+#ifdef HAS_TRANSPARENCY
+    if (hit.prim == TRANSPARENT_ENDED) {  /* past Transparent Max Bounces: the path ends here, black and opaque */
+        float3 p = o + hit.t * d;
+        g.pos = (float4)(p, camera_depth(cam, p));
+        g.normal = (float4)(-d, as_float(TRANSPARENT_ENDED));  /* below -1: not shaded */
+        g.gnormal = (float4)(-d, as_float(-1));
+        g.albedo = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
+        g.emission = (float4)(0.0f);
+        gbuf[i] = g;  /* motion.z = 0: no previous position */
+        vector[i] = (float4)(0.0f);
+#ifdef HAS_GLOSSY
+        glossy[i].wo = (float4)(-d, as_float(0));
+#endif
+#ifdef HAS_LIGHT_PASSES
+        light_pass_seen(light_passes, w * h, i, (float3)(0.0f), (float3)(0.0f), (float3)(0.0f), (float3)(0.0f));
+#endif
+        return;
+    }
+#endif
     if (hit.prim < 0) {
         g.pos = (float4)(0.0f, 0.0f, 0.0f, INFINITY);
         g.normal = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));

@@ -40,8 +40,9 @@ __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySa
                            bsdf, &rng, &q, &r, &e);
             res_finalize(&r, r.M);
             /* W > 0: a candidate of target > 0 was picked, and e holds its evaluation */
-            if (r.W > 0.0f && visible(nodes, tris, &s, &e))
-                c += direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) * r.W, clamp, &pass_d, &pass_g);
+            float v = 0.0f;  /* the transmittance: 1 or 0 but through transparent surfaces */
+            if (r.W > 0.0f && (v = transmittance(nodes, tris, &s, &e)) > 0.0f)
+                c += direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) * r.W * v, clamp, &pass_d, &pass_g);
             if (bsdf.mis_sample) {  /* the lights its ray meets, as one contribution */
                 float3 wi;
                 float3 m = bsdf_mis_sample(&s, lights, &lp, nodes, tris, tri_light, bsdf, &rng, &q, &wi);
@@ -54,12 +55,14 @@ __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySa
 #ifdef TEST_PICK_PDF_SCALE  /* negative controls of the tests only (tests/bias_controls.py): a wrong pdf */
             pdf *= TEST_PICK_PDF_SCALE;
 #endif
-            if (pdf > 0.0f && light_eval(&lights[light], uv.x, uv.y, s.x, s.n, &e) && visible(nodes, tris, &s, &e))
-                c += direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) / pdf, clamp, &pass_d, &pass_g);
+            float v = 0.0f;
+            if (pdf > 0.0f && light_eval(&lights[light], uv.x, uv.y, s.x, s.n, &e)
+                && (v = transmittance(nodes, tris, &s, &e)) > 0.0f)
+                c += direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) / pdf * v, clamp, &pass_d, &pass_g);
         }
     }
     direct_passes(light_passes, pixel_count, i, pass_d, pass_g, k_seen);
-    out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), 1.0f);
+    out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), film_coverage(gbuf[i]));
 }
 
 __kernel void shade_reference(const __global GSample* gbuf, const __global GlossySample* glossy, const __global BVHNode* nodes, const __global Tri* tris,
@@ -85,10 +88,12 @@ __kernel void shade_reference(const __global GSample* gbuf, const __global Gloss
             pdf *= TEST_REFERENCE_PDF_SCALE;
 #endif
             LightEval e;
-            if (pdf > 0.0f && light_eval(&lights[l], uv.x, uv.y, s.x, s.n, &e) && visible(nodes, tris, &s, &e))
-                c += direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) / pdf, clamp, &pass_d, &pass_g);
+            float v = 0.0f;
+            if (pdf > 0.0f && light_eval(&lights[l], uv.x, uv.y, s.x, s.n, &e)
+                && (v = transmittance(nodes, tris, &s, &e)) > 0.0f)
+                c += direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) / pdf * v, clamp, &pass_d, &pass_g);
         }
     }
     direct_passes(light_passes, pixel_count, i, pass_d, pass_g, k_seen);
-    out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), 1.0f);
+    out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), film_coverage(gbuf[i]));
 }

@@ -2,23 +2,54 @@
 #ifndef RESTIRCL_VISIBILITY_H
 #define RESTIRCL_VISIBILITY_H
 
-/* Shadow ray from surface s towards the light sample in e. The origin is moved off the surface by a bound of the
- * rounding error of the hit point p = v0 + u e1 + v e2 (RESTIRCL_OFFSET_ULPS epsilons of the largest magnitude in
- * that sum), the end off an emissive triangle by the same bound for the light sample (e->eps); other lights are not
+/* The shadow ray o + t d, 0 < t < tmax, from surface s towards the light sample in e (tmax 0: the sample is at
+ * the origin, nothing can block it). The origin is moved off the surface by a bound of the rounding error of
+ * the hit point p = v0 + u e1 + v e2 (RESTIRCL_OFFSET_ULPS epsilons of the largest magnitude in that sum), the end off an emissive triangle by the same bound for the light sample (e->eps); other lights are not
  * geometry and need no offset (the ray stops 1e-4 short of them). A bound relative to p alone (256 ulps of p) is 2 m
  * at 1e5 from the origin, and a light closer than that to a surface was found shadowed by the surface itself (the
  * stress case offset_1e5). */
-inline bool visible(const __global BVHNode* nodes, const __global Tri* tris, const Surface* s, const LightEval* e)
+inline void shadow_ray(const __global Tri* tris, const Surface* s, const LightEval* e, float3* o, float3* d,
+                       float* tmax)
 {
     Tri tri = tris[s->prim];
     float err = RESTIRCL_OFFSET_ULPS * FLT_EPSILON * (max_abs3(s->x) + max_abs3(tri.e1.xyz) + max_abs3(tri.e2.xyz));
-    float3 o = s->x + err * (dot3(s->ng, e->wi) >= 0.0f ? s->ng : -s->ng);
-    if (!finite_f(e->dist)) return !trace_any(nodes, tris, o, e->wi, INFINITY);
+    *o = s->x + err * (dot3(s->ng, e->wi) >= 0.0f ? s->ng : -s->ng);
+    *d = e->wi;
+    *tmax = INFINITY;
+    if (!finite_f(e->dist)) return;
     float3 t = e->pos + e->eps * e->nl;
-    float3 d = t - o;
-    float len = len3(d);
-    if (!(len > 0.0f)) return true;
-    return !trace_any(nodes, tris, o, d / len, len * 0.9999f);
+    float3 v = t - *o;
+    float len = len3(v);
+    *tmax = 0.0f;
+    if (!(len > 0.0f)) return;
+    *d = v / len;
+    *tmax = len * 0.9999f;
+}
+
+/* Is the light sample in e unblocked from surface s (the shadow ray of shadow_ray)? */
+inline bool visible(const __global BVHNode* nodes, const __global Tri* tris, const Surface* s, const LightEval* e)
+{
+    float3 o, d;
+    float tmax;
+    shadow_ray(tris, s, e, &o, &d, &tmax);
+    return !(tmax > 0.0f) || !trace_any(nodes, tris, o, d, tmax);
+}
+
+/* The fraction of light sample e that reaches s: visible()'s 1 or 0; in transparent builds the product of the
+ * transparencies of the surfaces on the way (bvh/transparent.h trace_transmittance), Cycles' transparent shadows,
+ * for the estimators whose shadow ray is the last word on the sample (the direct samplers, NEE at path vertices):
+ * no coin per surface to add noise. */
+inline float transmittance(const __global BVHNode* nodes, const __global Tri* tris, const Surface* s,
+                           const LightEval* e)
+{
+#ifdef HAS_TRANSPARENCY
+    float3 o, d;
+    float tmax;
+    shadow_ray(tris, s, e, &o, &d, &tmax);
+    return tmax > 0.0f ? trace_transmittance(nodes, tris, o, d, tmax) : 1.0f;
+#else
+    return visible(nodes, tris, s, e) ? 1.0f : 0.0f;
+#endif
 }
 
 /* Is sample y = (light, u, v) in the support of the reservoir of surface s: p-hat_s(y) > 0 and, when

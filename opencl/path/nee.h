@@ -43,8 +43,9 @@ inline float3 path_nee(const Surface* s, const __global Light* lights, const Lig
             c /= keep;
         }
     }
-    if (!(luminance(c) > 0.0f) || !visible(nodes, tris, s, &e)) return (float3)(0.0f);
-    return c;
+    float v;
+    if (!(luminance(c) > 0.0f) || !((v = transmittance(nodes, tris, s, &e)) > 0.0f)) return (float3)(0.0f);
+    return c * v;
 }
 
 #endif

@@ -22,5 +22,5 @@ __kernel void restir_shade(const __global GSample* gbuf, const __global GlossySa
         && (visible_known || visible(nodes, tris, &s, &e)))
         c += direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) * r.W, clamp, &pass_d, &pass_g);
     direct_passes(light_passes, pixel_count, i, pass_d, pass_g, k_seen);
-    out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), 1.0f);
+    out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), film_coverage(gbuf[i]));
 }

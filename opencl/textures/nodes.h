@@ -127,6 +127,7 @@ inline float4 texture_eval(const __global TexNode* nodes, const __global TexImag
             float3 c = tex_coords(&n, tp, &lod);
             out = texture_image(images, texels, n.in.w, c.xy, lod, n.op.y, n.op.z);
             if (n.blk.z) out.xyz = (float3)(tex_srgb_decode(out.x), tex_srgb_decode(out.y), tex_srgb_decode(out.z));
+            if (n.blk.w) out.xyz = (float3)(out.w);  /* the Alpha output */
             break;
         }
         case TEXNODE_CHECKER: {

@@ -123,7 +123,7 @@ class InputReader:
         if kind == "ShaderNodeValue":
             v = float(node.outputs[0].default_value)
             return (v, v, v) if want == COLOR else v
-        if kind == "ShaderNodeTexImage" and src.socket.identifier == "Color":
+        if kind == "ShaderNodeTexImage" and src.socket.identifier in ("Color", "Alpha"):
             return self._image(src)
         if kind == "ShaderNodeTexChecker":
             return self._checker(src, depth)
@@ -173,7 +173,7 @@ class InputReader:
                 self.notes.note(f"{what}: {prop} {v} is not supported; {table.get(v, list(table)[0])} is used")
         return ImageTexture(image=data[0], colorspace=data[1], interpolation=INTERPOLATIONS.get(
             node.interpolation, "Linear"), extension=EXTENSIONS.get(node.extension, "REPEAT"), coords=c.coords,
-            mapping=c.mapping, name=node.image.name)
+            mapping=c.mapping, name=node.image.name, alpha=src.socket.identifier == "Alpha")
 
     def _checker(self, src: Source, depth: int):
         from restircl import CheckerTexture

@@ -13,6 +13,7 @@ import numpy as np
 
 from .notes import Notes
 from .shaders import Term, Weight
+from .transparency import split
 
 BLACK = (0.0, 0.0, 0.0)
 
@@ -115,6 +116,7 @@ def _emission(terms: list[Term], notes: Notes) -> tuple[object, float]:
 
 def assemble(name: str, terms: list[Term], notes: Notes):
     """One Material named `name` from the terms of its surface."""
+    terms, coverage = split(terms, notes)
     closures = [t for t in terms if t.closure is not None]
     emitters = [t for t in terms if t.emission is not None]
     limit = _max_layers()
@@ -130,4 +132,4 @@ def assemble(name: str, terms: list[Term], notes: Notes):
     else:
         m = _two(closures[0].closure, closures[0].weight, closures[1].closure, closures[1].weight, notes)
     colour, strength = _emission(emitters, notes)
-    return dataclasses.replace(m, name=name, emission=colour, emission_strength=strength)
+    return dataclasses.replace(m, name=name, emission=colour, emission_strength=strength, alpha=coverage)

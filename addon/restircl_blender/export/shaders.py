@@ -20,7 +20,6 @@ PRINCIPLED_LOBES = (
     (("Anisotropic",), "anisotropy", 0.0),
     (("Thin Film Thickness",), "thin film", 0.0),
     (("Diffuse Roughness",), "diffuse roughness", 0.0),
-    (("Alpha",), "alpha (transparency)", 1.0),
 )
 GLOSSY_NODES = ("ShaderNodeBsdfGlossy", "ShaderNodeBsdfAnisotropic")
 # BSDFs we do not have, rendered as a diffuse of their colour (the nearest look under direct light)
@@ -48,6 +47,7 @@ class Term:
     closure: object = None  # restircl.Material (kind, albedo, ...) or None for an emission
     emission: object = None  # colour Input
     strength: float = 0.0
+    transparent: object = None  # a Transparent BSDF's colour (rgb), layers.py folds it into the coverage
 
 
 class ShaderReader:
@@ -86,6 +86,12 @@ class ShaderReader:
                          strength=strength)]
         if kind == "ShaderNodeBsdfPrincipled":
             return self._principled(node, src.stack, w, label)
+        if kind == "ShaderNodeBsdfTransparent":
+            colour = self.inputs.color(find_input(node, ("Color",)), src.stack)
+            if not isinstance(colour, tuple):
+                self.notes.note(f"{label}: a textured Transparent colour is taken as white")
+                colour = (1.0, 1.0, 1.0)
+            return [Term(w, label, transparent=colour)]
         closure = self._bsdf(node, src.stack, label)
         return [] if closure is None else [Term(w, label, closure=closure)]
 
@@ -148,7 +154,12 @@ class ShaderReader:
                               f"{label} Specular IOR Level"),
             specular_tint=inp.color(find_input(node, ("Specular Tint",)), stack),
             distribution=self._distribution(node, label))
+        alpha = find_input(node, ("Alpha",))
+        if alpha is not None:
+            closure.alpha = inp.unit(alpha, stack, f"{label} Alpha")
         terms = [Term(w, label, closure=closure)]
+        if isinstance(closure.alpha, float):  # Cycles scales the emission by the Alpha too
+            w = w.scaled(closure.alpha)
         strength_in = find_input(node, ("Emission Strength",))
         strength = inp.constant(strength_in, stack, f"{label} Emission Strength") if strength_in else 0.0
         if strength < 0:

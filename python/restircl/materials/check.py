@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from . import textures as tx
+from .alpha import AlphaError, alpha_source
 from .closures.registry import KINDS
 from .material import DISTRIBUTIONS, MAX_LAYERS, Material
 from .textures import COORDS, EXTENSIONS, INTERPOLATIONS, MIX_BLENDS, CheckerTexture, ImageTexture, MixColor, NormalMap
@@ -47,9 +48,19 @@ def check_material(m: Material) -> None:
     else:
         _check_closure(m)
     _check_input(m.emission, "emission", colour=True)
+    _check_alpha(m.alpha)
     if not isinstance(m.emission_strength, int | float) or not math.isfinite(m.emission_strength) \
             or m.emission_strength < 0:
         raise MaterialError(f"emission_strength must be finite and >= 0, got {m.emission_strength!r}")
+
+
+def _check_alpha(value: object) -> None:
+    try:
+        source = alpha_source(value)  # type: ignore[arg-type]
+    except AlphaError as exc:
+        raise MaterialError(str(exc)) from None
+    if source.image is not None:
+        check_node(value, "alpha")
 
 
 def _check_closure(m: Material) -> None:

@@ -12,7 +12,8 @@ from .material import Material
 from .textures import TEXTURE_TYPES, is_texture
 
 NODE_TYPES = {t.__name__: t for t in TEXTURE_TYPES}
-_VALUE_FIELDS = ("albedo", "emission", "metallic", "roughness", "specular", "specular_tint", "normal", "mix")
+_VALUE_FIELDS = ("albedo", "emission", "metallic", "roughness", "specular", "specular_tint", "normal", "mix",
+                 "alpha")
 
 
 class MaterialWriter:

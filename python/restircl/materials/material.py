@@ -11,6 +11,9 @@ A Material with `layers` [a, b] (Materials without layers of their own; at most 
 Mix Shader when `mix` is set, (1 - mix) a + mix b, with `mix` a constant or a texture; Add Shader, a + b, when
 `mix` is None. Its own closure fields are then unused. Emission (emission * emission_strength) belongs to the
 Material itself, not to a layer.
+`alpha` is the surface's coverage (the Principled BSDF's Alpha, or the share of a Mix Shader that is not a
+Transparent BSDF): the surface is alpha x (its closures and emission) + (1 - alpha) x a white Transparent BSDF, as
+Cycles mixes them; a constant, or an image's alpha or grey (materials/alpha.py says which forms).
 """
 
 from __future__ import annotations
@@ -44,6 +47,7 @@ class Material:
     normal: Input | None = None  # a NormalMap node, or None for the mesh's shading normal
     layers: list[Material] = field(default_factory=list)
     mix: Input | None = None
+    alpha: Input = 1.0  # coverage: 1 opaque, 0 fully transparent (materials/alpha.py)
 
     @property
     def radiance(self) -> np.ndarray:

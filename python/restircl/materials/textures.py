@@ -43,7 +43,8 @@ RAMP_INTERPOLATIONS = ("LINEAR", "CONSTANT", "EASE")  # Color Ramp interpolation
 class ImageTexture:
     """Blender's Image Texture node. `image`: an (H, W) / (H, W, 1..4) array (uint8, uint16 or float; float is taken
     as stored, integers as value / max) or a path to a PNG/JPEG/EXR/HDR file, read at upload. sRGB images are
-    decoded to linear on upload; `alpha` of the node is not used."""
+    decoded to linear on upload. `alpha`: the node's Alpha output (a number: the image's alpha channel, 1 where it
+    has none) instead of Color."""
 
     image: np.ndarray | str | Path
     colorspace: str = "sRGB"
@@ -52,6 +53,7 @@ class ImageTexture:
     coords: str = "uv"
     mapping: np.ndarray | None = None
     name: str = ""
+    alpha: bool = False
 
 
 @dataclass
@@ -175,7 +177,7 @@ TEXTURE_TYPES = (ImageTexture, CheckerTexture, MixColor, NormalMap, SeparateColo
 
 def gives_number(node: object) -> bool:
     """Whether a texture node's output is a number (a value input reads it as it is, not as a colour's grey)."""
-    if isinstance(node, ColorRamp):
+    if isinstance(node, ColorRamp | ImageTexture):
         return bool(node.alpha)
     return isinstance(node, SeparateColor | Math) or (isinstance(node, VectorMath) and node.op in VECTOR_VALUE_OPS)
 

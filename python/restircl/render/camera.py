@@ -25,9 +25,20 @@ def jitter(frame: int) -> tuple[float, float]:
     return halton(k, 2) - 0.5, halton(k, 3) - 0.5
 
 
+GOLDEN = 0.6180339887498949  # frac of the golden ratio: the most even 1D sequence over consecutive indices
+
+
+def camera_sequence(sample: int, seed: int) -> float:
+    """The frame's point in [0, 1) of a golden-ratio sequence over the sample index, shifted by the seed: it
+    stratifies the camera rays' choice at the first transparent surface over the frames (bvh/transparent.h)."""
+    v = (sample * GOLDEN + (seed * 0.41421356237309503) % 1.0) % 1.0
+    return float(np.nextafter(np.float32(1.0), np.float32(0.0))) if np.float32(v) >= 1.0 else v
+
+
 def camera_record(cam: Camera, frame: int, jitter_px: tuple[float, float] = (0.0, 0.0),
-                  texture_full: bool = False) -> np.ndarray:
-    """texture_full: the camera's rays read images at full resolution (render/plan.py texture_full)."""
+                  texture_full: bool = False, sequence: float = 0.0) -> np.ndarray:
+    """texture_full: the camera's rays read images at full resolution (render/plan.py texture_full). sequence: the
+    frame's point of camera_sequence (jitter.z)."""
     m = Scene.at(cam.transforms, frame)
     right = m[:3, 0] / np.linalg.norm(m[:3, 0])
     fwd = -m[:3, 2] / np.linalg.norm(m[:3, 2])
@@ -42,6 +53,7 @@ def camera_record(cam: Camera, frame: int, jitter_px: tuple[float, float] = (0.0
     rec["lens"][0] = cam.view_plane()
     rec["kind"] = CAMERA_TYPES.index(cam.type)
     rec["jitter"][0, :2] = jitter_px
+    rec["jitter"][0, 2] = sequence
     rec["width"] = cam.width
     rec["height"] = cam.height
     rec["texture_full"] = int(texture_full)

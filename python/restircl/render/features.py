@@ -13,8 +13,9 @@ from ..upload.device_scene import DeviceScene
 from .plan import stills_use_pick_table
 
 LIGHT_FLAGS = FEATURE_FLAGS  # light type code -> HAS_<TYPE>_LIGHTS, from each type's entry (restircl.lights)
-# HAS_GLOSSY: some material has a specular lobe; HAS_TEXTURES: some material input is a texture node
-MATERIAL_FLAGS = ("HAS_GLOSSY", "HAS_TEXTURES")
+# HAS_GLOSSY: some material has a specular lobe; HAS_TEXTURES: some material input is a texture node;
+# HAS_TRANSPARENCY: some material's coverage is below 1 (materials/alpha.py: rays pass through, bvh/transparent.h)
+MATERIAL_FLAGS = ("HAS_GLOSSY", "HAS_TEXTURES", "HAS_TRANSPARENCY")
 # HAS_LIGHT_TREE: RIS candidates (Settings.light_proposal) or NEE at path vertices (Settings.path_light_pick) come
 # from the light tree (lights/tree.py)
 # HAS_CAMERA_LIGHTS: camera rays test the lights visible to the camera that have a shape (lights/camera_visible.py)
@@ -61,18 +62,26 @@ def renderer_flags(scene: Scene, ds: DeviceScene, settings: Settings, *, interac
     else every feature. interactive: the view may change and objects move by edits (Renderer's interactive).
     light_tree: RIS candidates come from the tree; path_light_tree: NEE at path vertices does."""
     if not settings.specialise:
-        return general_flags()
+        return with_transparent_bound(general_flags(), settings)
     cam = scene.camera
     # a camera animation whose transforms are all equal does not move: no motion vectors to compile
     moving_camera = interactive or (cam is not None and bool(np.any(cam.transforms != cam.transforms[:1])))
     # a light the camera sees that moves needs motion vectors of its own
     moving = moving_camera or ds.moving_objects or (ds.moving_lights and bool(ds.camera_lights))
-    return derive_flags(ds.lights.type_set, moving, ds.moving_objects or interactive, ds.material_flags,
-                        light_tree or path_light_tree,
-                        camera_lights=bool(ds.camera_lights),
-                        pick_table=stills_use_pick_table(settings, ds.sampled_light_count, light_tree),
-                        paths=settings.max_bounces > 0, gi_reuse=settings.gi_reuse,
-                        light_passes=settings.light_passes)
+    return with_transparent_bound(derive_flags(ds.lights.type_set, moving, ds.moving_objects or interactive,
+                                               ds.material_flags, light_tree or path_light_tree,
+                                               camera_lights=bool(ds.camera_lights),
+                                               pick_table=stills_use_pick_table(settings, ds.sampled_light_count,
+                                                                                light_tree),
+                                               paths=settings.max_bounces > 0, gi_reuse=settings.gi_reuse,
+                                               light_passes=settings.light_passes), settings)
+
+
+def with_transparent_bound(flags: dict, settings: Settings) -> dict:
+    """The flags, with Light Paths > Transparent (the -D TRANSPARENT_MAX_BOUNCES) where rays pass surfaces."""
+    if flags.get("HAS_TRANSPARENCY"):
+        flags["TRANSPARENT_MAX_BOUNCES"] = int(settings.transparent_max_bounces)
+    return flags
 
 
 def describe(flags: dict[str, bool]) -> list[str]:

@@ -39,6 +39,7 @@ class Frame:
     glossy_color: np.ndarray | None = None
     emission: np.ndarray | None = None
     environment: np.ndarray | None = None
+    coverage: np.ndarray | None = None  # (H, W) still renders of transparent scenes: the mean coverage (film alpha)
 
 
 class DeviceFrame(NamedTuple):

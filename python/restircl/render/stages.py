@@ -22,7 +22,7 @@ from ..core.kernels import Kernels
 from ..scene.camera import Camera
 from ..settings.table import BOILING_MODES, TAA_FILTERS
 from ..upload.device_scene import DeviceScene
-from .camera import camera_record
+from .camera import camera_record, camera_sequence
 from .history import History
 from .plan import FramePlan
 
@@ -113,7 +113,9 @@ class Primary(Stage):
         """prev_camera: the previous frame's camera where it is another one (an interactive view)."""
         q, b, h = self.kernels.device.queue, self.buffers, self.history
         cl.enqueue_copy(q, b.cameras[0], camera_record(camera, state.plan.frame, state.jitter,
-                                                         state.plan.texture_full))
+                                                         state.plan.texture_full,
+                                                         camera_sequence(int(state.frame_params["sample"]),
+                                                                         int(state.frame_params["seed"]))))
         cl.enqueue_copy(q, b.cameras[1], camera_record(prev_camera or camera, state.plan.prev_frame))
         cl.enqueue_copy(q, b.cameras[2], camera_record(camera, state.plan.next_frame))
         self.kernels.launch("primary", image_size(state), cam=b.cameras[0],

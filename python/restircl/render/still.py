@@ -107,6 +107,10 @@ class StillAccumulation:
     def _read(self, buf: cl.Buffer) -> np.ndarray:
         return read_image(self.kernels.device.queue, buf, self.shape).reshape(self.pixels, 4)
 
+    def coverage(self, done: int) -> np.ndarray:
+        """(H, W) mean of the samples' w: the film's alpha where rays pass through surfaces."""
+        return (self._read(self.sum)[:, 3] / max(done, 1)).reshape(self.shape).astype(np.float32)
+
     def mean_image(self) -> np.ndarray:
         """(H, W, 3) running mean of the still render in progress."""
         return self._read(self.sum).reshape(*self.shape, 4)[..., :3] / max(self.counts[0], 1)
@@ -139,6 +143,7 @@ class FrameSource(Protocol):
     history: History
     still: StillAccumulation
     qmc: tuple[int, int, int] | None  # FrameParams (qmc, qmc_index, qmc_key) of the next frame; None: its own
+    flags: dict  # the program's feature flags (render/features.py)
 
     @property
     def sample_buf(self) -> cl.Buffer: ...
@@ -274,6 +279,8 @@ def _result(r: FrameSource, frame: int, gbuf: cl.Buffer, stage: dict[str, float]
     out.stage_ms = {k: v / done for k, v in stage.items()}
     out.ms = (time.perf_counter() - t0) * 1e3 / done
     out.error_estimate = acc.error_estimate(done, n_half) if done >= 2 else None
+    if r.flags.get("HAS_TRANSPARENCY"):  # the samples' w: 1 where the camera ray stopped (transparent.h film_coverage)
+        out.coverage = acc.coverage(done)
     if r.settings.denoise:
         albedo, normal, emission = acc.aux_images(done)
         if denoise_frame(out, albedo, normal, emission):  # the passes show the guides the denoiser saw, as in Cycles

@@ -20,6 +20,7 @@ from ..lights.device_lights import DeviceLights, scene_lights
 from ..lights.hit import analytic_light_count, triangle_lights
 from ..lights.tree import LightTree, build_light_tree
 from ..scene.scene import Scene
+from .alpha import scene_is_transparent, with_transparency
 from .ggx_tables import ggx_tables
 from .materials import pack_materials
 from .textures import LoadedImage, PackedTextures, TexturePacker, warn_missing_uv_maps, warn_textured_emission
@@ -123,7 +124,11 @@ class DeviceScene:
         objects' history (compiled in by Renderer(interactive=True))."""
         if materials:
             self._textures = None
+            transparent = self.material_flags.get("HAS_TRANSPARENCY", False)
             self._upload_materials()
+            # coverage records live in the Tri array (upload/alpha.py): it goes up again where some coverage may have
+            # changed
+            geometry = geometry or transparent or self.material_flags["HAS_TRANSPARENCY"]
         if geometry or moved:
             self._geometry_key = None
         emissive = {i for i, m in enumerate(self.scene.materials) if m.is_emissive}
@@ -146,6 +151,7 @@ class DeviceScene:
         tris["e2"][:, 3] = L.int_bits(world.object[bvh.order])
         self.bvh_seconds = time.perf_counter() - t0
         nodes, tris_dev = device_arrays(bvh.nodes, tris)
+        tris_dev = with_transparency(self.scene, tris_dev, world, bvh.order)
         self.nodes_buf = upload(self.context, nodes)
         self.tris_buf = upload(self.context, tris_dev)
         self.triangle_count = len(world)
@@ -167,7 +173,8 @@ class DeviceScene:
         same_images = bool(self.textures) and packer.image_keys == list(self._images)
         tex = packer.packed(texels=not same_images)
         self.nonfinite_texels = tex.nonfinite_texels
-        self.material_flags = {"HAS_GLOSSY": packed.glossy, "HAS_TEXTURES": packed.textured}
+        self.material_flags = {"HAS_GLOSSY": packed.glossy, "HAS_TEXTURES": packed.textured,
+                               "HAS_TRANSPARENCY": scene_is_transparent(self.scene)}
         self.materials_buf = upload(self.context, packed.materials)
         self.closures_buf = upload(self.context, packed.closures)
         if same_images:

@@ -218,6 +218,7 @@ class TexturePacker:
             r["op"][2] = EXTENSIONS.index(node.extension)
             r["in"][3], encoded = self._image(node, label)
             r["blk"][2] = int(encoded)
+            r["blk"][3] = int(tx.gives_number(node))  # the Alpha output
         elif isinstance(node, CheckerTexture):
             r["p"][0] = float(node.scale)
         elif isinstance(node, MixColor):

@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from ...scene.scene import Scene
+from .alpha import apply_alpha, write_uvs
 from .materials import is_plain_diffuse, material_to_bpy
 from .world import world_to_bpy
 
@@ -111,6 +112,8 @@ def to_bpy(scene: Scene, frame: int = 0):
         world_to_bpy(bpy, sc, scene.environment)
     mats = [_material(bpy, m) if is_plain_diffuse(m) else material_to_bpy(bpy, m, node_material)
             for m in scene.materials]
+    for bmat, m in zip(mats, scene.materials, strict=True):
+        apply_alpha(bpy, bmat, m)
     for mesh in scene.meshes:
         if len(mesh.triangles) == 0:
             continue
@@ -118,6 +121,7 @@ def to_bpy(scene: Scene, frame: int = 0):
         verts = mesh.vertices @ m[:3, :3].T + m[:3, 3]
         me = bpy.data.meshes.new(mesh.name)
         me.from_pydata(verts.tolist(), [], mesh.triangles.tolist())
+        write_uvs(me, mesh)
         used, local = np.unique(mesh.material_ids, return_inverse=True)
         for i in used:
             me.materials.append(mats[int(i)])

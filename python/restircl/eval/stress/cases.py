@@ -40,6 +40,7 @@ class Case:
     long_warmup: int = 100  # long: frames before the batches start
     convergence: tuple[int, ...] = ()  # still: frame counts whose relMSE must fall as 1 / N (stress/convergence.py)
     convergence_runs: int = 8  # independent runs the relMSE at each of those counts is averaged over
+    biased_darkening: float | None = None  # the biased mode's darkening allowed here (None: judging.BIASED_DARKENING)
 
 
 def _floor(size: float = 4.0, material: int = 0, z: float = 0.0) -> Mesh:

@@ -169,7 +169,7 @@ def _judge(case: Case, method: str, values: np.ndarray, ref: Reference, nonfinit
     elif METHODS[method].get("bias_correction") == "none":
         # biased mode: no brighter than the reference beyond noise, darker by at most BIASED_DARKENING
         rb_se = img_se / abs(ref_img) if ref_img else 0.0
-        ok = -BIASED_DARKENING - Z * rb_se <= rel_bias <= Z * rb_se
+        ok = -(case.biased_darkening or BIASED_DARKENING) - Z * rb_se <= rel_bias <= Z * rb_se
         if not ok:
             notes.append(f"biased mode off by {rel_bias:+.3f} (+-{rb_se:.3f})")
         passed &= ok
