@@ -13,6 +13,7 @@
 #include "lights/tree.h"
 #include "sampling/reservoir.h"
 #include "surface/surface.h"
+#include "lights/linking.h"
 #include "textures/point.h"
 #include "textures/image.h"
 #include "textures/nodes.h"

@@ -82,7 +82,7 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
     GlossySample gx;
     hit_gsample(&sc, hit, d, cam->texture_full ? 0.0f : camera_footprint(cam, d, hit.t), &g, &gx);
     float3 p = g.pos.xyz;
-    int obj = as_int(g.albedo.w);
+    int obj = as_int(g.albedo.w) & LINK_OBJECT_MASK;
     g.pos.w = camera_depth(cam, p);
 #ifdef HAS_GLOSSY
     if (materials[as_int(g.gnormal.w)].info.y > 0)  /* a material with closures: its resolved record, whole */

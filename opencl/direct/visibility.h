@@ -10,15 +10,20 @@
  * stress case offset_1e5). */
 inline bool visible(const __global BVHNode* nodes, const __global Tri* tris, const Surface* s, const LightEval* e)
 {
+#ifdef HAS_LIGHT_LINKING
+    const uint2 blockers = e->blockers;  /* the objects that shadow this light (lights/linking.h) */
+#else
+    const uint2 blockers = (uint2)(0xFFFFFFFFu);
+#endif
     Tri tri = tris[s->prim];
     float err = RESTIRCL_OFFSET_ULPS * FLT_EPSILON * (max_abs3(s->x) + max_abs3(tri.e1.xyz) + max_abs3(tri.e2.xyz));
     float3 o = s->x + err * (dot3(s->ng, e->wi) >= 0.0f ? s->ng : -s->ng);
-    if (!finite_f(e->dist)) return !trace_any(nodes, tris, o, e->wi, INFINITY);
+    if (!finite_f(e->dist)) return !trace_any_of(nodes, tris, o, e->wi, INFINITY, blockers);
     float3 t = e->pos + e->eps * e->nl;
     float3 d = t - o;
     float len = len3(d);
     if (!(len > 0.0f)) return true;
-    return !trace_any(nodes, tris, o, d / len, len * 0.9999f);
+    return !trace_any_of(nodes, tris, o, d / len, len * 0.9999f, blockers);
 }
 
 /* Is sample y = (light, u, v) in the support of the reservoir of surface s: p-hat_s(y) > 0 and, when

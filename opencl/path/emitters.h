@@ -8,11 +8,11 @@
 #define RESTIRCL_PATH_EMITTERS_H
 
 /* The BSDF-ray term of light `index` (record rec, sample uv) met from s. */
-inline float3 path_emitter_term(const Surface* s, const __global Light* rec, int type, int index, float2 uv,
-                                const LightPick* lp, BsdfSource hits, float hit_t, bool escaped)
+inline float3 path_emitter_term(const Surface* s, const __global Light* lights, const __global Light* rec, int type,
+                                int index, float2 uv, const LightPick* lp, BsdfSource hits, float hit_t, bool escaped)
 {
     LightEval e;
-    if (!light_eval(rec, uv.x, uv.y, s->x, s->n, &e)) return (float3)(0.0f);
+    if (!light_eval(rec, uv.x, uv.y, s->x, s->n, &e) || !light_links(lights, rec, s, &e)) return (float3)(0.0f);
     /* met before the surface the ray hit, or, at infinity, only by a ray that escaped */
     if (finite_f(e.dist) ? !(e.dist < hit_t) : !escaped) return (float3)(0.0f);
     float p_bsdf = path_bsdf_pdf(s, rec, type, index, hits, &e);
@@ -33,14 +33,15 @@ inline float3 path_emitters(const Surface* s, float3 wi, Hit h, const __global L
         int type = light_type(rec);
         float2 uv;
         if (light_hittable(rec, type, l, hits.analytic, hits.triangles) && light_hit(rec, type, s->x, wi, &uv))
-            c += path_emitter_term(s, rec, type, l, uv, lp, hits, hit_t, escaped);
+            c += path_emitter_term(s, lights, rec, type, l, uv, lp, hits, hit_t, escaped);
     }
 #ifdef HAS_TRIANGLE_LIGHTS
     if (hits.triangles && !escaped) {
         int l = tri_light[h.prim];
         /* the triangle itself is the hit: no distance test (its own point, rounded, may lie a hair beyond h.t) */
         if (l >= 0)
-            c += path_emitter_term(s, &lights[l], LIGHT_TRIANGLE, l, triangle_uv(h.u, h.v), lp, hits, INFINITY, true);
+            c += path_emitter_term(s, lights, &lights[l], LIGHT_TRIANGLE, l, triangle_uv(h.u, h.v), lp, hits,
+                                   INFINITY, true);
     }
 #else
     (void)tri_light;

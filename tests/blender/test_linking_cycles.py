@@ -1,0 +1,68 @@
+"""Light and shadow linking against Cycles: the scene of tests/lights/linking_scene.py (a light that lights one object
+only and is not shadowed by the plank, a light that excludes that object, an emissive mesh that excludes the plank),
+rendered by Cycles with the same links (restircl.eval.cycles.bridge.to_bpy writes them as Blender's receiver and
+blocker collections). Converged agreement of the still estimators with direct light, and of the path pass with
+bounces; the negative controls (the kernels built ignoring the blockers, or the receivers) fail the same bound."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+
+from restircl import Renderer, Settings  # noqa: E402
+from restircl.eval.cycles import bridge as cycles  # noqa: E402
+
+from ..bias_controls import built_with  # noqa: E402
+from ..lights.linking_scene import linking_scene, rel_mse  # noqa: E402
+
+pytestmark = pytest.mark.blender
+
+BOUND = 0.01  # relMSE, as tests/blender/test_blender_cycles.py
+
+
+@pytest.fixture(scope="module")
+def cycles_direct() -> np.ndarray:
+    return cycles.render(cycles.to_bpy(linking_scene()), samples=256, seed=1, threads=2).image
+
+
+def _check(ours: np.ndarray, cyc: np.ndarray, label: str, record_property) -> float:
+    err = rel_mse(ours, cyc)
+    record_property("relmse", err)
+    print(f"{label}: relMSE {100 * err:.4f} %  sum ours/cycles {ours.sum() / cyc.sum():.4f}")
+    return err
+
+
+def test_blender_links_the_lights_as_the_scene_says():
+    sc = cycles.to_bpy(linking_scene())
+    key = bpy.data.objects["key"].light_linking
+    states = {e.name: c.light_linking.link_state
+              for e, c in zip(key.receiver_collection.objects, key.receiver_collection.collection_objects,
+                              strict=True)}
+    assert states == {"floor_a": "INCLUDE"}
+    assert [o.name for o in key.blocker_collection.objects] == ["plank"]
+    assert bpy.data.objects["glow"].light_linking.receiver_collection.collection_objects[0].light_linking.link_state \
+        == "EXCLUDE"
+    assert sc.camera is not None
+
+
+@pytest.mark.parametrize("method", ["reference", "ris", "restir"])
+def test_linked_lights_agree_with_cycles(method, cycles_direct, record_property):
+    ours = Renderer(linking_scene(), Settings(method=method, seed=2)).render_still(0, samples=256).color[..., :3]
+    assert _check(ours, cycles_direct, method, record_property) < BOUND
+
+
+@pytest.mark.parametrize("control", ["TEST_LINKING_WITHOUT_BLOCKERS", "TEST_LINKING_WITHOUT_RECEIVERS"])
+def test_links_ignored_fail_the_agreement(monkeypatch, control, cycles_direct, record_property):
+    built_with(monkeypatch, control)
+    ours = Renderer(linking_scene(), Settings(method="ris", seed=2)).render_still(0, samples=256).color[..., :3]
+    assert _check(ours, cycles_direct, control, record_property) > BOUND
+
+
+def test_linked_lights_with_bounces_agree_with_cycles(record_property):
+    sc = linking_scene()
+    st = Settings(method="ris", seed=2, max_bounces=2)
+    cyc = cycles.render(cycles.to_bpy(sc), samples=1024, seed=1, threads=2, paths=st).image
+    ours = Renderer(sc, st).render_still(0, samples=512).color[..., :3]
+    assert _check(ours, cyc, "paths, 2 bounces", record_property) < BOUND
