@@ -12,6 +12,7 @@ from restircl import Renderer, Scene, Settings
 from restircl.lights import linking
 from restircl.lights.device_lights import scene_lights
 from restircl.scene.errors import SceneError
+from restircl.scene.file import load_scene, save_scene
 from restircl.scene.linking import Linking
 
 from .linking_scene import linking_scene, quad
@@ -142,3 +143,12 @@ def test_the_region_check_sees_links_ignored(monkeypatch, control, broken):
     got, want = regions[broken]
     print(f"{control}: {broken} linked {got:.4f}, expected {want:.4f}")
     assert abs(got / want - 1) > 0.05
+
+
+def test_the_scene_file_keeps_the_links(tmp_path):
+    sc = linking_scene()
+    save_scene(sc, tmp_path / "linked.npz")
+    back = load_scene(tmp_path / "linked.npz", Scene)
+    assert [lt.linking for lt in back.lights] == [lt.linking for lt in sc.lights]
+    assert [m.linking for m in back.meshes] == [m.linking for m in sc.meshes]
+    assert back.lights[0].linking.receivers == {"floor_a": "INCLUDE"}

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .convert import matrix
+from .linking import read_linking
 from .material import MaterialTable
 from .motion import Frames, fill_gaps, instance_key, transforms
 
@@ -41,6 +42,7 @@ class _Record:
     track: list  # object-to-world matrix per sampled frame
     uvs: np.ndarray | None = None
     normals: np.ndarray | None = None
+    linking: object = None  # restircl Linking of the object as an emitter (export/linking.py), None: none
 
 
 class MeshReader:
@@ -81,7 +83,8 @@ class MeshReader:
             self._probes[ob.name] = (len(geo.vertices), _digest(geo.vertices))
         self._by_key[instance_key(inst)] = len(self._records)
         self._records.append(_Record(ob.name, geo.vertices, geo.triangles, tri_ids,
-                                     self.frames.track(matrix(inst.matrix_world)), uvs, geo.normals))
+                                     self.frames.track(matrix(inst.matrix_world)), uvs, geo.normals,
+                                     read_linking(ob)))
         self.instances += int(inst.is_instance)
 
     def sample(self, inst, k: int) -> None:
@@ -106,7 +109,8 @@ class MeshReader:
         for r in self._records:
             fill_gaps(r.track)
         return [restircl.Mesh(name=r.name, vertices=r.vertices, triangles=r.triangles, material_ids=r.material_ids,
-                              transforms=transforms(r.track), uvs=r.uvs, normals=r.normals) for r in self._records]
+                              transforms=transforms(r.track), uvs=r.uvs, normals=r.normals,
+                              **({} if r.linking is None else {"linking": r.linking})) for r in self._records]
 
 
 def _read_geometry(ob) -> _Geometry | None:
