@@ -28,6 +28,7 @@
 #ifdef HAS_LIGHT_PASSES
 #include "film/light_passes.h"
 #endif
+#include "film/light_groups.h"
 #include "direct/clamp.h"
 #include "direct/bsdf_candidates.h"
 #include "direct/bsdf_mis.h"

@@ -37,6 +37,10 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
         light_pass_seen(light_passes, w * h, i, gbuf[i].emission.xyz, (float3)(0.0f), (float3)(0.0f),
                         (float3)(0.0f));
 #endif
+#ifdef HAS_LIGHT_GROUPS  /* ... of its light's group (camera_visible.h: prim = CAMERA_LIGHT_PRIM(light)) */
+        int seen = -2 - as_int(gbuf[i].normal.w);
+        light_groups_seen(light_passes, w * h, i, light_group(lights, &lights[seen]), gbuf[i].emission.xyz);
+#endif
         return;
     }
 #else
@@ -58,6 +62,13 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
 #endif
 #ifdef HAS_LIGHT_PASSES  /* the suns are lights (Emission), the world is the Environment */
         light_pass_seen(light_passes, w * h, i, sun_seen, world_seen, (float3)(0.0f), (float3)(0.0f));
+#endif
+#ifdef HAS_LIGHT_GROUPS  /* the world (the first light record) in its group; a sun's disk seen in none */
+#ifdef HAS_ENVIRONMENT
+        light_groups_seen(light_passes, w * h, i, light_group(lights, &lights[0]), world_seen);
+#else
+        light_groups_seen(light_passes, w * h, i, -1, world_seen);
+#endif
 #endif
         g.motion = (float4)(0.0f, 0.0f, 1.0f, INFINITY);  /* the background: reprojected by direction */
         float4 vec = (float4)(0.0f);
@@ -121,6 +132,9 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
     }
 #endif
     light_pass_seen(light_passes, w * h, i, g.emission.xyz, (float3)(0.0f), g.albedo.xyz, gloss_colour);
+#ifdef HAS_LIGHT_GROUPS  /* an emissive surface in its object's group (ObjectInfo.gen_scale.w) */
+    light_groups_seen(light_passes, w * h, i, as_int(objects[obj].gen_scale.w), g.emission.xyz);
+#endif
 #else
     (void)light_passes;
 #endif

@@ -42,13 +42,14 @@ inline float3 bsdf_mis_term(const Surface* s, const __global Light* lights, cons
     return unshadowed_contrib(s, &e) / (p_l + p_b);
 }
 
-/* Draw one BSDF direction at s (*wi_out) and return its MIS-weighted, shadowed contribution (the lights it meets). With QMC
+/* Draw one BSDF direction at s (*wi_out) and return its MIS-weighted, shadowed contribution (the lights it meets; each
+ * light's share also to *groups, film/light_groups.h). With QMC
  * (q->on) the direction comes from the pixel's Sobol pair QMC_BSDF_MIS: where the light sample's shadow ray is
  * blocked (a sun behind an occluder) this sample carries the sky, and stratified across a still's frames its
  * error falls faster than with random numbers, as the light sample's does. */
 inline float3 bsdf_mis_sample(const Surface* s, const __global Light* lights, const LightPick* lp,
                               const __global BVHNode* nodes, const __global Tri* tris, const __global int* tri_light,
-                              BsdfSource b, uint* rng, const Qmc* q, float3* wi_out)
+                              BsdfSource b, uint* rng, const Qmc* q, float3* wi_out, GroupLight* groups)
 {
     float2 u;
     if (q->on) {
@@ -67,16 +68,24 @@ inline float3 bsdf_mis_sample(const Surface* s, const __global Light* lights, co
         const __global Light* rec = &lights[l];
         int type = light_type(rec);
         float2 uv;
-        if (light_hittable(rec, type, l, b.analytic, b.triangles) && light_hit(rec, type, s->x, wi, &uv))
-            c += bsdf_mis_term(s, lights, rec, type, l, uv, lp, nodes, tris);
+        if (light_hittable(rec, type, l, b.analytic, b.triangles) && light_hit(rec, type, s->x, wi, &uv)) {
+            float3 t = bsdf_mis_term(s, lights, rec, type, l, uv, lp, nodes, tris);
+            c += t;
+            GROUP_ADD(groups, lights, rec, t);
+        }
     }
 #ifdef HAS_TRIANGLE_LIGHTS
     if (b.triangles) {
         float2 uv;
         int l = bsdf_ray_triangle_light(s, nodes, tris, tri_light, wi, &uv);
-        if (l >= 0) c += bsdf_mis_term(s, lights, &lights[l], LIGHT_TRIANGLE, l, uv, lp, nodes, tris);
+        if (l >= 0) {
+            float3 t = bsdf_mis_term(s, lights, &lights[l], LIGHT_TRIANGLE, l, uv, lp, nodes, tris);
+            c += t;
+            GROUP_ADD(groups, lights, &lights[l], t);
+        }
     }
 #endif
+    (void)groups;
     return c;
 }
 

@@ -9,7 +9,7 @@
 
 inline float3 path_nee(const Surface* s, const __global Light* lights, const LightPick* lp, int slot_count,
                        BsdfSource hits, const __global BVHNode* nodes, const __global Tri* tris, float threshold,
-                       uint* rng, const Qmc* q, uint group)
+                       uint* rng, const Qmc* q, uint group, int* picked)
 {
     uint word;
     float r0, r1;
@@ -27,6 +27,7 @@ inline float3 path_nee(const Surface* s, const __global Light* lights, const Lig
     int light;
     float pick;
     light_pick_lights(lp, s->x, s->n, &word, 1, &light, &pick);
+    *picked = light;
     const __global Light* rec = &lights[light];
     int type = light_type(rec);
     float point;

@@ -10,6 +10,7 @@ from collections.abc import Callable
 import numpy as np
 
 from ..compat import uses_nodes, visible_camera
+from ..light_groups import object_group
 from .convert import matrix, rgb
 from .linking import read_linking
 from .motion import Frames, fill_gaps, instance_key, transforms
@@ -35,6 +36,7 @@ class LightReader:
         params = light_params(ob.data, np.linalg.norm(m[:3, :3], axis=0), self.warn, ob.name)
         params["visible_camera"] = visible_camera(ob)
         params["linking"] = read_linking(ob)
+        params["lightgroup"] = object_group(ob)
         self._by_key[instance_key(inst)] = len(self._params)
         self._params.append(params)
         self._tracks.append(self.frames.track(m))

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..light_groups import object_group
 from .convert import matrix
 from .linking import read_linking
 from .material import MaterialTable
@@ -43,6 +44,7 @@ class _Record:
     uvs: np.ndarray | None = None
     normals: np.ndarray | None = None
     linking: object = None  # restircl Linking of the object as an emitter (export/linking.py), None: none
+    lightgroup: str = ""  # its Light Group (light_groups.py)
 
 
 class MeshReader:
@@ -84,7 +86,7 @@ class MeshReader:
         self._by_key[instance_key(inst)] = len(self._records)
         self._records.append(_Record(ob.name, geo.vertices, geo.triangles, tri_ids,
                                      self.frames.track(matrix(inst.matrix_world)), uvs, geo.normals,
-                                     read_linking(ob)))
+                                     read_linking(ob), object_group(ob)))
         self.instances += int(inst.is_instance)
 
     def sample(self, inst, k: int) -> None:
@@ -110,7 +112,8 @@ class MeshReader:
             fill_gaps(r.track)
         return [restircl.Mesh(name=r.name, vertices=r.vertices, triangles=r.triangles, material_ids=r.material_ids,
                               transforms=transforms(r.track), uvs=r.uvs, normals=r.normals,
-                              **({} if r.linking is None else {"linking": r.linking})) for r in self._records]
+                              **({} if r.linking is None else {"linking": r.linking}),
+                              **({"lightgroup": r.lightgroup} if r.lightgroup else {})) for r in self._records]
 
 
 def _read_geometry(ob) -> _Geometry | None:

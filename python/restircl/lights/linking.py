@@ -11,7 +11,8 @@ Device layout (no new buffer, no new kernel argument):
 - Tri.e2.w (int bits): the object id in bits 0..19, its receiver set in bits 20..25, its blocker set in 26..31.
 - Light.L.w (flags): bits 8..31 the index, in Light records from the start of the light buffer, of the emitter's
   link record (0: lights every set and is shadowed by every one, no record read); the link records follow the
-  light buffer's data, each holding (receiver mask lo, hi, blocker mask lo, hi) as uint bits in its p lanes.
+  light buffer's data, each holding (receiver mask lo, hi, blocker mask lo, hi) as uint bits in its p lanes, and
+  the emitter's light group (lights/light_groups.py; -1: none) in a.x.
   FLAG_SHADOW_LINKED marks an emitter whose blocker mask is not all sets: BSDF rays do not look for it (its light
   comes from light sampling alone, with MIS weight 1), since such a ray stops at an object that does not shadow it.
 """
@@ -119,18 +120,21 @@ def emitter_masks(scene, source: np.ndarray, tri_object: np.ndarray) -> list[tup
     return out
 
 
-def link_records(records: np.ndarray, data: np.ndarray, masks: list[tuple[int, int]]) -> np.ndarray:
+def link_records(records: np.ndarray, data: np.ndarray, masks: list[tuple[int, int]],
+                 groups: list[int] | None = None) -> np.ndarray:
     """Flag `records` (layouts.LIGHT, in place) with their link records' indices and return the light buffer's data
-    with those records after it (padded to whole records)."""
+    with those records after it (padded to whole records). `groups`: each light's light group (lights/light_groups.py,
+    -1: none), kept in its record's a.x."""
+    groups = groups if groups is not None else [-1] * len(masks)
     flat = records.view(np.float32).reshape(-1, LANES)
     flags = flat[:, 15].copy().view(np.uint32)
     pad = (-len(data)) % LANES
     first = len(records) + (len(data) + pad) // LANES
-    table: dict[tuple[int, int], int] = {}
-    for i, (recv, block) in enumerate(masks):
-        if recv == ALL_SETS and block == ALL_SETS:
+    table: dict[tuple[int, int, int], int] = {}
+    for i, ((recv, block), group) in enumerate(zip(masks, groups, strict=True)):
+        if recv == ALL_SETS and block == ALL_SETS and group < 0:
             continue
-        index = table.setdefault((recv, block), first + len(table))
+        index = table.setdefault((recv, block, group), first + len(table))
         if index >= 1 << (32 - LINK_SHIFT):
             raise SceneError("light linking: the light buffer is too large for its link records")
         flags[i] |= np.uint32(index << LINK_SHIFT)
@@ -140,6 +144,6 @@ def link_records(records: np.ndarray, data: np.ndarray, masks: list[tuple[int, i
     if not table:
         return data
     rows = np.zeros((len(table), LANES), np.uint32)
-    for (recv, block), index in table.items():
-        rows[index - first, 0:4] = [recv & 0xFFFFFFFF, recv >> 32, block & 0xFFFFFFFF, block >> 32]
+    for (recv, block, group), index in table.items():
+        rows[index - first, 0:5] = [recv & 0xFFFFFFFF, recv >> 32, block & 0xFFFFFFFF, block >> 32, group & 0xFFFFFFFF]
     return np.concatenate([data, np.zeros(pad, np.float32), rows.view(np.float32).reshape(-1)])

@@ -39,6 +39,8 @@ class Frame:
     glossy_color: np.ndarray | None = None
     emission: np.ndarray | None = None
     environment: np.ndarray | None = None
+    # light groups (Scene.light_groups, render/light_passes.py read_groups): name -> (H, W, 3) light of its emitters
+    light_groups: dict[str, np.ndarray] | None = None
 
 
 class DeviceFrame(NamedTuple):

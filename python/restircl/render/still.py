@@ -29,7 +29,7 @@ from .camera import halton
 from .denoise import denoise_frame
 from .frame import DeviceFrame, Frame, read_image
 from .history import History
-from .light_passes import fill_frame, planes_buffer, read_planes
+from .light_passes import fill_frame, planes_buffer, read_groups, read_planes
 from .passes import LIGHT_PLANES
 from .qmc import still_key, still_uses_sobol
 
@@ -60,11 +60,14 @@ class StillAccumulation:
         self.aux: tuple[cl.Buffer, ...] | None = None  # sums of the denoiser's albedo, normal and emission images
         self.light_planes: cl.Buffer | None = None  # each frame's light passes (render/light_passes.py), where on
         self.light_sums: cl.Buffer | None = None  # ... and their sums
+        self.planes = len(LIGHT_PLANES)  # planes in those: the light passes', then the light groups'
 
-    def use_light_passes(self) -> cl.Buffer:
-        """Sum the light passes' planes of each sample too; returns the buffer of a frame's planes."""
-        self.light_planes = planes_buffer(self.kernels.device.context, self.pixels)
-        self.light_sums = planes_buffer(self.kernels.device.context, self.pixels)
+    def use_light_passes(self, groups: int = 0) -> cl.Buffer:
+        """Sum the light passes' planes (and `groups` light groups' planes) of each sample too; returns the buffer of
+        a frame's planes."""
+        self.planes = len(LIGHT_PLANES) + groups
+        self.light_planes = planes_buffer(self.kernels.device.context, self.pixels, groups)
+        self.light_sums = planes_buffer(self.kernels.device.context, self.pixels, groups)
         return self.light_planes
 
     def clear(self, aux: bool = False) -> None:
@@ -76,7 +79,7 @@ class StillAccumulation:
             cl.enqueue_fill_buffer(self.kernels.device.queue, b, np.float32(0), 0, self.pixels * 16)
         if self.light_sums is not None:
             cl.enqueue_fill_buffer(self.kernels.device.queue, self.light_sums, np.float32(0), 0,
-                                   self.pixels * 16 * len(LIGHT_PLANES))
+                                   self.pixels * 16 * self.planes)
         self.counts = (0, 0)
 
     def add_aux(self, gbuf: cl.Buffer, glossy: cl.Buffer, frame_params: np.void) -> None:
@@ -99,7 +102,7 @@ class StillAccumulation:
         self.kernels.launch("accumulate", (self.pixels,), sample=sample, sum=self.sum, sum_half=self.sum_half,
                             frame_params=frame_params, in_half=np.int32(half))
         if self.light_sums is not None:
-            self.kernels.launch("accumulate_light_passes", (self.pixels * len(LIGHT_PLANES),),
+            self.kernels.launch("accumulate_light_passes", (self.pixels * self.planes,),
                                 light_passes=self.light_planes, sums=self.light_sums, frame_params=frame_params)
         done, n_half = self.counts
         self.counts = (done + 1, n_half + half)
@@ -281,4 +284,8 @@ def _result(r: FrameSource, frame: int, gbuf: cl.Buffer, stage: dict[str, float]
     if r.settings.light_passes:  # the light passes of the mean, and the mean colours they were divided by
         assert acc.light_sums is not None
         fill_frame(out, read_planes(acc.kernels.device.queue, acc.light_sums, acc.shape, 1.0 / done))
+    if r.scene.light_groups:  # the light groups of the mean
+        assert acc.light_sums is not None
+        out.light_groups = read_groups(acc.kernels.device.queue, acc.light_sums, acc.shape, r.scene.light_groups,
+                                       1.0 / done)
     return out

@@ -37,6 +37,7 @@ class SceneParts(Protocol):
     lights: list[Light]
     camera: Camera | None
     environment: object
+    light_groups: list[str]
 
 
 S = TypeVar("S", bound=SceneParts)
@@ -58,9 +59,10 @@ def save_scene(scene: SceneParts, path: str | Path) -> None:
         "lights": [],
         "camera": None,
         "environment": write_environment(scene.environment, arrays),
+        "light_groups": list(scene.light_groups),
     }
     for i, mesh in enumerate(scene.meshes):
-        meta["meshes"].append({"name": mesh.name, **_links(mesh.linking)})
+        meta["meshes"].append({"name": mesh.name, "lightgroup": mesh.lightgroup, **_links(mesh.linking)})
         arrays[f"mesh{i}_vertices"] = mesh.vertices
         arrays[f"mesh{i}_triangles"] = mesh.triangles
         arrays[f"mesh{i}_material_ids"] = mesh.material_ids
@@ -71,7 +73,7 @@ def save_scene(scene: SceneParts, path: str | Path) -> None:
     for i, lt in enumerate(scene.lights):
         d = {k: getattr(lt, k) for k in ("name", "type", "power", "radius", "soft_falloff", "spot_size",
                                           "spot_blend", "angle", "shape", "size", "size_y",
-                                          "visible_camera")}
+                                          "visible_camera", "lightgroup")}
         d["color"] = list(map(float, lt.color))
         d.update(_links(lt.linking))
         meta["lights"].append(d)
@@ -124,7 +126,7 @@ def load_scene(path: str | Path, cls: type[S]) -> S:
             scene.meshes.append(Mesh(m["name"], data[f"mesh{i}_vertices"], data[f"mesh{i}_triangles"],
                                      data[f"mesh{i}_material_ids"], data[f"mesh{i}_transforms"],
                                      uvs=data.get(f"mesh{i}_uvs"), normals=data.get(f"mesh{i}_normals"),
-                                     linking=Linking(**m.get("linking", {}))))
+                                     linking=Linking(**m.get("linking", {})), lightgroup=m.get("lightgroup", "")))
         for i, d in enumerate(meta["lights"]):
             d = dict(d)
             d["color"] = tuple(d["color"])
@@ -136,6 +138,7 @@ def load_scene(path: str | Path, cls: type[S]) -> S:
             c["cuts"] = tuple(c.get("cuts", ()))
             scene.camera = Camera(transforms=data["camera_transforms"], **c)
         scene.environment = read_environment(meta.get("environment"), data)
+        scene.light_groups = list(meta.get("light_groups", []))
     except SceneError:
         raise
     except Exception as exc:

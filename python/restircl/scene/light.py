@@ -38,6 +38,7 @@ class Light:
     power_per_frame: np.ndarray | None = None  # optional (F,) multiplier of power, e.g. to switch a light off
     visible_camera: bool = False  # Ray Visibility > Camera: the camera sees its shape (off: Blender's default)
     linking: Linking = field(default_factory=Linking)  # light and shadow linking (scene/linking.py)
+    lightgroup: str = ""  # the light group (Scene.light_groups) its light counts in: Object > Shading > Light Group
 
     def __post_init__(self) -> None:
         self.transforms = as_transforms(self.transforms, f"light {self.name!r}")

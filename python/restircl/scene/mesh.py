@@ -22,6 +22,7 @@ class Mesh:
     uvs: np.ndarray | None = None  # (T, 3, 2) per-corner UV map (texture coordinates "uv", normal maps)
     normals: np.ndarray | None = None  # (T, 3, 3) per-corner object-space shading normals (smooth shading)
     linking: Linking = field(default_factory=Linking)  # as an emitter: light and shadow linking (scene/linking.py)
+    lightgroup: str = ""  # as an emitter: the light group (Scene.light_groups) its emission counts in
 
     def __post_init__(self) -> None:
         self.vertices = np.asarray(self.vertices, dtype=np.float64).reshape(-1, 3)
