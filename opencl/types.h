@@ -76,7 +76,8 @@ typedef struct {
 typedef struct {
     float4 gen_mid;    /* xyz: centre of the object-space bounding box (Blender's texture space); w: OBJECT_* flags
                           (int bits) */
-    float4 gen_scale;  /* xyz: 1 / (2 half size): generated = (p - mid) * scale + 0.5; w: unused */
+    float4 gen_scale;  /* xyz: 1 / (2 half size): generated = (p - mid) * scale + 0.5; w: its light group (int bits,
+                          -1: none; film/light_groups.h) */
 } ObjectInfo;          /* 32 bytes */
 
 /* One node of a texture program. An input refers to an earlier node (in) or holds a constant (a, b, p.x). A

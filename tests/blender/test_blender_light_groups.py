@@ -12,16 +12,12 @@ bpy = pytest.importorskip("bpy")
 
 from restircl.eval import blender_scenes as scenes  # noqa: E402
 
-from .test_blender_support import ensure_registered, guard_engine, needs_renderer, read_exr_passes, render_to  # noqa: E402
+from .test_blender_support import ensure_registered, needs_renderer, read_exr_passes, render_to  # noqa: E402
 
 pytestmark = [pytest.mark.blender, needs_renderer]
 
 
-@pytest.fixture(autouse=True)
-def _addon(monkeypatch):
-    crashes = guard_engine(monkeypatch)
-    yield
-    assert not crashes, "the engine hit an unexpected exception (caught by its last-resort handler)"
+from .test_blender_light_passes import _addon  # noqa: E402, F401  (autouse: the engine's crashes fail the test)
 
 
 def _scene():

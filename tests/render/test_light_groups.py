@@ -15,7 +15,8 @@ from restircl.scene.errors import SceneError
 
 from ..lights.linking_scene import linking_scene
 
-GROUPS = {"warm": ("key", "glow"), "cool": ("fill", "World")}
+# the emissive panel in the second group: a group index read as 0 anywhere would put its light in the first
+GROUPS = {"cool": ("fill", "World"), "warm": ("key", "glow")}
 
 
 def grouped_scene(linked: bool = False, only: str | None = None, world: bool = True):
@@ -96,7 +97,7 @@ def test_the_scene_file_keeps_the_groups(tmp_path):
     sc = grouped_scene()
     save_scene(sc, tmp_path / "groups.npz")
     back = load_scene(tmp_path / "groups.npz", Scene)
-    assert back.light_groups == ["warm", "cool"]
+    assert back.light_groups == ["cool", "warm"]
     assert [lt.lightgroup for lt in back.lights] == ["warm", "cool"]
     assert [m.lightgroup for m in back.meshes] == ["", "", "", "warm"]
     assert back.environment is not None and back.environment.lightgroup == "cool"
