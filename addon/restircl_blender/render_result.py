@@ -14,7 +14,8 @@ from .passes import pass_on
 def aovs_needed(view_layer, film_transparent: bool) -> bool:
     """Whether a frame must read back its G-buffer and light passes: only for a pass the view layer has on, or for
     the alpha of a transparent film (from the depth)."""
-    read = [p for p in PASSES[1:] if p.attr in ("depth", "normal", "vector", "albedo") or p.requires == "light_passes"]
+    read = [p for p in PASSES[1:] if p.attr in ("depth", "normal", "vector", "albedo", "object_index", "material_index")
+            or p.requires == "light_passes"]
     return film_transparent or any(pass_on(view_layer, p) for p in read) or bool(light_group_names(view_layer))
 
 

@@ -45,6 +45,7 @@ class _Record:
     normals: np.ndarray | None = None
     linking: object = None  # restircl Linking of the object as an emitter (export/linking.py), None: none
     lightgroup: str = ""  # its Light Group (light_groups.py)
+    pass_index: int = 0  # Object > Relations > Pass Index (the Object Index pass)
 
 
 class MeshReader:
@@ -86,7 +87,7 @@ class MeshReader:
         self._by_key[instance_key(inst)] = len(self._records)
         self._records.append(_Record(ob.name, geo.vertices, geo.triangles, tri_ids,
                                      self.frames.track(matrix(inst.matrix_world)), uvs, geo.normals,
-                                     read_linking(ob), object_group(ob)))
+                                     read_linking(ob), object_group(ob), int(getattr(ob, "pass_index", 0))))
         self.instances += int(inst.is_instance)
 
     def sample(self, inst, k: int) -> None:
@@ -113,7 +114,8 @@ class MeshReader:
         return [restircl.Mesh(name=r.name, vertices=r.vertices, triangles=r.triangles, material_ids=r.material_ids,
                               transforms=transforms(r.track), uvs=r.uvs, normals=r.normals,
                               **({} if r.linking is None else {"linking": r.linking}),
-                              **({"lightgroup": r.lightgroup} if r.lightgroup else {})) for r in self._records]
+                              **({"lightgroup": r.lightgroup} if r.lightgroup else {}),
+                              **({"pass_index": r.pass_index} if r.pass_index else {})) for r in self._records]
 
 
 def _read_geometry(ob) -> _Geometry | None:

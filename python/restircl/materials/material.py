@@ -44,6 +44,7 @@ class Material:
     normal: Input | None = None  # a NormalMap node, or None for the mesh's shading normal
     layers: list[Material] = field(default_factory=list)
     mix: Input | None = None
+    pass_index: int = 0  # Material > Settings > Pass Index: the Material Index pass (render/index_passes.py)
 
     @property
     def radiance(self) -> np.ndarray:

@@ -10,6 +10,7 @@ import numpy as np
 import pyopencl as cl
 
 from ..core import layouts as L
+from .index_passes import index_images
 
 
 @dataclass
@@ -41,6 +42,9 @@ class Frame:
     environment: np.ndarray | None = None
     # light groups (Scene.light_groups, render/light_passes.py read_groups): name -> (H, W, 3) light of its emitters
     light_groups: dict[str, np.ndarray] | None = None
+    # the pass indices of the object and the material hit (render/index_passes.py), (H, W)
+    object_index: np.ndarray | None = None
+    material_index: np.ndarray | None = None
 
 
 class DeviceFrame(NamedTuple):
@@ -101,8 +105,9 @@ def surface_images(g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return albedo, np.where(hit, g["normal"][..., :3], 0.0).astype(np.float32)
 
 
-def read_aovs(queue: cl.CommandQueue, out: Frame, gbuf: cl.Buffer, vector_buf: cl.Buffer) -> None:
-    """Fill the depth, normal, vector and albedo passes of `out` from a G-buffer and the Vector buffer."""
+def read_aovs(queue: cl.CommandQueue, out: Frame, gbuf: cl.Buffer, vector_buf: cl.Buffer, scene=None) -> None:
+    """Fill the depth, normal, vector and albedo passes of `out` from a G-buffer and the Vector buffer, and, given
+    the `scene` it shows, the index passes."""
     shape = out.color.shape[:2]
     g = read_gbuffer(queue, gbuf, shape)
     hit = L.float_bits_to_int(g["normal"][..., 3]) != -1  # -1: a miss; below: a light seen (lights/camera_visible.h)
@@ -112,3 +117,5 @@ def read_aovs(queue: cl.CommandQueue, out: Frame, gbuf: cl.Buffer, vector_buf: c
     vector[..., 3] *= -1.0
     out.depth = np.where(hit, g["pos"][..., 3], np.inf).astype(np.float32)
     out.vector = vector
+    if scene is not None:
+        out.object_index, out.material_index = index_images(g, scene)

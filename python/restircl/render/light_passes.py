@@ -68,6 +68,17 @@ def divide_by_colour(light: np.ndarray, colour: np.ndarray) -> np.ndarray:
     return np.where(ok, q, mean).astype(np.float32)
 
 
+def fill_planes(out: Frame, queue: cl.CommandQueue, buf: cl.Buffer, light_passes: bool, groups: list[str],
+                scale: float = 1.0) -> None:
+    """The light passes (where `light_passes`) and the light groups' passes of `out` from the planes in `buf` (a
+    frame's, or a still's sums times `scale`)."""
+    shape = out.color.shape[:2]
+    if light_passes:
+        fill_frame(out, read_planes(queue, buf, shape, scale))
+    if groups:
+        out.light_groups = read_groups(queue, buf, shape, groups, scale)
+
+
 def fill_frame(out: Frame, planes: dict[str, np.ndarray]) -> None:
     """The light passes of `out` from the planes (one frame's, or a still's means); Diffuse Color (the albedo pass)
     becomes the colour the diffuse light was divided by."""

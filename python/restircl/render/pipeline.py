@@ -45,7 +45,7 @@ from .denoise import denoise_by_gbuffer
 from .features import describe, renderer_flags
 from .frame import DeviceFrame, Frame, read_aovs, read_colour, read_gbuffer, read_guards, read_image
 from .history import History
-from .light_passes import fill_frame, light_group_settings, read_groups, read_planes
+from .light_passes import fill_planes, light_group_settings
 from .plan import FramePlan, FrameSituation, light_source, plan_frame
 from .restir_gi import RestirGI
 from .stages import (
@@ -288,12 +288,9 @@ class Renderer:
                     frame=frame, guards=read_guards(q, self.buffers.guards, self.guard_totals),
                     features=list(self.features))
         if aovs:
-            read_aovs(q, out, gbuf, self.buffers.vector)
-            if self.settings.light_passes:  # this frame's (a still's means replace them: render/still.py)
-                fill_frame(out, read_planes(q, self.buffers.light_passes, (self.height, self.width)))
-            if self.scene.light_groups:
-                out.light_groups = read_groups(q, self.buffers.light_passes, (self.height, self.width),
-                                               self.scene.light_groups)
+            read_aovs(q, out, gbuf, self.buffers.vector, self.scene)
+            # this frame's light passes and groups (a still's means replace them: render/still.py)
+            fill_planes(out, q, self.buffers.light_passes, self.settings.light_passes, self.scene.light_groups)
         return out
 
     def read_gbuffer(self, gbuf: cl.Buffer | None = None) -> np.ndarray:

@@ -24,12 +24,13 @@ import pyopencl as cl
 
 from ..core.buffers import alloc
 from ..core.kernels import Kernels
+from ..scene.scene import Scene
 from ..settings.table import Settings
 from .camera import halton
 from .denoise import denoise_frame
 from .frame import DeviceFrame, Frame, read_image
 from .history import History
-from .light_passes import fill_frame, planes_buffer, read_groups, read_planes
+from .light_passes import fill_planes, planes_buffer
 from .passes import LIGHT_PLANES
 from .qmc import still_key, still_uses_sobol
 
@@ -139,6 +140,7 @@ class FrameSource(Protocol):
     """What a still render needs of the renderer (Renderer, render/pipeline.py)."""
 
     settings: Settings
+    scene: Scene
     history: History
     still: StillAccumulation
     qmc: tuple[int, int, int] | None  # FrameParams (qmc, qmc_index, qmc_key) of the next frame; None: its own
@@ -281,11 +283,8 @@ def _result(r: FrameSource, frame: int, gbuf: cl.Buffer, stage: dict[str, float]
         albedo, normal, emission = acc.aux_images(done)
         if denoise_frame(out, albedo, normal, emission):  # the passes show the guides the denoiser saw, as in Cycles
             out.albedo, out.normal = albedo, normal
-    if r.settings.light_passes:  # the light passes of the mean, and the mean colours they were divided by
-        assert acc.light_sums is not None
-        fill_frame(out, read_planes(acc.kernels.device.queue, acc.light_sums, acc.shape, 1.0 / done))
-    if r.scene.light_groups:  # the light groups of the mean
-        assert acc.light_sums is not None
-        out.light_groups = read_groups(acc.kernels.device.queue, acc.light_sums, acc.shape, r.scene.light_groups,
-                                       1.0 / done)
+    if r.settings.light_passes or r.scene.light_groups:  # the light passes and groups of the mean (the passes
+        assert acc.light_sums is not None  # divided by the mean colours)
+        fill_planes(out, acc.kernels.device.queue, acc.light_sums, r.settings.light_passes, r.scene.light_groups,
+                    1.0 / done)
     return out
