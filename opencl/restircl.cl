@@ -73,3 +73,4 @@
 #include "taa/taa.cl"
 #include "filter/atrous.cl"
 #include "still/accumulate.cl"
+#include "film/cryptomatte.cl"

@@ -12,7 +12,8 @@
 typedef struct {
     float4 v0;   /* xyz: vertex 0; w: material id (int bits) */
     float4 e1;   /* xyz: v1 - v0;  w: original triangle index (int bits) */
-    float4 e2;   /* xyz: v2 - v0;  w: unused */
+    float4 e2;   /* xyz: v2 - v0;  w: object id (int bits; with light linking its light sets in the high bits:
+                    lights/linking.h) */
 } Tri;           /* 48 bytes */
 
 /* 4-wide BVH node: the boxes of up to four children in SoA form, tested together with float4 operations.

@@ -6,6 +6,7 @@ from __future__ import annotations
 from restircl.render.passes import PASSES, blender_name
 
 from .compat import blender_version
+from .cryptomatte import register_cryptomatte
 from .light_groups import register_light_groups
 
 
@@ -50,3 +51,4 @@ def register_passes(engine, scene, view_layer) -> None:
             engine.register_pass(scene, view_layer, blender_name(p, blender_version()), len(p.channels), p.channels,
                                  p.blender_type)
     register_light_groups(engine, scene, view_layer)
+    register_cryptomatte(engine, scene, view_layer)

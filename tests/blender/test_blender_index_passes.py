@@ -18,17 +18,32 @@ from .test_blender_support import needs_renderer, read_exr_passes, render_to  # 
 pytestmark = [pytest.mark.blender, needs_renderer]
 
 
-def _scene():
+def objects_scene():
+    """A floor, a red box and a grey ball under an area light (also the Cryptomatte tests' scene): the scene, its
+    objects and its materials by name."""
     sc = scenes.new_scene(40, 28, engine="RESTIRCL")
-    grey = scenes.diffuse_material("Grey", (0.8, 0.8, 0.8))
-    red = scenes.principled_material("Red", (0.8, 0.2, 0.2))
-    floor = scenes.quad("Floor", 10.0, 10.0, grey)
-    box = scenes.box("Box", (1.2, 1.2, 1.2), red, location=(0.3, 0, 0.6))
-    ball = scenes.uv_sphere("Ball", 0.5, material=grey, location=(-1.3, 0.2, 0.5))
-    floor.pass_index, box.pass_index, ball.pass_index = 2, 5, 9
-    grey.pass_index, red.pass_index = 1, 4
+    mats = {"Grey": scenes.diffuse_material("Grey", (0.8, 0.8, 0.8)),
+            "Red": scenes.principled_material("Red", (0.8, 0.2, 0.2))}
+    obs = {"Floor": scenes.quad("Floor", 10.0, 10.0, mats["Grey"]),
+           "Box": scenes.box("Box", (1.2, 1.2, 1.2), mats["Red"], location=(0.3, 0, 0.6)),
+           "Ball": scenes.uv_sphere("Ball", 0.5, material=mats["Grey"], location=(-1.3, 0.2, 0.5))}
     scenes.light("AREA", "Key", (1.0, -1.0, 3.0), energy=100.0, size=1.0)
     scenes.camera((0.0, -5.0, 2.5), (0.0, 0.5, 0.6), lens=28.0)
+    return sc, obs, mats
+
+
+def ours_then_cycles(sc, tmp_path, samples: int):
+    """F12 of `sc` with restircl into tmp_path/ours.exr, then with Cycles (`samples`) into tmp_path/cycles.exr."""
+    render_to(sc, tmp_path / "ours.exr")
+    sc.render.engine = "CYCLES"
+    sc.cycles.samples = samples
+    render_to(sc, tmp_path / "cycles.exr")
+
+
+def _scene():
+    sc, obs, mats = objects_scene()
+    obs["Floor"].pass_index, obs["Box"].pass_index, obs["Ball"].pass_index = 2, 5, 9
+    mats["Grey"].pass_index, mats["Red"].pass_index = 1, 4
     vl = sc.view_layers[0]
     vl.use_pass_object_index = vl.use_pass_material_index = True
     sc.restircl.samples = 2
@@ -40,11 +55,7 @@ def _names(version) -> tuple[str, str]:
 
 
 def test_f12_index_passes_agree_with_cycles(tmp_path):
-    sc = _scene()
-    render_to(sc, tmp_path / "ours.exr")
-    sc.render.engine = "CYCLES"
-    sc.cycles.samples = 1
-    render_to(sc, tmp_path / "cycles.exr")
+    ours_then_cycles(_scene(), tmp_path, 1)
     ours, cyc = read_exr_passes(tmp_path / "ours.exr"), read_exr_passes(tmp_path / "cycles.exr")
     for name in _names(bpy.app.version):
         a, b = ours[name][..., 0], cyc[name][..., 0]

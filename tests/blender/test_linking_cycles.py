@@ -66,3 +66,14 @@ def test_linked_lights_with_bounces_agree_with_cycles(record_property):
     cyc = cycles.render(cycles.to_bpy(sc), samples=1024, seed=1, threads=2, paths=st).image
     ours = Renderer(sc, st).render_still(0, samples=512).color[..., :3]
     assert _check(ours, cyc, "paths, 2 bounces", record_property) < BOUND
+
+
+@pytest.mark.parametrize("settings", [dict(method="ris", light_tiles="on", still_method="as_set"),
+                                      dict(method="ris", light_proposal="tree", still_method="as_set"),
+                                      dict(method="restir", light_tiles="on", light_proposal="tree")],
+                         ids=["ris_tiles", "ris_tree", "restir_tree"])
+def test_tiles_and_the_tree_honour_the_links(settings, cycles_direct, record_property):
+    r = Renderer(linking_scene(), Settings(seed=3, **settings))
+    ours = r.render_still(0, samples=256).color[..., :3]
+    assert "light_linking" in r.features
+    assert _check(ours, cycles_direct, str(settings), record_property) < BOUND

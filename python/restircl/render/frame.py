@@ -10,6 +10,7 @@ import numpy as np
 import pyopencl as cl
 
 from ..core import layouts as L
+from . import cryptomatte
 from .index_passes import index_images
 
 
@@ -45,6 +46,9 @@ class Frame:
     # the pass indices of the object and the material hit (render/index_passes.py), (H, W)
     object_index: np.ndarray | None = None
     material_index: np.ndarray | None = None
+    # Cryptomatte (Settings.cryptomatte_levels, render/cryptomatte.py): kind -> (H, W, 2 * levels) id, coverage
+    cryptomatte: dict[str, np.ndarray] | None = None
+    cryptomatte_names: dict[str, list[str]] | None = None  # kind -> the names of its ids (for the manifest)
 
 
 class DeviceFrame(NamedTuple):
@@ -105,9 +109,10 @@ def surface_images(g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return albedo, np.where(hit, g["normal"][..., :3], 0.0).astype(np.float32)
 
 
-def read_aovs(queue: cl.CommandQueue, out: Frame, gbuf: cl.Buffer, vector_buf: cl.Buffer, scene=None) -> None:
+def read_aovs(queue: cl.CommandQueue, out: Frame, gbuf: cl.Buffer, vector_buf: cl.Buffer, scene=None,
+              crypto_levels: int = 0) -> None:
     """Fill the depth, normal, vector and albedo passes of `out` from a G-buffer and the Vector buffer, and, given
-    the `scene` it shows, the index passes."""
+    the `scene` it shows, the index passes and (crypto_levels > 0) this frame's Cryptomatte."""
     shape = out.color.shape[:2]
     g = read_gbuffer(queue, gbuf, shape)
     hit = L.float_bits_to_int(g["normal"][..., 3]) != -1  # -1: a miss; below: a light seen (lights/camera_visible.h)
@@ -119,3 +124,6 @@ def read_aovs(queue: cl.CommandQueue, out: Frame, gbuf: cl.Buffer, vector_buf: c
     out.vector = vector
     if scene is not None:
         out.object_index, out.material_index = index_images(g, scene)
+        if crypto_levels:
+            out.cryptomatte = cryptomatte.from_gbuffer(g, scene, crypto_levels)
+            out.cryptomatte_names = {k: cryptomatte.kind_names(scene, k) for k in cryptomatte.KINDS}

@@ -288,7 +288,7 @@ class Renderer:
                     frame=frame, guards=read_guards(q, self.buffers.guards, self.guard_totals),
                     features=list(self.features))
         if aovs:
-            read_aovs(q, out, gbuf, self.buffers.vector, self.scene)
+            read_aovs(q, out, gbuf, self.buffers.vector, self.scene, self.settings.cryptomatte_levels)
             # this frame's light passes and groups (a still's means replace them: render/still.py)
             fill_planes(out, q, self.buffers.light_passes, self.settings.light_passes, self.scene.light_groups)
         return out

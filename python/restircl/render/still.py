@@ -26,6 +26,7 @@ from ..core.buffers import alloc
 from ..core.kernels import Kernels
 from ..scene.scene import Scene
 from ..settings.table import Settings
+from . import cryptomatte
 from .camera import halton
 from .denoise import denoise_frame
 from .frame import DeviceFrame, Frame, read_image
@@ -62,6 +63,8 @@ class StillAccumulation:
         self.light_planes: cl.Buffer | None = None  # each frame's light passes (render/light_passes.py), where on
         self.light_sums: cl.Buffer | None = None  # ... and their sums
         self.planes = len(LIGHT_PLANES)  # planes in those: the light passes', then the light groups'
+        self.crypto: cl.Buffer | None = None  # Cryptomatte's slots (opencl/film/cryptomatte.cl), where on
+        self.crypto_levels = 0
 
     def use_light_passes(self, groups: int = 0) -> cl.Buffer:
         """Sum the light passes' planes (and `groups` light groups' planes) of each sample too; returns the buffer of
@@ -82,6 +85,23 @@ class StillAccumulation:
             cl.enqueue_fill_buffer(self.kernels.device.queue, self.light_sums, np.float32(0), 0,
                                    self.pixels * 16 * self.planes)
         self.counts = (0, 0)
+
+    def use_cryptomatte(self, levels: int) -> None:
+        """Count the ids each sample's camera ray hit (Cryptomatte, render/cryptomatte.py) from now on: empty slots."""
+        nbytes = 2 * self.pixels * levels * 8
+        if self.crypto is None or self.crypto_levels != levels:
+            self.crypto, self.crypto_levels = alloc(self.kernels.device.context, nbytes), levels
+        cl.enqueue_fill_buffer(self.kernels.device.queue, self.crypto, np.uint32(0), 0, nbytes)
+
+    def add_cryptomatte(self, gbuf: cl.Buffer, frame_params: np.void) -> None:
+        self.kernels.launch("accumulate_cryptomatte", (self.pixels,), gbuf=gbuf, slots=self.crypto,
+                            frame_params=frame_params, levels=np.int32(self.crypto_levels))
+
+    def cryptomatte(self, scene: Scene, done: int) -> dict[str, np.ndarray]:
+        """The Cryptomatte layers of the samples so far."""
+        slots = np.empty((2, *self.shape, self.crypto_levels, 2), np.uint32)
+        cl.enqueue_copy(self.kernels.device.queue, slots, self.crypto)
+        return cryptomatte.layers(scene, slots, done, self.crypto_levels)
 
     def add_aux(self, gbuf: cl.Buffer, glossy: cl.Buffer, frame_params: np.void) -> None:
         assert self.aux is not None
@@ -223,6 +243,8 @@ def render_still(
     """Renderer.render_still: average up to `samples` frames of a still camera at `frame`."""
     acc = r.still
     acc.clear(aux=r.settings.denoise)
+    if r.settings.cryptomatte_levels:
+        acc.use_cryptomatte(r.settings.cryptomatte_levels)
     halves = HalfStreams(r.settings, r.history)
     gbuf = r.history.gbuf(r.history.cur)
     stage: dict[str, float] = {}
@@ -255,6 +277,8 @@ def _add_sample(r: FrameSource, halves: HalfStreams, frame: int, half: int, stag
     for key, v in st.items():
         stage[key] = stage.get(key, 0.0) + v
     r.still.add(r.sample_buf, r.frame_params(), half)
+    if r.settings.cryptomatte_levels:  # the frame's G-buffer (the previous slot once the history swapped)
+        r.still.add_cryptomatte(gbuf, r.frame_params())
     if r.settings.denoise:  # the frame's G-buffer is in the previous slot once run_frame has swapped the history
         r.still.add_aux(gbuf, r.history.glossy(r.history.prev), r.frame_params())
     return gbuf
@@ -287,4 +311,6 @@ def _result(r: FrameSource, frame: int, gbuf: cl.Buffer, stage: dict[str, float]
         assert acc.light_sums is not None  # divided by the mean colours)
         fill_planes(out, acc.kernels.device.queue, acc.light_sums, r.settings.light_passes, r.scene.light_groups,
                     1.0 / done)
+    if r.settings.cryptomatte_levels:  # the ids of every sample, ranked by coverage
+        out.cryptomatte = acc.cryptomatte(r.scene, done)
     return out

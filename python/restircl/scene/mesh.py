@@ -24,6 +24,7 @@ class Mesh:
     linking: Linking = field(default_factory=Linking)  # as an emitter: light and shadow linking (scene/linking.py)
     lightgroup: str = ""  # as an emitter: the light group (Scene.light_groups) its emission counts in
     pass_index: int = 0  # Object > Relations > Pass Index: the Object Index pass (render/index_passes.py)
+    asset: str = ""  # the Cryptomatte asset it belongs to (Blender: the root of its parent chain); "": its own name
 
     def __post_init__(self) -> None:
         self.vertices = np.asarray(self.vertices, dtype=np.float64).reshape(-1, 3)

@@ -346,6 +346,10 @@ class Settings:
                                   "resolution per sample (Cycles' way: the converged image matches it) or from mip "
                                   "levels filtered over the pixel (steadier frames)", flag="--texture-filter",
                                   choices=TEXTURE_FILTER_CHOICES, panel="sampling")
+    cryptomatte_levels: int = setting(0, "Cryptomatte Levels", "Ids ranked per pixel in the Cryptomatte passes "
+                                      "(object, material, asset; 0: none); the add-on sets it from the view "
+                                      "layer's Cryptomatte toggles and Levels", flag="--cryptomatte-levels",
+                                      range=Range(int, 0, 16))
 
     def validate(self) -> Settings:
         check(self)
