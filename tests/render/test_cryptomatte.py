@@ -47,3 +47,24 @@ def test_a_still_ranks_what_its_pixels_show():
         assert np.all(got[inner & (ids == k)] == h)
     assert not obj[~hit & inner].any()  # misses: no id
     np.testing.assert_allclose(obj[..., 1::2].sum(-1)[hit & inner], 1.0)
+
+
+def test_the_exr_holds_the_layers_the_groups_and_the_manifest(tmp_path):
+    import OpenEXR
+    from restircl.io.images import write_exr
+
+    sc = linking_scene(linked=False)
+    sc.light_groups = ["all"]
+    for part in (*sc.lights, *sc.meshes):
+        part.lightgroup = "all"
+    f = Renderer(sc, Settings(method="ris", seed=1, cryptomatte_levels=3)).render_still(0, samples=4)
+    write_exr(tmp_path / "f.exr", f)
+    with OpenEXR.File(str(tmp_path / "f.exr"), separate_channels=True) as exr:
+        names = set(exr.channels())
+        header = {k: v for k, v in exr.header().items() if isinstance(v, str)}
+    assert {"Combined_all.R", "Combined_all.G", "Combined_all.B"} <= names
+    for layer in ("CryptoObject", "CryptoMaterial", "CryptoAsset"):  # 3 ranks: two layers, the second half empty
+        assert {f"{layer}{k:02d}.{c}" for k in range(2) for c in "rgba"} <= names
+        assert f"{layer}02.r" not in names
+    key = next(k for k, v in header.items() if k.endswith("/name") and v == "CryptoObject")
+    assert '"floor_a":' in header[key.replace("/name", "/manifest")]
