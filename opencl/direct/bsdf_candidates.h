@@ -142,7 +142,7 @@ inline void bsdf_candidates(const Surface* s, const __global Light* lights, cons
         if (b.triangles) {
             float2 uv;
             int l = bsdf_ray_triangle_light(s, nodes, tris, tri_light, wi, &uv);
-            if (l >= 0)
+            if (l >= 0 && light_ray_findable(&lights[l]))  /* as light_hittable says for its light candidates */
                 bsdf_candidate_add(s, lights, &lights[l], LIGHT_TRIANGLE, l, uv, lp, n_light, b, rng, sel, r,
                                    chosen);
         }

@@ -78,7 +78,7 @@ inline float3 bsdf_mis_sample(const Surface* s, const __global Light* lights, co
     if (b.triangles) {
         float2 uv;
         int l = bsdf_ray_triangle_light(s, nodes, tris, tri_light, wi, &uv);
-        if (l >= 0) {
+        if (l >= 0 && light_ray_findable(&lights[l])) {  /* as light_hittable says for the light sample */
             float3 t = bsdf_mis_term(s, lights, &lights[l], LIGHT_TRIANGLE, l, uv, lp, nodes, tris);
             c += t;
             GROUP_ADD(groups, lights, &lights[l], t);
