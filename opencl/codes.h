@@ -210,4 +210,12 @@
 #define GGX_E_AVG_OFFSET 1024
 #define GGX_S_OFFSET     1056
 
+/* light and shadow linking (lights/linking.py) */
+#define LIGHT_FLAG_SHADOW_LINKED 32
+#define LINK_SHIFT               8
+#define LINK_OBJECT_MASK         1048575
+#define LINK_RECEIVER_SHIFT      20
+#define LINK_BLOCKER_SHIFT       26
+#define LINK_SET_MASK            63
+
 #endif

@@ -14,6 +14,7 @@
 #include "lights/tree.h"
 #include "sampling/reservoir.h"
 #include "surface/surface.h"
+#include "lights/linking.h"
 #include "textures/point.h"
 #include "textures/image.h"
 #include "textures/nodes.h"
@@ -28,6 +29,7 @@
 #ifdef HAS_LIGHT_PASSES
 #include "film/light_passes.h"
 #endif
+#include "film/light_groups.h"
 #include "direct/clamp.h"
 #include "direct/bsdf_candidates.h"
 #include "direct/bsdf_mis.h"
@@ -72,3 +74,4 @@
 #include "taa/taa.cl"
 #include "filter/atrous.cl"
 #include "still/accumulate.cl"
+#include "film/cryptomatte.cl"

@@ -12,7 +12,8 @@
 typedef struct {
     float4 v0;   /* xyz: vertex 0; w: material id (int bits) */
     float4 e1;   /* xyz: v1 - v0;  w: original triangle index (int bits) */
-    float4 e2;   /* xyz: v2 - v0;  w: unused */
+    float4 e2;   /* xyz: v2 - v0;  w: object id (int bits; with light linking its light sets in the high bits:
+                    lights/linking.h) */
 } Tri;           /* 48 bytes */
 
 /* 4-wide BVH node: the boxes of up to four children in SoA form, tested together with float4 operations.
@@ -76,7 +77,8 @@ typedef struct {
 typedef struct {
     float4 gen_mid;    /* xyz: centre of the object-space bounding box (Blender's texture space); w: OBJECT_* flags
                           (int bits) */
-    float4 gen_scale;  /* xyz: 1 / (2 half size): generated = (p - mid) * scale + 0.5; w: unused */
+    float4 gen_scale;  /* xyz: 1 / (2 half size): generated = (p - mid) * scale + 0.5; w: its light group (int bits,
+                          -1: none; film/light_groups.h) */
 } ObjectInfo;          /* 32 bytes */
 
 /* One node of a texture program. An input refers to an earlier node (in) or holds a constant (a, b, p.x). A

@@ -6,6 +6,8 @@ from __future__ import annotations
 from restircl.render.passes import PASSES, blender_name
 
 from .compat import blender_version
+from .cryptomatte import register_cryptomatte
+from .light_groups import register_light_groups
 
 
 def toggle_owner(view_layer, toggle: str):
@@ -48,3 +50,5 @@ def register_passes(engine, scene, view_layer) -> None:
         if pass_on(view_layer, p):
             engine.register_pass(scene, view_layer, blender_name(p, blender_version()), len(p.channels), p.channels,
                                  p.blender_type)
+    register_light_groups(engine, scene, view_layer)
+    register_cryptomatte(engine, scene, view_layer)

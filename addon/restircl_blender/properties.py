@@ -12,7 +12,7 @@ from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, Po
 from restircl import Settings
 from restircl.settings.spec import Declared, Range, declared, setting
 
-from . import light_paths, passes
+from . import cryptomatte, light_paths, passes
 
 INT_MIN, INT_MAX = -(1 << 31), (1 << 31) - 1  # Blender's IntProperty holds a C int
 
@@ -128,6 +128,7 @@ def render_kwargs(props, scene=None, view_layer=None) -> dict:
     kwargs = props.settings_kwargs(scene)
     if view_layer is not None:
         kwargs["light_passes"] = passes.light_passes_on(view_layer)
+        kwargs["cryptomatte_levels"] = cryptomatte.levels(view_layer)
     return kwargs
 
 

@@ -7,19 +7,25 @@ import numpy as np
 from restircl.render.passes import PASSES, blender_name
 
 from .compat import blender_version
+from .cryptomatte import add_metadata, cryptomatte_data, kinds_on
+from .light_groups import light_group_data, light_group_names
 from .passes import pass_on
 
 
 def aovs_needed(view_layer, film_transparent: bool) -> bool:
     """Whether a frame must read back its G-buffer and light passes: only for a pass the view layer has on, or for
     the alpha of a transparent film (from the depth)."""
-    read = [p for p in PASSES[1:] if p.attr in ("depth", "normal", "vector", "albedo") or p.requires == "light_passes"]
-    return film_transparent or any(pass_on(view_layer, p) for p in read)
+    read = [p for p in PASSES[1:] if p.attr in ("depth", "normal", "vector", "albedo", "object_index", "material_index")
+            or p.requires == "light_passes"]
+    return (film_transparent or any(pass_on(view_layer, p) for p in read) or bool(light_group_names(view_layer))
+            or bool(kinds_on(view_layer)))
 
 
 def write_result(engine, frame, width: int, height: int, view_layer, film_transparent: bool) -> None:
     """Copy a restircl.Frame (rows top first) into the Render Result (rows bottom first): only the passes the
     result has, each converted once."""
+    # the metadata goes to the whole render's result (the one saved), not to this layer's part of it
+    add_metadata(engine.get_result() if hasattr(engine, "get_result") else None, frame, view_layer)
     result = engine.begin_result(0, 0, width, height, layer=view_layer.name)
     try:
         version = blender_version()
@@ -27,9 +33,12 @@ def write_result(engine, frame, width: int, height: int, view_layer, film_transp
         for rp in result.layers[0].passes:
             p = by_name.get(rp.name)
             if p is None:
-                continue
-            data = _combined(frame, height, width, film_transparent) if p is PASSES[0] else \
-                _pass_data(frame, p, height, width)
+                data = light_group_data(frame, rp.name, height, width)
+                if data is None:
+                    data = cryptomatte_data(frame, rp.name, height, width)
+            else:
+                data = _combined(frame, height, width, film_transparent) if p is PASSES[0] else \
+                    _pass_data(frame, p, height, width)
             if data is None or data.shape[2] != rp.channels:
                 continue
             flipped = np.ascontiguousarray(data[::-1].reshape(width * height, rp.channels))

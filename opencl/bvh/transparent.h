@@ -133,21 +133,29 @@ inline bool trace_any_transparent(const __global BVHNode* nodes, const __global 
 }
 
 /* The fraction of the light along a shadow ray that passes: the product of 1 - a over the surfaces it meets, 0 at
- * an opaque one or past the bound (Cycles' transparent shadows, deterministic: direct/visibility.h transmittance). */
+ * an opaque one or past the bound (Cycles' transparent shadows, deterministic: direct/visibility.h transmittance).
+ * With light linking only the light's blockers (bvh/traverse.h bvh_blocks) shadow it: the others are passed as if
+ * fully transparent. */
 inline float trace_transmittance(const __global BVHNode* nodes, const __global Tri* tris, float3 o, float3 d,
-                                 float tmax)
+                                 float tmax, uint2 blockers)
 {
 #ifdef TEST_OPAQUE_SHADOWS
-    return trace_any(nodes, tris, o, d, tmax) ? 0.0f : 1.0f;
+    return trace_any_of(nodes, tris, o, d, tmax, blockers) ? 0.0f : 1.0f;
 #else
-    if (!trace_any(nodes, tris, o, d, tmax)) return 1.0f;
+    if (!trace_any_of(nodes, tris, o, d, tmax, blockers)) return 1.0f;
     float3 oo = o;
     float travelled = 0.0f, through = 1.0f;
     for (int k = 0; k <= TRANSPARENT_MAX_BOUNCES; ++k) {
         Hit h = trace_closest(nodes, tris, oo, d, tmax - travelled);
         if (h.prim < 0) return through;
+#ifdef HAS_LIGHT_LINKING
+        if (bvh_blocks(tris, h.prim, blockers)) {
+#endif
         if (k == TRANSPARENT_MAX_BOUNCES) return 0.0f;
         through *= 1.0f - surface_coverage(tris, h.prim, h.u, h.v);
+#ifdef HAS_LIGHT_LINKING
+        }
+#endif
         if (!(through > 0.0f)) return 0.0f;
         travelled += h.t;
         if (!(travelled < tmax)) return through;

@@ -184,8 +184,36 @@ done:
     return hit;
 }
 
-bool trace_any(const __global BVHNode* nodes, const __global Tri* tris, float3 o, float3 d, float tmax)
+#ifdef HAS_LIGHT_LINKING
+/* Does triangle i (leaf order) shadow a light whose blocker sets are `blockers` (lights/linking.h)? */
+static inline bool bvh_blocks(const __global Tri* tris, int i, uint2 blockers)
 {
+    int set = (int)(((uint)as_int(tris[i].e2.w) >> LINK_BLOCKER_SHIFT) & LINK_SET_MASK);
+    return (((set < 32) ? (blockers.x >> set) : (blockers.y >> (set - 32))) & 1u) != 0u;
+}
+
+#ifdef BVH_TRI4
+/* ... any of the lanes `hits` of the leaf whose first triangle is `first` */
+static inline bool bvh_blocks4(const __global Tri* tris, int first, int hits, uint2 blockers)
+{
+    while (hits) {
+        int k = BVH_CTZ4(hits);
+        hits &= hits - 1;
+        if (bvh_blocks(tris, first + k, blockers)) return true;
+    }
+    return false;
+}
+#endif
+#endif
+
+/* Is anything on the ray? With light linking only triangles of the blocker sets `blockers` count (a shadow ray of a
+ * light with linked shadows passes through the others); without it every triangle does and blockers is unused. */
+bool trace_any_of(const __global BVHNode* nodes, const __global Tri* tris, float3 o, float3 d, float tmax,
+                  uint2 blockers)
+{
+#ifndef HAS_LIGHT_LINKING
+    (void)blockers;
+#endif
     BvhRay r;
     if (!bvh_setup_ray(o, d, tmax, &r)) return false;
     int stack[BVH_STACK_SIZE];
@@ -209,12 +237,21 @@ bool trace_any(const __global BVHNode* nodes, const __global Tri* tris, float3 o
                 leaves &= leaves - 1;
 #ifdef BVH_TRI4
                 float4 t4, inv4, v4, w4;
-                if (bvh_tri4(tris + ~c[k], &r, tmax, &t4, &inv4, &v4, &w4)) return true;
+                int hits = bvh_tri4(tris + ~c[k], &r, tmax, &t4, &inv4, &v4, &w4);
+#ifdef HAS_LIGHT_LINKING
+                if (hits && bvh_blocks4(tris, cnt[k], hits, blockers)) return true;
+#else
+                if (hits) return true;
+#endif
 #else
                 int first = ~c[k];
                 for (int i = first; i < first + cnt[k]; ++i) {
                     float t, u, v;
+#ifdef HAS_LIGHT_LINKING
+                    if (bvh_triangle(tris + i, &r, tmax, &t, &u, &v) && bvh_blocks(tris, i, blockers)) return true;
+#else
                     if (bvh_triangle(tris + i, &r, tmax, &t, &u, &v)) return true;
+#endif
                 }
 #endif
             } while (leaves);
@@ -233,6 +270,12 @@ bool trace_any(const __global BVHNode* nodes, const __global Tri* tris, float3 o
         ni = stack[--sp];
     }
     return false;
+}
+
+/* Is anything on the ray (every triangle blocks)? */
+bool trace_any(const __global BVHNode* nodes, const __global Tri* tris, float3 o, float3 d, float tmax)
+{
+    return trace_any_of(nodes, tris, o, d, tmax, (uint2)(0xFFFFFFFFu));
 }
 
 /* A ray origin just off the surface at p, on the side of the unit geometric normal ng (pass the normal facing

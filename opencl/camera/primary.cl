@@ -41,6 +41,10 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
         light_pass_seen(light_passes, w * h, i, gbuf[i].emission.xyz, (float3)(0.0f), (float3)(0.0f),
                         (float3)(0.0f));
 #endif
+#ifdef HAS_LIGHT_GROUPS  /* ... of its light's group (camera_visible.h: prim = CAMERA_LIGHT_PRIM(light)) */
+        int seen = -2 - as_int(gbuf[i].normal.w);
+        light_groups_seen(light_passes, w * h, i, light_group(lights, &lights[seen]), gbuf[i].emission.xyz);
+#endif
         return;
     }
 #else
@@ -82,6 +86,13 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
 #ifdef HAS_LIGHT_PASSES  /* the suns are lights (Emission), the world is the Environment */
         light_pass_seen(light_passes, w * h, i, sun_seen, world_seen, (float3)(0.0f), (float3)(0.0f));
 #endif
+#ifdef HAS_LIGHT_GROUPS  /* the world (the first light record) in its group; a sun's disk seen in none */
+#ifdef HAS_ENVIRONMENT
+        light_groups_seen(light_passes, w * h, i, light_group(lights, &lights[0]), world_seen);
+#else
+        light_groups_seen(light_passes, w * h, i, -1, world_seen);
+#endif
+#endif
         g.motion = (float4)(0.0f, 0.0f, 1.0f, INFINITY);  /* the background: reprojected by direction */
         float4 vec = (float4)(0.0f);
 #ifdef HAS_MOTION
@@ -105,7 +116,7 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
     GlossySample gx;
     hit_gsample(&sc, hit, d, cam->texture_full ? 0.0f : camera_footprint(cam, d, hit.t), &g, &gx);
     float3 p = g.pos.xyz;
-    int obj = as_int(g.albedo.w);
+    int obj = as_int(g.albedo.w) & LINK_OBJECT_MASK;
     g.pos.w = camera_depth(cam, p);
 #ifdef HAS_GLOSSY
     if (materials[as_int(g.gnormal.w)].info.y > 0)  /* a material with closures: its resolved record, whole */
@@ -144,6 +155,9 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
     }
 #endif
     light_pass_seen(light_passes, w * h, i, g.emission.xyz, (float3)(0.0f), g.albedo.xyz, gloss_colour);
+#ifdef HAS_LIGHT_GROUPS  /* an emissive surface in its object's group (ObjectInfo.gen_scale.w) */
+    light_groups_seen(light_passes, w * h, i, as_int(objects[obj].gen_scale.w), g.emission.xyz);
+#endif
 #else
     (void)light_passes;
 #endif

@@ -93,13 +93,14 @@ inline int bsdf_ray_triangle_light(const Surface* s, const __global BVHNode* nod
 #endif
 
 /* Stream the sample (u, v) of light `index` that a BSDF ray met, as one candidate (M unchanged). */
-inline void bsdf_candidate_add(const Surface* s, const __global Light* rec, int type, int index, float2 uv,
+inline void bsdf_candidate_add(const Surface* s, const __global Light* lights, const __global Light* rec, int type,
+                               int index, float2 uv,
                                const LightPick* lp, float n_light, BsdfSource b, uint* rng, float* sel,
                                Reservoir* r, LightEval* chosen)
 {
     LightEval e;
     float rnd = sel ? 0.0f : rng_next(rng);
-    float t = target_of_record(s, rec, uv.x, uv.y, &e);
+    float t = target_of_record(s, lights, rec, uv.x, uv.y, &e);
     if (!(t > 0.0f)) return;
     float p_light = light_pick_pdf(lp, index, s->x, s->n) * light_point_pdf(rec, type, s->x, &e);
     float p_mix = mis_mixture_pdf(n_light, p_light, (float)b.count, bsdf_pdf_light_measure(s, &e));
@@ -135,14 +136,15 @@ inline void bsdf_candidates(const Surface* s, const __global Light* lights, cons
             int type = light_type(rec);
             float2 uv;
             if (light_hittable(rec, type, l, b.analytic, b.triangles) && light_hit(rec, type, s->x, wi, &uv))
-                bsdf_candidate_add(s, rec, type, l, uv, lp, n_light, b, rng, sel, r, chosen);
+                bsdf_candidate_add(s, lights, rec, type, l, uv, lp, n_light, b, rng, sel, r, chosen);
         }
 #ifdef HAS_TRIANGLE_LIGHTS
         if (b.triangles) {
             float2 uv;
             int l = bsdf_ray_triangle_light(s, nodes, tris, tri_light, wi, &uv);
-            if (l >= 0)
-                bsdf_candidate_add(s, &lights[l], LIGHT_TRIANGLE, l, uv, lp, n_light, b, rng, sel, r, chosen);
+            if (l >= 0 && light_ray_findable(&lights[l]))  /* as light_hittable says for its light candidates */
+                bsdf_candidate_add(s, lights, &lights[l], LIGHT_TRIANGLE, l, uv, lp, n_light, b, rng, sel, r,
+                                   chosen);
         }
 #endif
     }

@@ -30,24 +30,26 @@ inline float bsdf_mis_light_weight(const Surface* s, const __global Light* rec, 
 }
 
 /* The BSDF part of light `index` met in direction-sample (u, v): f m_b / p_b, shadowed. */
-inline float3 bsdf_mis_term(const Surface* s, const __global Light* rec, int type, int index, float2 uv,
-                            const LightPick* lp, const __global BVHNode* nodes, const __global Tri* tris)
+inline float3 bsdf_mis_term(const Surface* s, const __global Light* lights, const __global Light* rec, int type,
+                            int index, float2 uv, const LightPick* lp, const __global BVHNode* nodes,
+                            const __global Tri* tris)
 {
     LightEval e;
-    if (!(target_of_record(s, rec, uv.x, uv.y, &e) > 0.0f)) return (float3)(0.0f);
+    if (!(target_of_record(s, lights, rec, uv.x, uv.y, &e) > 0.0f)) return (float3)(0.0f);
     float p_b = bsdf_pdf_light_measure(s, &e);
     float p_l = light_pick_pdf(lp, index, s->x, s->n) * light_point_pdf(rec, type, s->x, &e);
     if (!(p_b > 0.0f) || !visible(nodes, tris, s, &e)) return (float3)(0.0f);
     return unshadowed_contrib(s, &e) / (p_l + p_b);
 }
 
-/* Draw one BSDF direction at s (*wi_out) and return its MIS-weighted, shadowed contribution (the lights it meets). With QMC
+/* Draw one BSDF direction at s (*wi_out) and return its MIS-weighted, shadowed contribution (the lights it meets; each
+ * light's share also to *groups, film/light_groups.h). With QMC
  * (q->on) the direction comes from the pixel's Sobol pair QMC_BSDF_MIS: where the light sample's shadow ray is
  * blocked (a sun behind an occluder) this sample carries the sky, and stratified across a still's frames its
  * error falls faster than with random numbers, as the light sample's does. */
 inline float3 bsdf_mis_sample(const Surface* s, const __global Light* lights, const LightPick* lp,
                               const __global BVHNode* nodes, const __global Tri* tris, const __global int* tri_light,
-                              BsdfSource b, uint* rng, const Qmc* q, float3* wi_out)
+                              BsdfSource b, uint* rng, const Qmc* q, float3* wi_out, GroupLight* groups)
 {
     float2 u;
     if (q->on) {
@@ -66,16 +68,24 @@ inline float3 bsdf_mis_sample(const Surface* s, const __global Light* lights, co
         const __global Light* rec = &lights[l];
         int type = light_type(rec);
         float2 uv;
-        if (light_hittable(rec, type, l, b.analytic, b.triangles) && light_hit(rec, type, s->x, wi, &uv))
-            c += bsdf_mis_term(s, rec, type, l, uv, lp, nodes, tris);
+        if (light_hittable(rec, type, l, b.analytic, b.triangles) && light_hit(rec, type, s->x, wi, &uv)) {
+            float3 t = bsdf_mis_term(s, lights, rec, type, l, uv, lp, nodes, tris);
+            c += t;
+            GROUP_ADD(groups, lights, rec, t);
+        }
     }
 #ifdef HAS_TRIANGLE_LIGHTS
     if (b.triangles) {
         float2 uv;
         int l = bsdf_ray_triangle_light(s, nodes, tris, tri_light, wi, &uv);
-        if (l >= 0) c += bsdf_mis_term(s, &lights[l], LIGHT_TRIANGLE, l, uv, lp, nodes, tris);
+        if (l >= 0 && light_ray_findable(&lights[l])) {  /* as light_hittable says for the light sample */
+            float3 t = bsdf_mis_term(s, lights, &lights[l], LIGHT_TRIANGLE, l, uv, lp, nodes, tris);
+            c += t;
+            GROUP_ADD(groups, lights, &lights[l], t);
+        }
     }
 #endif
+    (void)groups;
     return c;
 }
 

@@ -24,6 +24,8 @@ __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySa
     const float clamp = params.clamp_direct, k_seen = clamp_scale(gbuf[i].emission.xyz, clamp);
     float3 c = gbuf[i].emission.xyz * k_seen;
     float3 pass_d = (float3)(0.0f), pass_g = (float3)(0.0f);  /* the light passes' diffuse and glossy direct */
+    GroupLight gl;  /* ... and the light groups' (film/light_groups.h) */
+    group_light_clear(&gl);
     if (s.valid && light_count > 0) {
         uint rng = rng_seed((uint)i, frame, seed, 1u);
         LightEval e;
@@ -41,11 +43,18 @@ __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySa
             res_finalize(&r, r.M);
             /* W > 0: a candidate of target > 0 was picked, and e holds its evaluation */
             float v = 0.0f;  /* the transmittance: 1 or 0 but through transparent surfaces */
-            if (r.W > 0.0f && (v = transmittance(nodes, tris, &s, &e)) > 0.0f)
-                c += direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) * r.W * v, clamp, &pass_d, &pass_g);
+            if (r.W > 0.0f && (v = transmittance(nodes, tris, &s, &e)) > 0.0f) {
+                float3 x = direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) * r.W * v, clamp, &pass_d,
+                                               &pass_g);
+                c += x;
+                GROUP_ADD(&gl, lights, &lights[r.light], x);
+            }
             if (bsdf.mis_sample) {  /* the lights its ray meets, as one contribution */
                 float3 wi;
-                float3 m = bsdf_mis_sample(&s, lights, &lp, nodes, tris, tri_light, bsdf, &rng, &q, &wi);
+                GroupLight mg;
+                group_light_clear(&mg);
+                float3 m = bsdf_mis_sample(&s, lights, &lp, nodes, tris, tri_light, bsdf, &rng, &q, &wi, &mg);
+                group_light_merge(&gl, &mg, (float3)(clamp_scale(m, clamp)));
                 c += direct_contribution(&s, wi, m, clamp, &pass_d, &pass_g);
             }
         } else {
@@ -57,11 +66,16 @@ __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySa
 #endif
             float v = 0.0f;
             if (pdf > 0.0f && light_eval(&lights[light], uv.x, uv.y, s.x, s.n, &e)
-                && (v = transmittance(nodes, tris, &s, &e)) > 0.0f)
-                c += direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) / pdf * v, clamp, &pass_d, &pass_g);
+                && light_links(lights, &lights[light], &s, &e) && (v = transmittance(nodes, tris, &s, &e)) > 0.0f) {
+                float3 x = direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) / pdf * v, clamp, &pass_d,
+                                               &pass_g);
+                c += x;
+                GROUP_ADD(&gl, lights, &lights[light], x);
+            }
         }
     }
     direct_passes(light_passes, pixel_count, i, pass_d, pass_g, k_seen);
+    light_groups_add(light_passes, pixel_count, i, &gl, k_seen);
     out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), film_coverage(gbuf[i]));
 }
 
@@ -78,6 +92,8 @@ __kernel void shade_reference(const __global GSample* gbuf, const __global Gloss
     const float clamp = params.clamp_direct, k_seen = clamp_scale(gbuf[i].emission.xyz, clamp);
     float3 c = gbuf[i].emission.xyz * k_seen;
     float3 pass_d = (float3)(0.0f), pass_g = (float3)(0.0f);
+    GroupLight gl;
+    group_light_clear(&gl);
     if (s.valid) {
         uint rng = rng_seed((uint)i, frame, seed, 2u);
         for (int l = 0; l < light_count; ++l) {
@@ -89,11 +105,16 @@ __kernel void shade_reference(const __global GSample* gbuf, const __global Gloss
 #endif
             LightEval e;
             float v = 0.0f;
-            if (pdf > 0.0f && light_eval(&lights[l], uv.x, uv.y, s.x, s.n, &e)
-                && (v = transmittance(nodes, tris, &s, &e)) > 0.0f)
-                c += direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) / pdf * v, clamp, &pass_d, &pass_g);
+            if (pdf > 0.0f && light_eval(&lights[l], uv.x, uv.y, s.x, s.n, &e) && light_links(lights, &lights[l], &s, &e)
+                && (v = transmittance(nodes, tris, &s, &e)) > 0.0f) {
+                float3 x = direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) / pdf * v, clamp, &pass_d,
+                                               &pass_g);
+                c += x;
+                GROUP_ADD(&gl, lights, &lights[l], x);
+            }
         }
     }
     direct_passes(light_passes, pixel_count, i, pass_d, pass_g, k_seen);
+    light_groups_add(light_passes, pixel_count, i, &gl, k_seen);
     out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), film_coverage(gbuf[i]));
 }

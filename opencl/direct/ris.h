@@ -93,7 +93,7 @@ inline void ris_candidates(const Surface* s, const __global Light* lights, const
 #ifdef TEST_PICK_PDF_SCALE  /* negative controls of the tests only (tests/bias_controls.py): a wrong pdf */
             pdf *= TEST_PICK_PDF_SCALE;
 #endif
-            float t = pdf > 0.0f ? target_of_record(s, rec[k], uv.x, uv.y, &e) : 0.0f;
+            float t = pdf > 0.0f ? target_of_record(s, lights, rec[k], uv.x, uv.y, &e) : 0.0f;
             if (bsdf.mis_sample && t > 0.0f) {
                 float m = bsdf_mis_light_weight(s, rec[k], type[k], light[k], bsdf, pdf, &e);
                 t *= m;

@@ -9,13 +9,19 @@
  * at 1e5 from the origin, and a light closer than that to a surface was found shadowed by the surface itself (the
  * stress case offset_1e5). */
 inline void shadow_ray(const __global Tri* tris, const Surface* s, const LightEval* e, float3* o, float3* d,
-                       float* tmax)
+                       float* tmax, uint2* blocks)
 {
+#ifdef HAS_LIGHT_LINKING
+    const uint2 blockers = e->blockers;  /* the objects that shadow this light (lights/linking.h) */
+#else
+    const uint2 blockers = (uint2)(0xFFFFFFFFu);
+#endif
     Tri tri = tris[s->prim];
     float err = RESTIRCL_OFFSET_ULPS * FLT_EPSILON * (max_abs3(s->x) + max_abs3(tri.e1.xyz) + max_abs3(tri.e2.xyz));
     *o = s->x + err * (dot3(s->ng, e->wi) >= 0.0f ? s->ng : -s->ng);
     *d = e->wi;
     *tmax = INFINITY;
+    *blocks = blockers;
     if (!finite_f(e->dist)) return;
     float3 t = e->pos + e->eps * e->nl;
     float3 v = t - *o;
@@ -31,8 +37,9 @@ inline bool visible(const __global BVHNode* nodes, const __global Tri* tris, con
 {
     float3 o, d;
     float tmax;
-    shadow_ray(tris, s, e, &o, &d, &tmax);
-    return !(tmax > 0.0f) || !trace_any(nodes, tris, o, d, tmax);
+    uint2 blockers;
+    shadow_ray(tris, s, e, &o, &d, &tmax, &blockers);
+    return !(tmax > 0.0f) || !trace_any_of(nodes, tris, o, d, tmax, blockers);
 }
 
 /* The fraction of light sample e that reaches s: visible()'s 1 or 0; in transparent builds the product of the
@@ -45,8 +52,9 @@ inline float transmittance(const __global BVHNode* nodes, const __global Tri* tr
 #ifdef HAS_TRANSPARENCY
     float3 o, d;
     float tmax;
-    shadow_ray(tris, s, e, &o, &d, &tmax);
-    return tmax > 0.0f ? trace_transmittance(nodes, tris, o, d, tmax) : 1.0f;
+    uint2 blockers;
+    shadow_ray(tris, s, e, &o, &d, &tmax, &blockers);
+    return tmax > 0.0f ? trace_transmittance(nodes, tris, o, d, tmax, blockers) : 1.0f;
 #else
     return visible(nodes, tris, s, e) ? 1.0f : 0.0f;
 #endif

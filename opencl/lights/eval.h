@@ -13,6 +13,9 @@ typedef struct {
     float dist;       /* distance to pos; INFINITY for the sun */
     float eps;        /* emissive triangles (lights that are also geometry): a bound of the float32 error of pos, by
                          which the shadow ray stops short of it (direct/visibility.h visible); 0 for every other light */
+#ifdef HAS_LIGHT_LINKING
+    uint2 blockers;   /* the blocker sets that shadow the light (lights/linking.h light_links) */
+#endif
 } LightEval;
 
 /* Shadow ray ends are moved off their surfaces by RESTIRCL_OFFSET_ULPS float32 epsilons of the largest magnitude in

@@ -160,6 +160,7 @@ inline float light_point_pdf(const __global Light* l, int type, float3 x, const 
 inline bool light_hittable(const __global Light* l, int type, int index, int analytic, int triangles)
 {
     if (type == LIGHT_TRIANGLE ? triangles == 0 : index >= analytic) return false;
+    if (!light_ray_findable(l)) return false;
     switch (type) {
 #ifdef HAS_TRIANGLE_LIGHTS
     case LIGHT_TRIANGLE: return triangle_hittable(l);

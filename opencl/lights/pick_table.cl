@@ -24,7 +24,7 @@ __kernel void light_pick_table(const __global GSample* gbuf, const __global Glos
                 float py;
                 LightEval e;
                 float2 uv = light_sample_typed(rec, type, s.x, r0, r1, &py);
-                float t = py > 0.0f ? target_of_record(&s, rec, uv.x, uv.y, &e) : 0.0f;
+                float t = py > 0.0f ? target_of_record(&s, lights, rec, uv.x, uv.y, &e) : 0.0f;
                 if (t > 0.0f) acc += t / py;
             }
         }

@@ -16,4 +16,17 @@ inline int light_flags(const __global Light* l) { return as_int(l->L.w); }
 
 inline bool light_two_sided(const __global Light* l) { return (light_flags(l) & LIGHT_FLAG_TWO_SIDED) != 0; }
 
+/* Can a BSDF ray find light l? Not one whose shadows are linked (lights/linking.h): the ray stops at the first
+ * object it meets, which may be one that does not shadow the light, so such a light is found by light sampling
+ * alone (MIS weight 1). Every light can without light linking. */
+#ifdef HAS_LIGHT_LINKING
+inline bool light_ray_findable(const __global Light* l) { return (light_flags(l) & LIGHT_FLAG_SHADOW_LINKED) == 0; }
+#else
+inline bool light_ray_findable(const __global Light* l)
+{
+    (void)l;
+    return true;
+}
+#endif
+
 #endif

@@ -8,11 +8,11 @@
 #define RESTIRCL_PATH_EMITTERS_H
 
 /* The BSDF-ray term of light `index` (record rec, sample uv) met from s. */
-inline float3 path_emitter_term(const Surface* s, const __global Light* rec, int type, int index, float2 uv,
-                                const LightPick* lp, BsdfSource hits, float hit_t, bool escaped)
+inline float3 path_emitter_term(const Surface* s, const __global Light* lights, const __global Light* rec, int type,
+                                int index, float2 uv, const LightPick* lp, BsdfSource hits, float hit_t, bool escaped)
 {
     LightEval e;
-    if (!light_eval(rec, uv.x, uv.y, s->x, s->n, &e)) return (float3)(0.0f);
+    if (!light_eval(rec, uv.x, uv.y, s->x, s->n, &e) || !light_links(lights, rec, s, &e)) return (float3)(0.0f);
     /* met before the surface the ray hit, or, at infinity, only by a ray that escaped */
     if (finite_f(e.dist) ? !(e.dist < hit_t) : !escaped) return (float3)(0.0f);
     float p_bsdf = path_bsdf_pdf(s, rec, type, index, hits, &e);
@@ -21,9 +21,10 @@ inline float3 path_emitter_term(const Surface* s, const __global Light* rec, int
     return unshadowed_contrib(s, &e) * (path_mis_weight(p_bsdf, p_light) / p_bsdf);
 }
 
-/* The emitters the ray from s in direction wi meets before its hit h (h.prim < 0: it escaped). */
+/* The emitters the ray from s in direction wi meets before its hit h (h.prim < 0: it escaped); each light's term
+ * also to *groups (film/light_groups.h). */
 inline float3 path_emitters(const Surface* s, float3 wi, Hit h, const __global Light* lights,
-                            const __global int* tri_light, const LightPick* lp, BsdfSource hits)
+                            const __global int* tri_light, const LightPick* lp, BsdfSource hits, GroupLight* groups)
 {
     float3 c = (float3)(0.0f);
     bool escaped = h.prim < 0;
@@ -32,19 +33,27 @@ inline float3 path_emitters(const Surface* s, float3 wi, Hit h, const __global L
         const __global Light* rec = &lights[l];
         int type = light_type(rec);
         float2 uv;
-        if (light_hittable(rec, type, l, hits.analytic, hits.triangles) && light_hit(rec, type, s->x, wi, &uv))
-            c += path_emitter_term(s, rec, type, l, uv, lp, hits, hit_t, escaped);
+        if (light_hittable(rec, type, l, hits.analytic, hits.triangles) && light_hit(rec, type, s->x, wi, &uv)) {
+            float3 t = path_emitter_term(s, lights, rec, type, l, uv, lp, hits, hit_t, escaped);
+            c += t;
+            GROUP_ADD(groups, lights, rec, t);
+        }
     }
 #ifdef HAS_TRIANGLE_LIGHTS
     if (hits.triangles && !escaped) {
         int l = tri_light[h.prim];
         /* the triangle itself is the hit: no distance test (its own point, rounded, may lie a hair beyond h.t) */
-        if (l >= 0)
-            c += path_emitter_term(s, &lights[l], LIGHT_TRIANGLE, l, triangle_uv(h.u, h.v), lp, hits, INFINITY, true);
+        if (l >= 0) {
+            float3 t = path_emitter_term(s, lights, &lights[l], LIGHT_TRIANGLE, l, triangle_uv(h.u, h.v), lp, hits,
+                                         INFINITY, true);
+            c += t;
+            GROUP_ADD(groups, lights, &lights[l], t);
+        }
     }
 #else
     (void)tri_light;
 #endif
+    (void)groups;
     return c;
 }
 

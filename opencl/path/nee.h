@@ -9,7 +9,7 @@
 
 inline float3 path_nee(const Surface* s, const __global Light* lights, const LightPick* lp, int slot_count,
                        BsdfSource hits, const __global BVHNode* nodes, const __global Tri* tris, float threshold,
-                       uint* rng, const Qmc* q, uint group)
+                       uint* rng, const Qmc* q, uint group, int* picked)
 {
     uint word;
     float r0, r1;
@@ -27,13 +27,15 @@ inline float3 path_nee(const Surface* s, const __global Light* lights, const Lig
     int light;
     float pick;
     light_pick_lights(lp, s->x, s->n, &word, 1, &light, &pick);
+    *picked = light;
     const __global Light* rec = &lights[light];
     int type = light_type(rec);
     float point;
     float2 uv = light_sample_typed(rec, type, s->x, r0, r1, &point);
     float p_light = pick * point;
     LightEval e;
-    if (!(p_light > 0.0f) || !light_eval(rec, uv.x, uv.y, s->x, s->n, &e)) return (float3)(0.0f);
+    if (!(p_light > 0.0f) || !light_eval(rec, uv.x, uv.y, s->x, s->n, &e) || !light_links(lights, rec, s, &e))
+        return (float3)(0.0f);
     float w = path_mis_weight(p_light, path_bsdf_pdf(s, rec, type, light, hits, &e));
     float3 c = unshadowed_contrib(s, &e) * (w / p_light);
     if (threshold > 0.0f) {

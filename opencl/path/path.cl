@@ -33,6 +33,9 @@ __kernel void path_trace(const __global GSample* gbuf, const __global GlossySamp
     sample[i].xyz += L;
 #ifdef HAS_LIGHT_PASSES  /* all of it is bounced light, diffuse or glossy by the first scatter (Cycles' passes) */
     light_pass_indirect(light_passes, frame_params.pixels, i, L, st.pass_diffuse);
+#ifdef HAS_LIGHT_GROUPS  /* ... and each light's share to its group */
+    light_groups_add(light_passes, frame_params.pixels, i, &st.groups, 1.0f);
+#endif
 #else
     (void)light_passes;
 #endif

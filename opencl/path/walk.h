@@ -27,9 +27,20 @@ typedef struct {
     float3 pass_diffuse;  /* the diffuse share of the first scatter's BSDF (film/light_passes.h), which all its light
                              takes; 0 until it scatters (a zero initialiser leaves it 0) */
 #endif
+#ifdef HAS_LIGHT_GROUPS
+    GroupLight groups;    /* the light it gathered by light group (film/light_groups.h); 0 from a zero initialiser */
+#endif
 } PathState;
 
-/* c scaled down where its rgb sum as it reaches the pixel (prefix * c) exceeds 3x the clamp (0: off). */
+/* The factor that scales c down where its rgb sum as it reaches the pixel (prefix * c) exceeds 3x the clamp (0: off). */
+inline float path_clamp_scale(float3 c, float3 prefix, float clamp)
+{
+    float3 seen = prefix * c;
+    float sum = seen.x + seen.y + seen.z;
+    return (clamp > 0.0f && sum > 3.0f * clamp) ? 3.0f * clamp / sum : 1.0f;
+}
+
+/* c clamped by path_clamp_scale */
 inline float3 path_clamp(float3 c, float3 prefix, float clamp)
 {
     float3 seen = prefix * c;
@@ -48,14 +59,20 @@ typedef struct {
     const PathParams* params;
 } PathScene;
 
-/* NEE at the vertex the path stands on, times T (the light of this vertex), clamped. */
-inline float3 path_vertex_light(const PathScene* ps, const PathState* st, uint* rng, const Qmc* q)
+/* NEE at the vertex the path stands on, times T (the light of this vertex), clamped; also to the light's group. */
+inline float3 path_vertex_light(const PathScene* ps, PathState* st, uint* rng, const Qmc* q)
 {
     const PathParams* p = ps->params;
     if (!(p->sampler.light_count > 0)) return (float3)(0.0f);
-    return path_clamp(st->T * path_nee(&st->s, ps->lights, ps->lp, p->sampler.slot_count, ps->hits, ps->nodes,
-                                       ps->sc->tris, p->light_threshold, rng, q, QMC_PATH_LIGHT(st->bounces)),
-                      st->prefix, p->clamp_indirect);
+    int light;
+    float3 c = path_clamp(st->T * path_nee(&st->s, ps->lights, ps->lp, p->sampler.slot_count, ps->hits, ps->nodes,
+                                           ps->sc->tris, p->light_threshold, rng, q, QMC_PATH_LIGHT(st->bounces),
+                                           &light),
+                          st->prefix, p->clamp_indirect);
+#ifdef HAS_LIGHT_GROUPS
+    GROUP_ADD(&st->groups, ps->lights, &ps->lights[light], c);
+#endif
+    return c;
 }
 
 /* Walk on from st (whose vertex's own NEE is already counted) until the path ends; returns the light it gathers
@@ -98,9 +115,15 @@ inline float3 path_walk(const PathScene* ps, PathState* st, uint* rng, const Qmc
         if (part < 0) ++st->diffuse; else ++st->gloss;
         bool last = st->bounces > p->max_bounces || st->diffuse > p->max_diffuse || st->gloss > p->max_glossy;
         Hit h = trace_closest(ps->nodes, ps->sc->tris, path_ray_origin(ps->sc->tris, &st->s, wi), wi, INFINITY);
-        if (st->bounces > 1 && nee)
-            L += path_clamp(T_before * path_emitters(&st->s, wi, h, ps->lights, ps->tri_light, ps->lp, ps->hits),
-                            st->prefix, p->clamp_indirect);
+        if (st->bounces > 1 && nee) {
+            GroupLight eg;  /* each emitter's share, scaled as the sum is clamped */
+            group_light_clear(&eg);
+            float3 em = T_before * path_emitters(&st->s, wi, h, ps->lights, ps->tri_light, ps->lp, ps->hits, &eg);
+            L += path_clamp(em, st->prefix, p->clamp_indirect);
+#ifdef HAS_LIGHT_GROUPS
+            group_light_merge(&st->groups, &eg, T_before * path_clamp_scale(em, st->prefix, p->clamp_indirect));
+#endif
+        }
         if (last || h.prim < 0 || !(fmax_f(st->T.x, fmax_f(st->T.y, st->T.z)) > 0.0f)) break;
         st->s = path_vertex(ps->sc, h, wi);
         L += path_vertex_light(ps, st, rng, q);

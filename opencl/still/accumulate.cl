@@ -43,6 +43,6 @@ __kernel void accumulate_light_passes(const __global float4* light_passes, __glo
                                       FrameParams frame_params)
 {
     int i = get_global_id(0);
-    if (i >= frame_params.pixels * LPASS_COUNT) return;
+    if (i >= frame_params.pixels * LPASS_PLANES) return;  /* the light groups' planes too (film/light_groups.h) */
     sums[i] += light_passes[i];
 }

@@ -29,7 +29,8 @@ inline void hit_gsample(const SceneSurfaces* sc, Hit hit, float3 d, float footpr
     int backfacing = dot3(ng, d) > 0.0f;
     if (backfacing) ng = -ng;
     int mat = as_int(t.v0.w);
-    int obj = as_int(t.e2.w);
+    int obj_bits = as_int(t.e2.w);  /* the object id, and its light sets where lights are linked */
+    int obj = obj_bits & LINK_OBJECT_MASK;
     Material m = sc->materials[mat];
     TexPoint tp = texture_point(sc->tri_attr, sc->objects, hit.prim, obj, hit.u, hit.v, d, ng, backfacing, footprint);
     float3 albedo = m.albedo.xyz, emission = m.emission.xyz;
@@ -40,7 +41,7 @@ inline void hit_gsample(const SceneSurfaces* sc, Hit hit, float3 d, float footpr
     g->pos.xyz = p;
     g->normal = (float4)(tp.ns, as_float(hit.prim));
     g->gnormal = (float4)(ng, as_float(mat));
-    g->albedo = (float4)(albedo, as_float(obj));
+    g->albedo = (float4)(albedo, as_float(obj_bits));
 #ifdef HAS_GLOSSY
     /* the material's closures resolved for this view at the shading normal: the diffuse albedo under the specular
      * layer, and the lobes */

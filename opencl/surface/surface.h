@@ -34,6 +34,9 @@ typedef struct {
     float depth;    /* view depth */
     int valid;      /* 0: the primary ray missed */
     int prim;       /* the triangle hit (leaf order; < 0: none), for the shadow ray offset */
+#ifdef HAS_LIGHT_LINKING
+    int receiver;   /* the receiver light set of its object (lights/linking.h) */
+#endif
 } Surface;
 
 /* The material of pixel i of the G-buffer g and its extension gx (valid: the pixel shows a surface); the lobes
@@ -67,6 +70,9 @@ inline Surface surface_make(const GSample* gs, SurfaceMaterial m, float3 wo)
     s.depth = gs->pos.w;
     s.n = gs->normal.xyz;
     s.ng = gs->gnormal.xyz;
+#ifdef HAS_LIGHT_LINKING
+    s.receiver = (as_int(gs->albedo.w) >> LINK_RECEIVER_SHIFT) & LINK_SET_MASK;
+#endif
 #ifdef HAS_TEXTURES
     int nb = as_int(gs->emission.w);
     s.bumped = s.valid && nb != 0;

@@ -10,7 +10,9 @@ from collections.abc import Callable
 import numpy as np
 
 from ..compat import uses_nodes, visible_camera
+from ..light_groups import object_group
 from .convert import matrix, rgb
+from .linking import read_linking
 from .motion import Frames, fill_gaps, instance_key, transforms
 from .report import ExportError
 
@@ -33,6 +35,8 @@ class LightReader:
         m = matrix(inst.matrix_world)
         params = light_params(ob.data, np.linalg.norm(m[:3, :3], axis=0), self.warn, ob.name)
         params["visible_camera"] = visible_camera(ob)
+        params["linking"] = read_linking(ob)
+        params["lightgroup"] = object_group(ob)
         self._by_key[instance_key(inst)] = len(self._params)
         self._params.append(params)
         self._tracks.append(self.frames.track(m))
@@ -68,6 +72,8 @@ class LightReader:
                 soft_lights.append(params["name"])
             if "visible_camera" not in light_fields:  # a restircl from before lights were seen
                 params.pop("visible_camera")
+            if params["linking"] is None:
+                params.pop("linking")
             p = np.asarray(powers, dtype=np.float64)
             if np.any(p < 0):
                 # Cycles subtracts such light; a RIS target is a luminance >= 0, so it cannot be resampled

@@ -49,6 +49,8 @@ class MaterialTable:
             key = (name, has_uv, ob.name if ob is not None else "")
         if key not in self._index:
             m, inputs, baked = self._read(mat, name, ob, has_uv)
+            if mat is not None and hasattr(m, "pass_index"):
+                m.pass_index = int(getattr(mat, "pass_index", 0))
             if baked:
                 self._per_object.add(name)
                 key = (name, has_uv, ob.name if ob is not None else "")

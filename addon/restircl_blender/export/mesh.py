@@ -14,7 +14,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..light_groups import object_group
 from .convert import matrix
+from .linking import read_linking
 from .material import MaterialTable
 from .motion import Frames, fill_gaps, instance_key, transforms
 
@@ -41,6 +43,10 @@ class _Record:
     track: list  # object-to-world matrix per sampled frame
     uvs: np.ndarray | None = None
     normals: np.ndarray | None = None
+    linking: object = None  # restircl Linking of the object as an emitter (export/linking.py), None: none
+    lightgroup: str = ""  # its Light Group (light_groups.py)
+    pass_index: int = 0  # Object > Relations > Pass Index (the Object Index pass)
+    asset: str = ""  # the root of its parent chain (Cryptomatte's asset), "" when it has no parent
 
 
 class MeshReader:
@@ -81,7 +87,9 @@ class MeshReader:
             self._probes[ob.name] = (len(geo.vertices), _digest(geo.vertices))
         self._by_key[instance_key(inst)] = len(self._records)
         self._records.append(_Record(ob.name, geo.vertices, geo.triangles, tri_ids,
-                                     self.frames.track(matrix(inst.matrix_world)), uvs, geo.normals))
+                                     self.frames.track(matrix(inst.matrix_world)), uvs, geo.normals,
+                                     read_linking(ob), object_group(ob), int(getattr(ob, "pass_index", 0)),
+                                     _asset(orig)))
         self.instances += int(inst.is_instance)
 
     def sample(self, inst, k: int) -> None:
@@ -106,7 +114,19 @@ class MeshReader:
         for r in self._records:
             fill_gaps(r.track)
         return [restircl.Mesh(name=r.name, vertices=r.vertices, triangles=r.triangles, material_ids=r.material_ids,
-                              transforms=transforms(r.track), uvs=r.uvs, normals=r.normals) for r in self._records]
+                              transforms=transforms(r.track), uvs=r.uvs, normals=r.normals,
+                              **({} if r.linking is None else {"linking": r.linking}),
+                              **({"lightgroup": r.lightgroup} if r.lightgroup else {}),
+                              **({"pass_index": r.pass_index} if r.pass_index else {}),
+                              **({"asset": r.asset} if r.asset else {})) for r in self._records]
+
+
+def _asset(ob) -> str:
+    """Cryptomatte's asset of an object: the root of its parent chain ("" for an object without a parent)."""
+    root = ob
+    while getattr(root, "parent", None) is not None:
+        root = root.parent
+    return root.name if root is not ob else ""
 
 
 def _read_geometry(ob) -> _Geometry | None:

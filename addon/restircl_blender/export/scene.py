@@ -5,6 +5,7 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
+from ..light_groups import light_group_names, object_group
 from .camera import CameraReader
 from .fingerprint import fingerprint
 from .light import LightReader
@@ -111,6 +112,9 @@ def export_scene(depsgraph, frames: Sequence[int] | None = None,
                      "the geometry is exported again each frame and the reuse history starts over")
     sc.camera = cameras.build()
     sc.environment = read_world(scene, warnings.add, bake)
+    sc.light_groups = light_group_names(depsgraph.view_layer)
+    if sc.environment is not None and scene.world is not None:
+        sc.environment.lightgroup = object_group(scene.world)
     stats = {
         "objects": meshes.count, "instances": meshes.instances, "triangles": sc.triangle_count,
         "lights": len(sc.lights), "materials": len(sc.materials), "emissive_materials": materials.emissive_count,

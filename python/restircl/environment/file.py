@@ -19,7 +19,7 @@ def write_environment(env: Environment | None, arrays: dict[str, np.ndarray]) ->
         if value is not None:
             arrays[f"world_{name}"] = np.asarray(value)
     return {"name": env.name, "color": list(map(float, env.color)), "strength": float(env.strength),
-            "path": env.path, "visible_camera": bool(env.visible_camera)}
+            "path": env.path, "visible_camera": bool(env.visible_camera), "lightgroup": env.lightgroup}
 
 
 def read_environment(entry: dict | None, data: dict[str, np.ndarray]) -> Environment | None:

@@ -47,6 +47,7 @@ class Environment:
     rotation: np.ndarray | None = None  # (3, 3) rotation of the lookup direction (Mapping node), or None
     visible_camera: bool = True  # camera rays that miss the geometry see the world (Film > Transparent: alpha 0)
     strength_per_frame: np.ndarray | None = None  # optional (F,) multiplier of strength
+    lightgroup: str = ""  # the light group (Scene.light_groups) its light counts in: World > Light Group
 
     def __post_init__(self) -> None:
         if self.strength_per_frame is not None:

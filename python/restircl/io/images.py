@@ -6,6 +6,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..render.cryptomatte import LAYER_SUFFIX
+from ..render.cryptomatte import metadata as cryptomatte_metadata
 from ..render.frame import Frame
 from ..render.passes import PASSES, exr_names
 
@@ -26,19 +28,36 @@ def exr_channels(frame: Frame) -> dict[str, np.ndarray]:
             data = data[..., None]
         for i, name in enumerate(exr_names(p)):
             ch[name] = np.ascontiguousarray(data[..., i])
+    for group, data in (frame.light_groups or {}).items():  # Cycles' names: Combined_<group>.R, G, B
+        for i, c in enumerate("RGB"):
+            ch[f"Combined_{group}.{c}"] = np.ascontiguousarray(data[..., i], dtype=np.float32)
+    for kind, data in (frame.cryptomatte or {}).items():  # CryptoObject00.r, g, b, a: two ranks per layer
+        padded = np.concatenate([data, np.zeros((*data.shape[:2], -data.shape[-1] % 4), np.float32)], axis=-1)
+        for k in range(padded.shape[-1] // 4):
+            for i, c in enumerate("rgba"):
+                ch[f"{LAYER_SUFFIX[kind]}{k:02d}.{c}"] = np.ascontiguousarray(padded[..., 4 * k + i])
     return ch
+
+
+def exr_metadata(frame: Frame) -> dict[str, str]:
+    """The Cryptomatte layers' metadata (name, hash, conversion, manifest) of a frame that has them."""
+    out: dict[str, str] = {}
+    for kind, names in (frame.cryptomatte_names or {}).items() if frame.cryptomatte else ():
+        out.update(cryptomatte_metadata(LAYER_SUFFIX[kind], names))
+    return out
 
 
 def write_exr(path: str | Path, frame: Frame | np.ndarray) -> None:
     """Write a Frame (colour and AOV layers) or an (H, W, 3|4) float array as a float32 EXR."""
     import OpenEXR
 
+    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
     if isinstance(frame, Frame):
         channels = exr_channels(frame)
+        header.update(exr_metadata(frame))
     else:
         img = np.asarray(frame, dtype=np.float32)
         channels = {name: np.ascontiguousarray(img[..., i]) for i, name in enumerate("RGBA"[: img.shape[-1]])}
-    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     OpenEXR.File(header, channels).write(str(path))
 

@@ -15,7 +15,9 @@ from ..core import layouts as L
 from ..scene.scene import Scene
 from . import environment as env_light
 from .area_sampling import apply_sampling_flags
+from .light_groups import emitter_groups
 from .light_type import PlacedLight
+from .linking import ALL_SETS, emitter_masks, link_records, uses_linking
 from .record import LANES
 from .registry import type_of
 from .textured_emission import triangle_radiance
@@ -88,14 +90,15 @@ def scene_lights(scene: Scene, frame: int, world=None, area_sampling: str = "are
         env_light.place_data(flat, 0, packed)
     all_types = np.concatenate([np.array(types, np.int64), np.full(len(tri_recs), TRIANGLE.code, np.int64)])
     apply_sampling_flags(records, all_types, area_sampling)
-    return DeviceLights(
-        records,
-        np.concatenate([np.array(power, np.float64), tri_power]),
-        all_types,
-        np.concatenate([np.array(sources, np.int64), tri_src]),
-        env_light.data(packed) if packed is not None else np.zeros(0, np.float32),
-        packed,
-    )
+    all_sources = np.concatenate([np.array(sources, np.int64), tri_src])
+    data = env_light.data(packed) if packed is not None else np.zeros(0, np.float32)
+    if uses_linking(scene) or scene.light_groups:
+        masks = emitter_masks(scene, all_sources, world.object) if uses_linking(scene) else \
+            [(ALL_SETS, ALL_SETS)] * len(all_sources)
+        groups = emitter_groups(scene, all_sources, world.object) if scene.light_groups else None
+        data = link_records(records, data, masks, groups)
+    return DeviceLights(records, np.concatenate([np.array(power, np.float64), tri_power]), all_types, all_sources,
+                        data, packed)
 
 
 def _scene_radius(world) -> float:

@@ -48,6 +48,7 @@ class Material:
     layers: list[Material] = field(default_factory=list)
     mix: Input | None = None
     alpha: Input = 1.0  # coverage: 1 opaque, 0 fully transparent (materials/alpha.py)
+    pass_index: int = 0  # Material > Settings > Pass Index: the Material Index pass (render/index_passes.py)
 
     @property
     def radiance(self) -> np.ndarray:

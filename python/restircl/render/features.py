@@ -6,6 +6,8 @@ from collections.abc import Iterable
 
 import numpy as np
 
+from ..lights.light_groups import light_group_count
+from ..lights.linking import uses_linking
 from ..lights.registry import FEATURE_FLAGS
 from ..scene.scene import Scene
 from ..settings.table import Settings
@@ -23,19 +25,24 @@ MATERIAL_FLAGS = ("HAS_GLOSSY", "HAS_TEXTURES", "HAS_TRANSPARENCY")
 # HAS_PATHS: light bounces after the primary hit (Settings.max_bounces > 0: the path pass, opencl/path/)
 # HAS_GI_REUSE: ... and ReSTIR GI reuses them in animation and viewport frames (Settings.gi_reuse, opencl/restir_gi/)
 # HAS_LIGHT_PASSES: the shading kernels also write Cycles' light passes (Settings.light_passes, opencl/film/)
+# HAS_LIGHT_LINKING: some emitter has light or shadow linking (lights/linking.py, opencl/lights/linking.h)
+# HAS_LIGHT_GROUPS: the number of light groups (Scene.light_groups, opencl/film/light_groups.h); the light passes'
+# planes carry them, so it turns HAS_LIGHT_PASSES on
 ALL_FLAGS = (*LIGHT_FLAGS.values(), "HAS_MOTION", "HAS_MOVING_OBJECTS", *MATERIAL_FLAGS, "HAS_LIGHT_TREE",
-             "HAS_CAMERA_LIGHTS", "HAS_PICK_TABLE", "HAS_PATHS", "HAS_GI_REUSE", "HAS_LIGHT_PASSES")
+             "HAS_CAMERA_LIGHTS", "HAS_PICK_TABLE", "HAS_PATHS", "HAS_GI_REUSE", "HAS_LIGHT_PASSES",
+             "HAS_LIGHT_LINKING", "HAS_LIGHT_GROUPS")
 
 
 def derive_flags(light_types: Iterable[int], motion: bool, moving_objects: bool,
                  materials: dict[str, bool] | None = None, light_tree: bool = False,
                  camera_lights: bool = False, pick_table: bool = False, paths: bool = False,
-                 gi_reuse: bool = False, light_passes: bool = False) -> dict[str, bool]:
+                 gi_reuse: bool = False, light_passes: bool = False,
+                 light_linking: bool = False, light_groups: int = 0) -> dict[str, bool | int]:
     """Flags for a scene with these light types, whether anything moves between frames, what its materials
     need (MATERIAL_FLAGS -> bool, python/restircl/upload/materials.py), whether it samples from the light tree,
     whether the camera sees lights, whether still renders pick lights from the per-pixel table, whether light
     bounces (paths), whether ReSTIR GI reuses the bounces (gi_reuse, only with paths) and whether the light passes
-    are written."""
+    are written, whether some emitter links lights or shadows, and how many light groups there are."""
     types = set(light_types)
     flags = {name: t in types for t, name in LIGHT_FLAGS.items()}
     flags["HAS_MOTION"] = bool(motion or moving_objects)
@@ -48,6 +55,10 @@ def derive_flags(light_types: Iterable[int], motion: bool, moving_objects: bool,
     flags["HAS_PATHS"] = bool(paths)
     flags["HAS_GI_REUSE"] = bool(paths and gi_reuse)
     flags["HAS_LIGHT_PASSES"] = bool(light_passes)
+    flags["HAS_LIGHT_LINKING"] = bool(light_linking)
+    flags["HAS_LIGHT_GROUPS"] = int(light_groups) if light_groups else False
+    if light_groups:
+        flags["HAS_LIGHT_PASSES"] = True
     return flags
 
 
@@ -57,7 +68,7 @@ def general_flags() -> dict[str, bool]:
 
 
 def renderer_flags(scene: Scene, ds: DeviceScene, settings: Settings, *, interactive: bool,
-                   light_tree: bool, path_light_tree: bool = False) -> dict[str, bool]:
+                   light_tree: bool, path_light_tree: bool = False) -> dict[str, bool | int]:
     """The flags of a renderer of `scene` (uploaded as `ds`) with `settings`: what they need (Settings.specialise),
     else every feature. interactive: the view may change and objects move by edits (Renderer's interactive).
     light_tree: RIS candidates come from the tree; path_light_tree: NEE at path vertices does."""
@@ -74,7 +85,8 @@ def renderer_flags(scene: Scene, ds: DeviceScene, settings: Settings, *, interac
                                                pick_table=stills_use_pick_table(settings, ds.sampled_light_count,
                                                                                 light_tree),
                                                paths=settings.max_bounces > 0, gi_reuse=settings.gi_reuse,
-                                               light_passes=settings.light_passes), settings)
+                                               light_passes=settings.light_passes, light_linking=uses_linking(scene),
+                                               light_groups=light_group_count(scene)), settings)
 
 
 def with_transparent_bound(flags: dict, settings: Settings) -> dict:

@@ -10,6 +10,8 @@ import numpy as np
 import pyopencl as cl
 
 from ..core import layouts as L
+from . import cryptomatte
+from .index_passes import index_images
 
 
 @dataclass
@@ -40,6 +42,14 @@ class Frame:
     emission: np.ndarray | None = None
     environment: np.ndarray | None = None
     coverage: np.ndarray | None = None  # (H, W) still renders of transparent scenes: the mean coverage (film alpha)
+    # light groups (Scene.light_groups, render/light_passes.py read_groups): name -> (H, W, 3) light of its emitters
+    light_groups: dict[str, np.ndarray] | None = None
+    # the pass indices of the object and the material hit (render/index_passes.py), (H, W)
+    object_index: np.ndarray | None = None
+    material_index: np.ndarray | None = None
+    # Cryptomatte (Settings.cryptomatte_levels, render/cryptomatte.py): kind -> (H, W, 2 * levels) id, coverage
+    cryptomatte: dict[str, np.ndarray] | None = None
+    cryptomatte_names: dict[str, list[str]] | None = None  # kind -> the names of its ids (for the manifest)
 
 
 class DeviceFrame(NamedTuple):
@@ -100,8 +110,10 @@ def surface_images(g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return albedo, np.where(hit, g["normal"][..., :3], 0.0).astype(np.float32)
 
 
-def read_aovs(queue: cl.CommandQueue, out: Frame, gbuf: cl.Buffer, vector_buf: cl.Buffer) -> None:
-    """Fill the depth, normal, vector and albedo passes of `out` from a G-buffer and the Vector buffer."""
+def read_aovs(queue: cl.CommandQueue, out: Frame, gbuf: cl.Buffer, vector_buf: cl.Buffer, scene=None,
+              crypto_levels: int = 0) -> None:
+    """Fill the depth, normal, vector and albedo passes of `out` from a G-buffer and the Vector buffer, and, given
+    the `scene` it shows, the index passes and (crypto_levels > 0) this frame's Cryptomatte."""
     shape = out.color.shape[:2]
     g = read_gbuffer(queue, gbuf, shape)
     hit = L.float_bits_to_int(g["normal"][..., 3]) != -1  # -1: a miss; below: a light seen (lights/camera_visible.h)
@@ -111,3 +123,8 @@ def read_aovs(queue: cl.CommandQueue, out: Frame, gbuf: cl.Buffer, vector_buf: c
     vector[..., 3] *= -1.0
     out.depth = np.where(hit, g["pos"][..., 3], np.inf).astype(np.float32)
     out.vector = vector
+    if scene is not None:
+        out.object_index, out.material_index = index_images(g, scene)
+        if crypto_levels:
+            out.cryptomatte = cryptomatte.from_gbuffer(g, scene, crypto_levels)
+            out.cryptomatte_names = {k: cryptomatte.kind_names(scene, k) for k in cryptomatte.KINDS}

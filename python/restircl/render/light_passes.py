@@ -12,10 +12,13 @@ Combined = (DiffDir + DiffInd) DiffCol + (GlossDir + GlossInd) GlossCol + Emit +
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pyopencl as cl
 
 from ..core.buffers import alloc
+from ..settings.table import Settings
 from .frame import Frame
 from .passes import LIGHT_PLANES
 
@@ -24,9 +27,26 @@ DIVIDED = {"diffuse_direct": "diffuse_color", "diffuse_indirect": "diffuse_color
            "glossy_direct": "glossy_color", "glossy_indirect": "glossy_color"}
 
 
-def planes_buffer(context: cl.Context, pixels: int) -> cl.Buffer:
-    """The device buffer of the planes of one frame (or of their sums)."""
-    return alloc(context, pixels * 16 * len(LIGHT_PLANES))
+def light_group_settings(scene, settings: Settings) -> Settings:
+    """The settings a renderer of `scene` runs: with light groups, the bounced light of animation and viewport
+    frames comes from the path pass, not ReSTIR GI, whose reservoirs hold the light of a secondary point summed over
+    every light (its groups cannot be told apart)."""
+    return replace(settings, gi_reuse=False) if scene.light_groups and settings.gi_reuse else settings
+
+
+def planes_buffer(context: cl.Context, pixels: int, groups: int = 0) -> cl.Buffer:
+    """The device buffer of the planes of one frame (or of their sums), with `groups` light groups' planes after the
+    light passes' (opencl/film/light_groups.h)."""
+    return alloc(context, pixels * 16 * (len(LIGHT_PLANES) + groups))
+
+
+def read_groups(queue: cl.CommandQueue, buf: cl.Buffer, shape: tuple[int, int], names: list[str],
+                scale: float = 1.0) -> dict[str, np.ndarray]:
+    """The light groups' planes of `buf` by group name, (H, W, 3) float32 each, times `scale`."""
+    out = np.empty((len(LIGHT_PLANES) + len(names), *shape, 4), np.float32)
+    cl.enqueue_copy(queue, out, buf)
+    return {name: np.ascontiguousarray(out[len(LIGHT_PLANES) + k, ..., :3] * np.float32(scale))
+            for k, name in enumerate(names)}
 
 
 def read_planes(queue: cl.CommandQueue, buf: cl.Buffer, shape: tuple[int, int], scale: float = 1.0
@@ -46,6 +66,17 @@ def divide_by_colour(light: np.ndarray, colour: np.ndarray) -> np.ndarray:
     n = ok.sum(axis=-1, keepdims=True)
     mean = q.sum(axis=-1, keepdims=True) / np.maximum(n, 1)
     return np.where(ok, q, mean).astype(np.float32)
+
+
+def fill_planes(out: Frame, queue: cl.CommandQueue, buf: cl.Buffer, light_passes: bool, groups: list[str],
+                scale: float = 1.0) -> None:
+    """The light passes (where `light_passes`) and the light groups' passes of `out` from the planes in `buf` (a
+    frame's, or a still's sums times `scale`)."""
+    shape = out.color.shape[:2]
+    if light_passes:
+        fill_frame(out, read_planes(queue, buf, shape, scale))
+    if groups:
+        out.light_groups = read_groups(queue, buf, shape, groups, scale)
 
 
 def fill_frame(out: Frame, planes: dict[str, np.ndarray]) -> None:

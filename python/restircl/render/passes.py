@@ -47,6 +47,9 @@ PASSES = (
     Pass("emission", "RGB", "Emit", "Emission", "COLOR", "use_pass_emit", blender_4="Emit", requires="light_passes"),
     Pass("environment", "RGB", "Env", "Environment", "COLOR", "use_pass_environment", blender_4="Env",
          requires="light_passes"),
+    # Cycles' Object Index and Material Index: the pass index of what the camera ray hit (render/index_passes.py)
+    Pass("object_index", "X", "IndexOB", "Object Index", "VALUE", "use_pass_object_index", blender_4="IndexOB"),
+    Pass("material_index", "X", "IndexMA", "Material Index", "VALUE", "use_pass_material_index", blender_4="IndexMA"),
 )
 # The per-pixel planes the kernels write where light passes are on (LPASS_* in opencl/codes.h, in this order): the
 # light of each kind before any division, and the colours of the first surface (render/light_passes.py divides)

@@ -45,7 +45,7 @@ from .denoise import denoise_by_gbuffer
 from .features import describe, renderer_flags
 from .frame import DeviceFrame, Frame, read_aovs, read_colour, read_gbuffer, read_guards, read_image
 from .history import History
-from .light_passes import fill_frame, read_planes
+from .light_passes import fill_planes, light_group_settings
 from .plan import FramePlan, FrameSituation, light_source, plan_frame
 from .restir_gi import RestirGI
 from .stages import (
@@ -82,7 +82,7 @@ class Renderer:
         self.scene = scene.validate()
         self.interactive = interactive
         self._prev_view: Camera | None = None  # render_view: the view of the last frame
-        self.settings = s = (settings or Settings()).validate()
+        self.settings = s = light_group_settings(scene, (settings or Settings()).validate())
         self.device = device if isinstance(device, Device) else get_device(device)
         cam = scene.camera
         assert cam is not None
@@ -118,7 +118,7 @@ class Renderer:
         self.taa = Taa(*stage)
         self.still = StillAccumulation(self.kernels, self.pixels, (self.height, self.width))
         if self.flags.get("HAS_LIGHT_PASSES"):  # the planes of the light passes (general builds write them too)
-            self.buffers.light_passes = self.still.use_light_passes()
+            self.buffers.light_passes = self.still.use_light_passes(int(self.flags.get("HAS_LIGHT_GROUPS", 0)))
         self.pick_table = PickTable(self.kernels, self.pixels)
 
     def _build(self) -> None:
@@ -288,9 +288,9 @@ class Renderer:
                     frame=frame, guards=read_guards(q, self.buffers.guards, self.guard_totals),
                     features=list(self.features))
         if aovs:
-            read_aovs(q, out, gbuf, self.buffers.vector)
-            if self.settings.light_passes:  # this frame's (a still's means replace them: render/still.py)
-                fill_frame(out, read_planes(q, self.buffers.light_passes, (self.height, self.width)))
+            read_aovs(q, out, gbuf, self.buffers.vector, self.scene, self.settings.cryptomatte_levels)
+            # this frame's light passes and groups (a still's means replace them: render/still.py)
+            fill_planes(out, q, self.buffers.light_passes, self.settings.light_passes, self.scene.light_groups)
         return out
 
     def read_gbuffer(self, gbuf: cl.Buffer | None = None) -> np.ndarray:

@@ -24,12 +24,14 @@ import pyopencl as cl
 
 from ..core.buffers import alloc
 from ..core.kernels import Kernels
+from ..scene.scene import Scene
 from ..settings.table import Settings
+from . import cryptomatte
 from .camera import halton
 from .denoise import denoise_frame
 from .frame import DeviceFrame, Frame, read_image
 from .history import History
-from .light_passes import fill_frame, planes_buffer, read_planes
+from .light_passes import fill_planes, planes_buffer
 from .passes import LIGHT_PLANES
 from .qmc import still_key, still_uses_sobol
 
@@ -60,11 +62,16 @@ class StillAccumulation:
         self.aux: tuple[cl.Buffer, ...] | None = None  # sums of the denoiser's albedo, normal and emission images
         self.light_planes: cl.Buffer | None = None  # each frame's light passes (render/light_passes.py), where on
         self.light_sums: cl.Buffer | None = None  # ... and their sums
+        self.planes = len(LIGHT_PLANES)  # planes in those: the light passes', then the light groups'
+        self.crypto: cl.Buffer | None = None  # Cryptomatte's slots (opencl/film/cryptomatte.cl), where on
+        self.crypto_levels = 0
 
-    def use_light_passes(self) -> cl.Buffer:
-        """Sum the light passes' planes of each sample too; returns the buffer of a frame's planes."""
-        self.light_planes = planes_buffer(self.kernels.device.context, self.pixels)
-        self.light_sums = planes_buffer(self.kernels.device.context, self.pixels)
+    def use_light_passes(self, groups: int = 0) -> cl.Buffer:
+        """Sum the light passes' planes (and `groups` light groups' planes) of each sample too; returns the buffer of
+        a frame's planes."""
+        self.planes = len(LIGHT_PLANES) + groups
+        self.light_planes = planes_buffer(self.kernels.device.context, self.pixels, groups)
+        self.light_sums = planes_buffer(self.kernels.device.context, self.pixels, groups)
         return self.light_planes
 
     def clear(self, aux: bool = False) -> None:
@@ -76,8 +83,25 @@ class StillAccumulation:
             cl.enqueue_fill_buffer(self.kernels.device.queue, b, np.float32(0), 0, self.pixels * 16)
         if self.light_sums is not None:
             cl.enqueue_fill_buffer(self.kernels.device.queue, self.light_sums, np.float32(0), 0,
-                                   self.pixels * 16 * len(LIGHT_PLANES))
+                                   self.pixels * 16 * self.planes)
         self.counts = (0, 0)
+
+    def use_cryptomatte(self, levels: int) -> None:
+        """Count the ids each sample's camera ray hit (Cryptomatte, render/cryptomatte.py) from now on: empty slots."""
+        nbytes = 2 * self.pixels * levels * 8
+        if self.crypto is None or self.crypto_levels != levels:
+            self.crypto, self.crypto_levels = alloc(self.kernels.device.context, nbytes), levels
+        cl.enqueue_fill_buffer(self.kernels.device.queue, self.crypto, np.uint32(0), 0, nbytes)
+
+    def add_cryptomatte(self, gbuf: cl.Buffer, frame_params: np.void) -> None:
+        self.kernels.launch("accumulate_cryptomatte", (self.pixels,), gbuf=gbuf, slots=self.crypto,
+                            frame_params=frame_params, levels=np.int32(self.crypto_levels))
+
+    def cryptomatte(self, scene: Scene, done: int) -> dict[str, np.ndarray]:
+        """The Cryptomatte layers of the samples so far."""
+        slots = np.empty((2, *self.shape, self.crypto_levels, 2), np.uint32)
+        cl.enqueue_copy(self.kernels.device.queue, slots, self.crypto)
+        return cryptomatte.layers(scene, slots, done, self.crypto_levels)
 
     def add_aux(self, gbuf: cl.Buffer, glossy: cl.Buffer, frame_params: np.void) -> None:
         assert self.aux is not None
@@ -99,7 +123,7 @@ class StillAccumulation:
         self.kernels.launch("accumulate", (self.pixels,), sample=sample, sum=self.sum, sum_half=self.sum_half,
                             frame_params=frame_params, in_half=np.int32(half))
         if self.light_sums is not None:
-            self.kernels.launch("accumulate_light_passes", (self.pixels * len(LIGHT_PLANES),),
+            self.kernels.launch("accumulate_light_passes", (self.pixels * self.planes,),
                                 light_passes=self.light_planes, sums=self.light_sums, frame_params=frame_params)
         done, n_half = self.counts
         self.counts = (done + 1, n_half + half)
@@ -140,6 +164,7 @@ class FrameSource(Protocol):
     """What a still render needs of the renderer (Renderer, render/pipeline.py)."""
 
     settings: Settings
+    scene: Scene
     history: History
     still: StillAccumulation
     qmc: tuple[int, int, int] | None  # FrameParams (qmc, qmc_index, qmc_key) of the next frame; None: its own
@@ -223,6 +248,8 @@ def render_still(
     """Renderer.render_still: average up to `samples` frames of a still camera at `frame`."""
     acc = r.still
     acc.clear(aux=r.settings.denoise)
+    if r.settings.cryptomatte_levels:
+        acc.use_cryptomatte(r.settings.cryptomatte_levels)
     halves = HalfStreams(r.settings, r.history)
     gbuf = r.history.gbuf(r.history.cur)
     stage: dict[str, float] = {}
@@ -255,6 +282,8 @@ def _add_sample(r: FrameSource, halves: HalfStreams, frame: int, half: int, stag
     for key, v in st.items():
         stage[key] = stage.get(key, 0.0) + v
     r.still.add(r.sample_buf, r.frame_params(), half)
+    if r.settings.cryptomatte_levels:  # the frame's G-buffer (the previous slot once the history swapped)
+        r.still.add_cryptomatte(gbuf, r.frame_params())
     if r.settings.denoise:  # the frame's G-buffer is in the previous slot once run_frame has swapped the history
         r.still.add_aux(gbuf, r.history.glossy(r.history.prev), r.frame_params())
     return gbuf
@@ -285,7 +314,10 @@ def _result(r: FrameSource, frame: int, gbuf: cl.Buffer, stage: dict[str, float]
         albedo, normal, emission = acc.aux_images(done)
         if denoise_frame(out, albedo, normal, emission):  # the passes show the guides the denoiser saw, as in Cycles
             out.albedo, out.normal = albedo, normal
-    if r.settings.light_passes:  # the light passes of the mean, and the mean colours they were divided by
-        assert acc.light_sums is not None
-        fill_frame(out, read_planes(acc.kernels.device.queue, acc.light_sums, acc.shape, 1.0 / done))
+    if r.settings.light_passes or r.scene.light_groups:  # the light passes and groups of the mean (the passes
+        assert acc.light_sums is not None  # divided by the mean colours)
+        fill_planes(out, acc.kernels.device.queue, acc.light_sums, r.settings.light_passes, r.scene.light_groups,
+                    1.0 / done)
+    if r.settings.cryptomatte_levels:  # the ids of every sample, ranked by coverage
+        out.cryptomatte = acc.cryptomatte(r.scene, done)
     return out

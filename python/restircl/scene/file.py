@@ -17,6 +17,7 @@ from ..materials.file import MaterialReader, MaterialWriter
 from .camera import Camera
 from .errors import SceneError, SceneFileError
 from .light import Light
+from .linking import Linking
 from .mesh import Mesh
 
 SCENE_FILE_MAGIC = "restircl-scene"
@@ -36,6 +37,7 @@ class SceneParts(Protocol):
     lights: list[Light]
     camera: Camera | None
     environment: object
+    light_groups: list[str]
 
 
 S = TypeVar("S", bound=SceneParts)
@@ -57,9 +59,10 @@ def save_scene(scene: SceneParts, path: str | Path) -> None:
         "lights": [],
         "camera": None,
         "environment": write_environment(scene.environment, arrays),
+        "light_groups": list(scene.light_groups),
     }
     for i, mesh in enumerate(scene.meshes):
-        meta["meshes"].append({"name": mesh.name})
+        meta["meshes"].append({"name": mesh.name, "lightgroup": mesh.lightgroup, **_links(mesh.linking)})
         arrays[f"mesh{i}_vertices"] = mesh.vertices
         arrays[f"mesh{i}_triangles"] = mesh.triangles
         arrays[f"mesh{i}_material_ids"] = mesh.material_ids
@@ -70,8 +73,9 @@ def save_scene(scene: SceneParts, path: str | Path) -> None:
     for i, lt in enumerate(scene.lights):
         d = {k: getattr(lt, k) for k in ("name", "type", "power", "radius", "soft_falloff", "spot_size",
                                           "spot_blend", "angle", "shape", "size", "size_y",
-                                          "visible_camera")}
+                                          "visible_camera", "lightgroup")}
         d["color"] = list(map(float, lt.color))
+        d.update(_links(lt.linking))
         meta["lights"].append(d)
         arrays[f"light{i}_transforms"] = lt.transforms
         if lt.power_per_frame is not None:
@@ -88,6 +92,11 @@ def save_scene(scene: SceneParts, path: str | Path) -> None:
     arrays["meta"] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
     with open(path, "wb") as f:
         np.savez_compressed(f, **arrays)
+
+
+def _links(lk: Linking) -> dict:
+    """The header's entry of an emitter's light and shadow links (none when it has none)."""
+    return {} if lk.empty else {"linking": {"receivers": dict(lk.receivers), "blockers": dict(lk.blockers)}}
 
 
 def load_scene(path: str | Path, cls: type[S]) -> S:
@@ -116,10 +125,12 @@ def load_scene(path: str | Path, cls: type[S]) -> S:
         for i, m in enumerate(meta["meshes"]):
             scene.meshes.append(Mesh(m["name"], data[f"mesh{i}_vertices"], data[f"mesh{i}_triangles"],
                                      data[f"mesh{i}_material_ids"], data[f"mesh{i}_transforms"],
-                                     uvs=data.get(f"mesh{i}_uvs"), normals=data.get(f"mesh{i}_normals")))
+                                     uvs=data.get(f"mesh{i}_uvs"), normals=data.get(f"mesh{i}_normals"),
+                                     linking=Linking(**m.get("linking", {})), lightgroup=m.get("lightgroup", "")))
         for i, d in enumerate(meta["lights"]):
             d = dict(d)
             d["color"] = tuple(d["color"])
+            d["linking"] = Linking(**d.get("linking", {}))
             scene.lights.append(Light(transforms=data[f"light{i}_transforms"],
                                       power_per_frame=data.get(f"light{i}_power_per_frame"), **d))
         if meta["camera"] is not None:
@@ -127,6 +138,7 @@ def load_scene(path: str | Path, cls: type[S]) -> S:
             c["cuts"] = tuple(c.get("cuts", ()))
             scene.camera = Camera(transforms=data["camera_transforms"], **c)
         scene.environment = read_environment(meta.get("environment"), data)
+        scene.light_groups = list(meta.get("light_groups", []))
     except SceneError:
         raise
     except Exception as exc:

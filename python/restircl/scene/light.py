@@ -5,12 +5,13 @@ in W/m^2), shape and transforms per frame. Emissive meshes are lights too, made 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..environment.world import emitter_problem
 from .errors import SceneError
+from .linking import Linking
 from .transforms import as_transforms, check_basis
 
 LIGHT_TYPES = ("point", "spot", "sun", "area")
@@ -36,6 +37,8 @@ class Light:
     size_y: float = 1.0  # area: size along local Y (RECTANGLE, ELLIPSE)
     power_per_frame: np.ndarray | None = None  # optional (F,) multiplier of power, e.g. to switch a light off
     visible_camera: bool = False  # Ray Visibility > Camera: the camera sees its shape (off: Blender's default)
+    linking: Linking = field(default_factory=Linking)  # light and shadow linking (scene/linking.py)
+    lightgroup: str = ""  # the light group (Scene.light_groups) its light counts in: Object > Shading > Light Group
 
     def __post_init__(self) -> None:
         self.transforms = as_transforms(self.transforms, f"light {self.name!r}")
@@ -51,6 +54,7 @@ class Light:
         """Raise SceneError naming the light and the bad field."""
         self.transforms = as_transforms(self.transforms, f"light {self.name!r}")
         label = f"light {self.name!r}"
+        self.linking.validate(label)
         if self.type not in LIGHT_TYPES:
             raise SceneError(f"{label}: type must be one of {LIGHT_TYPES}, got {self.type!r}")
         if not np.all(np.isfinite(self.transforms)):

@@ -3,11 +3,12 @@ per-corner UVs and shading normals."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from .errors import SceneError
+from .linking import Linking
 from .transforms import as_transforms
 
 
@@ -20,6 +21,10 @@ class Mesh:
     transforms: np.ndarray | None = None  # (4, 4) or (F, 4, 4) object-to-world
     uvs: np.ndarray | None = None  # (T, 3, 2) per-corner UV map (texture coordinates "uv", normal maps)
     normals: np.ndarray | None = None  # (T, 3, 3) per-corner object-space shading normals (smooth shading)
+    linking: Linking = field(default_factory=Linking)  # as an emitter: light and shadow linking (scene/linking.py)
+    lightgroup: str = ""  # as an emitter: the light group (Scene.light_groups) its emission counts in
+    pass_index: int = 0  # Object > Relations > Pass Index: the Object Index pass (render/index_passes.py)
+    asset: str = ""  # the Cryptomatte asset it belongs to (Blender: the root of its parent chain); "": its own name
 
     def __post_init__(self) -> None:
         self.vertices = np.asarray(self.vertices, dtype=np.float64).reshape(-1, 3)
@@ -36,6 +41,7 @@ class Mesh:
         """Raise SceneError naming the mesh and the bad field."""
         self.transforms = as_transforms(self.transforms, f"mesh {self.name!r}")
         label = f"mesh {self.name!r}"
+        self.linking.validate(label)
         if not np.all(np.isfinite(self.vertices)):
             raise SceneError(f"{label}: vertices contain NaN or Inf")
         if not np.all(np.isfinite(self.transforms)):

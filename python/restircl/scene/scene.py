@@ -34,6 +34,8 @@ class Scene:
     name: str = "scene"
     environment: Environment | None = None  # the world light (None: camera rays that miss see black)
     frame_count: int | None = None  # default: the longest animation among camera, meshes and lights
+    # the view layer's light groups: one pass each ("Combined_<name>") of the light of the emitters in it
+    light_groups: list[str] = field(default_factory=list)
 
     # ---- animation ---------------------------------------------------------------------------------
 

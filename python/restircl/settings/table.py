@@ -350,6 +350,10 @@ class Settings:
                                            "surfaces a ray may pass (camera rays end black at the next surface, "
                                            "shadow rays are blocked)", flag="--transparent-max-bounces",
                                            range=Range(int, 0, 1024), panel="light_paths", soft_max=64)
+    cryptomatte_levels: int = setting(0, "Cryptomatte Levels", "Ids ranked per pixel in the Cryptomatte passes "
+                                      "(object, material, asset; 0: none); the add-on sets it from the view "
+                                      "layer's Cryptomatte toggles and Levels", flag="--cryptomatte-levels",
+                                      range=Range(int, 0, 16))
 
     def validate(self) -> Settings:
         check(self)

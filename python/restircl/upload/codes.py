@@ -23,7 +23,7 @@ from pathlib import Path
 
 from ..core import layouts as L
 from ..core.program import opencl_dir
-from ..lights import area_sampling, camera_visible, pick_table, record, registry, sphere, tree
+from ..lights import area_sampling, camera_visible, linking, pick_table, record, registry, sphere, tree
 from ..lights import environment as environment_light
 from ..materials.material import MAX_LAYERS
 from ..materials.textures import (
@@ -124,6 +124,11 @@ def families() -> tuple[Family, ...]:
             ("GGX_E_SIZE", ggx_tables.E_SIZE), ("GGX_S_SIZE", ggx_tables.S_SIZE),
             ("GGX_E_OFFSET", ggx_tables.E_OFFSET), ("GGX_E_AVG_OFFSET", ggx_tables.E_AVG_OFFSET),
             ("GGX_S_OFFSET", ggx_tables.S_OFFSET)), kind="constants"),
+        Family("light and shadow linking", "lights/linking.py", (
+            ("LIGHT_FLAG_SHADOW_LINKED", linking.FLAG_SHADOW_LINKED), ("LINK_SHIFT", linking.LINK_SHIFT),
+            ("LINK_OBJECT_MASK", (1 << linking.OBJECT_BITS) - 1), ("LINK_RECEIVER_SHIFT", linking.RECEIVER_SHIFT),
+            ("LINK_BLOCKER_SHIFT", linking.BLOCKER_SHIFT), ("LINK_SET_MASK", linking.MAX_SETS - 1)),
+               kind="constants"),
     )
 
 

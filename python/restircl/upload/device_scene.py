@@ -18,6 +18,7 @@ from ..lights.array import LightArray, build_light_array
 from ..lights.camera_visible import camera_light_indices, camera_light_table
 from ..lights.device_lights import DeviceLights, scene_lights
 from ..lights.hit import analytic_light_count, triangle_lights
+from ..lights.linking import object_bits
 from ..lights.tree import LightTree, build_light_tree
 from ..scene.scene import Scene
 from .alpha import scene_is_transparent, with_transparency
@@ -148,7 +149,7 @@ class DeviceScene:
         bvh = build_bvh(world.v0, world.v1, world.v2)
         self._leaf_order = bvh.order
         tris = make_tris(world.v0, world.v1, world.v2, world.material, world.prim, bvh.order)
-        tris["e2"][:, 3] = L.int_bits(world.object[bvh.order])
+        tris["e2"][:, 3] = L.int_bits(object_bits(self.scene, world.object[bvh.order]))
         self.bvh_seconds = time.perf_counter() - t0
         nodes, tris_dev = device_arrays(bvh.nodes, tris)
         tris_dev = with_transparency(self.scene, tris_dev, world, bvh.order)

@@ -8,6 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import layouts as L
+from ..lights.light_groups import group_of
 from ..scene.mesh import Mesh
 from ..scene.scene import Scene, WorldTriangles
 
@@ -43,6 +44,7 @@ def object_infos(scene: Scene, attributes: bool) -> np.ndarray:
         info["gen_mid"][k, :3] = mid
         info["gen_mid"][k, 3] = L.int_bits(np.array([flags]))[0]
         info["gen_scale"][k, :3] = scale
+        info["gen_scale"][k, 3] = L.int_bits(np.array([group_of(scene, mesh.lightgroup)]))[0]  # film/light_groups.h
     return info
 
 

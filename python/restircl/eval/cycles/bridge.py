@@ -21,6 +21,7 @@ import numpy as np
 
 from ...scene.scene import Scene
 from .alpha import apply_alpha, write_uvs
+from .linking import linking_to_bpy
 from .materials import is_plain_diffuse, material_to_bpy
 from .world import world_to_bpy
 
@@ -160,6 +161,7 @@ def to_bpy(scene: Scene, frame: int = 0):
     sc.collection.objects.link(ob)
     ob.matrix_world = _matrix(Scene.at(cam.transforms, frame))
     sc.camera = ob
+    linking_to_bpy(bpy, [(lt.name, lt.linking) for lt in scene.lights] + [(m.name, m.linking) for m in scene.meshes])
     bpy.context.view_layer.update()
     return sc
 
