@@ -18,6 +18,7 @@
 #define LIGHT_FLAG_SOLID_ANGLE  4
 #define LIGHT_FLAG_SA_AUTO      8
 #define LIGHT_FLAG_SA_NEAR      16
+#define LIGHT_FLAG_TEXTURED     32
 
 /* flags of the environment light's record (lights/environment.py) */
 #define ENV_FLAG_CAMERA 2
@@ -46,6 +47,7 @@
 #define TEXNODE_INVERT         8
 #define TEXNODE_HSV            9
 #define TEXNODE_COLOR_RAMP     10
+#define TEXNODE_RGB_CURVES     11
 
 /* image interpolation (TexNode.op.y) (materials/textures.py INTERPOLATIONS) */
 #define TEXINTERP_LINEAR  0

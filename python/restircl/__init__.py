@@ -26,6 +26,7 @@ from .materials.textures import (
     Math,
     MixColor,
     NormalMap,
+    RGBCurves,
     SeparateColor,
     VectorMath,
 )
@@ -44,7 +45,7 @@ from .settings.table import Settings
 __all__ = [
     "Camera", "CheckerTexture", "ColorRamp", "CombineColor", "Device", "DeviceError", "Environment", "Frame",
     "HueSaturationValue", "ImageTexture", "Invert", "KernelBuildError", "Light", "Material", "Math", "Mesh", "MixColor",
-    "NormalMap", "Renderer",
+    "NormalMap", "Renderer", "RGBCurves",
     "SeparateColor", "VectorMath",
     "Scene", "SceneError", "SceneFileError", "SettingError", "Settings", "choose_device", "get_device", "list_devices",
     "look_at", "read_exr", "scenes", "still_settings", "translation", "write_exr", "write_png",

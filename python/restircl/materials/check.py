@@ -168,6 +168,7 @@ CONVERTERS = {
     tx.HueSaturationValue: ((), "", (("color", True), ("hue", False), ("saturation", False), ("value", False),
                                      ("factor", False))),
     tx.ColorRamp: (tx.RAMP_INTERPOLATIONS, "interpolation", (("factor", False),)),
+    tx.RGBCurves: ((), "", (("color", True), ("factor", False))),
 }
 
 
@@ -179,6 +180,8 @@ def _check_converter(node: object, label: str, path: list[object]) -> None:
         raise MaterialError(f"{label}: channel must be 0, 1 or 2, got {node.channel!r}")
     if isinstance(node, tx.ColorRamp):
         _check_ramp(node, label)
+    if isinstance(node, tx.RGBCurves):
+        _check_curves(node, label)
     for name, colour in inputs:
         _sub(getattr(node, name), f"{label}.{name}", colour, path)
 
@@ -195,6 +198,18 @@ def _check_ramp(node: tx.ColorRamp, label: str) -> None:
     if any(c.size not in (3, 4) for c in cols) or not np.all(np.isfinite(pos)) or \
             not all(np.all(np.isfinite(c)) for c in cols):
         raise MaterialError(f"{label}: positions must be finite numbers and colors finite rgb or rgba")
+
+
+def _check_curves(node: tx.RGBCurves, label: str) -> None:
+    try:
+        table = np.asarray(node.table, np.float64)
+        lo, hi = float(node.lo), float(node.hi)
+    except (TypeError, ValueError) as exc:
+        raise MaterialError(f"{label}: table, lo and hi must be numbers ({exc})") from exc
+    if table.ndim != 2 or table.shape[1] != 3 or len(table) < 2 or not np.all(np.isfinite(table)):
+        raise MaterialError(f"{label}: table must be at least 2 finite (r, g, b) rows, got shape {table.shape}")
+    if not (math.isfinite(lo) and math.isfinite(hi) and hi > lo):
+        raise MaterialError(f"{label}: needs finite lo < hi, got {lo!r}, {hi!r}")
 
 
 def _sub(value: object, what: str, colour: bool, path: list[object]) -> None:

@@ -1,6 +1,6 @@
 """Texture nodes that feed a material input (restircl.Material): an image, a checker, a colour mix, a normal map,
 and the converter nodes of PBR graphs (Separate / Combine Color, Math, Vector Math, Invert, Hue/Saturation/Value,
-Color Ramp).
+Color Ramp, RGB Curves).
 
 A material input (base colour, roughness, metallic, ...) is a constant or one of these nodes; a node's own inputs
 may again be nodes (a Mix Color of an image and a checker), as in a Blender node graph. Texture coordinates follow
@@ -156,6 +156,21 @@ class ColorRamp:
 
 
 @dataclass
+class RGBCurves:
+    """Blender's RGB Curves: each channel of `color` through its curve after the combined curve, as a table of
+    `table` rows (r, g, b) sampled evenly over [lo, hi] (Blender's CurveMapping evaluated there: the exporter fills
+    it, as Cycles fills its own 256-entry table) and read with linear interpolation; past either end the end rows'
+    slope continues the table (`extrapolate`) or its end value holds. Blended with `color` by `factor`."""
+
+    color: Input = (0.8, 0.8, 0.8)
+    factor: Input = 1.0
+    table: tuple = ((0.0, 0.0, 0.0), (1.0, 1.0, 1.0))
+    lo: float = 0.0
+    hi: float = 1.0
+    extrapolate: bool = True
+
+
+@dataclass
 class NormalMap:
     """Blender's Normal Map node, tangent space of the UV map: `color` (a Non-Color image, usually) -> a shading
     normal, blended with the interpolated normal by `strength`."""
@@ -165,12 +180,12 @@ class NormalMap:
 
 
 Texture = Union[ImageTexture, CheckerTexture, MixColor, NormalMap, SeparateColor, CombineColor, Math, VectorMath,  # noqa: UP007
-                Invert, HueSaturationValue, ColorRamp]
+                Invert, HueSaturationValue, ColorRamp, RGBCurves]
 # a material or node input: a number, an rgb triple, or a texture node
 Input = Union[float, tuple, Texture]  # noqa: UP007 (the forward references above need Union)
 
 TEXTURE_TYPES = (ImageTexture, CheckerTexture, MixColor, NormalMap, SeparateColor, CombineColor, Math, VectorMath,
-                 Invert, HueSaturationValue, ColorRamp)
+                 Invert, HueSaturationValue, ColorRamp, RGBCurves)
 
 
 def gives_number(node: object) -> bool:

@@ -46,7 +46,7 @@ MAGENTA = (1.0, 0.0, 1.0, 1.0)
 NODE_KINDS = (("IMAGE", ImageTexture), ("CHECKER", CheckerTexture), ("MIX", MixColor), ("NORMAL_MAP", NormalMap),
               ("SEPARATE_COLOR", tx.SeparateColor), ("COMBINE_COLOR", tx.CombineColor), ("MATH", tx.Math),
               ("VECTOR_MATH", tx.VectorMath), ("INVERT", tx.Invert), ("HSV", tx.HueSaturationValue),
-              ("COLOR_RAMP", tx.ColorRamp))
+              ("COLOR_RAMP", tx.ColorRamp), ("RGB_CURVES", tx.RGBCurves))
 NODE_CODE = {cls: code for code, (_, cls) in enumerate(NODE_KINDS)}
 MAX_TEXELS = 2**31 - 1  # int offsets on the device
 
@@ -79,6 +79,8 @@ def node_inputs(node: object) -> list[object]:
         return [node.color, _hsv_vector(node), node.factor]
     if isinstance(node, tx.ColorRamp):
         return [0.0, 0.0, node.factor]
+    if isinstance(node, tx.RGBCurves):
+        return [node.color, 0.0, node.factor]
     return []
 
 
@@ -230,6 +232,10 @@ class TexturePacker:
             r["op"][1] = tx.RAMP_INTERPOLATIONS.index(node.interpolation)
             r["in"][3] = self._ramp(node)
             r["blk"][3] = int(tx.gives_number(node))
+        elif isinstance(node, tx.RGBCurves):
+            r["in"][3] = self._curves(node)
+            r["p"][1], r["p"][2] = float(node.lo), float(node.hi)
+            r["blk"][1] = int(bool(node.extrapolate))
         else:
             self._converter(r, node)
         return r
@@ -273,6 +279,17 @@ class TexturePacker:
         if key not in self.images:
             self._slot[key] = len(self.images)
             self.images[key] = LoadedImage([stops], False)
+        return self._slot[key]
+
+    def _curves(self, node: tx.RGBCurves) -> int:
+        """The image-table slot of an RGB Curves table: a 1-row "image" of its (r, g, b) rows in the texel buffer."""
+        rows = np.asarray(node.table, np.float32).reshape(-1, 3)
+        table = np.zeros((1, len(rows), 4), np.float32)
+        table[0, :, :3] = rows
+        key = ("curves", table.tobytes())
+        if key not in self.images:
+            self._slot[key] = len(self.images)
+            self.images[key] = LoadedImage([table], False)
         return self._slot[key]
 
     # ---- images --------------------------------------------------------------------------------------
