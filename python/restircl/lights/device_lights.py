@@ -2,7 +2,8 @@
 
 Each type's conversion is in its module (sphere, spot, sun, quad, disk, triangle, environment; measured against
 Cycles, docs/units.md); this gathers them in the order the device sees: the world (environment) first when the scene
-has one, then the scene's lights, then emissive triangles; the environment's map and table after every record.
+has one, then the scene's lights, then emissive triangles; the environment's map and table after every record, then
+the images and blocks of emissive triangles textured by an image (textured_emission.py).
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ from .area_sampling import apply_sampling_flags
 from .light_type import PlacedLight
 from .record import LANES
 from .registry import type_of
-from .textured_emission import triangle_radiance
+from .textured_emission import point_emission_data, triangle_radiance
 from .triangle import TYPE as TRIANGLE
 from .triangle import emissive_triangles
 
@@ -88,12 +89,17 @@ def scene_lights(scene: Scene, frame: int, world=None, area_sampling: str = "are
         env_light.place_data(flat, 0, packed)
     all_types = np.concatenate([np.array(types, np.int64), np.full(len(tri_recs), TRIANGLE.code, np.int64)])
     apply_sampling_flags(records, all_types, area_sampling)
+    all_src = np.concatenate([np.array(sources, np.int64), tri_src])
+    data = env_light.data(packed) if packed is not None else np.zeros(0, np.float32)
+    textured = point_emission_data(scene, world, flat, all_src, len(data))
+    if len(textured):
+        data = np.concatenate([data, textured])
     return DeviceLights(
         records,
         np.concatenate([np.array(power, np.float64), tri_power]),
         all_types,
-        np.concatenate([np.array(sources, np.int64), tri_src]),
-        env_light.data(packed) if packed is not None else np.zeros(0, np.float32),
+        all_src,
+        data,
         packed,
     )
 

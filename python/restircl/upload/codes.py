@@ -69,7 +69,8 @@ def families() -> tuple[Family, ...]:
         Family("flags of a Light record (L.w)", "lights/record.py, lights/sphere.py, lights/area_sampling.py", (
             ("LIGHT_FLAG_TWO_SIDED", record.FLAG_TWO_SIDED), ("LIGHT_FLAG_SOFT_FALLOFF", sphere.FLAG_SOFT_FALLOFF),
             ("LIGHT_FLAG_SOLID_ANGLE", area_sampling.FLAG_SOLID_ANGLE),
-            ("LIGHT_FLAG_SA_AUTO", area_sampling.FLAG_SA_AUTO), ("LIGHT_FLAG_SA_NEAR", area_sampling.FLAG_SA_NEAR)),
+            ("LIGHT_FLAG_SA_AUTO", area_sampling.FLAG_SA_AUTO), ("LIGHT_FLAG_SA_NEAR", area_sampling.FLAG_SA_NEAR),
+            ("LIGHT_FLAG_TEXTURED", record.FLAG_TEXTURED)),
                kind="flags"),
         Family("flags of the environment light's record", "lights/environment.py", (
             ("ENV_FLAG_CAMERA", environment_light.FLAG_CAMERA), ("ENV_FLAG_CDF", environment_light.FLAG_CDF),
