@@ -48,6 +48,7 @@
 #define TEXNODE_HSV            9
 #define TEXNODE_COLOR_RAMP     10
 #define TEXNODE_RGB_CURVES     11
+#define TEXNODE_ATTRIBUTE      12
 
 /* image interpolation (TexNode.op.y) (materials/textures.py INTERPOLATIONS) */
 #define TEXINTERP_LINEAR  0
@@ -144,6 +145,11 @@
 #define TEXRAMP_LINEAR   0
 #define TEXRAMP_CONSTANT 1
 #define TEXRAMP_EASE     2
+
+/* Attribute outputs (TexNode.op.z) (materials/textures.py ATTRIBUTE_OUTPUTS) */
+#define TEXATTR_COLOR 0
+#define TEXATTR_ALPHA 1
+#define TEXATTR_FAC   2
 
 /* texture programs (upload/textures.py) */
 #define MAX_TEX_PROGRAM 16

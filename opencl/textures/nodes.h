@@ -3,7 +3,8 @@
  * graph is evaluated in one loop (no recursion in OpenCL C). Checker and Mix follow Blender's definitions
  * (Cycles' kernel/svm/checker.h and mix.h); the Normal Map node its tangent-space rule with Strength; the converter
  * nodes (Separate / Combine Color, Math, Vector Math, Invert, Hue/Saturation/Value) are textures/converters.h;
- * Color Ramp reads its stops from the texel buffer, RGB Curves its table. */
+ * Color Ramp reads its stops from the texel buffer, RGB Curves its table; Attribute the corner colours of the
+ * triangle's block (textures/point.h). */
 #ifndef RESTIRCL_TEXTURE_NODES_H
 #define RESTIRCL_TEXTURE_NODES_H
 
@@ -131,6 +132,18 @@ inline float3 tex_rgb_curves(const __global TexImage* images, const __global flo
     return c + f * (v - c);
 }
 
+/* Attribute: colour attribute k of the hit's triangle blended by its barycentrics (0 without a block); out: the
+ * colour, or as a number its alpha or the mean of r, g and b (TEXATTR_*) */
+inline float4 tex_attribute(const TexPoint* tp, int k, int out)
+{
+    if (tp->attr_off <= 0) return (float4)(0.0f);
+    const __global float4* c = tp->attrs + tp->attr_off + 3 * k;
+    float4 v = tp->bary.x * c[0] + tp->bary.y * c[1] + tp->bary.z * c[2];
+    if (out == TEXATTR_ALPHA) return (float4)(v.w);
+    if (out == TEXATTR_FAC) return (float4)((v.x + v.y + v.z) * (1.0f / 3.0f));
+    return v;
+}
+
 /* The value of node `root` at tp: its program (nodes blk.x .. root) evaluated in order into registers. */
 inline float4 texture_eval(const __global TexNode* nodes, const __global TexImage* images,
                            const __global float4* texels, int root, const TexPoint* tp)
@@ -187,6 +200,9 @@ inline float4 texture_eval(const __global TexNode* nodes, const __global TexImag
         case TEXNODE_COLOR_RAMP:
             out = tex_color_ramp(images, texels, n.in.w, n.op.y, f);
             if (n.blk.w) out.xyz = (float3)(out.w);
+            break;
+        case TEXNODE_ATTRIBUTE:
+            out = tex_attribute(tp, n.op.y, n.op.z);
             break;
         case TEXNODE_RGB_CURVES:
             out.xyz = tex_rgb_curves(images, texels, &n, a.xyz, f);

@@ -42,6 +42,12 @@ def _feed(h, value, where: str) -> None:
         for i, item in enumerate(value):
             _feed(h, item, f"{where}[{i}]")
         h.update(b")")
+    elif isinstance(value, dict):
+        h.update(f"dict{len(value)}(".encode())
+        for key in sorted(value):
+            _feed(h, key, f"{where} key")
+            _feed(h, value[key], f"{where}[{key!r}]")
+        h.update(b")")
     elif value is None or isinstance(value, bool | int | float | str | np.generic):
         h.update(f"{type(value).__name__}:{value!r};".encode())
     else:

@@ -131,6 +131,8 @@ class InputReader:
             return self._mix(src, depth)
         if kind in CONVERTERS:
             return converter(src, self._read, depth)
+        if kind in ("ShaderNodeVertexColor", "ShaderNodeAttribute"):
+            return _attribute(src)
         return None
 
     def _uv_ok(self, what: str, uv_map: str = "") -> bool:
@@ -230,6 +232,22 @@ class InputReader:
         for label in upstream_labels(src.node):
             self.notes.bake(label)
         return self._bake(src, want)
+
+
+ATTRIBUTE_OUTPUTS = {"Color": "color", "Vector": "color", "Fac": "fac", "Alpha": "alpha"}
+
+
+def _attribute(src: Source):
+    """A Color Attribute node, or an Attribute node of a geometry attribute: a restircl Attribute (the meshes export
+    their colour attributes of that name; mesh.py warns where an object has none); other kinds: None (baked)."""
+    from restircl import Attribute
+
+    node = src.node
+    if node.bl_idname == "ShaderNodeAttribute" and node.attribute_type != "GEOMETRY":
+        return None
+    name = node.layer_name if node.bl_idname == "ShaderNodeVertexColor" else node.attribute_name
+    output = ATTRIBUTE_OUTPUTS.get(src.socket.identifier)
+    return None if output is None else Attribute(name=name, output=output)
 
 
 def upstream_labels(node, limit: int = 64) -> list[str]:

@@ -169,6 +169,7 @@ CONVERTERS = {
                                      ("factor", False))),
     tx.ColorRamp: (tx.RAMP_INTERPOLATIONS, "interpolation", (("factor", False),)),
     tx.RGBCurves: ((), "", (("color", True), ("factor", False))),
+    tx.Attribute: (tx.ATTRIBUTE_OUTPUTS, "output", ()),
 }
 
 
@@ -182,6 +183,8 @@ def _check_converter(node: object, label: str, path: list[object]) -> None:
         _check_ramp(node, label)
     if isinstance(node, tx.RGBCurves):
         _check_curves(node, label)
+    if isinstance(node, tx.Attribute) and not isinstance(node.name, str):
+        raise MaterialError(f"{label}: name must be a string, got {node.name!r}")
     for name, colour in inputs:
         _sub(getattr(node, name), f"{label}.{name}", colour, path)
 

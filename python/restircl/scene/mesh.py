@@ -20,6 +20,7 @@ class Mesh:
     transforms: np.ndarray | None = None  # (4, 4) or (F, 4, 4) object-to-world
     uvs: np.ndarray | None = None  # (T, 3, 2) per-corner UV map (texture coordinates "uv", normal maps)
     normals: np.ndarray | None = None  # (T, 3, 3) per-corner object-space shading normals (smooth shading)
+    attributes: dict[str, np.ndarray] | None = None  # name -> (T, 3, 4) per-corner RGBA (colour attributes)
 
     def __post_init__(self) -> None:
         self.vertices = np.asarray(self.vertices, dtype=np.float64).reshape(-1, 3)
@@ -52,4 +53,8 @@ class Mesh:
             a = getattr(self, what)
             if a is not None and (np.shape(a) != (len(t), 3, corner) or not np.all(np.isfinite(a))):
                 raise SceneError(f"{label}: {what} must be finite, shape ({len(t)}, 3, {corner}), "
+                                 f"got shape {np.shape(a)}")
+        for name, a in (self.attributes or {}).items():
+            if not isinstance(name, str) or np.shape(a) != (len(t), 3, 4) or not np.all(np.isfinite(a)):
+                raise SceneError(f"{label}: attribute {name!r} must be finite, shape ({len(t)}, 3, 4), "
                                  f"got shape {np.shape(a)}")

@@ -27,6 +27,7 @@ from ..lights import area_sampling, camera_visible, pick_table, record, registry
 from ..lights import environment as environment_light
 from ..materials.material import MAX_LAYERS
 from ..materials.textures import (
+    ATTRIBUTE_OUTPUTS,
     COLOR_MODES,
     COORDS,
     EXTENSIONS,
@@ -95,6 +96,8 @@ def families() -> tuple[Family, ...]:
                _enum("TEXVEC_", VECTOR_OPS)),
         Family("Color Ramp interpolations (TexNode.op.y)", "materials/textures.py RAMP_INTERPOLATIONS",
                _enum("TEXRAMP_", RAMP_INTERPOLATIONS)),
+        Family("Attribute outputs (TexNode.op.z)", "materials/textures.py ATTRIBUTE_OUTPUTS",
+               _enum("TEXATTR_", ATTRIBUTE_OUTPUTS)),
         Family("texture programs", "upload/textures.py", (("MAX_TEX_PROGRAM", texture_pack.MAX_TEX_PROGRAM),),
                kind="constants"),
         Family("per-object attribute flags (ObjectInfo)", "upload/tri_attributes.py", (

@@ -39,6 +39,7 @@ from ..materials.textures import (
     is_texture,
 )
 from ..scene.errors import SceneError
+from .attributes import attribute_names, texture_nodes
 
 MAX_TEX_PROGRAM = 16  # nodes in one input's program, the registers it is evaluated into (opencl/codes.h)
 MAGENTA = (1.0, 0.0, 1.0, 1.0)
@@ -46,7 +47,7 @@ MAGENTA = (1.0, 0.0, 1.0, 1.0)
 NODE_KINDS = (("IMAGE", ImageTexture), ("CHECKER", CheckerTexture), ("MIX", MixColor), ("NORMAL_MAP", NormalMap),
               ("SEPARATE_COLOR", tx.SeparateColor), ("COMBINE_COLOR", tx.CombineColor), ("MATH", tx.Math),
               ("VECTOR_MATH", tx.VectorMath), ("INVERT", tx.Invert), ("HSV", tx.HueSaturationValue),
-              ("COLOR_RAMP", tx.ColorRamp), ("RGB_CURVES", tx.RGBCurves))
+              ("COLOR_RAMP", tx.ColorRamp), ("RGB_CURVES", tx.RGBCurves), ("ATTRIBUTE", tx.Attribute))
 NODE_CODE = {cls: code for code, (_, cls) in enumerate(NODE_KINDS)}
 MAX_TEXELS = 2**31 - 1  # int offsets on the device
 
@@ -146,6 +147,7 @@ class TexturePacker:
         self.images: dict[tuple, LoadedImage] = {}  # this packing's images by image_key, in image-table order
         self._slot: dict[tuple, int] = {}  # image_key -> index in the image table
         self._by_id: dict[tuple, tuple] = {}  # (id of the source, colour space) -> image_key: each array hashed once
+        self.attribute_names = attribute_names(materials)  # Attribute nodes' names, by their index on the device
         for i, m in enumerate(materials):
             label = f"material {i} {m.name!r}"
             for value in material_inputs(m):
@@ -231,6 +233,10 @@ class TexturePacker:
         elif isinstance(node, tx.ColorRamp):
             r["op"][1] = tx.RAMP_INTERPOLATIONS.index(node.interpolation)
             r["in"][3] = self._ramp(node)
+            r["blk"][3] = int(tx.gives_number(node))
+        elif isinstance(node, tx.Attribute):
+            r["op"][1] = self.attribute_names.index(node.name)
+            r["op"][2] = tx.ATTRIBUTE_OUTPUTS.index(node.output)
             r["blk"][3] = int(tx.gives_number(node))
         elif isinstance(node, tx.RGBCurves):
             r["in"][3] = self._curves(node)
@@ -362,16 +368,8 @@ def _post_order(node: object, out: list[object], done: set[int], path: list[obje
 
 def uses_uv_map(m: Material) -> bool:
     """Whether some texture node of m reads the UV map (an Image or Checker on "uv", or a Normal Map)."""
-    stack, seen = [v for v in material_inputs(m) if is_texture(v)], set()
-    while stack:
-        node = stack.pop()
-        if id(node) in seen:
-            continue
-        seen.add(id(node))
-        if isinstance(node, NormalMap) or (isinstance(node, ImageTexture | CheckerTexture) and node.coords == "uv"):
-            return True
-        stack.extend(v for v in node_inputs(node) if is_texture(v))
-    return False
+    return any(isinstance(n, NormalMap) or (isinstance(n, ImageTexture | CheckerTexture) and n.coords == "uv")
+               for n in texture_nodes(m))
 
 
 def warn_missing_uv_maps(meshes: list, materials: list[Material]) -> None:
