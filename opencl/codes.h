@@ -49,6 +49,7 @@
 #define TEXNODE_COLOR_RAMP     10
 #define TEXNODE_RGB_CURVES     11
 #define TEXNODE_ATTRIBUTE      12
+#define TEXNODE_BUMP           13
 
 /* image interpolation (TexNode.op.y) (materials/textures.py INTERPOLATIONS) */
 #define TEXINTERP_LINEAR  0

@@ -74,9 +74,11 @@ class InputReader:
             return None
         if not src.linked:
             return None
+        if src.kind == "ShaderNodeBump":
+            return self._bump(src)
         if src.kind != "ShaderNodeNormalMap":
             self.notes.note(f"{what} is driven by {src.label()}, which is not supported (only a tangent-space "
-                            "Normal Map); ignored")
+                            "Normal Map or a Bump); ignored")
             return None
         node = src.node
         if node.space != "TANGENT":
@@ -88,6 +90,19 @@ class InputReader:
 
         strength = self.constant(find_input(node, ("Strength",)), src.stack, f"Normal Map {node.name!r} Strength")
         return NormalMap(color=self.color(find_input(node, ("Color",)), src.stack), strength=strength)
+
+    def _bump(self, src: Source):
+        """A Bump node: its Height read as any value input; Strength and Distance as numbers."""
+        from restircl import Bump
+
+        node = src.node
+        what = f"Bump {node.name!r}"
+        if find_input(node, ("Normal",)) is not None and find_input(node, ("Normal",)).is_linked:
+            self.notes.note(f"{what}: its Normal input is not supported; the surface's normal is bumped")
+        return Bump(height=self.value(find_input(node, ("Height",)), src.stack),
+                    strength=self.constant(find_input(node, ("Strength",)), src.stack, f"{what} Strength"),
+                    distance=self.constant(find_input(node, ("Distance",)), src.stack, f"{what} Distance"),
+                    invert=bool(node.invert))
 
     # ---- one input ------------------------------------------------------------------------------------
 

@@ -79,8 +79,8 @@ def _distribution(value: object, name: str) -> None:
 
 def _normal(value: object, name: str) -> None:
     if value is not None:
-        if not isinstance(value, NormalMap):
-            raise MaterialError(f"{name} must be a NormalMap node or None, got {type(value).__name__}")
+        if not isinstance(value, NormalMap | tx.Bump):
+            raise MaterialError(f"{name} must be a NormalMap or Bump node or None, got {type(value).__name__}")
         check_node(value, name)
 
 
@@ -93,8 +93,9 @@ FIELD_RULES: dict[str, Callable[[object, str], None]] = {
 
 def _check_input(value: object, what: str, colour: bool, unit: bool = False) -> None:
     if _is_texture(value):
-        if isinstance(value, NormalMap):
-            raise MaterialError(f"{what}: a NormalMap gives a normal, not a {'colour' if colour else 'value'}")
+        if isinstance(value, NormalMap | tx.Bump):
+            raise MaterialError(f"{what}: a {type(value).__name__} gives a normal, not a "
+                                f"{'colour' if colour else 'value'}")
         check_node(value, what)
         return
     try:
@@ -170,6 +171,7 @@ CONVERTERS = {
     tx.ColorRamp: (tx.RAMP_INTERPOLATIONS, "interpolation", (("factor", False),)),
     tx.RGBCurves: ((), "", (("color", True), ("factor", False))),
     tx.Attribute: (tx.ATTRIBUTE_OUTPUTS, "output", ()),
+    tx.Bump: ((), "", (("height", False),)),
 }
 
 
@@ -183,6 +185,9 @@ def _check_converter(node: object, label: str, path: list[object]) -> None:
         _check_ramp(node, label)
     if isinstance(node, tx.RGBCurves):
         _check_curves(node, label)
+    if isinstance(node, tx.Bump) and not all(isinstance(v, int | float) and math.isfinite(v)
+                                             for v in (node.strength, node.distance)):
+        raise MaterialError(f"{label}: strength and distance must be finite numbers")
     if isinstance(node, tx.Attribute) and not isinstance(node.name, str):
         raise MaterialError(f"{label}: name must be a string, got {node.name!r}")
     for name, colour in inputs:
@@ -217,8 +222,8 @@ def _check_curves(node: tx.RGBCurves, label: str) -> None:
 
 def _sub(value: object, what: str, colour: bool, path: list[object]) -> None:
     if _is_texture(value):
-        if isinstance(value, NormalMap):
-            raise MaterialError(f"{what}: a NormalMap gives a normal, not a colour")
+        if isinstance(value, NormalMap | tx.Bump):
+            raise MaterialError(f"{what}: a {type(value).__name__} gives a normal, not a colour")
         _check_node(value, what, path)
     else:
         _check_input(value, what, colour)

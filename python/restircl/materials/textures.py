@@ -182,6 +182,23 @@ class Attribute:
     output: str = "color"
 
 
+BUMP_STEP = 1e-3  # the bump's step to its neighbour points, in barycentric units of the triangle (textures/bump.h)
+
+
+@dataclass
+class Bump:
+    """Blender's Bump node on a Normal input: the shading normal tilted by the surface gradient of `height` (a
+    number) times `distance` (negated by `invert`), blended with the untilted normal by `strength`. The gradient
+    comes from the height at the point and at two neighbours on its triangle, BUMP_STEP along each edge from the
+    first corner; Cycles steps along the ray differentials (a fraction of the pixel): the same gradient where the
+    height is smooth over both steps."""
+
+    height: Input = 0.0
+    strength: float = 1.0
+    distance: float = 1.0
+    invert: bool = False
+
+
 @dataclass
 class NormalMap:
     """Blender's Normal Map node, tangent space of the UV map: `color` (a Non-Color image, usually) -> a shading
@@ -192,12 +209,12 @@ class NormalMap:
 
 
 Texture = Union[ImageTexture, CheckerTexture, MixColor, NormalMap, SeparateColor, CombineColor, Math, VectorMath,  # noqa: UP007
-                Invert, HueSaturationValue, ColorRamp, RGBCurves, Attribute]
+                Invert, HueSaturationValue, ColorRamp, RGBCurves, Attribute, Bump]
 # a material or node input: a number, an rgb triple, or a texture node
 Input = Union[float, tuple, Texture]  # noqa: UP007 (the forward references above need Union)
 
 TEXTURE_TYPES = (ImageTexture, CheckerTexture, MixColor, NormalMap, SeparateColor, CombineColor, Math, VectorMath,
-                 Invert, HueSaturationValue, ColorRamp, RGBCurves, Attribute)
+                 Invert, HueSaturationValue, ColorRamp, RGBCurves, Attribute, Bump)
 
 
 def gives_number(node: object) -> bool:
