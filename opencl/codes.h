@@ -18,6 +18,7 @@
 #define LIGHT_FLAG_SOLID_ANGLE  4
 #define LIGHT_FLAG_SA_AUTO      8
 #define LIGHT_FLAG_SA_NEAR      16
+#define LIGHT_FLAG_TEXTURED     32
 
 /* flags of the environment light's record (lights/environment.py) */
 #define ENV_FLAG_CAMERA 2
@@ -46,6 +47,9 @@
 #define TEXNODE_INVERT         8
 #define TEXNODE_HSV            9
 #define TEXNODE_COLOR_RAMP     10
+#define TEXNODE_RGB_CURVES     11
+#define TEXNODE_ATTRIBUTE      12
+#define TEXNODE_BUMP           13
 
 /* image interpolation (TexNode.op.y) (materials/textures.py INTERPOLATIONS) */
 #define TEXINTERP_LINEAR  0
@@ -143,6 +147,11 @@
 #define TEXRAMP_CONSTANT 1
 #define TEXRAMP_EASE     2
 
+/* Attribute outputs (TexNode.op.z) (materials/textures.py ATTRIBUTE_OUTPUTS) */
+#define TEXATTR_COLOR 0
+#define TEXATTR_ALPHA 1
+#define TEXATTR_FAC   2
+
 /* texture programs (upload/textures.py) */
 #define MAX_TEX_PROGRAM 16
 
@@ -211,7 +220,7 @@
 #define GGX_S_OFFSET     1056
 
 /* light and shadow linking (lights/linking.py) */
-#define LIGHT_FLAG_SHADOW_LINKED 32
+#define LIGHT_FLAG_SHADOW_LINKED 64
 #define LINK_SHIFT               8
 #define LINK_OBJECT_MASK         1048575
 #define LINK_RECEIVER_SHIFT      20

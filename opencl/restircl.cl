@@ -18,6 +18,7 @@
 #include "textures/point.h"
 #include "textures/image.h"
 #include "textures/nodes.h"
+#include "textures/bump.h"
 #include "textures/closure_inputs.h"
 #include "textures/material.h"
 #include "bsdf/bsdf.h"

@@ -70,7 +70,7 @@ typedef struct {
     float4 o0;         /* xyz: object-space position of corner 0; w: 0.5 log2(object area / world area) */
     float4 oe1;        /* xyz: object-space edge corner 1 - corner 0; w: 0.5 log2(generated area / world area) */
     float4 oe2;        /* xyz: object-space edge corner 2 - corner 0; w: unused */
-    float4 tangent;    /* xyz: world-space UV tangent (dP/du); w: unused */
+    float4 tangent;    /* xyz: world-space UV tangent (dP/du); w: offset of its colour attributes (int bits) */
 } TriAttr;             /* 144 bytes */
 
 /* Per object (mesh): how its texture space and attributes are set up. */

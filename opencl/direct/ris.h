@@ -86,6 +86,10 @@ inline void ris_candidates(const Surface* s, const __global Light* lights, const
         /* the environment's map follows the records of the light buffer, not a tile's copy (lights/environment.h) */
         for (int k = 0; k < n; ++k) if (type[k] == LIGHT_ENVIRONMENT) rec[k] = &lights[light[k]];
 #endif
+#ifdef HAS_TRIANGLE_LIGHTS
+        /* so do a textured triangle's image and block (lights/textured_emission.h) */
+        if (tiled) for (int k = 0; k < n; ++k) if (light_textured(rec[k])) rec[k] = &lights[light[k]];
+#endif
         for (int k = 0; k < n; ++k) {
             float py;
             float2 uv = light_sample_typed(rec[k], type[k], s->x, r0[k], r1[k], &py);

@@ -9,6 +9,7 @@
 #include "lights/planar.h"
 #include "lights/solid_angle.h"
 #include "lights/spherical_tri.h"
+#include "lights/textured_emission.h"
 
 /* (u, v) -> barycentrics (sqrt(u) (1 - v), sqrt(u) v): uniform in area. */
 inline bool triangle_eval(const __global Light* l, float u, float v, float3 x, float3 n, LightEval* e)
@@ -19,6 +20,10 @@ inline bool triangle_eval(const __global Light* l, float u, float v, float3 x, f
     float3 y = v0 + e1 * (su * (1.0f - v)) + e2 * (su * v);
     /* the bound the shading point gets (direct/visibility.h visible): y is the same kind of sum */
     e->eps = RESTIRCL_OFFSET_ULPS * FLT_EPSILON * (max_abs3(v0) + max_abs3(e1) + max_abs3(e2));
+    if (light_textured(l)) {
+        float3 le = triangle_textured_radiance(l, su * (1.0f - v), su * v);
+        return area_contrib(y, planar_normal(pl), le, light_two_sided(l), x, n, e);
+    }
     return planar_contrib(l, pl, y, x, n, e);
 }
 

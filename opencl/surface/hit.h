@@ -33,6 +33,8 @@ inline void hit_gsample(const SceneSurfaces* sc, Hit hit, float3 d, float footpr
     int obj = obj_bits & LINK_OBJECT_MASK;
     Material m = sc->materials[mat];
     TexPoint tp = texture_point(sc->tri_attr, sc->objects, hit.prim, obj, hit.u, hit.v, d, ng, backfacing, footprint);
+    tp.e1 = t.e1.xyz;
+    tp.e2 = t.e2.xyz;
     float3 albedo = m.albedo.xyz, emission = m.emission.xyz;
 #ifdef HAS_TEXTURES
     texture_material(sc->materials + mat, sc->closures, sc->tex_nodes, sc->tex_images, sc->texels, &tp, &albedo,

@@ -4,6 +4,8 @@
 #ifndef RESTIRCL_CLOSURE_INPUTS_H
 #define RESTIRCL_CLOSURE_INPUTS_H
 
+#include "textures/bump.h"
+
 typedef struct {
     float3 base;        /* Base Color / Color */
     float3 tint;        /* Specular Tint */
@@ -61,7 +63,7 @@ inline ClosureInputs closure_inputs(const __global Closure* c, const __global Te
     if (tex.z >= 0) in.roughness = clamp_f(tex_input_number(nodes, images, texels, tex.z, tp), 0.0f, 1.0f);
     if (tex.w >= 0) in.specular = fmax_f(tex_input_number(nodes, images, texels, tex.w, tp), 0.0f);
     if (tex2.x >= 0) in.tint = fmax(texture_eval(nodes, images, texels, tex2.x, tp).xyz, zero);
-    if (tex2.y >= 0) in.normal = texture_eval(nodes, images, texels, tex2.y, tp).xyz;
+    if (tex2.y >= 0) in.normal = texture_normal(nodes, images, texels, tex2.y, tp);
     if (tex2.z >= 0) {
         float f = clamp_f(tex_input_number(nodes, images, texels, tex2.z, tp), 0.0f, 1.0f);
         in.weight = c->kind.z ? 1.0f - f : f;

@@ -3,7 +3,8 @@
  * graph is evaluated in one loop (no recursion in OpenCL C). Checker and Mix follow Blender's definitions
  * (Cycles' kernel/svm/checker.h and mix.h); the Normal Map node its tangent-space rule with Strength; the converter
  * nodes (Separate / Combine Color, Math, Vector Math, Invert, Hue/Saturation/Value) are textures/converters.h;
- * Color Ramp reads its stops from the texel buffer. */
+ * Color Ramp reads its stops from the texel buffer, RGB Curves its table; Attribute the corner colours of the
+ * triangle's block (textures/point.h). */
 #ifndef RESTIRCL_TEXTURE_NODES_H
 #define RESTIRCL_TEXTURE_NODES_H
 
@@ -105,6 +106,44 @@ inline float4 tex_color_ramp(const __global TexImage* images, const __global flo
     return col[k] + f * (col[k + 1] - col[k]);
 }
 
+/* one channel of RGB Curves: x looked up in column ch of the n-row table (rows evenly over [lo, hi]), linearly
+ * between rows; past either end the end rows' slope goes on (extrapolate) or the end row holds */
+inline float tex_curve(const __global float4* rows, int n, int ch, float lo, float hi, int extrapolate, float x)
+{
+    float s = (x - lo) / (hi - lo) * (float)(n - 1);
+    if (!(s == s)) s = 0.0f; /* NaN: the first row, not an index out of the table */
+    int k = s <= 0.0f ? 0 : (s >= (float)(n - 1) ? n - 2 : (int)s);
+    if (!extrapolate) s = clamp_f(s, 0.0f, (float)(n - 1));
+    float y0 = ch == 0 ? rows[k].x : (ch == 1 ? rows[k].y : rows[k].z);
+    float y1 = ch == 0 ? rows[k + 1].x : (ch == 1 ? rows[k + 1].y : rows[k + 1].z);
+    return y0 + (s - (float)k) * (y1 - y0);
+}
+
+/* RGB Curves: each channel of c through its column of the table (image-table entry img), blended with c by f */
+inline float3 tex_rgb_curves(const __global TexImage* images, const __global float4* texels, const TexNode* n,
+                             float3 c, float f)
+{
+    TexImage im = images[n->in.w];
+    const __global float4* rows = texels + im.offset;
+    float lo = n->p.y, hi = n->p.z;
+    float3 v = (float3)(tex_curve(rows, im.width, 0, lo, hi, n->blk.y, c.x),
+                        tex_curve(rows, im.width, 1, lo, hi, n->blk.y, c.y),
+                        tex_curve(rows, im.width, 2, lo, hi, n->blk.y, c.z));
+    return c + f * (v - c);
+}
+
+/* Attribute: colour attribute k of the hit's triangle blended by its barycentrics (0 without a block); out: the
+ * colour, or as a number its alpha or the mean of r, g and b (TEXATTR_*) */
+inline float4 tex_attribute(const TexPoint* tp, int k, int out)
+{
+    if (tp->attr_off <= 0) return (float4)(0.0f);
+    const __global float4* c = tp->attrs + tp->attr_off + 3 * k;
+    float4 v = tp->bary.x * c[0] + tp->bary.y * c[1] + tp->bary.z * c[2];
+    if (out == TEXATTR_ALPHA) return (float4)(v.w);
+    if (out == TEXATTR_FAC) return (float4)((v.x + v.y + v.z) * (1.0f / 3.0f));
+    return v;
+}
+
 /* The value of node `root` at tp: its program (nodes blk.x .. root) evaluated in order into registers. */
 inline float4 texture_eval(const __global TexNode* nodes, const __global TexImage* images,
                            const __global float4* texels, int root, const TexPoint* tp)
@@ -162,6 +201,12 @@ inline float4 texture_eval(const __global TexNode* nodes, const __global TexImag
         case TEXNODE_COLOR_RAMP:
             out = tex_color_ramp(images, texels, n.in.w, n.op.y, f);
             if (n.blk.w) out.xyz = (float3)(out.w);
+            break;
+        case TEXNODE_ATTRIBUTE:
+            out = tex_attribute(tp, n.op.y, n.op.z);
+            break;
+        case TEXNODE_RGB_CURVES:
+            out.xyz = tex_rgb_curves(images, texels, &n, a.xyz, f);
             break;
         case TEXNODE_NORMAL_MAP:
             out.xyz = tex_normal_map(a.xyz, n.p.x, tp);

@@ -23,6 +23,12 @@ typedef struct {
     float lod_gen;    /* the same in generated units */
     int backfacing;   /* 1: the camera sees the mesh's back side */
     int bumped;       /* 1: ns comes from a normal map */
+    const __global float4* attrs;  /* the TriAttr buffer as float4s: colour attribute blocks follow the records */
+    int attr_off;     /* this triangle's block of attribute colours in attrs (upload/attributes.py); 0: none */
+    float3 bary;      /* the hit's barycentric weights of the triangle's corners */
+    int prim;         /* its TriAttr record (leaf order); -1: none (textures/bump.h moves the point on it) */
+    float3 e1, e2;    /* world-space edges v1 - v0, v2 - v0 of the triangle (surface/hit.h) */
+    float3 gen_scale; /* the object's texture space scale (generated = (obj - mid) * gen_scale + 0.5) */
 } TexPoint;
 
 /* The attributes at barycentrics (bu, bv) of triangle prim (leaf order) of object obj, seen along unit d; ng faces
@@ -41,6 +47,11 @@ inline TexPoint texture_point(const __global TriAttr* attr, const __global Objec
     tp.lod_uv = tp.lod_obj = tp.lod_gen = 0.0f;
     tp.backfacing = backfacing;
     tp.bumped = 0;
+    tp.attrs = (const __global float4*)attr;
+    tp.attr_off = 0;
+    tp.bary = (float3)(1.0f - bu - bv, bu, bv);
+    tp.prim = -1;
+    tp.e1 = tp.e2 = tp.gen_scale = (float3)(0.0f);
     ObjectInfo oi = objects[obj];
     int flags = as_int(oi.gen_mid.w);
     if (!(flags & OBJECT_ATTRIBUTES)) return tp;
@@ -61,6 +72,9 @@ inline TexPoint texture_point(const __global TriAttr* attr, const __global Objec
     float t2 = dot3(t, t);
     if ((flags & OBJECT_UVS) && t2 > 0.0f && finite_f(t2)) tp.tangent = t * (1.0f / sqrt(t2));
     tp.sign = a.v.w;
+    tp.attr_off = as_int(a.tangent.w);
+    tp.prim = prim;
+    tp.gen_scale = oi.gen_scale.xyz;
     float base = log2(cone_width / fmax_f(abs_f(dot3(ng, d)), 1e-4f));
     tp.lod_uv = a.u.w + base;
     tp.lod_obj = a.o0.w + base;

@@ -17,6 +17,8 @@ from .environment.world import Environment
 from .io.images import read_exr, write_exr, write_png
 from .materials.material import Material
 from .materials.textures import (
+    Attribute,
+    Bump,
     CheckerTexture,
     ColorRamp,
     CombineColor,
@@ -26,6 +28,7 @@ from .materials.textures import (
     Math,
     MixColor,
     NormalMap,
+    RGBCurves,
     SeparateColor,
     VectorMath,
 )
@@ -42,9 +45,9 @@ from .settings.spec import SettingError
 from .settings.table import Settings
 
 __all__ = [
-    "Camera", "CheckerTexture", "ColorRamp", "CombineColor", "Device", "DeviceError", "Environment", "Frame",
-    "HueSaturationValue", "ImageTexture", "Invert", "KernelBuildError", "Light", "Material", "Math", "Mesh", "MixColor",
-    "NormalMap", "Renderer",
+    "Attribute", "Bump", "Camera", "CheckerTexture", "ColorRamp", "CombineColor", "Device", "DeviceError",
+    "Environment", "Frame", "HueSaturationValue", "ImageTexture", "Invert", "KernelBuildError", "Light", "Material",
+    "Math", "Mesh", "MixColor", "NormalMap", "Renderer", "RGBCurves",
     "SeparateColor", "VectorMath",
     "Scene", "SceneError", "SceneFileError", "SettingError", "Settings", "choose_device", "get_device", "list_devices",
     "look_at", "read_exr", "scenes", "still_settings", "translation", "write_exr", "write_png",

@@ -183,6 +183,13 @@ def real_helmet_scene(path: Path, width: int, height: int):
     (two rings of warm ones around it, at three heights)."""
     sc = scenes.new_scene(width, height)
     import_real_helmet(path)
+    helmet_stage(sc)
+    return sc
+
+
+def helmet_stage(sc) -> None:
+    """The real helmet's stage (of an object about 2 units across standing at the origin): a floor, an area light,
+    a spot, 30 small point lights in two rings at three heights, and the camera."""
     ring = []
     for k in range(30):
         r, a = 2.2 + 0.4 * (k % 2), 2 * math.pi * k / 30
@@ -190,4 +197,3 @@ def real_helmet_scene(path: Path, width: int, height: int):
                      (1.0, 0.8 - 0.01 * k, 0.6 + 0.01 * k), 0.05))
     _stage(sc, 8.0, ((-2.0, -2.5, 4.0), 600.0, 1.5), ((2.5, -2.5, 3.0), 500.0), ring)
     scenes.camera((0.6, -4.5, 2.3), (0, 0, 0.9), lens=45.0)
-    return sc

@@ -89,3 +89,19 @@ def test_families_are_well_formed():
         elif f.kind == "flags":
             assert all(v > 0 and v & (v - 1) == 0 for v in values) and len(set(values)) == len(values), f.title
     assert codes.c_literal(-1) == "(-1)" and codes.c_literal(0.25) == "0.25f" and codes.c_literal(1e-30) == "1e-30f"
+
+
+def test_light_flags_are_distinct_bits_below_the_link_index():
+    """A light record's flag word holds one bit per LIGHT_FLAG_* and, from LINK_SHIFT up, its link record's index
+    (lights/linking.py): two flags on one bit, or a flag in the index's bits, would read one feature as another."""
+    from restircl.lights import linking, record
+
+    flags = {"TWO_SIDED": record.FLAG_TWO_SIDED, "TEXTURED": record.FLAG_TEXTURED,
+             "SHADOW_LINKED": linking.FLAG_SHADOW_LINKED}
+    text = header()
+    for name in ("SOFT_FALLOFF", "SOLID_ANGLE", "SA_AUTO", "SA_NEAR"):
+        flags[name] = int(text.split(f"#define LIGHT_FLAG_{name}")[1].split()[0])
+    values = list(flags.values())
+    assert all(v > 0 and v & (v - 1) == 0 for v in values), flags
+    assert len(set(values)) == len(values), flags
+    assert max(values) < 1 << linking.LINK_SHIFT, flags

@@ -1,6 +1,7 @@
 """The converter nodes of PBR graphs -> restircl texture nodes (restircl.materials.textures): Separate / Combine Color
 and the legacy Separate / Combine RGB, HSV and XYZ, Math, Vector Math, Invert, Hue/Saturation/Value and Color
-Ramp (RGB colour mode; Linear, Constant and Ease), read natively instead of baked.
+Ramp (RGB colour mode; Linear, Constant and Ease) and RGB Curves (a table of Blender's own curve evaluation), read
+natively instead of baked.
 An operation the renderer does not have gives None: the caller bakes the node."""
 
 from __future__ import annotations
@@ -16,7 +17,8 @@ SEPARATE = {"ShaderNodeSeparateColor": None, "ShaderNodeSeparateRGB": "RGB", "Sh
 COMBINE = {"ShaderNodeCombineColor": None, "ShaderNodeCombineRGB": "RGB", "ShaderNodeCombineHSV": "HSV",
            "ShaderNodeCombineXYZ": "RGB"}
 KINDS = (*SEPARATE, *COMBINE, "ShaderNodeMath", "ShaderNodeVectorMath", "ShaderNodeInvert", "ShaderNodeHueSaturation",
-         "ShaderNodeValToRGB")
+         "ShaderNodeValToRGB", "ShaderNodeRGBCurve")
+CURVE_ROWS = 256  # rows of an RGB Curves table, as many as Cycles' own table has
 
 # read(socket, stack, want, depth) -> an Input
 Read = Callable[[object, tuple, str, int], object]
@@ -57,6 +59,8 @@ def converter(src: Source, read: Read, depth: int):
         return _vector_math(node, src, sub)
     if kind == "ShaderNodeValToRGB":
         return _color_ramp(node, src, sub)
+    if kind == "ShaderNodeRGBCurve":
+        return _rgb_curves(node, sub)
     if kind == "ShaderNodeHueSaturation":
         from restircl import HueSaturationValue
 
@@ -103,3 +107,21 @@ def _color_ramp(node, src: Source, sub):
     return ColorRamp(factor=sub(find_input(node, ("Fac",)), VALUE), positions=tuple(p for p, _ in stops),
                      colors=tuple(c for _, c in stops), interpolation=ramp.interpolation,
                      alpha=src.socket.identifier == "Alpha")
+
+
+def _rgb_curves(node, sub):
+    """RGB Curves: Blender's CurveMapping evaluated at CURVE_ROWS points over the x range of all four curves' points,
+    each channel's curve after the combined one (curves R, G, B, C: C first)."""
+    from restircl import RGBCurves
+
+    mapping = node.mapping
+    mapping.initialize()
+    xs = [float(p.location[0]) for c in mapping.curves for p in c.points]
+    lo, hi = min([0.0, *xs]), max([1.0, *xs])
+    r, g, b, combined = mapping.curves[0], mapping.curves[1], mapping.curves[2], mapping.curves[3]
+    rows = []
+    for i in range(CURVE_ROWS):
+        t = mapping.evaluate(combined, lo + (hi - lo) * i / (CURVE_ROWS - 1))
+        rows.append((mapping.evaluate(r, t), mapping.evaluate(g, t), mapping.evaluate(b, t)))
+    return RGBCurves(color=sub(find_input(node, ("Color",)), COLOR), factor=sub(find_input(node, ("Fac",)), VALUE),
+                     table=tuple(rows), lo=lo, hi=hi, extrapolate=getattr(mapping, "extend", "") == "EXTRAPOLATED")

@@ -74,9 +74,11 @@ class InputReader:
             return None
         if not src.linked:
             return None
+        if src.kind == "ShaderNodeBump":
+            return self._bump(src)
         if src.kind != "ShaderNodeNormalMap":
             self.notes.note(f"{what} is driven by {src.label()}, which is not supported (only a tangent-space "
-                            "Normal Map); ignored")
+                            "Normal Map or a Bump); ignored")
             return None
         node = src.node
         if node.space != "TANGENT":
@@ -88,6 +90,19 @@ class InputReader:
 
         strength = self.constant(find_input(node, ("Strength",)), src.stack, f"Normal Map {node.name!r} Strength")
         return NormalMap(color=self.color(find_input(node, ("Color",)), src.stack), strength=strength)
+
+    def _bump(self, src: Source):
+        """A Bump node: its Height read as any value input; Strength and Distance as numbers."""
+        from restircl import Bump
+
+        node = src.node
+        what = f"Bump {node.name!r}"
+        if find_input(node, ("Normal",)) is not None and find_input(node, ("Normal",)).is_linked:
+            self.notes.note(f"{what}: its Normal input is not supported; the surface's normal is bumped")
+        return Bump(height=self.value(find_input(node, ("Height",)), src.stack),
+                    strength=self.constant(find_input(node, ("Strength",)), src.stack, f"{what} Strength"),
+                    distance=self.constant(find_input(node, ("Distance",)), src.stack, f"{what} Distance"),
+                    invert=bool(node.invert))
 
     # ---- one input ------------------------------------------------------------------------------------
 
@@ -131,6 +146,8 @@ class InputReader:
             return self._mix(src, depth)
         if kind in CONVERTERS:
             return converter(src, self._read, depth)
+        if kind in ("ShaderNodeVertexColor", "ShaderNodeAttribute"):
+            return _attribute(src)
         return None
 
     def _uv_ok(self, what: str, uv_map: str = "") -> bool:
@@ -230,6 +247,22 @@ class InputReader:
         for label in upstream_labels(src.node):
             self.notes.bake(label)
         return self._bake(src, want)
+
+
+ATTRIBUTE_OUTPUTS = {"Color": "color", "Vector": "color", "Fac": "fac", "Alpha": "alpha"}
+
+
+def _attribute(src: Source):
+    """A Color Attribute node, or an Attribute node of a geometry attribute: a restircl Attribute (the meshes export
+    their colour attributes of that name; mesh.py warns where an object has none); other kinds: None (baked)."""
+    from restircl import Attribute
+
+    node = src.node
+    if node.bl_idname == "ShaderNodeAttribute" and node.attribute_type != "GEOMETRY":
+        return None
+    name = node.layer_name if node.bl_idname == "ShaderNodeVertexColor" else node.attribute_name
+    output = ATTRIBUTE_OUTPUTS.get(src.socket.identifier)
+    return None if output is None else Attribute(name=name, output=output)
 
 
 def upstream_labels(node, limit: int = 64) -> list[str]:

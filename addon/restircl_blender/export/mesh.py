@@ -32,6 +32,7 @@ class _Geometry:
     uvs: np.ndarray | None = None  # (T, 3, 2) the active render UV map per corner
     uv_name: str = ""
     normals: np.ndarray | None = None  # (T, 3, 3) corner normals; None when every face is flat
+    colors: dict | None = None  # colour attribute name -> (T, 3, 4) corner RGBA; "" also names the default one
 
 
 @dataclass
@@ -47,6 +48,7 @@ class _Record:
     lightgroup: str = ""  # its Light Group (light_groups.py)
     pass_index: int = 0  # Object > Relations > Pass Index (the Object Index pass)
     asset: str = ""  # the root of its parent chain (Cryptomatte's asset), "" when it has no parent
+    colors: dict | None = None
 
 
 class MeshReader:
@@ -83,14 +85,26 @@ class MeshReader:
             for name in sorted(self._materials.uv_maps[i] - {geo.uv_name}):
                 self._warn(f"object {ob.name!r}: material {self._materials.materials[i].name!r} names UV map "
                            f"{name!r}; the active render map {geo.uv_name!r} is used")
+        colors = self._colors(ob, geo, tri_ids)
         if not inst.is_instance and _may_deform(ob):
             self._probes[ob.name] = (len(geo.vertices), _digest(geo.vertices))
         self._by_key[instance_key(inst)] = len(self._records)
         self._records.append(_Record(ob.name, geo.vertices, geo.triangles, tri_ids,
                                      self.frames.track(matrix(inst.matrix_world)), uvs, geo.normals,
                                      read_linking(ob), object_group(ob), int(getattr(ob, "pass_index", 0)),
-                                     _asset(orig)))
+                                     _asset(orig), colors))
         self.instances += int(inst.is_instance)
+
+    def _colors(self, ob, geo: _Geometry, tri_ids: np.ndarray) -> dict | None:
+        """The colour attributes the object's materials read (Attribute nodes); a name it has none of is said."""
+        from restircl.upload.attributes import attribute_names
+
+        names = attribute_names([self._materials.materials[i] for i in set(tri_ids.tolist())])
+        for name in sorted(set(names) - set(geo.colors or {})):
+            what = f"attribute {name!r}, which is not a colour attribute of it" if name else \
+                "the default colour attribute, which it has not"
+            self._warn(f"object {ob.name!r}: its materials read {what}: 0 is read")
+        return {n: geo.colors[n] for n in names if n in (geo.colors or {})} or None
 
     def sample(self, inst, k: int) -> None:
         """The instance's matrix at frame index k; instances that appear only after the current frame are not
@@ -114,7 +128,7 @@ class MeshReader:
         for r in self._records:
             fill_gaps(r.track)
         return [restircl.Mesh(name=r.name, vertices=r.vertices, triangles=r.triangles, material_ids=r.material_ids,
-                              transforms=transforms(r.track), uvs=r.uvs, normals=r.normals,
+                              transforms=transforms(r.track), uvs=r.uvs, normals=r.normals, attributes=r.colors,
                               **({} if r.linking is None else {"linking": r.linking}),
                               **({"lightgroup": r.lightgroup} if r.lightgroup else {}),
                               **({"pass_index": r.pass_index} if r.pass_index else {}),
@@ -153,10 +167,34 @@ def _read_geometry(ob) -> _Geometry | None:
         me.loop_triangles.foreach_get("loops", loops)
         uvs, uv_name = _corner_uvs(me, loops)
         normals = _corner_normals(me, loops)
+        colors = _corner_colors(me, loops)
     finally:
         ob.to_mesh_clear()
     return _Geometry(verts.reshape(-1, 3).astype(np.float64), tris.reshape(-1, 3).astype(np.int64),
-                     slots.astype(np.int64), mats, uvs, uv_name, normals)
+                     slots.astype(np.int64), mats, uvs, uv_name, normals, colors)
+
+
+def _corner_colors(me, loops: np.ndarray) -> dict | None:
+    """The mesh's colour attributes (point or corner domain; Blender gives byte colours in linear light too) per
+    triangle corner; the default one (Color Attribute nodes with no name read it) also under ""."""
+    attrs = getattr(me, "color_attributes", None)
+    if attrs is None or not len(attrs):
+        return None
+    vert_of_loop = np.empty(len(me.loops), dtype=np.int64)
+    me.loops.foreach_get("vertex_index", vert_of_loop)
+    out = {}
+    for a in attrs:
+        if a.domain not in ("POINT", "CORNER"):
+            continue
+        buf = np.empty(len(a.data) * 4, dtype=np.float32)
+        a.data.foreach_get("color", buf)
+        per = buf.reshape(-1, 4)
+        idx = loops if a.domain == "CORNER" else vert_of_loop[loops]
+        out[a.name] = per[idx].reshape(-1, 3, 4).astype(np.float64)
+    default = getattr(attrs, "default_color_name", "") or ""
+    if default in out:
+        out[""] = out[default]
+    return out or None
 
 
 def _corner_uvs(me, loops: np.ndarray) -> tuple[np.ndarray | None, str]:

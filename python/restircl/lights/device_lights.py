@@ -2,7 +2,8 @@
 
 Each type's conversion is in its module (sphere, spot, sun, quad, disk, triangle, environment; measured against
 Cycles, docs/units.md); this gathers them in the order the device sees: the world (environment) first when the scene
-has one, then the scene's lights, then emissive triangles; the environment's map and table after every record.
+has one, then the scene's lights, then emissive triangles; the environment's map and table after every record, then
+the images and blocks of emissive triangles textured by an image (textured_emission.py).
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ from .light_type import PlacedLight
 from .linking import ALL_SETS, emitter_masks, link_records, uses_linking
 from .record import LANES
 from .registry import type_of
-from .textured_emission import triangle_radiance
+from .textured_emission import point_emission_data, triangle_radiance
 from .triangle import TYPE as TRIANGLE
 from .triangle import emissive_triangles
 
@@ -92,7 +93,10 @@ def scene_lights(scene: Scene, frame: int, world=None, area_sampling: str = "are
     apply_sampling_flags(records, all_types, area_sampling)
     all_sources = np.concatenate([np.array(sources, np.int64), tri_src])
     data = env_light.data(packed) if packed is not None else np.zeros(0, np.float32)
-    if uses_linking(scene) or scene.light_groups:
+    textured = point_emission_data(scene, world, flat, all_sources, len(data))
+    if len(textured):
+        data = np.concatenate([data, textured])
+    if uses_linking(scene) or scene.light_groups:  # after the textures' blocks: link records index whole records
         masks = emitter_masks(scene, all_sources, world.object) if uses_linking(scene) else \
             [(ALL_SETS, ALL_SETS)] * len(all_sources)
         groups = emitter_groups(scene, all_sources, world.object) if scene.light_groups else None

@@ -32,7 +32,7 @@ OBJECT_BITS = 20  # object ids below 2^20 when the scene links lights
 RECEIVER_SHIFT = 20
 BLOCKER_SHIFT = 26
 LINK_SHIFT = 8  # L.w bits from here: the link record's index
-FLAG_SHADOW_LINKED = 32
+FLAG_SHADOW_LINKED = 64  # a bit of its own among the LIGHT_FLAG_* (lights/record.py)
 ALL_SETS = (1 << MAX_SETS) - 1
 
 

@@ -12,6 +12,9 @@ LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
 
 #: LIGHT_FLAG_TWO_SIDED (opencl/codes.h): an area emitter that emits on both sides
 FLAG_TWO_SIDED = 1
+#: LIGHT_FLAG_TEXTURED (opencl/codes.h): an emissive triangle whose radiance is read from its image at the point
+#: (lights/textured_emission.py, opencl/lights/textured_emission.h)
+FLAG_TEXTURED = 32
 
 Vec = np.ndarray | Sequence[float] | float
 

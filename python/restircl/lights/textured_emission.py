@@ -1,10 +1,12 @@
 """The light an emissive triangle sheds when its emission colour is an image (a screen, a lit sign, a glTF
-emissive map): the mean of the image over the triangle's UV footprint, times Emission Strength, computed here on
-the host. It is the radiance of the triangle's light record, so the light array and tree pick triangles by their
-real power, and next-event estimation and the BSDF rays that meet the triangle (direct/, path/emitters.h) see the
-same value, which keeps their MIS weights consistent. Within one triangle the light is that mean: what the camera
-sees directly stays the image itself (textures/material.h). An emission that is another node graph keeps the
-white bound (Material.radiance) and the upload's warning (upload/textures.py warn_textured_emission)."""
+emissive map). Its power is the mean of the image over the triangle's UV footprint, times Emission Strength,
+computed here on the host: the radiance of the triangle's light record, by which the light array and tree pick it.
+Its light at a point is the image at that point (point_emission_data: the record flagged LIGHT_FLAG_TEXTURED and
+pointed at a block in the light buffer, read by opencl/lights/textured_emission.h), so next-event estimation is
+unbiased where the image varies within a triangle, and the BSDF rays that meet the triangle (direct/,
+path/emitters.h) evaluate the same point the same way, which keeps their MIS weights consistent. What the camera
+sees directly is the image itself (textures/material.h). An emission that is another node graph keeps the white
+bound (Material.radiance) and the upload's warning (upload/textures.py warn_textured_emission)."""
 
 from __future__ import annotations
 
@@ -112,3 +114,65 @@ def triangle_radiance(scene, world) -> np.ndarray:
             uvs = mesh.uvs[world.prim[sel]] if mesh.uvs is not None else np.zeros((len(sel), 3, 2))
             le[sel] = image_mean(node, np.asarray(uvs, np.float64), levels) * float(m.emission_strength)
     return le
+
+
+MAX_LIGHT_TEXELS = 1 << 22  # texels of the image level a textured light reads at its points (the finest that fits)
+BLOCK = 12  # floats of a textured triangle's block (opencl/lights/textured_emission.h)
+
+
+def _corner_st(node: ImageTexture, uvs: np.ndarray) -> np.ndarray:
+    """(T, 3, 2) image coordinates of the corners: the UVs through the node's Mapping (affine, so the point's is the
+    barycentric blend of its corners')."""
+    if node.mapping is None:
+        return uvs
+    m = np.asarray(node.mapping, dtype=np.float64)
+    xyz = np.concatenate([uvs, np.zeros(uvs.shape[:2] + (1,))], axis=-1)
+    return (xyz @ m[:3, :3].T + m[:3, 3])[..., :2]
+
+
+def point_emission_data(scene, world, records: np.ndarray, source: np.ndarray, start: int) -> np.ndarray:
+    """Flag the records (the (N, 16) float32 lanes, in place) of the emissive triangles whose emission is an image
+    (sampled_emission) LIGHT_FLAG_TEXTURED, pointing their a.w at a block, and give the floats that hold their
+    blocks and images: the device reads the image at each sampled point (opencl/lights/textured_emission.h). The
+    floats go into the light buffer `start` floats after the records. The triangle's mean (its record's radiance)
+    still gives its power, by which it is picked."""
+    from ..materials.textures import EXTENSIONS, INTERPOLATIONS
+    from .record import FLAG_TEXTURED
+
+    n = len(records)
+    rows = np.nonzero(source < 0)[0]
+    tri = -1 - source[rows]
+    chunks: list[np.ndarray] = []
+    pos = start
+    for i, m in enumerate(scene.materials):
+        node = sampled_emission(m)
+        mine = rows[world.material[tri] == i] if node is not None else rows[:0]
+        levels = _linear_levels(node) if len(mine) else None
+        if levels is None:
+            continue
+        level = next((lv for lv in levels if lv.shape[0] * lv.shape[1] <= MAX_LIGHT_TEXELS), levels[-1])
+        h, w = level.shape[:2]
+        image_pos = pos
+        chunks.append(np.ascontiguousarray(level, np.float32).reshape(-1))
+        pos += level.size
+        t = -1 - source[mine]
+        uvs = np.zeros((len(mine), 3, 2))
+        for obj in np.unique(world.object[t]):
+            sel = world.object[t] == obj
+            mesh = scene.meshes[int(obj)]
+            if mesh.uvs is not None:
+                uvs[sel] = np.asarray(mesh.uvs, np.float64)[world.prim[t[sel]]]
+        blocks = np.zeros((len(mine), BLOCK), np.float32)
+        blocks[:, :6] = _corner_st(node, uvs).reshape(-1, 6)
+        blocks[:, 6] = float(m.emission_strength)
+        block_pos = pos + BLOCK * np.arange(len(mine))
+        ints = blocks.view(np.int32)
+        ints[:, 7] = image_pos - block_pos
+        ints[:, 8], ints[:, 9] = w, h
+        ints[:, 10], ints[:, 11] = INTERPOLATIONS.index(node.interpolation), EXTENSIONS.index(node.extension)
+        lanes = records.view(np.int32)
+        lanes[mine, 7] = (n - mine) * 16 + block_pos
+        lanes[mine, 15] |= FLAG_TEXTURED
+        chunks.append(blocks.reshape(-1))
+        pos += blocks.size
+    return np.concatenate(chunks) if chunks else np.zeros(0, np.float32)

@@ -90,8 +90,8 @@ def _distribution(value: object, name: str) -> None:
 
 def _normal(value: object, name: str) -> None:
     if value is not None:
-        if not isinstance(value, NormalMap):
-            raise MaterialError(f"{name} must be a NormalMap node or None, got {type(value).__name__}")
+        if not isinstance(value, NormalMap | tx.Bump):
+            raise MaterialError(f"{name} must be a NormalMap or Bump node or None, got {type(value).__name__}")
         check_node(value, name)
 
 
@@ -104,8 +104,9 @@ FIELD_RULES: dict[str, Callable[[object, str], None]] = {
 
 def _check_input(value: object, what: str, colour: bool, unit: bool = False) -> None:
     if _is_texture(value):
-        if isinstance(value, NormalMap):
-            raise MaterialError(f"{what}: a NormalMap gives a normal, not a {'colour' if colour else 'value'}")
+        if isinstance(value, NormalMap | tx.Bump):
+            raise MaterialError(f"{what}: a {type(value).__name__} gives a normal, not a "
+                                f"{'colour' if colour else 'value'}")
         check_node(value, what)
         return
     try:
@@ -179,6 +180,9 @@ CONVERTERS = {
     tx.HueSaturationValue: ((), "", (("color", True), ("hue", False), ("saturation", False), ("value", False),
                                      ("factor", False))),
     tx.ColorRamp: (tx.RAMP_INTERPOLATIONS, "interpolation", (("factor", False),)),
+    tx.RGBCurves: ((), "", (("color", True), ("factor", False))),
+    tx.Attribute: (tx.ATTRIBUTE_OUTPUTS, "output", ()),
+    tx.Bump: ((), "", (("height", False),)),
 }
 
 
@@ -190,6 +194,13 @@ def _check_converter(node: object, label: str, path: list[object]) -> None:
         raise MaterialError(f"{label}: channel must be 0, 1 or 2, got {node.channel!r}")
     if isinstance(node, tx.ColorRamp):
         _check_ramp(node, label)
+    if isinstance(node, tx.RGBCurves):
+        _check_curves(node, label)
+    if isinstance(node, tx.Bump) and not all(isinstance(v, int | float) and math.isfinite(v)
+                                             for v in (node.strength, node.distance)):
+        raise MaterialError(f"{label}: strength and distance must be finite numbers")
+    if isinstance(node, tx.Attribute) and not isinstance(node.name, str):
+        raise MaterialError(f"{label}: name must be a string, got {node.name!r}")
     for name, colour in inputs:
         _sub(getattr(node, name), f"{label}.{name}", colour, path)
 
@@ -208,10 +219,22 @@ def _check_ramp(node: tx.ColorRamp, label: str) -> None:
         raise MaterialError(f"{label}: positions must be finite numbers and colors finite rgb or rgba")
 
 
+def _check_curves(node: tx.RGBCurves, label: str) -> None:
+    try:
+        table = np.asarray(node.table, np.float64)
+        lo, hi = float(node.lo), float(node.hi)
+    except (TypeError, ValueError) as exc:
+        raise MaterialError(f"{label}: table, lo and hi must be numbers ({exc})") from exc
+    if table.ndim != 2 or table.shape[1] != 3 or len(table) < 2 or not np.all(np.isfinite(table)):
+        raise MaterialError(f"{label}: table must be at least 2 finite (r, g, b) rows, got shape {table.shape}")
+    if not (math.isfinite(lo) and math.isfinite(hi) and hi > lo):
+        raise MaterialError(f"{label}: needs finite lo < hi, got {lo!r}, {hi!r}")
+
+
 def _sub(value: object, what: str, colour: bool, path: list[object]) -> None:
     if _is_texture(value):
-        if isinstance(value, NormalMap):
-            raise MaterialError(f"{what}: a NormalMap gives a normal, not a colour")
+        if isinstance(value, NormalMap | tx.Bump):
+            raise MaterialError(f"{what}: a {type(value).__name__} gives a normal, not a colour")
         _check_node(value, what, path)
     else:
         _check_input(value, what, colour)

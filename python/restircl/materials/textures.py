@@ -1,6 +1,6 @@
 """Texture nodes that feed a material input (restircl.Material): an image, a checker, a colour mix, a normal map,
 and the converter nodes of PBR graphs (Separate / Combine Color, Math, Vector Math, Invert, Hue/Saturation/Value,
-Color Ramp).
+Color Ramp, RGB Curves), and the mesh's colour attributes (Color Attribute, Attribute).
 
 A material input (base colour, roughness, metallic, ...) is a constant or one of these nodes; a node's own inputs
 may again be nodes (a Mix Color of an image and a checker), as in a Blender node graph. Texture coordinates follow
@@ -37,6 +37,7 @@ VECTOR_OPS = ("ADD", "SUBTRACT", "MULTIPLY", "DIVIDE", "SCALE", "ABSOLUTE", "MIN
               "FRACTION", "NORMALIZE", "CROSS_PRODUCT", "DOT_PRODUCT", "LENGTH", "DISTANCE")
 VECTOR_VALUE_OPS = ("DOT_PRODUCT", "LENGTH", "DISTANCE")
 RAMP_INTERPOLATIONS = ("LINEAR", "CONSTANT", "EASE")  # Color Ramp interpolations read natively
+ATTRIBUTE_OUTPUTS = ("color", "alpha", "fac")  # the outputs of Attribute
 
 
 @dataclass
@@ -158,6 +159,49 @@ class ColorRamp:
 
 
 @dataclass
+class RGBCurves:
+    """Blender's RGB Curves: each channel of `color` through its curve after the combined curve, as a table of
+    `table` rows (r, g, b) sampled evenly over [lo, hi] (Blender's CurveMapping evaluated there: the exporter fills
+    it, as Cycles fills its own 256-entry table) and read with linear interpolation; past either end the end rows'
+    slope continues the table (`extrapolate`) or its end value holds. Blended with `color` by `factor`."""
+
+    color: Input = (0.8, 0.8, 0.8)
+    factor: Input = 1.0
+    table: tuple = ((0.0, 0.0, 0.0), (1.0, 1.0, 1.0))
+    lo: float = 0.0
+    hi: float = 1.0
+    extrapolate: bool = True
+
+
+@dataclass
+class Attribute:
+    """Blender's Color Attribute node (and the Attribute node of a colour attribute): the mesh's per-corner colour
+    attribute `name` (Mesh.attributes) blended over the triangle by barycentrics; 0 where the mesh has none, as in
+    Cycles. `output`: "color", "alpha" or "fac" (the Attribute node's Fac: the mean of r, g and b); the last two are
+    numbers."""
+
+    name: str = ""
+    output: str = "color"
+
+
+BUMP_STEP = 1e-3  # the bump's step to its neighbour points, in barycentric units of the triangle (textures/bump.h)
+
+
+@dataclass
+class Bump:
+    """Blender's Bump node on a Normal input: the shading normal tilted by the surface gradient of `height` (a
+    number) times `distance` (negated by `invert`), blended with the untilted normal by `strength`. The gradient
+    comes from the height at the point and at two neighbours on its triangle, BUMP_STEP along each edge from the
+    first corner; Cycles steps along the ray differentials (a fraction of the pixel): the same gradient where the
+    height is smooth over both steps."""
+
+    height: Input = 0.0
+    strength: float = 1.0
+    distance: float = 1.0
+    invert: bool = False
+
+
+@dataclass
 class NormalMap:
     """Blender's Normal Map node, tangent space of the UV map: `color` (a Non-Color image, usually) -> a shading
     normal, blended with the interpolated normal by `strength`."""
@@ -167,18 +211,20 @@ class NormalMap:
 
 
 Texture = Union[ImageTexture, CheckerTexture, MixColor, NormalMap, SeparateColor, CombineColor, Math, VectorMath,  # noqa: UP007
-                Invert, HueSaturationValue, ColorRamp]
+                Invert, HueSaturationValue, ColorRamp, RGBCurves, Attribute, Bump]
 # a material or node input: a number, an rgb triple, or a texture node
 Input = Union[float, tuple, Texture]  # noqa: UP007 (the forward references above need Union)
 
 TEXTURE_TYPES = (ImageTexture, CheckerTexture, MixColor, NormalMap, SeparateColor, CombineColor, Math, VectorMath,
-                 Invert, HueSaturationValue, ColorRamp)
+                 Invert, HueSaturationValue, ColorRamp, RGBCurves, Attribute, Bump)
 
 
 def gives_number(node: object) -> bool:
     """Whether a texture node's output is a number (a value input reads it as it is, not as a colour's grey)."""
     if isinstance(node, ColorRamp | ImageTexture):
         return bool(node.alpha)
+    if isinstance(node, Attribute):
+        return node.output != "color"
     return isinstance(node, SeparateColor | Math) or (isinstance(node, VectorMath) and node.op in VECTOR_VALUE_OPS)
 
 

@@ -62,7 +62,10 @@ def save_scene(scene: SceneParts, path: str | Path) -> None:
         "light_groups": list(scene.light_groups),
     }
     for i, mesh in enumerate(scene.meshes):
-        meta["meshes"].append({"name": mesh.name, "lightgroup": mesh.lightgroup, **_links(mesh.linking)})
+        meta["meshes"].append({"name": mesh.name, "lightgroup": mesh.lightgroup, **_links(mesh.linking),
+                               "attributes": list(mesh.attributes or {})})
+        for k, a in enumerate((mesh.attributes or {}).values()):
+            arrays[f"mesh{i}_attribute{k}"] = np.asarray(a, np.float64)
         arrays[f"mesh{i}_vertices"] = mesh.vertices
         arrays[f"mesh{i}_triangles"] = mesh.triangles
         arrays[f"mesh{i}_material_ids"] = mesh.material_ids
@@ -126,7 +129,9 @@ def load_scene(path: str | Path, cls: type[S]) -> S:
             scene.meshes.append(Mesh(m["name"], data[f"mesh{i}_vertices"], data[f"mesh{i}_triangles"],
                                      data[f"mesh{i}_material_ids"], data[f"mesh{i}_transforms"],
                                      uvs=data.get(f"mesh{i}_uvs"), normals=data.get(f"mesh{i}_normals"),
-                                     linking=Linking(**m.get("linking", {})), lightgroup=m.get("lightgroup", "")))
+                                     linking=Linking(**m.get("linking", {})), lightgroup=m.get("lightgroup", ""),
+                                     attributes={n: data[f"mesh{i}_attribute{k}"]
+                                                 for k, n in enumerate(m.get("attributes", []))} or None))
         for i, d in enumerate(meta["lights"]):
             d = dict(d)
             d["color"] = tuple(d["color"])

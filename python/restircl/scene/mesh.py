@@ -25,6 +25,7 @@ class Mesh:
     lightgroup: str = ""  # as an emitter: the light group (Scene.light_groups) its emission counts in
     pass_index: int = 0  # Object > Relations > Pass Index: the Object Index pass (render/index_passes.py)
     asset: str = ""  # the Cryptomatte asset it belongs to (Blender: the root of its parent chain); "": its own name
+    attributes: dict[str, np.ndarray] | None = None  # name -> (T, 3, 4) per-corner RGBA (colour attributes)
 
     def __post_init__(self) -> None:
         self.vertices = np.asarray(self.vertices, dtype=np.float64).reshape(-1, 3)
@@ -58,4 +59,8 @@ class Mesh:
             a = getattr(self, what)
             if a is not None and (np.shape(a) != (len(t), 3, corner) or not np.all(np.isfinite(a))):
                 raise SceneError(f"{label}: {what} must be finite, shape ({len(t)}, 3, {corner}), "
+                                 f"got shape {np.shape(a)}")
+        for name, a in (self.attributes or {}).items():
+            if not isinstance(name, str) or np.shape(a) != (len(t), 3, 4) or not np.all(np.isfinite(a)):
+                raise SceneError(f"{label}: attribute {name!r} must be finite, shape ({len(t)}, 3, 4), "
                                  f"got shape {np.shape(a)}")

@@ -27,6 +27,7 @@ from ..lights import area_sampling, camera_visible, linking, pick_table, record,
 from ..lights import environment as environment_light
 from ..materials.material import MAX_LAYERS
 from ..materials.textures import (
+    ATTRIBUTE_OUTPUTS,
     COLOR_MODES,
     COORDS,
     EXTENSIONS,
@@ -69,7 +70,8 @@ def families() -> tuple[Family, ...]:
         Family("flags of a Light record (L.w)", "lights/record.py, lights/sphere.py, lights/area_sampling.py", (
             ("LIGHT_FLAG_TWO_SIDED", record.FLAG_TWO_SIDED), ("LIGHT_FLAG_SOFT_FALLOFF", sphere.FLAG_SOFT_FALLOFF),
             ("LIGHT_FLAG_SOLID_ANGLE", area_sampling.FLAG_SOLID_ANGLE),
-            ("LIGHT_FLAG_SA_AUTO", area_sampling.FLAG_SA_AUTO), ("LIGHT_FLAG_SA_NEAR", area_sampling.FLAG_SA_NEAR)),
+            ("LIGHT_FLAG_SA_AUTO", area_sampling.FLAG_SA_AUTO), ("LIGHT_FLAG_SA_NEAR", area_sampling.FLAG_SA_NEAR),
+            ("LIGHT_FLAG_TEXTURED", record.FLAG_TEXTURED)),
                kind="flags"),
         Family("flags of the environment light's record", "lights/environment.py", (
             ("ENV_FLAG_CAMERA", environment_light.FLAG_CAMERA), ("ENV_FLAG_CDF", environment_light.FLAG_CDF),
@@ -94,6 +96,8 @@ def families() -> tuple[Family, ...]:
                _enum("TEXVEC_", VECTOR_OPS)),
         Family("Color Ramp interpolations (TexNode.op.y)", "materials/textures.py RAMP_INTERPOLATIONS",
                _enum("TEXRAMP_", RAMP_INTERPOLATIONS)),
+        Family("Attribute outputs (TexNode.op.z)", "materials/textures.py ATTRIBUTE_OUTPUTS",
+               _enum("TEXATTR_", ATTRIBUTE_OUTPUTS)),
         Family("texture programs", "upload/textures.py", (("MAX_TEX_PROGRAM", texture_pack.MAX_TEX_PROGRAM),),
                kind="constants"),
         Family("per-object attribute flags (ObjectInfo)", "upload/tri_attributes.py", (

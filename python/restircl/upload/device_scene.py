@@ -22,6 +22,7 @@ from ..lights.linking import object_bits
 from ..lights.tree import LightTree, build_light_tree
 from ..scene.scene import Scene
 from .alpha import scene_is_transparent, with_transparency
+from .attributes import attribute_rows
 from .ggx_tables import ggx_tables
 from .materials import pack_materials
 from .textures import LoadedImage, PackedTextures, TexturePacker, warn_missing_uv_maps, warn_textured_emission
@@ -160,6 +161,10 @@ class DeviceScene:
         attributes = needs_attributes(self.scene, self.material_flags["HAS_TEXTURES"])
         self.objects_buf = upload(self.context, object_infos(self.scene, attributes))
         attr = tri_attributes(self.scene, world, bvh.order, self._frame) if attributes else np.zeros(0, np.uint8)
+        self._tri_attr_names = self._attribute_names
+        rows = attribute_rows(self.scene, world, bvh.order, self._tri_attr_names, attr) if attributes else attr
+        if len(rows):  # the corner colours of the Attribute nodes follow the records
+            attr = np.concatenate([attr.view(np.float32).reshape(-1, 4), rows])
         self.tri_attr_buf = upload(self.context, attr)  # 16 zero bytes, never read, without attributes
 
     def _upload_materials(self) -> None:
@@ -167,6 +172,9 @@ class DeviceScene:
             return
         # images the device holds are not read again, and their texels go up only when the image table differs
         packer = TexturePacker(self.scene.materials, self._images)
+        self._attribute_names = packer.attribute_names
+        if getattr(self, "_tri_attr_names", packer.attribute_names) != packer.attribute_names:
+            self._geometry_key = None  # an edit names other attributes: their colours go up with the geometry
         warn_missing_uv_maps(self.scene.meshes, self.scene.materials)
         warn_textured_emission(self.scene.meshes, self.scene.materials)
         packed = pack_materials(self.scene.materials, packer.index)

@@ -26,10 +26,6 @@ from ..lights.textured_emission import sampled_emission
 from ..materials import textures as tx
 from ..materials.material import Material, material_inputs
 from ..materials.textures import (
-    COORDS,
-    EXTENSIONS,
-    INTERPOLATIONS,
-    MIX_BLENDS,
     CheckerTexture,
     ImageTexture,
     MixColor,
@@ -39,6 +35,7 @@ from ..materials.textures import (
     is_texture,
 )
 from ..scene.errors import SceneError
+from .attributes import attribute_names, texture_nodes
 
 MAX_TEX_PROGRAM = 16  # nodes in one input's program, the registers it is evaluated into (opencl/codes.h)
 MAGENTA = (1.0, 0.0, 1.0, 1.0)
@@ -46,7 +43,8 @@ MAGENTA = (1.0, 0.0, 1.0, 1.0)
 NODE_KINDS = (("IMAGE", ImageTexture), ("CHECKER", CheckerTexture), ("MIX", MixColor), ("NORMAL_MAP", NormalMap),
               ("SEPARATE_COLOR", tx.SeparateColor), ("COMBINE_COLOR", tx.CombineColor), ("MATH", tx.Math),
               ("VECTOR_MATH", tx.VectorMath), ("INVERT", tx.Invert), ("HSV", tx.HueSaturationValue),
-              ("COLOR_RAMP", tx.ColorRamp))
+              ("COLOR_RAMP", tx.ColorRamp), ("RGB_CURVES", tx.RGBCurves), ("ATTRIBUTE", tx.Attribute),
+              ("BUMP", tx.Bump))
 NODE_CODE = {cls: code for code, (_, cls) in enumerate(NODE_KINDS)}
 MAX_TEXELS = 2**31 - 1  # int offsets on the device
 
@@ -67,6 +65,8 @@ def node_inputs(node: object) -> list[object]:
         return [node.color1, node.color2]
     if isinstance(node, NormalMap | tx.SeparateColor):
         return [node.color]
+    if isinstance(node, tx.Bump):
+        return [node.height]
     if isinstance(node, tx.CombineColor):
         return [node.r, node.g, node.b]
     if isinstance(node, tx.Math):
@@ -79,6 +79,8 @@ def node_inputs(node: object) -> list[object]:
         return [node.color, _hsv_vector(node), node.factor]
     if isinstance(node, tx.ColorRamp):
         return [0.0, 0.0, node.factor]
+    if isinstance(node, tx.RGBCurves):
+        return [node.color, 0.0, node.factor]
     return []
 
 
@@ -144,6 +146,7 @@ class TexturePacker:
         self.images: dict[tuple, LoadedImage] = {}  # this packing's images by image_key, in image-table order
         self._slot: dict[tuple, int] = {}  # image_key -> index in the image table
         self._by_id: dict[tuple, tuple] = {}  # (id of the source, colour space) -> image_key: each array hashed once
+        self.attribute_names = attribute_names(materials)  # Attribute nodes' names, by their index on the device
         for i, m in enumerate(materials):
             label = f"material {i} {m.name!r}"
             for value in material_inputs(m):
@@ -214,23 +217,33 @@ class TexturePacker:
         if isinstance(node, ImageTexture | CheckerTexture):
             self._coords(r, node)
         if isinstance(node, ImageTexture):
-            r["op"][1] = INTERPOLATIONS.index(node.interpolation)
-            r["op"][2] = EXTENSIONS.index(node.extension)
+            r["op"][1] = tx.INTERPOLATIONS.index(node.interpolation)
+            r["op"][2] = tx.EXTENSIONS.index(node.extension)
             r["in"][3], encoded = self._image(node, label)
             r["blk"][2] = int(encoded)
             r["blk"][3] = int(tx.gives_number(node))  # the Alpha output
         elif isinstance(node, CheckerTexture):
             r["p"][0] = float(node.scale)
         elif isinstance(node, MixColor):
-            r["op"][1] = MIX_BLENDS.index(node.blend)
+            r["op"][1] = tx.MIX_BLENDS.index(node.blend)
             r["blk"][1] = int(bool(node.clamp_factor))
             r["blk"][2] = int(bool(node.clamp_result))
         elif isinstance(node, NormalMap):
             r["p"][0] = float(node.strength)
+        elif isinstance(node, tx.Bump):  # p.x strength, p.z distance (negated by invert)
+            r["p"][0], r["p"][2] = float(node.strength), -float(node.distance) if node.invert else float(node.distance)
         elif isinstance(node, tx.ColorRamp):
             r["op"][1] = tx.RAMP_INTERPOLATIONS.index(node.interpolation)
             r["in"][3] = self._ramp(node)
             r["blk"][3] = int(tx.gives_number(node))
+        elif isinstance(node, tx.Attribute):
+            r["op"][1] = self.attribute_names.index(node.name)
+            r["op"][2] = tx.ATTRIBUTE_OUTPUTS.index(node.output)
+            r["blk"][3] = int(tx.gives_number(node))
+        elif isinstance(node, tx.RGBCurves):
+            r["in"][3] = self._curves(node)
+            r["p"][1], r["p"][2] = float(node.lo), float(node.hi)
+            r["blk"][1] = int(bool(node.extrapolate))
         else:
             self._converter(r, node)
         return r
@@ -251,7 +264,7 @@ class TexturePacker:
 
     @staticmethod
     def _coords(r: np.void, node: ImageTexture | CheckerTexture) -> None:
-        r["op"][3] = COORDS.index(node.coords)
+        r["op"][3] = tx.COORDS.index(node.coords)
         if node.mapping is None:
             return
         m = np.asarray(node.mapping, dtype=np.float64)
@@ -270,10 +283,19 @@ class TexturePacker:
             c = tuple(float(x) for x in node.colors[k])
             stops[0, j] = (*c[:3], c[3] if len(c) > 3 else 1.0)
             stops[1, j, 0] = float(node.positions[k])
-        key = ("ramp", stops.tobytes())
+        return self._table(("ramp", stops.tobytes()), stops)
+
+    def _curves(self, node: tx.RGBCurves) -> int:
+        """The image-table slot of an RGB Curves table: a 1-row "image" of its (r, g, b) rows in the texel buffer."""
+        rows = np.asarray(node.table, np.float32).reshape(-1, 3)
+        table = np.zeros((1, len(rows), 4), np.float32)
+        table[0, :, :3] = rows
+        return self._table(("curves", table.tobytes()), table)
+
+    def _table(self, key: tuple, texels: np.ndarray) -> int:
         if key not in self.images:
             self._slot[key] = len(self.images)
-            self.images[key] = LoadedImage([stops], False)
+            self.images[key] = LoadedImage([texels], False)
         return self._slot[key]
 
     # ---- images --------------------------------------------------------------------------------------
@@ -346,16 +368,8 @@ def _post_order(node: object, out: list[object], done: set[int], path: list[obje
 
 def uses_uv_map(m: Material) -> bool:
     """Whether some texture node of m reads the UV map (an Image or Checker on "uv", or a Normal Map)."""
-    stack, seen = [v for v in material_inputs(m) if is_texture(v)], set()
-    while stack:
-        node = stack.pop()
-        if id(node) in seen:
-            continue
-        seen.add(id(node))
-        if isinstance(node, NormalMap) or (isinstance(node, ImageTexture | CheckerTexture) and node.coords == "uv"):
-            return True
-        stack.extend(v for v in node_inputs(node) if is_texture(v))
-    return False
+    return any(isinstance(n, NormalMap) or (isinstance(n, ImageTexture | CheckerTexture) and n.coords == "uv")
+               for n in texture_nodes(m))
 
 
 def warn_missing_uv_maps(meshes: list, materials: list[Material]) -> None:
