@@ -28,6 +28,8 @@
 #define CLOSURE_PRINCIPLED 0
 #define CLOSURE_DIFFUSE    1
 #define CLOSURE_GLOSSY     2
+#define CLOSURE_GLASS      4
+#define CLOSURE_REFRACTION 5
 
 /* materials (materials/material.py, upload/materials.py) */
 #define MAX_LAYERS   2

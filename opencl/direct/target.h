@@ -3,6 +3,8 @@
 #ifndef RESTIRCL_TARGET_H
 #define RESTIRCL_TARGET_H
 
+#include "direct/light_side.h"
+
 /* f * Le * cos_x * G at s for an evaluated light sample e: what a sample adds to the pixel before its weight and
  * visibility. Every shading site multiplies this by the sample's weight. */
 inline float3 unshadowed_contrib(const Surface* s, const LightEval* e)
@@ -14,7 +16,7 @@ inline float3 unshadowed_contrib(const Surface* s, const LightEval* e)
 inline float target_of_record(const Surface* s, const __global Light* rec, float u, float v, LightEval* e)
 {
     if (!s->valid) return 0.0f;
-    if (!light_eval(rec, u, v, s->x, s->n, e)) return 0.0f;
+    if (!surface_light_eval(s, rec, u, v, e)) return 0.0f;
     float t = luminance(unshadowed_contrib(s, e));
     return (t > 0.0f && finite_f(t)) ? t : 0.0f;
 }

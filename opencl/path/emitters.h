@@ -12,7 +12,7 @@ inline float3 path_emitter_term(const Surface* s, const __global Light* rec, int
                                 const LightPick* lp, BsdfSource hits, float hit_t, bool escaped)
 {
     LightEval e;
-    if (!light_eval(rec, uv.x, uv.y, s->x, s->n, &e)) return (float3)(0.0f);
+    if (!surface_light_eval(s, rec, uv.x, uv.y, &e)) return (float3)(0.0f);
     /* met before the surface the ray hit, or, at infinity, only by a ray that escaped */
     if (finite_f(e.dist) ? !(e.dist < hit_t) : !escaped) return (float3)(0.0f);
     float p_bsdf = path_bsdf_pdf(s, rec, type, index, hits, &e);

@@ -63,6 +63,8 @@ inline Surface test_surface(const __global float* p, int count, const __global f
         in[k].weight = q[10];
         in[k].kind = (int)q[11] & 7;
         in[k].multiscatter = (int)q[11] >> 3;
+        in[k].transmission = 0.0f;
+        in[k].backfacing = 0;
     }
     return resolved_surface(in, count, tab, wo);
 }
