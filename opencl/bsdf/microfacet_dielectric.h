@@ -60,7 +60,11 @@ inline float3 dielectric_fresnel(const MicrofacetDielectric* m, float c, float3*
     float f0_eta = f0_from_ior(m->eta);
     float s = f0_eta < 1.0f ? clamp_f((F - f0_eta) / (1.0f - f0_eta), 0.0f, 1.0f) : 1.0f;
     float3 Fc = mix3(m->f0, (float3)(1.0f), s);
+#ifdef DIELECTRIC_WITHOUT_FRESNEL_IN_REFRACTION  /* defined only by the negative control of the white furnace test */
+    *transmittance = m->transmit;
+#else
     *transmittance = ((float3)(1.0f) - Fc) * m->transmit;
+#endif
     return Fc * m->reflect;
 }
 
