@@ -54,7 +54,7 @@ __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySa
 #ifdef TEST_PICK_PDF_SCALE  /* negative controls of the tests only (tests/bias_controls.py): a wrong pdf */
             pdf *= TEST_PICK_PDF_SCALE;
 #endif
-            if (pdf > 0.0f && light_eval(&lights[light], uv.x, uv.y, s.x, s.n, &e) && visible(nodes, tris, &s, &e))
+            if (pdf > 0.0f && surface_light_eval(&s, &lights[light], uv.x, uv.y, &e) && visible(nodes, tris, &s, &e))
                 c += direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) / pdf, clamp, &pass_d, &pass_g);
         }
     }
@@ -85,7 +85,7 @@ __kernel void shade_reference(const __global GSample* gbuf, const __global Gloss
             pdf *= TEST_REFERENCE_PDF_SCALE;
 #endif
             LightEval e;
-            if (pdf > 0.0f && light_eval(&lights[l], uv.x, uv.y, s.x, s.n, &e) && visible(nodes, tris, &s, &e))
+            if (pdf > 0.0f && surface_light_eval(&s, &lights[l], uv.x, uv.y, &e) && visible(nodes, tris, &s, &e))
                 c += direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) / pdf, clamp, &pass_d, &pass_g);
         }
     }

@@ -16,6 +16,19 @@ inline bool surface_transmits(const Surface* s)
             return true;
     return false;
 }
+
+/* Whether s scatters through smooth dielectric lobes alone (Cycles' singular glass: Roughness^4 <= 2e-10, no
+ * diffuse part): no light sample can meet such a lobe, so a path does no next-event estimation there
+ * (path/walk.h) and the emitters its next ray meets take all the weight (path/emitters.h). */
+inline bool surface_is_singular(const Surface* s)
+{
+    if (s->mat.lobes == 0 || s->mat.albedo.x + s->mat.albedo.y + s->mat.albedo.z > 0.0f) return false;
+    for (int k = 0; k < s->mat.lobes; ++k) {
+        const Lobe* l = &s->mat.lobe[k];
+        if (lobe_kind(l) != LOBE_MICROFACET_DIELECTRIC || microfacet_dielectric(l).smooth == 0.0f) return false;
+    }
+    return true;
+}
 #endif
 
 /* light_eval of sample (u, v) of light rec at surface s: about s->n, or, where s transmits and the light lies

@@ -18,6 +18,9 @@ inline float3 path_emitter_term(const Surface* s, const __global Light* rec, int
     float p_bsdf = path_bsdf_pdf(s, rec, type, index, hits, &e);
     if (!(p_bsdf > 0.0f)) return (float3)(0.0f);
     float p_light = light_pick_pdf(lp, index, s->x, s->n) * light_point_pdf(rec, type, s->x, &e);
+#ifdef HAS_TRANSMISSION  /* NEE skipped s (smooth glass, path/walk.h): the BSDF ray is the only way */
+    if (surface_is_singular(s)) p_light = 0.0f;
+#endif
     return unshadowed_contrib(s, &e) * (path_mis_weight(p_bsdf, p_light) / p_bsdf);
 }
 

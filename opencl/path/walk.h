@@ -57,6 +57,9 @@ inline float3 path_vertex_light(const PathScene* ps, const PathState* st, uint* 
 {
     const PathParams* p = ps->params;
     if (!(p->sampler.light_count > 0)) return (float3)(0.0f);
+#ifdef HAS_TRANSMISSION  /* no light sample can meet smooth glass: no NEE there (Cycles' rule for singular lobes) */
+    if (surface_is_singular(&st->s)) return (float3)(0.0f);
+#endif
     return path_clamp(st->T * path_nee(&st->s, ps->lights, ps->lp, p->sampler.slot_count, ps->hits, ps->nodes,
                                        ps->sc->tris, p->light_threshold, rng, q, QMC_PATH_LIGHT(st->bounces)),
                       st->prefix, p->clamp_indirect);
