@@ -20,6 +20,7 @@ ROUGH = 0.3
 SPHERE_R = 0.45
 PANE = (0.9, 0.06, 0.8)  # its size: x, y (thickness), z
 LIGHT_POWER = 250.0
+KINDS = ("glass_table",)  # for restircl compare (eval/scenes/kinds.py)
 
 
 def glass_material(name: str, roughness: float, kind: str = "glass", ior: float = IOR) -> Material:
