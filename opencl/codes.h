@@ -212,4 +212,11 @@
 #define GGX_E_AVG_OFFSET 1024
 #define GGX_S_OFFSET     1056
 
+/* glass energy tables (upload/glass_tables.py) */
+#define GLASS_SIZE             16
+#define GLASS_E_OFFSET         5152
+#define GLASS_E_INV_OFFSET     9248
+#define GLASS_E_AVG_OFFSET     13344
+#define GLASS_E_INV_AVG_OFFSET 13600
+
 #endif

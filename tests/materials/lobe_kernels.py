@@ -14,7 +14,7 @@ import pyopencl.cltypes as clt
 from restircl.core.program import build_program, opencl_dir
 from restircl.materials.material import Material
 from restircl.render.features import general_flags
-from restircl.upload.ggx_tables import ggx_tables
+from restircl.upload.glass_tables import device_tables
 from restircl.upload.materials import pack_materials
 
 from .bsdf_kernels import HEADERS
@@ -97,7 +97,7 @@ class LobeKernels:
     def __init__(self, device, source: str = SRC) -> None:
         self.device = device
         self.prog = build_program(device, general_flags(), source=source)
-        self.tab = self._buf(ggx_tables())
+        self.tab = self._buf(device_tables())
 
     def _buf(self, a: np.ndarray) -> cl.Buffer:
         mf = cl.mem_flags

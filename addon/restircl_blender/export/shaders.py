@@ -166,20 +166,11 @@ class ShaderReader:
         if sock is None:
             return 0.0
         t = self.inputs.constant(sock, stack, f"{label} Transmission Weight")
-        t = min(max(t, 0.0), 1.0) if math.isfinite(t) else 0.0
-        if t > 0 and self._distribution(node, label) == "multi_ggx":
-            self._single_scatter_note(label)
-        return t
-
-    def _single_scatter_note(self, label: str) -> None:
-        self.notes.note(f"{label}: Multiscatter GGX glass is rendered with single-scattering GGX (rough glass a "
-                        "little darker than in Cycles)")
+        return min(max(t, 0.0), 1.0) if math.isfinite(t) else 0.0
 
     def _dielectric(self, node, stack: tuple, label: str, kind: str):
         self._lobes_off(node, stack, label, ((("Thin Film Thickness",), "thin film", 0.0),))
         dist = self._distribution(node, label)
-        if dist == "multi_ggx":
-            self._single_scatter_note(label)
         return self._common(node, stack, label, kind=kind, albedo=self.inputs.color(find_input(node, ("Color",)),
                                                                                     stack),
                             ior=self._ior(node, stack, label), distribution=dist)

@@ -80,7 +80,7 @@ inline float3 principled_resolve(const ClosureInputs* c, float w, float3 base, f
     lobes[0] = microfacet_reflection_lobe(&m, fmax_f(sample_w, 1e-3f * (avg3(m.metal_w) + avg3(m.diel_w))));
     *count = has_lobe ? 1 : 0;
 #ifdef HAS_TRANSMISSION
-    if (wt > CLOSURE_WEIGHT_CUTOFF) lobes[(*count)++] = principled_glass_lobe(c, wt, base, mu);
+    if (wt > CLOSURE_WEIGHT_CUTOFF) lobes[(*count)++] = principled_glass_lobe(c, wt, base, mu, tab);
 #endif
     return base * diffuse_w;
 }

@@ -9,8 +9,7 @@
 inline float3 refraction_resolve(const ClosureInputs* c, float w, float3 base, float mu, const __global float* tab,
                                  Lobe* lobes, int* count)
 {
-    (void)tab;
-    lobes[0] = dielectric_closure_lobe(c, mu, (float3)(0.0f), base * w, (float3)(0.0f), true);
+    lobes[0] = dielectric_closure_lobe(c, mu, (float3)(0.0f), base * w, (float3)(0.0f), true, base, tab);
     *count = 1;
     return (float3)(0.0f);
 }

@@ -39,7 +39,7 @@ from ..materials.textures import (
 from ..render.passes import LIGHT_PLANES
 from ..scene.camera import CAMERA_TYPES
 from ..settings.table import BIAS_CORRECTIONS, BOILING_MODES, SHADE_METHODS, TAA_FILTERS
-from . import ggx_tables, tri_attributes
+from . import ggx_tables, glass_tables, tri_attributes
 from . import materials as material_pack
 from . import textures as texture_pack
 
@@ -124,6 +124,10 @@ def families() -> tuple[Family, ...]:
             ("GGX_E_SIZE", ggx_tables.E_SIZE), ("GGX_S_SIZE", ggx_tables.S_SIZE),
             ("GGX_E_OFFSET", ggx_tables.E_OFFSET), ("GGX_E_AVG_OFFSET", ggx_tables.E_AVG_OFFSET),
             ("GGX_S_OFFSET", ggx_tables.S_OFFSET)), kind="constants"),
+        Family("glass energy tables", "upload/glass_tables.py", (
+            ("GLASS_SIZE", glass_tables.SIZE), ("GLASS_E_OFFSET", glass_tables.E_OFFSET),
+            ("GLASS_E_INV_OFFSET", glass_tables.E_INV_OFFSET), ("GLASS_E_AVG_OFFSET", glass_tables.E_AVG_OFFSET),
+            ("GLASS_E_INV_AVG_OFFSET", glass_tables.E_INV_AVG_OFFSET)), kind="constants"),
     )
 
 

@@ -1,7 +1,7 @@
 """Scenes with glass (issue 39's dielectric half), built the same way here and in Blender (eval/blender_scenes.py
 builds their twins for Cycles): a lit floor with a smooth glass sphere, a glass pane (a thin box) standing on it and
-a rough glass sphere, under a square area light. `transmission_kind` picks how the glass is made: the Glass BSDF or
-a Principled BSDF with Transmission 1."""
+a rough glass sphere, under a square area light. `kind` picks how the glass is made (the Glass BSDF or a Principled
+BSDF with Transmission 1), `distribution` its microfacets (GGX, or Multiscatter GGX)."""
 
 from __future__ import annotations
 
@@ -23,21 +23,21 @@ LIGHT_POWER = 250.0
 KINDS = ("glass_table",)  # for restircl compare (eval/scenes/kinds.py)
 
 
-def glass_material(name: str, roughness: float, kind: str = "glass", ior: float = IOR) -> Material:
-    """Clear glass of this roughness (plain GGX: the glass lobes scatter once), as a Glass BSDF or a Principled
-    BSDF with Transmission 1."""
+def glass_material(name: str, roughness: float, kind: str = "glass", ior: float = IOR,
+                   distribution: str = "ggx") -> Material:
+    """Clear glass of this roughness, as a Glass BSDF or a Principled BSDF with Transmission 1."""
     if kind == "principled":
         return Material(name, (1.0, 1.0, 1.0), roughness=roughness, ior=ior, specular=0.5, transmission=1.0,
-                        distribution="ggx")
-    return Material(name, (1.0, 1.0, 1.0), kind=kind, roughness=roughness, ior=ior, distribution="ggx")
+                        distribution=distribution)
+    return Material(name, (1.0, 1.0, 1.0), kind=kind, roughness=roughness, ior=ior, distribution=distribution)
 
 
-def glass_table(width: int = 64, height: int = 48, kind: str = "glass") -> Scene:
+def glass_table(width: int = 64, height: int = 48, kind: str = "glass", distribution: str = "ggx") -> Scene:
     fv, ft = quad(8.0, 8.0)
     sv, st = icosphere(3, SPHERE_R)
     bv, bt = box(PANE)
-    mats = [Material("floor", (0.6, 0.6, 0.6)), glass_material("clear", 0.0, kind),
-            glass_material("frosted", ROUGH, kind), Material("back", (0.7, 0.3, 0.2))]
+    mats = [Material("floor", (0.6, 0.6, 0.6)), glass_material("clear", 0.0, kind, distribution=distribution),
+            glass_material("frosted", ROUGH, kind, distribution=distribution), Material("back", (0.7, 0.3, 0.2))]
     wv, wt = quad(8.0, 3.0)
     wall = np.array([[1, 0, 0, 0], [0, 0, -1, 1.6], [0, 1, 0, 1.5], [0, 0, 0, 1]], float)
     meshes = [Mesh("floor", fv, ft, 0), Mesh("clear", sv, st, 1, translation(-0.9, 0.0, SPHERE_R)),
