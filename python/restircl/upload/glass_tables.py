@@ -18,12 +18,11 @@ does not match KEY."""
 from __future__ import annotations
 
 import functools
-import warnings
 from pathlib import Path
 
 import numpy as np
 
-from .ggx_tables import TABLE_FLOATS, fresnel_dielectric, ggx_tables, smith_lambda, visible_normals
+from .ggx_tables import TABLE_FLOATS, fresnel_dielectric, ggx_tables, read_shipped, smith_lambda, visible_normals
 
 SIZE = 16  # roughness x mu x z
 MU_AVG = 32  # mu midpoints of E_avg's integral
@@ -93,15 +92,7 @@ def compute_glass_tables() -> np.ndarray:
 @functools.lru_cache(maxsize=1)
 def glass_tables() -> np.ndarray:
     """The tables (compute_glass_tables), read from the file shipped with the package where it matches KEY."""
-    try:
-        with np.load(SHIPPED) as z:
-            if np.array_equal(z["key"], KEY) and z["tables"].shape == (FLOATS,):
-                return z["tables"].astype(np.float32)
-        reason = "it was made with other table sizes"
-    except (OSError, KeyError, ValueError) as exc:
-        reason = f"it cannot be read ({type(exc).__name__}: {exc})"
-    warnings.warn(f"glass tables: {SHIPPED} is not used ({reason}); computing them", RuntimeWarning, stacklevel=2)
-    return compute_glass_tables()
+    return read_shipped(SHIPPED, KEY, FLOATS, compute_glass_tables, "glass tables")
 
 
 def write_shipped(path: Path = SHIPPED) -> None:
