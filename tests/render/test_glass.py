@@ -70,3 +70,34 @@ def test_the_furnace_rejects_refraction_without_fresnel(device, monkeypatch):
     built_with(monkeypatch, "DIELECTRIC_WITHOUT_FRESNEL_IN_REFRACTION=1")
     mean, se, _ = sphere_mean(0.0)
     assert mean > 1.0 + 4 * se + 2e-3, (mean, se)
+
+
+def pane_behind_light(roughness: float) -> Scene:
+    """A single glass sheet (one quad facing the camera) with an area light behind it shining through it."""
+    from restircl import Light
+    from restircl.scenes.shapes import quad
+
+    v, t = quad(2.0, 2.0)
+    light = Light("behind", "area", (1.0, 1.0, 1.0), 50.0, look_at((0.0, 0.0, -1.0), (0.0, 0.0, 0.0), (0.0, 1.0, 0.0)),
+                  size=1.0)
+    cam = Camera(look_at((0.0, 0.0, 3.0), (0.0, 0.0, 0.0), (0.0, 1.0, 0.0))[None], 16, 16, lens=50.0)
+    return Scene([Mesh("pane", v, t, 0)], [glass_material("pane", roughness)], [light], cam, name="pane")
+
+
+def direct_mean(scene: Scene, method: str, samples: int = 32) -> tuple[float, float]:
+    s = Settings(method=method, max_bounces=0, jitter=False)
+    m = np.array([Renderer(scene, Settings(**{**s.__dict__, "seed": 5 + b})).render_still(0, samples=samples)
+                  .color[..., :3].mean() for b in range(4)])
+    return float(m.mean()), float(m.std(ddof=1) / 2.0)
+
+
+def test_direct_light_reaches_a_rough_pane_from_behind(device):
+    """Max Bounces 0: at a rough glass sheet the direct estimators count a light behind it through the refraction
+    lobe (evaluated about the flipped normal), RIS and the exhaustive reference alike; smooth glass, which no light
+    sample can meet, gets nothing from it."""
+    rough = pane_behind_light(0.4)
+    ris, ris_se = direct_mean(rough, "ris")
+    ref, ref_se = direct_mean(rough, "reference", 512)
+    assert ref > 0.02 and abs(ris - ref) < 4 * math.hypot(ris_se, ref_se) + 1e-3 * ref, (ris, ref, ris_se, ref_se)
+    smooth, _ = direct_mean(pane_behind_light(0.0), "reference")
+    assert smooth < 1e-3 * ref, (smooth, ref)
