@@ -11,7 +11,7 @@ setup(
     packages=[*find_packages(where="python", include=["restircl", "restircl.*"]), "restircl.opencl"],
     package_dir={"": "python", "restircl.opencl": "opencl"},
     # every OpenCL source, at any depth; the precomputed GGX tables (tools/ship_tables.py)
-    package_data={"restircl.opencl": ["**/*.h", "**/*.cl"], "restircl.upload": ["ggx_tables.npz"]},
+    package_data={"restircl.opencl": ["**/*.h", "**/*.cl"], "restircl.upload": ["ggx_tables.npz", "glass_tables.npz"]},
     install_requires=["numpy>=1.24", "pyopencl>=2024.1", "openexr>=3.3", "pillow>=10"],
     extras_require={
         # PoCL's wheels exist for Linux only: elsewhere the extra adds nothing and the system's OpenCL is used

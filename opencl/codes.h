@@ -29,6 +29,8 @@
 #define CLOSURE_PRINCIPLED 0
 #define CLOSURE_DIFFUSE    1
 #define CLOSURE_GLOSSY     2
+#define CLOSURE_GLASS      4
+#define CLOSURE_REFRACTION 5
 
 /* materials (materials/material.py, upload/materials.py) */
 #define MAX_LAYERS   2
@@ -226,5 +228,12 @@
 #define LINK_RECEIVER_SHIFT      20
 #define LINK_BLOCKER_SHIFT       26
 #define LINK_SET_MASK            63
+
+/* glass energy tables (upload/glass_tables.py) */
+#define GLASS_SIZE             16
+#define GLASS_E_OFFSET         5152
+#define GLASS_E_INV_OFFSET     9248
+#define GLASS_E_AVG_OFFSET     13344
+#define GLASS_E_INV_AVG_OFFSET 13600
 
 #endif

@@ -55,7 +55,8 @@ typedef struct {
                           closure of a Mix); w: unused */
     int4 tex;          /* texture node of x: base colour, y: metallic, z: roughness, w: specular level */
     int4 tex2;         /* x: specular tint, y: normal map, z: weight, w: unused */
-} Closure;             /* 96 bytes */
+    float4 glass;      /* x: Transmission Weight (Principled); yzw: unused */
+} Closure;             /* 112 bytes */
 
 /* ---- surface attributes and textures (opencl/texture_*.h, python/restircl/upload/textures.py) ---------- */
 
@@ -296,7 +297,7 @@ typedef struct {
     int min_bounces;       /* Min Light Bounces: Russian roulette from bounce min_bounces + 2 on */
     float clamp_indirect;  /* Clamp Indirect (0: off): a contribution's rgb sum at most 3x this */
     float light_threshold; /* Light Threshold (0: off): NEE samples below it go through Russian roulette */
-    int pad0;
+    int max_transmission;  /* refractions through a dielectric lobe */
     int pad1;
 } PathParams;              /* 96 bytes */
 

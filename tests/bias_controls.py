@@ -12,6 +12,8 @@ a test that asserts it rejects one of these builds.
   check of the renderer against the independent numpy path tracer (render/test_path_reference.py).
 - PATH_ROULETTE_WITHOUT_DIVIDE, GI_WITHOUT_JACOBIAN: the path pass and ReSTIR GI (render/test_paths.py,
   render/test_restir_gi.py).
+- DIELECTRIC_WITHOUT_FRESNEL_IN_REFRACTION: glass refracts all that reaches it besides what it reflects
+  (bsdf/microfacet_dielectric.h): energy made at every crossing (render/test_glass.py, the white furnace).
 - TEST_OPAQUE_SHADOWS: shadow rays stop at transparent and alpha-masked surfaces as at opaque ones
   (bvh/transparent.h; render/test_transparency.py, blender/test_alpha_cycles.py)."""
 

@@ -22,6 +22,7 @@ FROM_CYCLES = (
     ("max_bounces", "max_bounces"),
     ("diffuse_bounces", "diffuse_bounces"),
     ("glossy_bounces", "glossy_bounces"),
+    ("transmission_bounces", "transmission_bounces"),
     ("min_light_bounces", "min_light_bounces"),
     ("clamp_direct", "sample_clamp_direct"),
     ("clamp_indirect", "sample_clamp_indirect"),
@@ -31,7 +32,6 @@ FROM_CYCLES = (
 # Cycles' Light Paths that restircl has no counterpart for yet: property, its label, and Cycles' default (used where
 # the property's own RNA default cannot be read); a value other than the default is reported, not applied
 NOT_APPLIED = (
-    ("transmission_bounces", "Transmission bounces", 12),
     ("volume_bounces", "Volume bounces", 0),
 )
 _DECLARED = {d.name: d for d in declared(Settings)}

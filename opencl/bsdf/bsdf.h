@@ -17,13 +17,16 @@
 #include "bsdf/lobes.h"
 
 /* f(wo, wi) for wi in the hemisphere of s->n (the caller knows it: a light evaluation with a contribution had
- * cos_x > 0). The lobes are evaluated about their own normal s->nl; the caller's cosine is about s->n, so on a
- * normal-mapped pixel (where the two differ) their f is rescaled by cos(nl) / cos(n), and every part gets its
- * bump_shadowing. */
+ * cos_x > 0), or, in builds with refracting lobes (HAS_TRANSMISSION), on either side. The lobes are evaluated
+ * about their own normal s->nl; the caller's cosine is about s->n, so on a normal-mapped pixel (where the two
+ * differ) their f is rescaled by cos(nl) / cos(n), and every part gets its bump_shadowing. */
 /* The Lambert part of bsdf_eval alone: what the light passes count as diffuse (film/light_passes.h). */
 inline float3 bsdf_eval_diffuse(const Surface* s, float3 wi)
 {
     float3 f = lambert_eval(s->mat.albedo);
+#ifdef HAS_TRANSMISSION  /* a refracting lobe asks for directions below the surface too: the Lambert part has none */
+    if (!(dot3(s->n, wi) > 0.0f)) return (float3)(0.0f);
+#endif
 #ifdef HAS_TEXTURES
     if (s->bumped) f *= bump_shadowing(s->nb, s->n, wi, true);
 #else
@@ -41,6 +44,9 @@ inline float3 bsdf_eval(const Surface* s, float3 wo, float3 wi)
 #ifdef HAS_TEXTURES
     if (s->bumped && s->mat.lobes > 0) {
         float cn = dot3(s->n, wi);
+#ifdef HAS_TRANSMISSION  /* refracted light below the surface keeps the lobes' own f */
+        if (cn > 0.0f)
+#endif
         fl *= cn > 0.0f ? bump_shadowing(s->nb, s->nl, wi, false) * fmax_f(dot3(s->nl, wi), 0.0f) / cn : 0.0f;
     }
 #endif
@@ -111,7 +117,11 @@ inline float3 bsdf_sample_part(const Surface* s, float3 wo, float u0, float u1, 
         }
         if (pick >= 0) {
             *part = pick;
-            if (!lobe_sample(&s->mat.lobe[pick], s->nl, wo, clamp_f(u0, 0.0f, 0.99999994f), u1, wi)) {
+            if (!lobe_sample(&s->mat.lobe[pick], s->nl, wo, clamp_f(u0, 0.0f, 0.99999994f), u1, wi)
+#ifdef HAS_TRANSMISSION  /* a reflection drawn below the surface is none: the mixture's pdf there is another lobe's */
+                || !(lobe_pdf(&s->mat.lobe[pick], s->nl, wo, *wi) > 0.0f)
+#endif
+            ) {
                 *pdf = 0.0f;
                 return (float3)(0.0f);
             }

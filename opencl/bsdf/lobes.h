@@ -15,10 +15,20 @@
 
 #include "bsdf/lobe_record.h"
 #include "bsdf/microfacet_reflection.h"
+#ifdef HAS_TRANSMISSION
+#include "bsdf/microfacet_dielectric.h"
+#endif
 
-/* X(code, name) for every lobe kind */
+/* X(code, name) for every lobe kind; the dielectric (refracting) lobe only in builds whose scene transmits
+ * (HAS_TRANSMISSION), so that the others keep one kind and no test of it */
+#ifdef HAS_TRANSMISSION
+#define BSDF_LOBE_KINDS(X) \
+    X(LOBE_MICROFACET_REFLECTION, microfacet_reflection) \
+    X(LOBE_MICROFACET_DIELECTRIC, microfacet_dielectric)
+#else
 #define BSDF_LOBE_KINDS(X) \
     X(LOBE_MICROFACET_REFLECTION, microfacet_reflection)
+#endif
 
 #define LOBE_EVAL_CASE(code, name) case code: return name##_eval(l, n, wo, wi);
 #define LOBE_PDF_CASE(code, name) case code: return name##_pdf(l, n, wo, wi);

@@ -11,10 +11,18 @@
 #include "bsdf/closures/diffuse.h"
 #include "bsdf/closures/glossy.h"
 #include "bsdf/closures/principled.h"
+#ifdef HAS_TRANSMISSION
+#include "bsdf/closures/glass.h"
+#include "bsdf/closures/refraction.h"
+/* a Principled BSDF with transmission adds two lobes: room for every closure's, of which MAX_LAYERS are kept */
+#define RESOLVE_SLOTS (2 * MAX_LAYERS)
+#else
+#define RESOLVE_SLOTS MAX_LAYERS
+#endif
 
 /* Closure c at view cosine mu: its diffuse albedo (returned) and the lobes it adds (lobes[0 .. *count)). Every kind
- * so far adds one at most, so MAX_LAYERS closures fill at most the G-buffer's MAX_LAYERS lobe slots; a kind that
- * adds two (a Principled BSDF with transmission: its reflection and its glass) needs more slots. */
+ * adds one at most, except a Principled BSDF with transmission (its reflection and its glass): the G-buffer keeps
+ * the first MAX_LAYERS lobes of a material (the host warns where a material makes more: materials/check.py). */
 inline float3 closure_resolve(const ClosureInputs* c, float mu, const __global float* tab, Lobe* lobes, int* count)
 {
     float w = fmax_f(c->weight, 0.0f);
@@ -25,6 +33,10 @@ inline float3 closure_resolve(const ClosureInputs* c, float mu, const __global f
     case CLOSURE_PRINCIPLED: return principled_resolve(c, w, base, mu, tab, lobes, count);
     case CLOSURE_DIFFUSE: return diffuse_resolve(c, w, base, mu, tab, lobes, count);
     case CLOSURE_GLOSSY: return glossy_resolve(c, w, base, mu, tab, lobes, count);
+#ifdef HAS_TRANSMISSION
+    case CLOSURE_GLASS: return glass_resolve(c, w, base, mu, tab, lobes, count);
+    case CLOSURE_REFRACTION: return refraction_resolve(c, w, base, mu, tab, lobes, count);
+#endif
     default: break;  /* the host validates kinds: none else reaches here */
     }
     return (float3)(0.0f);
@@ -37,13 +49,14 @@ inline float3 surface_resolve(const ClosureInputs* in, int count, float3 n, floa
 {
     float mu = clamp_f(dot3(n, wo), 0.0f, 1.0f);
     float3 diffuse = (float3)(0.0f);
-    Lobe lobes[MAX_LAYERS];
+    Lobe lobes[RESOLVE_SLOTS];
     int k = 0;
     for (int c = 0; c < min(count, MAX_LAYERS); ++c) {
         int added;
         diffuse += closure_resolve(&in[c], mu, tab, &lobes[k], &added);
         k += added;
     }
+    k = min(k, MAX_LAYERS);
     MicrofacetReflection unused = microfacet_reflection_none(1.0f);
     Lobe none = microfacet_reflection_lobe(&unused, 0.0f);
     out->wo = (float4)(wo, as_float(k));

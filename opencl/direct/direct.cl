@@ -65,7 +65,7 @@ __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySa
             pdf *= TEST_PICK_PDF_SCALE;
 #endif
             float v = 0.0f;
-            if (pdf > 0.0f && light_eval(&lights[light], uv.x, uv.y, s.x, s.n, &e)
+            if (pdf > 0.0f && surface_light_eval(&s, &lights[light], uv.x, uv.y, &e)
                 && light_links(lights, &lights[light], &s, &e) && (v = transmittance(nodes, tris, &s, &e)) > 0.0f) {
                 float3 x = direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) / pdf * v, clamp, &pass_d,
                                                &pass_g);
@@ -105,8 +105,8 @@ __kernel void shade_reference(const __global GSample* gbuf, const __global Gloss
 #endif
             LightEval e;
             float v = 0.0f;
-            if (pdf > 0.0f && light_eval(&lights[l], uv.x, uv.y, s.x, s.n, &e) && light_links(lights, &lights[l], &s, &e)
-                && (v = transmittance(nodes, tris, &s, &e)) > 0.0f) {
+            if (pdf > 0.0f && surface_light_eval(&s, &lights[l], uv.x, uv.y, &e)
+                && light_links(lights, &lights[l], &s, &e) && (v = transmittance(nodes, tris, &s, &e)) > 0.0f) {
                 float3 x = direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) / pdf * v, clamp, &pass_d,
                                                &pass_g);
                 c += x;

@@ -3,6 +3,7 @@
 #ifndef RESTIRCL_TARGET_H
 #define RESTIRCL_TARGET_H
 
+#include "direct/light_side.h"
 #include "lights/linking.h"
 
 /* f * Le * cos_x * G at s for an evaluated light sample e: what a sample adds to the pixel before its weight and
@@ -18,7 +19,7 @@ inline float target_of_record(const Surface* s, const __global Light* lights, co
                               float v, LightEval* e)
 {
     if (!s->valid) return 0.0f;
-    if (!light_eval(rec, u, v, s->x, s->n, e) || !light_links(lights, rec, s, e)) return 0.0f;
+    if (!surface_light_eval(s, rec, u, v, e) || !light_links(lights, rec, s, e)) return 0.0f;
     float t = luminance(unshadowed_contrib(s, e));
     return (t > 0.0f && finite_f(t)) ? t : 0.0f;
 }

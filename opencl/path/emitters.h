@@ -12,12 +12,15 @@ inline float3 path_emitter_term(const Surface* s, const __global Light* lights, 
                                 int index, float2 uv, const LightPick* lp, BsdfSource hits, float hit_t, bool escaped)
 {
     LightEval e;
-    if (!light_eval(rec, uv.x, uv.y, s->x, s->n, &e) || !light_links(lights, rec, s, &e)) return (float3)(0.0f);
+    if (!surface_light_eval(s, rec, uv.x, uv.y, &e) || !light_links(lights, rec, s, &e)) return (float3)(0.0f);
     /* met before the surface the ray hit, or, at infinity, only by a ray that escaped */
     if (finite_f(e.dist) ? !(e.dist < hit_t) : !escaped) return (float3)(0.0f);
     float p_bsdf = path_bsdf_pdf(s, rec, type, index, hits, &e);
     if (!(p_bsdf > 0.0f)) return (float3)(0.0f);
     float p_light = light_pick_pdf(lp, index, s->x, s->n) * light_point_pdf(rec, type, s->x, &e);
+#ifdef HAS_TRANSMISSION  /* NEE skipped s (smooth glass, path/walk.h): the BSDF ray is the only way */
+    if (surface_is_singular(s)) p_light = 0.0f;
+#endif
     return unshadowed_contrib(s, &e) * (path_mis_weight(p_bsdf, p_light) / p_bsdf);
 }
 

@@ -34,7 +34,7 @@ inline float3 path_nee(const Surface* s, const __global Light* lights, const Lig
     float2 uv = light_sample_typed(rec, type, s->x, r0, r1, &point);
     float p_light = pick * point;
     LightEval e;
-    if (!(p_light > 0.0f) || !light_eval(rec, uv.x, uv.y, s->x, s->n, &e) || !light_links(lights, rec, s, &e))
+    if (!(p_light > 0.0f) || !surface_light_eval(s, rec, uv.x, uv.y, &e) || !light_links(lights, rec, s, &e))
         return (float3)(0.0f);
     float w = path_mis_weight(p_light, path_bsdf_pdf(s, rec, type, light, hits, &e));
     float3 c = unshadowed_contrib(s, &e) * (w / p_light);

@@ -4,7 +4,8 @@
  * ReSTIR GI's initial pass (restir_gi/initial.cl) from the secondary vertex x1, to find the radiance L_o leaving it.
  *
  * A path that has scattered n times carries light of n bounces; Max Bounces B keeps n <= B (total), and Diffuse /
- * Glossy bound the scatterings of each kind (the BSDF's part drawn: Lambert or a lobe). A scatter past a bound still
+ * Glossy / Transmission bound the scatterings of each kind (the BSDF's part drawn: Lambert or a lobe; a lobe's
+ * scatter through the surface, a refraction, is a transmission bounce, as in Cycles). A scatter past a bound still
  * counts the emitters its ray meets (they are light of the bounces before it) and ends the path. Russian roulette
  * from bounce min_bounces + 2 on survives with q = min(1, sqrt(max throughput)) and divides by q (Cycles'
  * continuation probability); Clamp Indirect scales a contribution whose rgb sum, as it reaches the pixel, exceeds 3x
@@ -23,6 +24,9 @@ typedef struct {
     int bounces;
     int diffuse;
     int gloss;
+#ifdef HAS_TRANSMISSION
+    int transmission;     /* refractions (a scatter off a lobe to the other side of the surface) */
+#endif
 #ifdef HAS_LIGHT_PASSES
     float3 pass_diffuse;  /* the diffuse share of the first scatter's BSDF (film/light_passes.h), which all its light
                              takes; 0 until it scatters (a zero initialiser leaves it 0) */
@@ -64,6 +68,9 @@ inline float3 path_vertex_light(const PathScene* ps, PathState* st, uint* rng, c
 {
     const PathParams* p = ps->params;
     if (!(p->sampler.light_count > 0)) return (float3)(0.0f);
+#ifdef HAS_TRANSMISSION  /* no light sample can meet smooth glass: no NEE there (Cycles' rule for singular lobes) */
+    if (surface_is_singular(&st->s)) return (float3)(0.0f);
+#endif
     int light;
     float3 c = path_clamp(st->T * path_nee(&st->s, ps->lights, ps->lp, p->sampler.slot_count, ps->hits, ps->nodes,
                                            ps->sc->tris, p->light_threshold, rng, q, QMC_PATH_LIGHT(st->bounces),
@@ -102,6 +109,10 @@ inline float3 path_walk(const PathScene* ps, PathState* st, uint* rng, const Qmc
         int part;
         float3 f = bsdf_sample_part(&st->s, st->s.wo, u0, u1, &wi, &pdf, &part);
         float cos_n = dot3(st->s.n, wi);
+#ifdef HAS_TRANSMISSION  /* a refracting lobe sends the path through the surface: the cosine's magnitude counts */
+        const bool refracted = cos_n < 0.0f;
+        cos_n = abs_f(cos_n);
+#endif
         if (!(pdf > 0.0f) || !(cos_n > 0.0f)) break;
         const float3 T_before = st->T;
 #ifdef HAS_LIGHT_PASSES
@@ -112,8 +123,14 @@ inline float3 path_walk(const PathScene* ps, PathState* st, uint* rng, const Qmc
 #endif
         st->T *= f * (cos_n / pdf);
         ++st->bounces;
+#ifdef HAS_TRANSMISSION
+        if (part >= 0 && refracted) ++st->transmission; else
+#endif
         if (part < 0) ++st->diffuse; else ++st->gloss;
         bool last = st->bounces > p->max_bounces || st->diffuse > p->max_diffuse || st->gloss > p->max_glossy;
+#ifdef HAS_TRANSMISSION
+        last = last || st->transmission > p->max_transmission;
+#endif
         Hit h = trace_closest(ps->nodes, ps->sc->tris, path_ray_origin(ps->sc->tris, &st->s, wi), wi, INFINITY);
         if (st->bounces > 1 && nee) {
             GroupLight eg;  /* each emitter's share, scaled as the sum is clamped */

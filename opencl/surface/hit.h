@@ -56,6 +56,7 @@ inline void hit_gsample(const SceneSurfaces* sc, Hit hit, float3 d, float footpr
 #else
             cin[k] = closure_constants(&sc->closures[m.info.x + k]);
 #endif
+            cin[k].backfacing = backfacing;
         }
         /* the lobes' normal, as surface_load derives it again */
         float3 nl = tp.bumped ? shading_normal_guard(tp.ns, ng, -d) : tp.ns;

@@ -18,6 +18,9 @@ typedef struct {
     int multiscatter;   /* 1: multiscatter GGX; 0: GGX */
     float3 normal;      /* shading normal facing the camera (its Normal Map's, else the surface's); closure_constants
                            leaves it 0: the caller's surface normal */
+    float transmission; /* the Principled BSDF's Transmission Weight */
+    int backfacing;     /* 1: the ray met the surface's back face (a refracting closure leaves its medium there); the
+                           caller sets it, closure_constants leaves it 0 */
 } ClosureInputs;
 
 /* The constants of closure c (texture inputs not applied). */
@@ -36,6 +39,8 @@ inline ClosureInputs closure_constants(const __global Closure* c)
     in.kind = kind.x;
     in.multiscatter = kind.y;
     in.normal = (float3)(0.0f);
+    in.transmission = c->glass.x;
+    in.backfacing = 0;
     return in;
 }
 

@@ -94,7 +94,7 @@ def test_values_outside_restircl_range_are_clamped_with_a_warning():
 def test_a_release_without_a_property_keeps_restircl_setting():
     from restircl_blender import light_paths
 
-    cycles = SimpleNamespace(max_bounces=2, transmission_bounces=12)
+    cycles = SimpleNamespace(max_bounces=2, volume_bounces=0)
     assert light_paths.read(SimpleNamespace(cycles=cycles)) == ({"max_bounces": 2}, [])
 
 

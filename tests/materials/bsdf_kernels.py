@@ -11,7 +11,7 @@ import pyopencl as cl
 import pyopencl.cltypes as clt
 from restircl.core.program import build_program
 from restircl.render.features import general_flags
-from restircl.upload.ggx_tables import ggx_tables
+from restircl.upload.glass_tables import device_tables
 from restircl.upload.materials import KIND_CODE
 
 HEADERS = """
@@ -63,6 +63,8 @@ inline Surface test_surface(const __global float* p, int count, const __global f
         in[k].weight = q[10];
         in[k].kind = (int)q[11] & 7;
         in[k].multiscatter = (int)q[11] >> 3;
+        in[k].transmission = 0.0f;
+        in[k].backfacing = 0;
     }
     return resolved_surface(in, count, tab, wo);
 }
@@ -118,7 +120,7 @@ class BsdfKernels:
         self.device = device
         self.prog = build_program(device, general_flags(), source=source)
         mf = cl.mem_flags
-        self.tab = cl.Buffer(device.context, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=ggx_tables())
+        self.tab = cl.Buffer(device.context, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=device_tables())
 
     def _params(self, closures: list[Closure]) -> cl.Buffer:
         p = np.array([c.row() for c in closures], np.float32).ravel()

@@ -45,12 +45,13 @@ class Bins:
     pole: str
     n_a: int = 24
     n_p: int = 12
+    sphere: bool = False  # about the normal: both hemispheres (1 - cos up to 2), the horizon still a bin edge
 
     def __post_init__(self) -> None:
         self.frame = frame(self.wo, self.pole)
         self.log = self.pole == "r"
         self.a_edges = (np.linspace(np.log(EPS), np.log(2.0 + EPS), self.n_a + 1) if self.log
-                        else np.linspace(0.0, 1.0, self.n_a + 1))
+                        else np.linspace(0.0, 2.0 if self.sphere else 1.0, self.n_a + 1))
         self.p_edges = np.linspace(0.0, 2.0 * np.pi, self.n_p + 1)
 
     def probabilities(self, pdf_of: Callable[[np.ndarray], np.ndarray], sub: int = 24) -> np.ndarray:

@@ -14,7 +14,7 @@ import pyopencl.cltypes as clt
 from restircl.core.program import build_program, opencl_dir
 from restircl.materials.material import Material
 from restircl.render.features import general_flags
-from restircl.upload.ggx_tables import ggx_tables
+from restircl.upload.glass_tables import device_tables
 from restircl.upload.materials import pack_materials
 
 from .bsdf_kernels import HEADERS
@@ -59,7 +59,7 @@ __kernel void direction_parts(const __global Closure* cl, int count, const __glo
     float3 wo = wo4.xyz, wi = dirs[i].xyz;
     __global float4* o = out + i * (2 + MAX_LAYERS);
     o[0] = (float4)(bsdf_eval(&s, wo, wi), bsdf_pdf(&s, wo, wi));
-    o[1] = (float4)(lambert_eval(s.mat.albedo), lambert_pdf(s.n, wi));
+    o[1] = (float4)(bsdf_eval_diffuse(&s, wi), lambert_pdf(s.n, wi));  /* 0 below the surface, as the mixture has it */
     for (int k = 0; k < MAX_LAYERS; ++k) {
         const Lobe* l = &s.mat.lobe[k];
         o[2 + k] = k < s.mat.lobes ? (float4)(lobe_eval(l, s.nl, wo, wi), lobe_pdf(l, s.nl, wo, wi)) : (float4)(0.0f);
@@ -94,10 +94,10 @@ def mid_material(kind: str, name: str = "mid") -> Material:
 
 
 class LobeKernels:
-    def __init__(self, device) -> None:
+    def __init__(self, device, source: str = SRC) -> None:
         self.device = device
-        self.prog = build_program(device, general_flags(), source=SRC)
-        self.tab = self._buf(ggx_tables())
+        self.prog = build_program(device, general_flags(), source=source)
+        self.tab = self._buf(device_tables())
 
     def _buf(self, a: np.ndarray) -> cl.Buffer:
         mf = cl.mem_flags

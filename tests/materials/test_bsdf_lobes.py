@@ -35,10 +35,16 @@ def _code(name: str) -> int:
 
 
 def _material(name: str) -> Material:
-    """A closure whose kind declares lobe `name`."""
-    kinds = [k for k in CLOSURE_KINDS if name in k.lobes]
+    """A closure whose kind declares lobe `name`, one that makes it first where there is one."""
+    kinds = sorted((k for k in CLOSURE_KINDS if name in k.lobes), key=lambda k: (k.lobes[0] != name, k.code))
     assert kinds, f"no closure kind makes lobe {name!r} (ClosureKind.lobes)"
     return mid_material(kinds[0].name)
+
+
+def _transmits(name: str) -> bool:
+    """Whether the material that makes lobe `name` refracts: its samples then cover the whole sphere."""
+    m = _material(name)
+    return bool([k for k in CLOSURE_KINDS if k.name == m.kind][0].transmits(m))
 
 
 def _slot(kernels: LobeKernels, m: Material, wo: np.ndarray, name: str) -> int:
@@ -72,14 +78,15 @@ def test_lobe_codes_agree_on_the_device(kernels):
 @pytest.mark.parametrize("name", sorted(LOBES))
 @pytest.mark.parametrize("theta", [20.0, 65.0])
 def test_lobe_samples_follow_its_pdf(kernels, name, theta):
-    """The lobe's own samples binned about the normal against its pdf integrated over each bin; the directions it
-    cannot produce (pdf 0: below the surface) are left out, and their share must be what the pdf leaves of 1."""
+    """The lobe's own samples binned about the normal against its pdf integrated over each bin (over the sphere for a
+    lobe that refracts); the directions it cannot produce (pdf 0: below a reflecting surface) are left out, and
+    their share must be what the pdf leaves of 1."""
     m, wo = _material(name), view(theta)
     slot = _slot(kernels, m, wo, name)
     _, lobes = kernels.surface(m, wo)
     assert lobes[slot]["weight"] > 0 and np.all(np.isfinite(lobes[slot]["albedo"]))
     assert np.all(lobes[slot]["albedo"] >= 0)
-    bins = Bins(wo, "n")
+    bins = Bins(wo, "n", sphere=_transmits(name))
     prob = bins.probabilities(lambda d: kernels.directions(m, wo, d)[:, 2 + slot, 3])
     total = prob.sum()
     assert 0.5 < total <= 1.0 + 1e-3

@@ -195,6 +195,12 @@ def test_bounces_run_restir_gi_in_animation_frames_and_the_path_pass_in_stills()
         assert q.gi and q.gi_temporal and not q.paths, method
 
 
+def test_scenes_with_glass_run_the_path_pass_in_animation_frames():
+    """ReSTIR GI does not reuse paths refracted at the visible point: a scene that refracts runs the path pass."""
+    glass = plan(replace(NEXT, gi_history_valid=True, transmission=True), max_bounces=2)
+    assert glass.paths and not (glass.gi or glass.gi_temporal or glass.gi_spatial)
+
+
 def test_restir_gi_reuses_its_history_where_restir_may():
     gi_next = replace(NEXT, gi_history_valid=True)
     assert plan(gi_next, max_bounces=1).gi_temporal

@@ -55,6 +55,20 @@ def test_degenerate_triangles_are_dropped_with_a_warning():
     assert len(w) == 3
 
 
+def test_glass_materials_survive_the_round_trip(tmp_path):
+    """Glass, Refraction and a Principled BSDF's Transmission Weight keep their kind, IOR, roughness and weight."""
+    from restircl import Material
+
+    s = scenes.cornell_box(8, 8)
+    s.materials = [*s.materials, Material("g", (0.9, 0.9, 1.0), kind="glass", roughness=0.2, ior=1.33),
+                   Material("r", kind="refraction", roughness=0.0, ior=1.6),
+                   Material("p", transmission=0.75, ior=1.45, specular=0.5)]
+    path = tmp_path / "glass.npz"
+    s.save(path)
+    got = [(m.kind, m.ior, m.roughness, m.transmission, tuple(m.albedo)) for m in Scene.load(path).materials[-3:]]
+    assert got == [(m.kind, m.ior, m.roughness, m.transmission, tuple(m.albedo)) for m in s.materials[-3:]]
+
+
 def test_save_load_round_trip(tmp_path):
     s = scenes.many_lights(width=64, height=36, frames=3, lamps=20, point_lights=5, objects=4)
     s.lights[0].power_per_frame = np.array([1.0, 0.0, 1.0])

@@ -14,7 +14,6 @@ from .notes import Notes
 # Principled inputs that switch on a lobe we do not render: (names across Blender versions, lobe, its "off" value)
 PRINCIPLED_LOBES = (
     (("Subsurface Weight", "Subsurface"), "subsurface", 0.0),
-    (("Transmission Weight", "Transmission"), "transmission", 0.0),
     (("Coat Weight", "Coat", "Clearcoat"), "coat", 0.0),
     (("Sheen Weight", "Sheen"), "sheen", 0.0),
     (("Anisotropic",), "anisotropy", 0.0),
@@ -22,6 +21,8 @@ PRINCIPLED_LOBES = (
     (("Diffuse Roughness",), "diffuse roughness", 0.0),
 )
 GLOSSY_NODES = ("ShaderNodeBsdfGlossy", "ShaderNodeBsdfAnisotropic")
+# the dielectric BSDFs (opencl/bsdf/microfacet_dielectric.h): node -> Material.kind
+DIELECTRIC_NODES = {"ShaderNodeBsdfGlass": "glass", "ShaderNodeBsdfRefraction": "refraction"}
 # BSDFs we do not have, rendered as a diffuse of their colour (the nearest look under direct light)
 AS_DIFFUSE = ("ShaderNodeSubsurfaceScattering", "ShaderNodeBsdfToon", "ShaderNodeBsdfSheen",
               "ShaderNodeBsdfTranslucent")
@@ -153,7 +154,7 @@ class ShaderReader:
             specular=inp.unit(find_input(node, ("Specular IOR Level", "Specular")), stack,
                               f"{label} Specular IOR Level"),
             specular_tint=inp.color(find_input(node, ("Specular Tint",)), stack),
-            distribution=self._distribution(node, label))
+            distribution=self._distribution(node, label), transmission=self._transmission(node, stack, label))
         alpha = find_input(node, ("Alpha",))
         if alpha is not None:
             closure.alpha = inp.unit(alpha, stack, f"{label} Alpha")
@@ -170,8 +171,25 @@ class ShaderReader:
                 terms.append(Term(w, label, emission=colour, strength=strength))
         return terms
 
+    def _transmission(self, node, stack: tuple, label: str) -> float:
+        """The Principled BSDF's Transmission Weight, a constant in [0, 1] (a texture on it is taken as its default)."""
+        sock = find_input(node, ("Transmission Weight", "Transmission"))
+        if sock is None:
+            return 0.0
+        t = self.inputs.constant(sock, stack, f"{label} Transmission Weight")
+        return min(max(t, 0.0), 1.0) if math.isfinite(t) else 0.0
+
+    def _dielectric(self, node, stack: tuple, label: str, kind: str):
+        self._lobes_off(node, stack, label, ((("Thin Film Thickness",), "thin film", 0.0),))
+        dist = self._distribution(node, label)
+        return self._common(node, stack, label, kind=kind, albedo=self.inputs.color(find_input(node, ("Color",)),
+                                                                                    stack),
+                            ior=self._ior(node, stack, label), distribution=dist)
+
     def _bsdf(self, node, stack: tuple, label: str):
         inp, kind = self.inputs, node.bl_idname
+        if kind in DIELECTRIC_NODES:
+            return self._dielectric(node, stack, label, DIELECTRIC_NODES[kind])
         if kind == "ShaderNodeBsdfDiffuse":
             self._lobes_off(node, stack, label, ((("Roughness",), "Oren-Nayar roughness", 0.0),))
             return self._common(node, stack, label, kind="diffuse",

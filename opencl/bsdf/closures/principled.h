@@ -1,5 +1,7 @@
-/* The Principled BSDF as Cycles 4.x/5.0 defines it, without coat, sheen, subsurface and transmission, resolved for
- * one view into a diffuse albedo and one GGX reflection lobe (bsdf/microfacet_reflection.h):
+/* The Principled BSDF as Cycles 4.x/5.0 defines it, without coat, sheen and subsurface, resolved for one view into a
+ * diffuse albedo, one GGX reflection lobe (bsdf/microfacet_reflection.h) and, with a Transmission Weight t > 0 in
+ * builds that transmit, a dielectric lobe of weight w (1 - metallic) t (bsdf/closures/glass.h) that takes t of the
+ * specular and the diffuse below:
  *   metal     weight w * metallic, F82-tint Fresnel from the clamped Base Color with Specular Tint as the tint;
  *   specular  weight w * (1 - metallic), the real dielectric Fresnel of the IOR remapped onto [f0, 1], f0 = F0(IOR)
  *             scaled by 2 * Specular IOR Level (0.5: unchanged; 0: no specular) times Specular Tint;
@@ -12,6 +14,9 @@
 
 #include "bsdf/closure.h"
 #include "bsdf/microfacet_reflection.h"
+#ifdef HAS_TRANSMISSION
+#include "bsdf/closures/glass.h"
+#endif
 
 /* The closure's diffuse albedo (returned) at weight w > 0 and clamped Base Color base, and its lobe (lobes[0],
  * *count = 1) when it has a metallic or a specular part, for view cosine mu. */
@@ -36,6 +41,11 @@ inline float3 principled_resolve(const ClosureInputs* c, float w, float3 base, f
         has_lobe = true;
     }
     float wr = w * (1.0f - metallic);
+#ifdef HAS_TRANSMISSION  /* Transmission Weight: that share of the dielectric part is glass (bsdf/closures/glass.h) */
+    float transmission = clamp_f(c->transmission, 0.0f, 1.0f);
+    float wt = wr * transmission;
+    wr *= 1.0f - transmission;
+#endif
     float ior = fmax_f(c->ior, 1e-5f);
     float f0 = f0_from_ior(ior);
     float eta = ior;
@@ -69,6 +79,9 @@ inline float3 principled_resolve(const ClosureInputs* c, float w, float3 base, f
     /* a lobe that reflects only at grazing half vectors still needs a chance to be sampled */
     lobes[0] = microfacet_reflection_lobe(&m, fmax_f(sample_w, 1e-3f * (avg3(m.metal_w) + avg3(m.diel_w))));
     *count = has_lobe ? 1 : 0;
+#ifdef HAS_TRANSMISSION
+    if (wt > CLOSURE_WEIGHT_CUTOFF) lobes[(*count)++] = principled_glass_lobe(c, wt, base, mu, tab);
+#endif
     return base * diffuse_w;
 }
 

@@ -16,7 +16,8 @@ BVH_NODE = np.dtype(
 )
 I4 = (np.int32, 4)
 MATERIAL = np.dtype([("albedo", F4), ("emission", F4), ("info", I4)])
-CLOSURE = np.dtype([("base", F4), ("spec", F4), ("tint", F4), ("kind", I4), ("tex", I4), ("tex2", I4)])
+CLOSURE = np.dtype([("base", F4), ("spec", F4), ("tint", F4), ("kind", I4), ("tex", I4), ("tex2", I4),
+                   ("glass", F4)])
 TRI_ATTR = np.dtype([(n, F4) for n in ("n0", "n1", "n2", "u", "v", "o0", "oe1", "oe2", "tangent")])
 OBJECT_INFO = np.dtype([("gen_mid", F4), ("gen_scale", F4)])
 TEX_NODE = np.dtype([*[(n, F4) for n in ("a", "b", "p", "m0", "m1", "m2")], ("op", I4), ("in", I4), ("blk", I4)])
@@ -91,7 +92,7 @@ TAA_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), *_floats("alpha_min", "ga
                        *_ints("moving", "max_history", "reset", "filter", "dilate", "pad0")])
 
 PATH_PARAMS = np.dtype([("sampler", SAMPLER_PARAMS), *_ints("max_bounces", "max_diffuse", "max_glossy", "min_bounces"),
-                        *_floats("clamp_indirect", "light_threshold"), *_ints("pad0", "pad1")])
+                        *_floats("clamp_indirect", "light_threshold"), *_ints("max_transmission", "pad1")])
 GI_TEMPORAL_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), ("m_cap", np.float32), ("bias_correction", np.int32),
                                ("permutation", np.uint32), ("pad0", np.int32)])
 GI_SPATIAL_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), ("neighbours", np.int32), ("radius", np.float32),

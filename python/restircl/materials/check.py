@@ -83,6 +83,11 @@ def _ior(value: object, name: str) -> None:
         raise MaterialError(f"{name} must be finite and > 0, got {value!r}")
 
 
+def _unit_number(value: object, name: str) -> None:
+    if not isinstance(value, int | float) or not 0 <= value <= 1 + RANGE_SLACK:
+        raise MaterialError(f"{name} must be a number in [0, 1], got {value!r}")
+
+
 def _distribution(value: object, name: str) -> None:
     if value not in DISTRIBUTIONS:
         raise MaterialError(f"{name} must be one of {DISTRIBUTIONS}, got {value!r}")
@@ -98,7 +103,7 @@ def _normal(value: object, name: str) -> None:
 # A closure field -> its rule, rule(value, field name), raising MaterialError naming the field
 FIELD_RULES: dict[str, Callable[[object, str], None]] = {
     "albedo": _colour, "metallic": _unit, "roughness": _unit, "ior": _ior, "specular": _unit,
-    "specular_tint": _colour, "distribution": _distribution, "normal": _normal,
+    "specular_tint": _colour, "distribution": _distribution, "normal": _normal, "transmission": _unit_number,
 }
 
 

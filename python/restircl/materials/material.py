@@ -5,8 +5,10 @@ special cases), mixed or added by Mix Shader / Add Shader, with a constant or a 
 A Material with `layers` empty is one closure of `kind`, a name from restircl.materials.closures (registry.py);
 each kind's module says which shader node it models and which of the fields it reads, and the kind ignores the
 others: "principled" (the Principled BSDF; `albedo` is its Base Color), "diffuse" (the Diffuse BSDF), "glossy" (the
-Glossy BSDF). The default is a Principled BSDF without a specular layer (`specular`, the Specular IOR Level, 0:
-Blender's default is 0.5 and the add-on exports it as it is), the plain diffuse albedo it always was.
+Glossy BSDF), "glass" (the Glass BSDF: `albedo` its Color, `roughness`, `ior`), "refraction" (the Refraction
+BSDF, the same fields); a Principled BSDF's `transmission` is its Transmission Weight. The default is a Principled
+BSDF without a specular layer (`specular`, the Specular IOR Level, 0: Blender's default is 0.5 and the add-on
+exports it as it is), the plain diffuse albedo it always was.
 A Material with `layers` [a, b] (Materials without layers of their own; at most MAX_LAYERS) is their weighted sum:
 Mix Shader when `mix` is set, (1 - mix) a + mix b, with `mix` a constant or a texture; Add Shader, a + b, when
 `mix` is None. Its own closure fields are then unused. Emission (emission * emission_strength) belongs to the
@@ -49,6 +51,7 @@ class Material:
     mix: Input | None = None
     alpha: Input = 1.0  # coverage: 1 opaque, 0 fully transparent (materials/alpha.py)
     pass_index: int = 0  # Material > Settings > Pass Index: the Material Index pass (render/index_passes.py)
+    transmission: float = 0.0  # the Principled BSDF's Transmission Weight, in [0, 1]
 
     @property
     def radiance(self) -> np.ndarray:

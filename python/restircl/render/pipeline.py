@@ -262,7 +262,8 @@ class Renderer:
             analytic_lights=ds.analytic_lights, triangle_lights=ds.triangle_lights, sobol=sobol,
             light_tree=self.uses_light_tree, path_light_tree=self.path_light_tree, pick_table=self.pick_table.active,
             still=still, camera_moved=camera_moved(cam, frame, self._last_frame, self._prev_view),
-            scene_moves=ds.moving_lights or ds.moving_objects or ds.edited, gi_history_valid=self.history.gi_valid)
+            scene_moves=ds.moving_lights or ds.moving_objects or ds.edited, gi_history_valid=self.history.gi_valid,
+            transmission=ds.material_flags.get("HAS_TRANSMISSION", False))
 
     @property
     def light_tiles_used(self) -> bool:

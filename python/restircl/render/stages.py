@@ -327,7 +327,7 @@ def path_params(scene: DeviceScene, settings: Settings, plan: FramePlan) -> np.v
                      bsdf_analytic=plan.path_analytic, bsdf_triangles=int(plan.path_triangles))
     return L.pack(L.PATH_PARAMS, sampler=sampler, max_bounces=s.max_bounces, max_diffuse=s.diffuse_bounces,
                   max_glossy=s.glossy_bounces, min_bounces=s.min_light_bounces, clamp_indirect=s.clamp_indirect,
-                  light_threshold=s.light_threshold)
+                  light_threshold=s.light_threshold, max_transmission=s.transmission_bounces)
 
 
 class RealtimeFilter(Stage):

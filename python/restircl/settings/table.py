@@ -346,6 +346,9 @@ class Settings:
                                   "resolution per sample (Cycles' way: the converged image matches it) or from mip "
                                   "levels filtered over the pixel (steadier frames)", flag="--texture-filter",
                                   choices=TEXTURE_FILTER_CHOICES, panel="sampling")
+    transmission_bounces: int = setting(12, "Transmission", "Light Paths: bounces through refracting (glass) lobes",
+                                        flag="--transmission-bounces", range=Range(int, 0, 1024),
+                                        panel="light_paths", soft_max=32)
     transparent_max_bounces: int = setting(8, "Transparent", "Light Paths: how many transparent or alpha-masked "
                                            "surfaces a ray may pass (camera rays end black at the next surface, "
                                            "shadow rays are blocked)", flag="--transparent-max-bounces",

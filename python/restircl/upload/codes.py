@@ -40,7 +40,7 @@ from ..materials.textures import (
 from ..render.passes import LIGHT_PLANES
 from ..scene.camera import CAMERA_TYPES
 from ..settings.table import BIAS_CORRECTIONS, BOILING_MODES, SHADE_METHODS, TAA_FILTERS
-from . import ggx_tables, tri_attributes
+from . import ggx_tables, glass_tables, tri_attributes
 from . import materials as material_pack
 from . import textures as texture_pack
 
@@ -133,6 +133,10 @@ def families() -> tuple[Family, ...]:
             ("LINK_OBJECT_MASK", (1 << linking.OBJECT_BITS) - 1), ("LINK_RECEIVER_SHIFT", linking.RECEIVER_SHIFT),
             ("LINK_BLOCKER_SHIFT", linking.BLOCKER_SHIFT), ("LINK_SET_MASK", linking.MAX_SETS - 1)),
                kind="constants"),
+        Family("glass energy tables", "upload/glass_tables.py", (
+            ("GLASS_SIZE", glass_tables.SIZE), ("GLASS_E_OFFSET", glass_tables.E_OFFSET),
+            ("GLASS_E_INV_OFFSET", glass_tables.E_INV_OFFSET), ("GLASS_E_AVG_OFFSET", glass_tables.E_AVG_OFFSET),
+            ("GLASS_E_INV_AVG_OFFSET", glass_tables.E_INV_AVG_OFFSET)), kind="constants"),
     )
 
 

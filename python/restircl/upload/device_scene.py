@@ -23,7 +23,7 @@ from ..lights.tree import LightTree, build_light_tree
 from ..scene.scene import Scene
 from .alpha import scene_is_transparent, with_transparency
 from .attributes import attribute_rows
-from .ggx_tables import ggx_tables
+from .glass_tables import device_tables
 from .materials import pack_materials
 from .textures import LoadedImage, PackedTextures, TexturePacker, warn_missing_uv_maps, warn_textured_emission
 from .tri_attributes import needs_attributes, object_infos, tri_attributes
@@ -183,6 +183,7 @@ class DeviceScene:
         tex = packer.packed(texels=not same_images)
         self.nonfinite_texels = tex.nonfinite_texels
         self.material_flags = {"HAS_GLOSSY": packed.glossy, "HAS_TEXTURES": packed.textured,
+                               "HAS_TRANSMISSION": packed.transmission,
                                "HAS_TRANSPARENCY": scene_is_transparent(self.scene)}
         self.materials_buf = upload(self.context, packed.materials)
         self.closures_buf = upload(self.context, packed.closures)
@@ -198,10 +199,10 @@ class DeviceScene:
             self.upload_ggx_tables()
 
     def upload_ggx_tables(self) -> None:
-        """The GGX energy tables the BSDF resolve (primary pass) reads in glossy builds (shipped with the package:
-        upload/ggx_tables.py); diffuse-only scenes leave them out."""
+        """The GGX and glass energy tables the BSDF resolve (primary pass) reads in glossy builds (shipped with the
+        package: upload/ggx_tables.py, upload/glass_tables.py); diffuse-only scenes leave them out."""
         if self.ggx_tables_buf is None:
-            self.ggx_tables_buf = upload(self.context, ggx_tables())
+            self.ggx_tables_buf = upload(self.context, device_tables())
 
     def _upload_lights(self, lights: DeviceLights) -> None:
         self.uploads["lights"] += 1

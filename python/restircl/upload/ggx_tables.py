@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import functools
 import warnings
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -120,19 +121,24 @@ KEY = np.array([E_SIZE, S_SIZE, QUAD, MU_AVG], np.int64)
 SHIPPED = Path(__file__).with_name("ggx_tables.npz")
 
 
-@functools.lru_cache(maxsize=1)
-def ggx_tables() -> np.ndarray:
-    """The tables (compute_ggx_tables), read from the file shipped with the package where it matches KEY."""
+def read_shipped(path: Path, key: np.ndarray, floats: int, compute: Callable[[], np.ndarray], what: str) -> np.ndarray:
+    """The tables in the shipped file `path` where it was made with `key` and holds `floats` values, else compute()
+    with a warning naming `what`."""
     try:
-        with np.load(SHIPPED) as z:
-            if np.array_equal(z["key"], KEY) and z["tables"].shape == (TABLE_FLOATS,):
+        with np.load(path) as z:
+            if np.array_equal(z["key"], key) and z["tables"].shape == (floats,):
                 return z["tables"].astype(np.float32)
         reason = "it was made with other table sizes"
     except (OSError, KeyError, ValueError) as exc:
         reason = f"it cannot be read ({type(exc).__name__}: {exc})"
-    warnings.warn(f"GGX tables: {SHIPPED} is not used ({reason}); computing them (a few seconds)", RuntimeWarning,
-                  stacklevel=2)
-    return compute_ggx_tables()
+    warnings.warn(f"{what}: {path} is not used ({reason}); computing them", RuntimeWarning, stacklevel=3)
+    return compute()
+
+
+@functools.lru_cache(maxsize=1)
+def ggx_tables() -> np.ndarray:
+    """The tables (compute_ggx_tables), read from the file shipped with the package where it matches KEY."""
+    return read_shipped(SHIPPED, KEY, TABLE_FLOATS, compute_ggx_tables, "GGX tables")
 
 
 def write_shipped(path: Path = SHIPPED) -> None:

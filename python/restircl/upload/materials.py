@@ -46,6 +46,12 @@ def uses_glossy(m: Material) -> bool:
     return any(kind_of(c.kind).has_lobe(c) for c in closures_of(m))
 
 
+def uses_transmission(m: Material) -> bool:
+    """Whether any closure of m refracts (its kind's transmits: Glass, Refraction, a Principled BSDF's
+    Transmission Weight > 0)."""
+    return any(kind_of(c.kind).transmits(c) for c in closures_of(m))
+
+
 def uses_textures(m: Material) -> bool:
     return any(is_texture(v) for v in material_inputs(m))
 
@@ -69,6 +75,7 @@ class PackedMaterials:
     closures: np.ndarray  # L.CLOSURE
     glossy: bool  # some material has a specular lobe: HAS_GLOSSY
     textured: bool  # some input is a texture: HAS_TEXTURES
+    transmission: bool = False  # some closure refracts: HAS_TRANSMISSION
 
 
 def pack_materials(materials: Sequence[Material], texture_index: TextureIndex = _no_textures) -> PackedMaterials:
@@ -89,7 +96,8 @@ def pack_materials(materials: Sequence[Material], texture_index: TextureIndex = 
     closures = np.zeros(max(len(rows), 1), L.CLOSURE)
     for k, r in enumerate(rows):
         closures[k] = r
-    return PackedMaterials(recs, closures, any(map(uses_glossy, materials)), any(map(uses_textures, materials)))
+    return PackedMaterials(recs, closures, any(map(uses_glossy, materials)), any(map(uses_textures, materials)),
+                           any(map(uses_transmission, materials)))
 
 
 # A Material field -> its lanes of the Closure record (opencl/types.h, read by textures/closure_inputs.h):
@@ -135,9 +143,13 @@ def _normal(r: np.void, v: object, node: Callable[[object], int]) -> None:
     r["tex2"][1] = node(v)
 
 
+def _transmission(r: np.void, v: object, _node: Callable[[object], int]) -> None:
+    r["glass"][0] = float(v)  # type: ignore[arg-type]
+
+
 FIELD_LANES: dict[str, Lanes] = {
     "albedo": _albedo, "metallic": _metallic, "roughness": _roughness, "ior": _ior, "specular": _specular,
-    "specular_tint": _specular_tint, "distribution": _distribution, "normal": _normal,
+    "specular_tint": _specular_tint, "distribution": _distribution, "normal": _normal, "transmission": _transmission,
 }
 
 

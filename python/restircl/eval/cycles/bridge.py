@@ -228,9 +228,9 @@ def direct_only(sc, samples: int, seed: int = 0, threads: int = 0, time_limit: f
 
 
 def light_paths(sc, settings) -> None:
-    """Cycles' Light Paths of bpy scene sc set to restircl `settings`' (max_bounces, diffuse, glossy, min light
-    bounces, clamp direct and indirect, light threshold), after direct_only: the same bounces on both sides.
-    Transmission and volume bounces stay 0 (restircl has none yet). Cycles counts a ray passing through a light as a
+    """Cycles' Light Paths of bpy scene sc set to restircl `settings`' (max_bounces, diffuse, glossy, transmission,
+    min light bounces, clamp direct and indirect, light threshold), after direct_only: the same bounces on both
+    sides. Volume bounces stay 0 (restircl has none yet). Cycles counts a ray passing through a light as a
     transparent bounce and ends the path at the limit; restircl's lights never stop a ray, so the limit is set past
     any path."""
     c = sc.cycles
@@ -241,6 +241,7 @@ def light_paths(sc, settings) -> None:
     c.max_bounces = int(settings.max_bounces)
     c.diffuse_bounces = int(settings.diffuse_bounces)
     c.glossy_bounces = int(settings.glossy_bounces)
+    c.transmission_bounces = int(settings.transmission_bounces)
     c.min_light_bounces = int(settings.min_light_bounces)
     c.sample_clamp_direct = float(settings.clamp_direct)
     c.sample_clamp_indirect = float(settings.clamp_indirect)

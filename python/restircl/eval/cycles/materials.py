@@ -1,6 +1,6 @@
 """restircl Materials as Blender shader nodes, for the Cycles bridge (eval/cycles/bridge.py): the Principled BSDF,
-Diffuse BSDF and Glossy BSDF with constant inputs, two of them under a Mix Shader or Add Shader, and the material's
-emission. Texture inputs are not written (the bridge renders constant materials)."""
+Diffuse, Glossy, Glass and Refraction BSDFs with constant inputs, two of them under a Mix Shader or Add Shader, and
+the material's emission. Texture inputs are not written (the bridge renders constant materials)."""
 
 from __future__ import annotations
 
@@ -40,11 +40,24 @@ def _principled(tree, c: Material):
     n.inputs["IOR"].default_value = float(c.ior)
     n.inputs["Specular IOR Level"].default_value = float(c.specular)
     n.inputs["Specular Tint"].default_value = _rgba(c.specular_tint)
+    n.inputs["Transmission Weight"].default_value = float(c.transmission)
     return n
 
 
+def _dielectric(node_type: str):
+    def write(tree, c: Material):
+        n = tree.nodes.new(node_type)
+        n.distribution = _DISTRIBUTION[c.distribution]
+        n.inputs["Color"].default_value = _rgba(c.albedo)
+        n.inputs["Roughness"].default_value = float(c.roughness)
+        n.inputs["IOR"].default_value = float(c.ior)
+        return n
+    return write
+
+
 # Material.kind (restircl.materials.closures) -> the writer of its shader node
-NODE_WRITERS = {"principled": _principled, "diffuse": _diffuse, "glossy": _glossy}
+NODE_WRITERS = {"principled": _principled, "diffuse": _diffuse, "glossy": _glossy,
+                "glass": _dielectric("ShaderNodeBsdfGlass"), "refraction": _dielectric("ShaderNodeBsdfRefraction")}
 
 
 def _closure(tree, c: Material):
@@ -89,9 +102,11 @@ def material_to_bpy(bpy, mat: Material, node_material):
 
 def is_plain_diffuse(mat: Material) -> bool:
     """A material the bridge has always written (a Diffuse BSDF of the albedo): no specular lobe, one closure."""
-    if mat.layers or mat.kind == "glossy":
+    if mat.layers:
         return False
     if mat.kind == "diffuse":
         return True
+    if mat.kind != "principled" or float(mat.transmission) > 0:
+        return False
     return not is_texture(mat.metallic) and not is_texture(mat.specular) and float(mat.metallic) == 0.0 \
         and float(mat.specular) == 0.0

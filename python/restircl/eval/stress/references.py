@@ -79,7 +79,9 @@ def compute_reference(case: Case, device=None, frame: int | None = None, seed: i
         r = Renderer(scene, Settings(**{**case.settings, "method": "reference", "jitter": False, "taa": False,
                                         "seed": 9001 + 100_000 * seed}), device)
         lights = scene_lights(scene, frame)
-        batches, frames = (1, 1) if _deterministic(scene, lights) else (case.ref_batches, case.ref_frames)
+        # delta lights alone make the direct light exact, but light that bounces is still a path tracer's estimate
+        exact = _deterministic(scene, lights) and not case.settings.get("max_bounces", 0)
+        batches, frames = (1, 1) if exact else (case.ref_batches, case.ref_frames)
         means = []
         for b in range(batches):
             r.settings.seed = 9001 + 100_000 * seed + b

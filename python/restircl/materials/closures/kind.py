@@ -14,6 +14,11 @@ class ClosureInputs(Protocol):
 
     metallic: Input
     specular: Input
+    transmission: float
+
+
+def never(_c: ClosureInputs) -> bool:
+    return False
 
 
 @dataclass(frozen=True)
@@ -29,3 +34,6 @@ class ClosureKind:
     lobes: tuple[str, ...]
     # Whether closure c (a Material of this kind) gives a lobe: a scene with one builds with HAS_GLOSSY
     has_lobe: Callable[[ClosureInputs], bool]
+    # Whether closure c refracts (a dielectric lobe, opencl/bsdf/microfacet_dielectric.h): a scene with one builds
+    # with HAS_TRANSMISSION
+    transmits: Callable[[ClosureInputs], bool] = never

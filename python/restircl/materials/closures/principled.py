@@ -1,6 +1,7 @@
 """The Principled BSDF (opencl/bsdf/closures/principled.h): Lambertian diffuse of Base Color `albedo` under a GGX
-specular layer, Cycles' model without coat, sheen, subsurface and transmission. `specular` is the Specular IOR
-Level: 0 has no specular layer, so the default Material is a plain diffuse albedo."""
+specular layer, Cycles' model without coat, sheen and subsurface; `transmission` (the Transmission Weight) makes
+that share of the dielectric part glass (opencl/bsdf/closures/glass.h). `specular` is the Specular IOR Level: 0 has
+no specular layer, so the default Material is a plain diffuse albedo."""
 
 from __future__ import annotations
 
@@ -8,14 +9,20 @@ from ..textures import constant_float, is_texture
 from .kind import ClosureInputs, ClosureKind
 
 
+def transmits(c: ClosureInputs) -> bool:
+    """A Transmission Weight > 0 (unless it is all metal)."""
+    return float(c.transmission) > 0 and (is_texture(c.metallic) or constant_float(c.metallic) < 1)
+
+
 def has_lobe(c: ClosureInputs) -> bool:
-    """A metallic part or a specular layer (Metallic or Specular IOR Level > 0); a textured one counts as one."""
-    if is_texture(c.metallic) or is_texture(c.specular):
+    """A metallic part, a specular layer or glass (Metallic, Specular IOR Level or Transmission Weight > 0); a
+    textured one counts as one."""
+    if is_texture(c.metallic) or is_texture(c.specular) or transmits(c):
         return True
     return constant_float(c.metallic) > 0 or constant_float(c.specular) > 0
 
 
 KIND = ClosureKind("principled", code=0,
                    fields=("albedo", "metallic", "roughness", "ior", "specular", "specular_tint", "distribution",
-                           "normal"),
-                   lobes=("microfacet_reflection",), has_lobe=has_lobe)
+                           "normal", "transmission"),
+                   lobes=("microfacet_reflection", "microfacet_dielectric"), has_lobe=has_lobe, transmits=transmits)

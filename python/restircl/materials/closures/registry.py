@@ -3,10 +3,11 @@
 
 from __future__ import annotations
 
-from . import diffuse, glossy, principled
+from . import diffuse, glass, glossy, principled, refraction
 from .kind import ClosureKind
 
-CLOSURE_KINDS: tuple[ClosureKind, ...] = tuple(sorted((principled.KIND, diffuse.KIND, glossy.KIND),
+CLOSURE_KINDS: tuple[ClosureKind, ...] = tuple(sorted((principled.KIND, diffuse.KIND, glossy.KIND, glass.KIND,
+                                                       refraction.KIND),
                                                       key=lambda k: k.code))
 KINDS: dict[str, ClosureKind] = {k.name: k for k in CLOSURE_KINDS}
 
