@@ -50,7 +50,9 @@ def _diagnostics(tu) -> list[str]:
             if d.severity >= cindex.Diagnostic.Warning]
 
 
-REQUIRES = {"HAS_GI_REUSE": "HAS_PATHS"}  # ReSTIR GI reuses the paths' vertices (render/features.py sets both)
+# ReSTIR GI reuses the paths' vertices (render/features.py sets both); a refracting closure is a lobe
+# (upload/device_scene.py sets HAS_GLOSSY with HAS_TRANSMISSION)
+REQUIRES = {"HAS_GI_REUSE": "HAS_PATHS", "HAS_TRANSMISSION": "HAS_GLOSSY"}
 
 
 @pytest.mark.parametrize("flag", sorted(ALL_FLAGS))

@@ -14,8 +14,7 @@ What a frame runs and reuses is decided before it starts, by plan_frame (render/
 settings and the frame's situation that the renderer describes; run_frame follows the plan. The parts: the scene's
 device buffers (upload/device_scene.py), the stages (render/stages.py), the history they ping-pong
 (render/history.py), still renders (render/still.py: they drive run_frame like any caller), kernel launches by
-argument name (core/kernels.py). Code a scene or a setting does not need is not compiled (render/features.py).
-"""
+argument name (core/kernels.py). Code a scene or a setting does not need is not compiled (render/features.py)."""
 
 from __future__ import annotations
 
@@ -252,18 +251,18 @@ class Renderer:
 
     def _situation(self, frame: int, still: bool, sobol: bool) -> FrameSituation:
         """What plan_frame needs to know of frame `frame`, its scene as uploaded and the renderer's history."""
-        ds, cam = self.device_scene, self.scene.camera
+        ds, cam, flags = self.device_scene, self.scene.camera, self.device_scene.material_flags
         assert cam is not None
         return FrameSituation(
             frame=frame, last_frame=self._last_frame, frame_count=ds.frame_count, cut_at_frame=frame in cam.cuts,
             history_valid=self.history.valid, lights_reindexed=ds.light_indices_changed,
             lights_switched=ds.lights_switched, light_count=ds.sampled_light_count,
-            environment=ds.lights.environment is not None, glossy=ds.material_flags.get("HAS_GLOSSY", False),
+            environment=ds.lights.environment is not None, glossy=flags.get("HAS_GLOSSY", False),
             analytic_lights=ds.analytic_lights, triangle_lights=ds.triangle_lights, sobol=sobol,
             light_tree=self.uses_light_tree, path_light_tree=self.path_light_tree, pick_table=self.pick_table.active,
             still=still, camera_moved=camera_moved(cam, frame, self._last_frame, self._prev_view),
             scene_moves=ds.moving_lights or ds.moving_objects or ds.edited, gi_history_valid=self.history.gi_valid,
-            transmission=ds.material_flags.get("HAS_TRANSMISSION", False))
+            transmission=flags.get("HAS_TRANSMISSION", False))
 
     @property
     def light_tiles_used(self) -> bool:

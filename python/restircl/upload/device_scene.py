@@ -182,7 +182,7 @@ class DeviceScene:
         same_images = bool(self.textures) and packer.image_keys == list(self._images)
         tex = packer.packed(texels=not same_images)
         self.nonfinite_texels = tex.nonfinite_texels
-        self.material_flags = {"HAS_GLOSSY": packed.glossy, "HAS_TEXTURES": packed.textured,
+        self.material_flags = {"HAS_GLOSSY": packed.glossy or packed.transmission, "HAS_TEXTURES": packed.textured,
                                "HAS_TRANSMISSION": packed.transmission,
                                "HAS_TRANSPARENCY": scene_is_transparent(self.scene)}
         self.materials_buf = upload(self.context, packed.materials)
