@@ -6,6 +6,7 @@
 #include "sampling/qmc.h"
 #include "bvh/traverse.h"
 #include "camera/camera.h"
+#include "camera/lens.h"
 #include "lights/lights.h"
 #include "lights/camera_visible.h"
 #include "lights/array.h"

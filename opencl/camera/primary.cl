@@ -19,7 +19,7 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
                       const __global float* ggx_tables,
                       const __global Light* lights, const __global float4* camera_lights,
                       __global GSample* gbuf, __global GlossySample* glossy, __global float4* vector,
-                      __global float4* light_passes)
+                      __global float4* light_passes, FrameParams frame_params)
 {
     int x = get_global_id(0), y = get_global_id(1);
     int w = cam->width, h = cam->height;
@@ -27,7 +27,15 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
     int i = y * w + x;
     float2 ray_px = (float2)((float)x + 0.5f + cam->jitter.x, (float)y + 0.5f + cam->jitter.y);
     float3 o, d;
+#ifdef HAS_DOF
+    if (cam->aperture.x > 0.0f)  /* the ray's own lens point; its hit is reprojected as a pinhole sees it */
+        camera_lens_ray(cam, ray_px.x, ray_px.y, lens_uv(&frame_params, i), &o, &d);
+    else
+        camera_ray(cam, ray_px.x, ray_px.y, &o, &d);
+#else
+    (void)frame_params;
     camera_ray(cam, ray_px.x, ray_px.y, &o, &d);
+#endif
     Hit hit = trace_closest(nodes, tris, o, d, INFINITY);
     float3 sun_seen = (float3)(0.0f);  /* the suns a ray that misses sees (lights/camera_visible.h) */
 #ifdef HAS_CAMERA_LIGHTS

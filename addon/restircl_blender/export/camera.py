@@ -1,5 +1,6 @@
 """The Blender camera -> restircl.Camera: a perspective or orthographic projection with Blender's sensor fit and
-shift, its motion per sampled frame, and cuts where timeline markers switch to another camera."""
+shift, its depth of field (a thin lens), its motion per sampled frame, and cuts where timeline markers switch to
+another camera."""
 
 from __future__ import annotations
 
@@ -72,11 +73,33 @@ def _camera_params(cam_obj, scene, warn: Callable[[str], None]) -> dict:
     r = scene.render
     if abs(r.pixel_aspect_x - r.pixel_aspect_y) > 1e-6:
         warn("non-square pixel aspect is rendered with square pixels")
-    if getattr(cd, "dof", None) is not None and cd.dof.use_dof:
-        warn(f"camera {cam_obj.name!r}: depth of field is not rendered")
-    return {
+    return {**_lens_params(cam_obj, warn),
         "width": w, "height": h, "lens": float(cd.lens), "sensor_width": float(cd.sensor_width),
         "sensor_height": float(cd.sensor_height), "sensor_fit": cd.sensor_fit,
         "shift_x": float(cd.shift_x), "shift_y": float(cd.shift_y), "type": cd.type,
         "ortho_scale": float(cd.ortho_scale),
     }
+
+
+def _lens_params(cam_obj, warn: Callable[[str], None]) -> dict:
+    """Depth of field as Cycles reads Blender's camera: an aperture of radius focal length / (2 F-stop) (metres:
+    the focal length is in mm; 1 / (2 F-stop) for an orthographic camera), focused at the distance along the view
+    axis to the focus object's origin, else at Focus Distance."""
+    dof = getattr(cam_obj.data, "dof", None)
+    if dof is None or not dof.use_dof:
+        return {}
+    cd = cam_obj.data
+    fstop = max(float(dof.aperture_fstop), 1e-5)
+    radius = 1.0 / (2.0 * fstop) if cd.type == "ORTHO" else float(cd.lens) * 1e-3 / (2.0 * fstop)
+    focus = float(dof.focus_distance)
+    if dof.focus_object is not None:
+        if getattr(dof, "focus_subtarget", ""):
+            warn(f"camera {cam_obj.name!r}: the focus bone {dof.focus_subtarget!r} is not read; focusing on the "
+                 "object's origin")
+        m = np.asarray(cam_obj.matrix_world, dtype=np.float64)
+        target = np.asarray(dof.focus_object.matrix_world.translation, dtype=np.float64)
+        axis = m[:3, 2] / max(float(np.linalg.norm(m[:3, 2])), 1e-30)
+        focus = abs(float(np.dot(axis, m[:3, 3] - target)))
+    return {"aperture_radius": radius, "focus_distance": max(focus, 1e-5),
+            "aperture_blades": int(dof.aperture_blades), "aperture_rotation": float(dof.aperture_rotation),
+            "aperture_ratio": max(float(dof.aperture_ratio), 1e-5)}

@@ -22,19 +22,20 @@ MATERIAL_FLAGS = ("HAS_GLOSSY", "HAS_TEXTURES")
 # HAS_PATHS: light bounces after the primary hit (Settings.max_bounces > 0: the path pass, opencl/path/)
 # HAS_GI_REUSE: ... and ReSTIR GI reuses them in animation and viewport frames (Settings.gi_reuse, opencl/restir_gi/)
 # HAS_LIGHT_PASSES: the shading kernels also write Cycles' light passes (Settings.light_passes, opencl/film/)
+# HAS_DOF: the camera has an aperture (depth of field, opencl/camera/lens.h)
 ALL_FLAGS = (*LIGHT_FLAGS.values(), "HAS_MOTION", "HAS_MOVING_OBJECTS", *MATERIAL_FLAGS, "HAS_LIGHT_TREE",
-             "HAS_CAMERA_LIGHTS", "HAS_PICK_TABLE", "HAS_PATHS", "HAS_GI_REUSE", "HAS_LIGHT_PASSES")
+             "HAS_CAMERA_LIGHTS", "HAS_PICK_TABLE", "HAS_PATHS", "HAS_GI_REUSE", "HAS_LIGHT_PASSES", "HAS_DOF")
 
 
 def derive_flags(light_types: Iterable[int], motion: bool, moving_objects: bool,
                  materials: dict[str, bool] | None = None, light_tree: bool = False,
                  camera_lights: bool = False, pick_table: bool = False, paths: bool = False,
-                 gi_reuse: bool = False, light_passes: bool = False) -> dict[str, bool]:
+                 gi_reuse: bool = False, light_passes: bool = False, dof: bool = False) -> dict[str, bool]:
     """Flags for a scene with these light types, whether anything moves between frames, what its materials
     need (MATERIAL_FLAGS -> bool, python/restircl/upload/materials.py), whether it samples from the light tree,
     whether the camera sees lights, whether still renders pick lights from the per-pixel table, whether light
     bounces (paths), whether ReSTIR GI reuses the bounces (gi_reuse, only with paths) and whether the light passes
-    are written."""
+    are written, and whether the camera has an aperture (dof)."""
     types = set(light_types)
     flags = {name: t in types for t, name in LIGHT_FLAGS.items()}
     flags["HAS_MOTION"] = bool(motion or moving_objects)
@@ -47,6 +48,7 @@ def derive_flags(light_types: Iterable[int], motion: bool, moving_objects: bool,
     flags["HAS_PATHS"] = bool(paths)
     flags["HAS_GI_REUSE"] = bool(paths and gi_reuse)
     flags["HAS_LIGHT_PASSES"] = bool(light_passes)
+    flags["HAS_DOF"] = bool(dof)
     return flags
 
 
@@ -72,7 +74,7 @@ def renderer_flags(scene: Scene, ds: DeviceScene, settings: Settings, *, interac
                         camera_lights=bool(ds.camera_lights),
                         pick_table=stills_use_pick_table(settings, ds.sampled_light_count, light_tree),
                         paths=settings.max_bounces > 0, gi_reuse=settings.gi_reuse,
-                        light_passes=settings.light_passes)
+                        light_passes=settings.light_passes, dof=interactive or (cam is not None and cam.has_dof))
 
 
 def describe(flags: dict[str, bool]) -> list[str]:

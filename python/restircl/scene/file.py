@@ -80,7 +80,8 @@ def save_scene(scene: SceneParts, path: str | Path) -> None:
         c = scene.camera
         meta["camera"] = {k: getattr(c, k) for k in ("width", "height", "lens", "sensor_width", "sensor_height",
                                                      "sensor_fit", "shift_x", "shift_y", "type",
-                                                     "ortho_scale")}
+                                                     "ortho_scale", "aperture_radius", "focus_distance",
+                                                     "aperture_blades", "aperture_rotation", "aperture_ratio")}
         meta["camera"]["cuts"] = list(c.cuts)
         meta["camera"]["width"] = int(c.width)
         meta["camera"]["height"] = int(c.height)
