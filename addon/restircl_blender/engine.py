@@ -18,6 +18,7 @@ from dataclasses import dataclass
 
 from . import compat, export, light_paths, preview, render_result
 from .properties import make_settings, render_kwargs
+from .region import region_camera, render_region
 
 MAX_REPORTED_WARNINGS = 8
 
@@ -109,9 +110,8 @@ def _render(engine, depsgraph) -> None:
     if engine.is_preview:
         preview.render_preview(engine, depsgraph, restircl, known)
         return
-    width, height = export.render_resolution(scene)
-    if scene.render.use_border:
-        engine.report({"WARNING"}, "restircl: render region (border) is ignored; the full frame is rendered")
+    region = render_region(scene, *export.render_resolution(scene))
+    width, height = (region.width, region.height) if region is not None else export.render_resolution(scene)
     device_spec = scene.restircl.device.strip() or None
     job = _Job(engine, depsgraph, restircl, known, int(scene.frame_current), bool(engine.is_animation),
                (scene.name, view_layer.name), device_spec,
@@ -136,6 +136,7 @@ def _render(engine, depsgraph) -> None:
     if bad:
         engine.report({"WARNING"}, "restircl: NaN/Inf values replaced by 0: "
                       + ", ".join(f"{k} {v}" for k, v in sorted(bad.items())))
+    # a region's result is the region's size: Blender places it in the frame (or crops to it) itself
     render_result.write_result(engine, result, width, height, view_layer, scene.render.film_transparent)
 
 
@@ -175,6 +176,8 @@ def _start_session(job: _Job, session: _Session | None) -> _Session | None:
                                depsgraph.view_layer.use_pass_vector, deforming)
     try:
         exp = export.export_scene(depsgraph, frames, frame_set=lambda f: engine.frame_set(f, 0.0), camera=camera)
+        exp.scene.camera = region_camera(exp.scene.camera,
+                                         render_region(depsgraph.scene, *export.render_resolution(depsgraph.scene)))
         exp.scene.validate()
     except job.known as exc:
         job.error(exc)
