@@ -16,7 +16,7 @@ import traceback
 import warnings
 from dataclasses import dataclass
 
-from . import compat, export, light_paths, preview, render_result
+from . import compat, export, light_paths, motion_blur, preview, render_result
 from .properties import make_settings, render_kwargs
 from .region import region_camera, render_region
 
@@ -70,7 +70,7 @@ def _frames_to_sample(scene, frame: int, animation: bool, warmup: int, use_vecto
     """Blender frames whose motion is exported. An animation samples the rest of the frame range and, before
     it, the warm-up frames (at least one when the Vector pass is on: motion needs a previous frame)."""
     if not animation:
-        return [frame]
+        return motion_blur.still_motion(scene, frame).frames
     step = max(1, int(scene.frame_step))
     before = max(int(warmup), 1 if use_vector else 0)
     last = frame if deforming else max(frame, int(scene.frame_end))
@@ -174,10 +174,16 @@ def _start_session(job: _Job, session: _Session | None) -> _Session | None:
     deforming = job.animation and session is not None and session.animation and session.deforming
     frames = _frames_to_sample(depsgraph.scene, job.frame, job.animation, job.props.warmup_frames,
                                depsgraph.view_layer.use_pass_vector, deforming)
+    # a still's frames stand for the times within its shutter (motion_blur.still_motion)
+    step = 1.0 if job.animation else motion_blur.still_motion(depsgraph.scene, job.frame).step
     try:
-        exp = export.export_scene(depsgraph, frames, frame_set=lambda f: engine.frame_set(f, 0.0), camera=camera)
+        exp = export.export_scene(depsgraph, frames, camera=camera, frame_set=lambda f: engine.frame_set(
+            *((f, 0.0) if job.animation else motion_blur.subframe(f, job.frame, step))))
         exp.scene.camera = region_camera(exp.scene.camera,
                                          render_region(depsgraph.scene, *export.render_resolution(depsgraph.scene)))
+        if not job.animation:
+            exp.scene.camera.shutter = motion_blur.scene_shutter(depsgraph.scene, step)
+        motion_blur.warn_unblurred(depsgraph.scene, job.animation, exp.deforming, exp.warnings.append)
         exp.scene.validate()
     except job.known as exc:
         job.error(exc)

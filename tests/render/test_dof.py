@@ -67,3 +67,12 @@ def test_rays_spread_by_the_thin_lens_geometry(device, blades):
     assert np.median(spread) > 0.3 * reach  # a disc's median radius is 0.71 of it, a pentagon's not much less
     # the points of one pixel over the frames are not all one point: each frame draws another lens point
     assert np.all(spread.std(axis=0) > 0.05 * reach)
+
+
+def test_the_lens_and_the_shutter_survive_the_scene_file(tmp_path):
+    sc = wall_scene(0.25, 3.5, blades=6)
+    sc.camera.aperture_rotation, sc.camera.aperture_ratio, sc.camera.shutter = 0.3, 1.5, (-0.25, 0.25)
+    sc.save(tmp_path / "wall.npz")
+    cam = Scene.load(tmp_path / "wall.npz").camera
+    assert (cam.aperture_radius, cam.focus_distance, cam.aperture_blades) == (0.25, 3.5, 6)
+    assert (cam.aperture_rotation, cam.aperture_ratio, cam.shutter) == (0.3, 1.5, (-0.25, 0.25))

@@ -24,6 +24,7 @@ import pyopencl as cl
 
 from ..core.buffers import alloc
 from ..core.kernels import Kernels
+from ..scene.scene import Scene
 from ..settings.table import Settings
 from .camera import halton
 from .denoise import denoise_frame
@@ -32,6 +33,7 @@ from .history import History
 from .light_passes import fill_frame, planes_buffer, read_planes
 from .passes import LIGHT_PLANES
 from .qmc import still_key, still_uses_sobol
+from .shutter import ShutterTimes
 
 HALF_BLOCK = 8  # frames per block of a still render's two half buffers (error_estimate)
 R2_FLOOR = 0.25  # error_estimate: r^2 is taken as at least R2_FLOOR * mean^2
@@ -138,6 +140,7 @@ class FrameSource(Protocol):
     settings: Settings
     history: History
     still: StillAccumulation
+    scene: Scene  # its camera's shutter (motion blur)
     qmc: tuple[int, int, int] | None  # FrameParams (qmc, qmc_index, qmc_key) of the next frame; None: its own
 
     @property
@@ -219,13 +222,15 @@ def render_still(
     acc = r.still
     acc.clear(aux=r.settings.denoise)
     halves = HalfStreams(r.settings, r.history)
+    assert r.scene.camera is not None
+    times = ShutterTimes(r.scene.camera.shutter, r.settings.seed)
     gbuf = r.history.gbuf(r.history.cur)
     stage: dict[str, float] = {}
     t0 = time.perf_counter()
     for k in range(max(int(samples), 1)):
         if should_stop is not None and acc.counts[0] > 0 and should_stop():
             break
-        gbuf = _add_sample(r, halves, frame, half_of(k), stage)
+        gbuf = _add_sample(r, halves, times.time(frame, half_of(k)), half_of(k), stage)
         done, n_half = acc.counts
         if progress is not None:
             progress(done, samples)
@@ -239,8 +244,9 @@ def render_still(
     return _result(r, frame, gbuf, stage, t0)
 
 
-def _add_sample(r: FrameSource, halves: HalfStreams, frame: int, half: int, stage: dict[str, float]) -> cl.Buffer:
-    """Render one frame into half buffer `half`; adds its stage times to `stage`, returns its G-buffer."""
+def _add_sample(r: FrameSource, halves: HalfStreams, frame: float, half: int, stage: dict[str, float]) -> cl.Buffer:
+    """Render one frame (at its time within the shutter) into half buffer `half`; adds its stage times to `stage`,
+    returns its G-buffer."""
     qmc = halves.qmc(half)
     if qmc is not None:
         r.qmc = qmc

@@ -40,10 +40,14 @@ class Camera:
     aperture_blades: int = 0  # a regular polygon of this many corners; below 3 a disc
     aperture_rotation: float = 0.0  # radians: the polygon's turn
     aperture_ratio: float = 1.0  # anamorphic: the aperture's height over its width
+    # motion blur (render/shutter.py): the shutter is open from shutter[0] to shutter[1] frames (the scene's
+    # frames) after the rendered frame; equal: no blur
+    shutter: tuple[float, float] = (0.0, 0.0)
 
     def __post_init__(self) -> None:
         self.transforms = as_transforms(self.transforms, "camera")
         self.cuts = tuple(int(c) for c in self.cuts)
+        self.shutter = (float(self.shutter[0]), float(self.shutter[1]))
 
     def set_fov(self, fov: float, axis: str = "horizontal") -> None:
         """Set the field of view (radians) along an axis by choosing the focal length; sensor fit follows."""
@@ -139,3 +143,6 @@ class Camera:
             raise SceneError(f"camera: aperture_blades must be an integer in 0..64, got {self.aperture_blades!r}")
         if not math.isfinite(self.aperture_rotation):
             raise SceneError("camera: aperture_rotation is not finite")
+        a, b = self.shutter
+        if not (math.isfinite(a) and math.isfinite(b) and a <= b):
+            raise SceneError(f"camera: shutter must be finite (open, close) with open <= close, got {self.shutter!r}")

@@ -81,7 +81,8 @@ def save_scene(scene: SceneParts, path: str | Path) -> None:
         meta["camera"] = {k: getattr(c, k) for k in ("width", "height", "lens", "sensor_width", "sensor_height",
                                                      "sensor_fit", "shift_x", "shift_y", "type",
                                                      "ortho_scale", "aperture_radius", "focus_distance",
-                                                     "aperture_blades", "aperture_rotation", "aperture_ratio")}
+                                                     "aperture_blades", "aperture_rotation", "aperture_ratio",
+                                                     "shutter")}
         meta["camera"]["cuts"] = list(c.cuts)
         meta["camera"]["width"] = int(c.width)
         meta["camera"]["height"] = int(c.height)
