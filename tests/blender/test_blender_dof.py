@@ -16,7 +16,7 @@ bpy = pytest.importorskip("bpy")
 from restircl.eval import blender_scenes as scenes  # noqa: E402
 from restircl.eval.blender_scenes import comparison_scene  # noqa: E402
 
-from .test_blender_support import cycles_and_ours, ensure_registered, needs_renderer  # noqa: E402
+from .test_blender_support import assert_agrees, cycles_and_ours, ensure_registered, needs_renderer  # noqa: E402
 
 pytestmark = [pytest.mark.blender, needs_renderer]
 
@@ -75,20 +75,14 @@ def test_export_reads_the_lens():
 
 
 def test_dof_agrees_with_cycles(tmp_path, record_property):
-    err, ratio_sum = cycles_and_ours(tmp_path, dof_scene(), 512, 256, "dof focused on the box")
-    record_property("relmse", err)
-    assert err < BOUND
-    assert ratio_sum == pytest.approx(1.0, abs=0.01)
+    assert_agrees(tmp_path, dof_scene(), 512, 256, "dof focused on the box", record_property)
 
 
 @pytest.mark.parametrize(("blades", "rotation", "ratio"), [(0, 0.0, 1.0), (5, 0.6, 1.0), (6, 0.0, 1.0),
                                                            (0, 0.0, 2.0), (0, 0.0, 0.5)])
 def test_bokeh_agrees_with_cycles(tmp_path, blades, rotation, ratio, record_property):
-    err, ratio_sum = cycles_and_ours(tmp_path, bokeh_scene(blades, rotation, ratio), 4096, 2048,
-                                     f"bokeh blades {blades} rotation {rotation} ratio {ratio}")
-    record_property("relmse", err)
-    assert err < BOUND
-    assert ratio_sum == pytest.approx(1.0, abs=0.01)
+    assert_agrees(tmp_path, bokeh_scene(blades, rotation, ratio), 4096, 2048,
+                  f"bokeh blades {blades} rotation {rotation} ratio {ratio}", record_property)
 
 
 WRONG = {

@@ -14,7 +14,7 @@ bpy = pytest.importorskip("bpy")
 
 from restircl.eval import blender_scenes as scenes  # noqa: E402
 
-from .test_blender_support import cycles_and_ours, ensure_registered, needs_renderer  # noqa: E402
+from .test_blender_support import assert_agrees, cycles_and_ours, ensure_registered, needs_renderer  # noqa: E402
 
 pytestmark = [pytest.mark.blender, needs_renderer]
 
@@ -76,11 +76,8 @@ def blur_scene(what: str, position: str = "CENTER", eased: bool = False):
     ("spin", "CENTER", True), ("camera", "END", True)])
 def test_motion_blur_agrees_with_cycles(tmp_path, what, position, eased, record_property):
     """Steady motion, and motion eased by Bezier keys, which the export follows at the shutter's subframes."""
-    err, ratio = cycles_and_ours(tmp_path, blur_scene(what, position, eased), 512, 256,
-                                 f"motion blur {what} {position}{' eased' if eased else ''}")
-    record_property("relmse", err)
-    assert err < BOUND
-    assert ratio == pytest.approx(1.0, abs=0.01)
+    assert_agrees(tmp_path, blur_scene(what, position, eased), 512, 256,
+                  f"motion blur {what} {position}{' eased' if eased else ''}", record_property)
 
 
 @pytest.mark.parametrize(("what", "wrong"), [("spin", "sharp"), ("spin", "START"), ("camera", "sharp")])

@@ -3,11 +3,13 @@ the hit point reprojected) against restarting every frame (a still render of eac
 renders an animation) at equal CPU time per frame, with the lens and without it: docs/design.md, "Depth of field
 and motion blur in motion".
 
-The scene is `moving_box` (a box sliding past a panning camera) focused on the box. The error of every
+The scene is `moving_box` (a box sliding past a panning camera, two lights) focused on the box, or `many_lights`
+(a flight over 500 glowing lamps and 64 point lights) focused 14 m ahead. The error of every
 `--every`-th frame is the relMSE against that frame's converged reference (eval/report/reference.py, cached). CPU
 time (time.process_time), not wall time: the machine is shared.
 
     python -m tools.experiments.dof_motion --width 160 --height 120 --frames 24 --every 6 --radius 0.12
+    python -m tools.experiments.dof_motion --scene many_lights --width 160 --height 90 --radius 0.3
 """
 
 from __future__ import annotations
@@ -22,10 +24,12 @@ from restircl.eval.metrics import rel_mse
 from restircl.eval.report.reference import get_reference
 from restircl.render.pipeline import Renderer
 from restircl.render.still_method import still_settings
-from restircl.scenes.builtin import moving_box
+from restircl.scenes.builtin import many_lights, moving_box
 from restircl.settings.table import Settings
 
-FOCUS = 5.6  # the box's depth along the camera's axis (the camera is 5 m back and 2.7 m above it)
+# the scene and where it is focused: moving_box on the box's depth along the camera's axis (the camera is 5 m back
+# and 2.7 m above it), many_lights about where the camera looks
+SCENES = {"moving_box": (moving_box, 5.6), "many_lights": (many_lights, 14.0)}
 
 
 def animation(scene, evaluated: set[int]) -> tuple[float, dict[int, np.ndarray]]:
@@ -57,6 +61,7 @@ def restarted(scene, evaluated: set[int], budget_ms: float) -> tuple[dict[int, n
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--scene", choices=sorted(SCENES), default="moving_box")
     ap.add_argument("--width", type=int, default=160)
     ap.add_argument("--height", type=int, default=120)
     ap.add_argument("--frames", type=int, default=24)
@@ -65,11 +70,12 @@ def main() -> None:
     ap.add_argument("--ref-seconds", type=float, default=20.0)
     a = ap.parse_args()
     evaluated = {k for k in range(a.frames) if k % a.every == a.every - 1}
-    result = {"load_before": os.getloadavg(), "rows": []}
+    result = {"scene": a.scene, "load_before": os.getloadavg(), "rows": []}
+    make, focus = SCENES[a.scene]
     for radius in (0.0, a.radius):
-        scene = moving_box(a.width, a.height, frames=a.frames)
+        scene = make(a.width, a.height, frames=a.frames)
         assert scene.camera is not None
-        scene.camera.aperture_radius, scene.camera.focus_distance = radius, FOCUS
+        scene.camera.aperture_radius, scene.camera.focus_distance = radius, focus
         refs = {k: get_reference(scene, k, a.ref_seconds).image[..., :3] for k in sorted(evaluated)}
         ms, anim = animation(scene, evaluated)
         still, samples = restarted(scene, evaluated, ms)
