@@ -150,6 +150,7 @@
 #define OBJECT_ATTRIBUTES 1
 #define OBJECT_NORMALS    2
 #define OBJECT_UVS        4
+#define OBJECT_HOLDOUT    8
 
 /* reuse modes (Settings.bias_correction) (settings/table.py BIAS_CORRECTIONS) */
 #define BIAS_NONE     0

@@ -16,7 +16,7 @@ import traceback
 import warnings
 from dataclasses import dataclass
 
-from . import compat, export, light_paths, motion_blur, preview, render_result
+from . import compat, export, holdout, light_paths, motion_blur, preview, render_result
 from .properties import make_settings, render_kwargs
 from .region import region_camera, render_region
 
@@ -184,6 +184,7 @@ def _start_session(job: _Job, session: _Session | None) -> _Session | None:
         if not job.animation:
             exp.scene.camera.shutter = motion_blur.scene_shutter(depsgraph.scene, step)
         motion_blur.warn_unblurred(depsgraph.scene, job.animation, exp.deforming, exp.warnings.append)
+        holdout.mark(exp.scene, depsgraph.view_layer, depsgraph.scene.objects, exp.warnings.append)
         exp.scene.validate()
     except job.known as exc:
         job.error(exc)
@@ -252,7 +253,8 @@ def _render_frame(job: _Job, session: _Session, new_sequence: bool):
     if engine.test_break():
         return None
     scene = job.depsgraph.scene
-    aovs = render_result.aovs_needed(job.depsgraph.view_layer, scene.render.film_transparent)
+    aovs = (render_result.aovs_needed(job.depsgraph.view_layer, scene.render.film_transparent)
+            or any(m.holdout for m in exp.scene.meshes))  # a holdout's alpha comes from the G-buffer
     result = renderer.render_frame(index, aovs=aovs, sample=job.frame)
     session.last_frame = job.frame
     _Status(job, session).show(1, 1, getattr(result, "ms", None))

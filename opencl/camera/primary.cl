@@ -53,15 +53,22 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
 #endif
     GSample g;
     g.motion = (float4)(0.0f);
-    if (hit.prim < 0) {
+    int holdout = -1;  /* the holdout object the ray met (Mesh.holdout): the pixel is a hole, as a miss of nothing */
+#ifdef HAS_HOLDOUT
+    if (hit.prim >= 0 && (as_int(objects[as_int(tris[hit.prim].e2.w)].gen_mid.w) & OBJECT_HOLDOUT)) {
+        holdout = as_int(tris[hit.prim].e2.w);
+        sun_seen = (float3)(0.0f);
+    }
+#endif
+    if (hit.prim < 0 || holdout >= 0) {
         g.pos = (float4)(0.0f, 0.0f, 0.0f, INFINITY);
         g.normal = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
         g.gnormal = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
-        g.albedo = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
+        g.albedo = (float4)(0.0f, 0.0f, 0.0f, as_float(holdout));  /* w: -1, or the holdout's object (its alpha 0) */
         g.emission = (float4)(sun_seen, 0.0f);  /* a sun the ray sees is in front of the world */
         float3 world_seen = (float3)(0.0f);
 #ifdef HAS_ENVIRONMENT
-        world_seen = environment_seen(lights, d);
+        if (holdout < 0) world_seen = environment_seen(lights, d);
         g.emission.xyz += world_seen;
 #endif
 #ifdef HAS_LIGHT_PASSES  /* the suns are lights (Emission), the world is the Environment */

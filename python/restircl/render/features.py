@@ -23,19 +23,22 @@ MATERIAL_FLAGS = ("HAS_GLOSSY", "HAS_TEXTURES")
 # HAS_GI_REUSE: ... and ReSTIR GI reuses them in animation and viewport frames (Settings.gi_reuse, opencl/restir_gi/)
 # HAS_LIGHT_PASSES: the shading kernels also write Cycles' light passes (Settings.light_passes, opencl/film/)
 # HAS_DOF: the camera has an aperture (depth of field, opencl/camera/lens.h)
+# HAS_HOLDOUT: some object is a holdout (Mesh.holdout: camera rays see a hole there)
 ALL_FLAGS = (*LIGHT_FLAGS.values(), "HAS_MOTION", "HAS_MOVING_OBJECTS", *MATERIAL_FLAGS, "HAS_LIGHT_TREE",
-             "HAS_CAMERA_LIGHTS", "HAS_PICK_TABLE", "HAS_PATHS", "HAS_GI_REUSE", "HAS_LIGHT_PASSES", "HAS_DOF")
+             "HAS_CAMERA_LIGHTS", "HAS_PICK_TABLE", "HAS_PATHS", "HAS_GI_REUSE", "HAS_LIGHT_PASSES", "HAS_DOF",
+             "HAS_HOLDOUT")
 
 
 def derive_flags(light_types: Iterable[int], motion: bool, moving_objects: bool,
                  materials: dict[str, bool] | None = None, light_tree: bool = False,
                  camera_lights: bool = False, pick_table: bool = False, paths: bool = False,
-                 gi_reuse: bool = False, light_passes: bool = False, dof: bool = False) -> dict[str, bool]:
+                 gi_reuse: bool = False, light_passes: bool = False, dof: bool = False,
+                 holdout: bool = False) -> dict[str, bool]:
     """Flags for a scene with these light types, whether anything moves between frames, what its materials
     need (MATERIAL_FLAGS -> bool, python/restircl/upload/materials.py), whether it samples from the light tree,
     whether the camera sees lights, whether still renders pick lights from the per-pixel table, whether light
     bounces (paths), whether ReSTIR GI reuses the bounces (gi_reuse, only with paths) and whether the light passes
-    are written, and whether the camera has an aperture (dof)."""
+    are written, whether the camera has an aperture (dof) and whether some object is a holdout."""
     types = set(light_types)
     flags = {name: t in types for t, name in LIGHT_FLAGS.items()}
     flags["HAS_MOTION"] = bool(motion or moving_objects)
@@ -49,6 +52,7 @@ def derive_flags(light_types: Iterable[int], motion: bool, moving_objects: bool,
     flags["HAS_GI_REUSE"] = bool(paths and gi_reuse)
     flags["HAS_LIGHT_PASSES"] = bool(light_passes)
     flags["HAS_DOF"] = bool(dof)
+    flags["HAS_HOLDOUT"] = bool(holdout)
     return flags
 
 
@@ -74,7 +78,8 @@ def renderer_flags(scene: Scene, ds: DeviceScene, settings: Settings, *, interac
                         camera_lights=bool(ds.camera_lights),
                         pick_table=stills_use_pick_table(settings, ds.sampled_light_count, light_tree),
                         paths=settings.max_bounces > 0, gi_reuse=settings.gi_reuse,
-                        light_passes=settings.light_passes, dof=interactive or (cam is not None and cam.has_dof))
+                        light_passes=settings.light_passes, dof=interactive or (cam is not None and cam.has_dof),
+                        holdout=any(m.holdout for m in scene.meshes))
 
 
 def describe(flags: dict[str, bool]) -> list[str]:

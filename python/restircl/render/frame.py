@@ -39,6 +39,7 @@ class Frame:
     glossy_color: np.ndarray | None = None
     emission: np.ndarray | None = None
     environment: np.ndarray | None = None
+    holdout: np.ndarray | None = None  # (H, W) bool: the camera ray met a holdout (Mesh.holdout): alpha 0 there
 
 
 class DeviceFrame(NamedTuple):
@@ -110,3 +111,5 @@ def read_aovs(queue: cl.CommandQueue, out: Frame, gbuf: cl.Buffer, vector_buf: c
     vector[..., 3] *= -1.0
     out.depth = np.where(hit, g["pos"][..., 3], np.inf).astype(np.float32)
     out.vector = vector
+    # a holdout is a miss that names the object it met (camera/primary.cl)
+    out.holdout = ~hit & (L.float_bits_to_int(g["albedo"][..., 3]) >= 0)

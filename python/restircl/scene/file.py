@@ -59,7 +59,7 @@ def save_scene(scene: SceneParts, path: str | Path) -> None:
         "environment": write_environment(scene.environment, arrays),
     }
     for i, mesh in enumerate(scene.meshes):
-        meta["meshes"].append({"name": mesh.name})
+        meta["meshes"].append({"name": mesh.name, "holdout": bool(mesh.holdout)})
         arrays[f"mesh{i}_vertices"] = mesh.vertices
         arrays[f"mesh{i}_triangles"] = mesh.triangles
         arrays[f"mesh{i}_material_ids"] = mesh.material_ids
@@ -118,7 +118,8 @@ def load_scene(path: str | Path, cls: type[S]) -> S:
         for i, m in enumerate(meta["meshes"]):
             scene.meshes.append(Mesh(m["name"], data[f"mesh{i}_vertices"], data[f"mesh{i}_triangles"],
                                      data[f"mesh{i}_material_ids"], data[f"mesh{i}_transforms"],
-                                     uvs=data.get(f"mesh{i}_uvs"), normals=data.get(f"mesh{i}_normals")))
+                                     uvs=data.get(f"mesh{i}_uvs"), normals=data.get(f"mesh{i}_normals"),
+                                     holdout=bool(m.get("holdout", False))))
         for i, d in enumerate(meta["lights"]):
             d = dict(d)
             d["color"] = tuple(d["color"])

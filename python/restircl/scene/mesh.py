@@ -20,6 +20,8 @@ class Mesh:
     transforms: np.ndarray | None = None  # (4, 4) or (F, 4, 4) object-to-world
     uvs: np.ndarray | None = None  # (T, 3, 2) per-corner UV map (texture coordinates "uv", normal maps)
     normals: np.ndarray | None = None  # (T, 3, 3) per-corner object-space shading normals (smooth shading)
+    holdout: bool = False  # camera rays that meet it see nothing, with alpha 0 (Blender's Holdout); other rays
+    # see it as it is
 
     def __post_init__(self) -> None:
         self.vertices = np.asarray(self.vertices, dtype=np.float64).reshape(-1, 3)
