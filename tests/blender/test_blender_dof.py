@@ -37,7 +37,7 @@ def dof_scene(blades: int = 0, rotation: float = 0.0, ratio: float = 1.0):
     return sc
 
 
-def bokeh_scene(blades: int = 0, rotation: float = 0.0, ratio: float = 1.0):
+def bokeh_scene(blades: int = 0, rotation: float = 0.0, ratio: float = 1.0, ortho: bool = False):
     """A glowing square 6 m away, the camera focused at 2 m: its image (15 pixels across) spreads over the
     aperture's image (20 pixels across), so that the blades, their rotation and the ratio show in the outline. The
     square is about as large as the blur so that most lens rays of a pixel in it find it, or noise would swamp
@@ -46,10 +46,12 @@ def bokeh_scene(blades: int = 0, rotation: float = 0.0, ratio: float = 1.0):
     scenes.quad("Spark", 1.0, 1.0, scenes.emission_material("Spark", (1.0, 0.9, 0.7), 5.0),
                 rotation=(math.pi / 2, 0, 0))
     cam = scenes.camera((0, -6, 0), (0, 0, 0), lens=50.0)
+    if ortho:  # a 2.4 m wide view; the aperture is 1 / (2 F-stop), in metres
+        cam.data.type, cam.data.ortho_scale = "ORTHO", 2.4
     dof = cam.data.dof
     dof.use_dof = True
     dof.focus_distance = 2.0
-    dof.aperture_fstop = 0.074  # 50 mm / (2 x 0.074): a 34 cm radius
+    dof.aperture_fstop = 2.0 if ortho else 0.074  # 25 cm, or 50 mm / (2 x 0.074): 34 cm
     dof.aperture_blades = blades
     dof.aperture_rotation = rotation
     dof.aperture_ratio = ratio
@@ -81,8 +83,13 @@ def test_dof_agrees_with_cycles(tmp_path, record_property):
 @pytest.mark.parametrize(("blades", "rotation", "ratio"), [(0, 0.0, 1.0), (5, 0.6, 1.0), (6, 0.0, 1.0),
                                                            (0, 0.0, 2.0), (0, 0.0, 0.5)])
 def test_bokeh_agrees_with_cycles(tmp_path, blades, rotation, ratio, record_property):
+    """Perspective cameras; the orthographic one below."""
     assert_agrees(tmp_path, bokeh_scene(blades, rotation, ratio), 4096, 2048,
                   f"bokeh blades {blades} rotation {rotation} ratio {ratio}", record_property)
+
+
+def test_orthographic_bokeh_agrees_with_cycles(tmp_path, record_property):
+    assert_agrees(tmp_path, bokeh_scene(5, 0.3, ortho=True), 4096, 2048, "orthographic bokeh", record_property)
 
 
 WRONG = {
