@@ -80,6 +80,28 @@ def test_dof_agrees_with_cycles(tmp_path, record_property):
     assert_agrees(tmp_path, dof_scene(), 512, 256, "dof focused on the box", record_property)
 
 
+def test_export_follows_a_focus_pull():
+    """The focus object walks away from the camera over frames 1..3: the export holds its depth at each frame."""
+    from restircl_blender import export as ex
+
+    sc = dof_scene()
+    box = bpy.data.objects["Box"]
+    sc.frame_start, sc.frame_end = 1, 3
+    for f, y in ((1, -2.0), (2, 0.2), (3, 2.0)):
+        box.location.y = y
+        box.keyframe_insert("location", frame=f)
+    sc.frame_set(2)
+    cam = ex.export_scene(bpy.context.evaluated_depsgraph_get(), [1, 2, 3], frame_set=sc.frame_set).scene.camera
+    m = sc.camera.matrix_world
+    axis = -m.col[2].xyz.normalized()
+    want = []
+    for f in (1, 2, 3):
+        sc.frame_set(f)
+        want.append((box.matrix_world.translation - m.translation).dot(axis))
+    assert cam.focus_per_frame == pytest.approx(want, rel=1e-5)
+    assert want[0] < want[1] < want[2]
+
+
 @pytest.mark.parametrize(("blades", "rotation", "ratio"), [(0, 0.0, 1.0), (5, 0.6, 1.0), (6, 0.0, 1.0),
                                                            (0, 0.0, 2.0), (0, 0.0, 0.5)])
 def test_bokeh_agrees_with_cycles(tmp_path, blades, rotation, ratio, record_property):

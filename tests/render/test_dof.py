@@ -22,12 +22,13 @@ def wall_scene(radius: float, focus: float, blades: int = 0) -> Scene:
                  [Light("p", "point", (1, 1, 1), 50.0, translation(0.0, 1.0, 0.5))], cam, name="wall")
 
 
-def hit_points(scene: Scene, device, frames: int) -> np.ndarray:
-    """(frames, H, W, 3): the primary hits of `frames` frames (no jitter: only the lens point changes)."""
+def hit_points(scene: Scene, device, frames: int, frame: int = 0) -> np.ndarray:
+    """(frames, H, W, 3): the primary hits of `frames` renders of `frame` (no jitter: only the lens point
+    changes)."""
     r = Renderer(scene, Settings(method="light_array", jitter=False), device)
     out = []
     for _ in range(frames):
-        r.render_frame(0)
+        r.render_frame(frame)
         out.append(np.array(r.read_gbuffer()["pos"][..., :3], dtype=np.float64))
     return np.stack(out)
 
@@ -55,6 +56,16 @@ def test_rays_meet_on_the_plane_in_focus(device):
     assert np.abs(lens - pinhole).max() < 1e-4 * DEPTH
 
 
+def test_a_focus_pull_focuses_each_frame_where_it_says(device):
+    """Focus 2 m away at frame 0, on the wall at frame 1: the rays of frame 1 meet on the wall."""
+    pinhole = hit_points(wall_scene(0.0, DEPTH), device, 1)[0]
+    sc = wall_scene(0.3, DEPTH)
+    sc.camera.transforms = np.stack([sc.camera.transforms[0]] * 2)
+    sc.camera.focus_per_frame = np.array([2.0, DEPTH])
+    assert np.abs(hit_points(sc, device, 4, frame=1) - pinhole).max() < 1e-4 * DEPTH
+    assert np.abs(hit_points(sc, device, 4, frame=0) - pinhole).max() > 0.1
+
+
 @pytest.mark.parametrize("blades", [0, 5])
 def test_rays_spread_by_the_thin_lens_geometry(device, blades):
     """Focused at half the wall's depth, a pixel's ray from lens point l (|l| <= radius) crosses the pinhole ray at
@@ -76,3 +87,7 @@ def test_the_lens_and_the_shutter_survive_the_scene_file(tmp_path):
     cam = Scene.load(tmp_path / "wall.npz").camera
     assert (cam.aperture_radius, cam.focus_distance, cam.aperture_blades) == (0.25, 3.5, 6)
     assert (cam.aperture_rotation, cam.aperture_ratio, cam.shutter) == (0.3, 1.5, (-0.25, 0.25))
+    assert cam.focus_per_frame is None
+    sc.camera.focus_per_frame = np.array([2.0, 3.0])
+    sc.save(tmp_path / "pull.npz")
+    assert np.array_equal(Scene.load(tmp_path / "pull.npz").camera.focus_per_frame, [2.0, 3.0])

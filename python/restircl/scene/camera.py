@@ -43,6 +43,7 @@ class Camera:
     # motion blur (render/shutter.py): the shutter is open from shutter[0] to shutter[1] frames (the scene's
     # frames) after the rendered frame; equal: no blur
     shutter: tuple[float, float] = (0.0, 0.0)
+    focus_per_frame: np.ndarray | None = None  # optional (F,) focus distance per frame (a focus pull)
 
     def __post_init__(self) -> None:
         self.transforms = as_transforms(self.transforms, "camera")
@@ -127,6 +128,12 @@ class Camera:
         check_basis(self.transforms, "camera")
         self._validate_lens()
 
+    def focus_at(self, frame: float) -> float:
+        """The focus distance at `frame` (a time between frames: its frame's)."""
+        if self.focus_per_frame is None or len(self.focus_per_frame) == 0:
+            return float(self.focus_distance)
+        return float(self.focus_per_frame[min(max(int(frame), 0), len(self.focus_per_frame) - 1)])
+
     @property
     def has_dof(self) -> bool:
         """Whether the camera has an aperture (depth of field); a pinhole compiles no lens code."""
@@ -136,7 +143,9 @@ class Camera:
         r = self.aperture_radius
         if not (math.isfinite(r) and r >= 0):
             raise SceneError(f"camera: aperture_radius must be finite and >= 0, got {r!r}")
-        for what, v in (("focus_distance", self.focus_distance), ("aperture_ratio", self.aperture_ratio)):
+        focus = [] if self.focus_per_frame is None else [float(f) for f in np.asarray(self.focus_per_frame).ravel()]
+        for what, v in (("focus_distance", self.focus_distance), ("aperture_ratio", self.aperture_ratio),
+                        *(("focus_per_frame", f) for f in focus)):
             if not (math.isfinite(v) and v > 0):
                 raise SceneError(f"camera: {what} must be finite and positive, got {v!r}")
         if not isinstance(self.aperture_blades, (int, np.integer)) or not 0 <= int(self.aperture_blades) <= 64:

@@ -87,6 +87,8 @@ def save_scene(scene: SceneParts, path: str | Path) -> None:
         meta["camera"]["width"] = int(c.width)
         meta["camera"]["height"] = int(c.height)
         arrays["camera_transforms"] = c.transforms
+        if c.focus_per_frame is not None:
+            arrays["camera_focus_per_frame"] = np.asarray(c.focus_per_frame, np.float64)
     arrays["meta"] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
     with open(path, "wb") as f:
         np.savez_compressed(f, **arrays)
@@ -128,7 +130,8 @@ def load_scene(path: str | Path, cls: type[S]) -> S:
         if meta["camera"] is not None:
             c = dict(meta["camera"])
             c["cuts"] = tuple(c.get("cuts", ()))
-            scene.camera = Camera(transforms=data["camera_transforms"], **c)
+            scene.camera = Camera(transforms=data["camera_transforms"],
+                                  focus_per_frame=data.get("camera_focus_per_frame"), **c)
         scene.environment = read_environment(meta.get("environment"), data)
     except SceneError:
         raise
