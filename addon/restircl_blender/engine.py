@@ -183,6 +183,7 @@ def _start_session(job: _Job, session: _Session | None) -> _Session | None:
                                          render_region(depsgraph.scene, *export.render_resolution(depsgraph.scene)))
         if not job.animation:
             exp.scene.camera.shutter = motion_blur.scene_shutter(depsgraph.scene, step)
+            motion_blur.hold_unblurred(exp.scene, depsgraph.scene.objects, exp.index_of(job.frame))
         motion_blur.warn_unblurred(depsgraph.scene, job.animation, exp.deforming, exp.warnings.append)
         holdout.mark(exp.scene, depsgraph.view_layer, depsgraph.scene.objects, exp.warnings.append)
         exp.scene.validate()

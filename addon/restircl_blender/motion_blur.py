@@ -56,6 +56,16 @@ def scene_shutter(scene, step: float) -> tuple[float, float]:
     return a / step, b / step
 
 
+def hold_unblurred(scene, objects, current: int) -> None:
+    """Objects whose own Motion Blur is off (Object > Motion Blur, `cycles.use_motion_blur`) stay where they are at
+    the rendered frame (frame index `current` of the exported restircl.Scene `scene`) over the whole shutter."""
+    still = {ob.name for ob in objects
+             if getattr(getattr(ob, "cycles", None), "use_motion_blur", True) is False}
+    for mesh in scene.meshes:
+        if mesh.name in still and mesh.transforms.shape[0] > 1:
+            mesh.transforms = mesh.transforms[min(current, mesh.transforms.shape[0] - 1)]
+
+
 def warn_unblurred(scene, animation: bool, deforming: list[str], warn: Callable[[str], None]) -> None:
     """What the shutter does not blur: animation frames (real-time frames with TAA), objects that deform within
     it, a rolling shutter."""
