@@ -16,7 +16,7 @@ import traceback
 import warnings
 from dataclasses import dataclass
 
-from . import compat, export, holdout, light_paths, motion_blur, preview, render_result
+from . import compat, export, light_paths, motion_blur, preview, render_result
 from .properties import make_settings, render_kwargs
 from .region import region_camera, render_region
 
@@ -185,7 +185,6 @@ def _start_session(job: _Job, session: _Session | None) -> _Session | None:
             exp.scene.camera.shutter = motion_blur.scene_shutter(depsgraph.scene, step)
             motion_blur.hold_unblurred(exp.scene, depsgraph.scene.objects, exp.index_of(job.frame))
         motion_blur.warn_unblurred(depsgraph.scene, job.animation, exp.deforming, exp.warnings.append)
-        holdout.mark(exp.scene, depsgraph.view_layer, depsgraph.scene.objects, exp.warnings.append)
         exp.scene.validate()
     except job.known as exc:
         job.error(exc)

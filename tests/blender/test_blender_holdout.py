@@ -67,7 +67,7 @@ def test_holdout_agrees_with_cycles(tmp_path, how, transparent, record_property)
 
 
 def test_holdout_negative_control(tmp_path, monkeypatch):
-    from restircl_blender import holdout
+    from restircl_blender.export import holdout
 
     monkeypatch.setattr(holdout, "mark", lambda *args: None)
     cyc, ours = both(tmp_path, holdout_scene("collection", False))
