@@ -1,12 +1,13 @@
 """Depth of field in animation: the add-on's animation frames (ReSTIR DI + TAA, one lens point per pixel per frame,
-the hit point reprojected) against restarting every frame (a still render of each frame from scratch, as Cycles
-renders an animation) at equal CPU time per frame, with the lens and without it: docs/design.md, "Depth of field
-and motion blur in motion".
+the hit point reprojected) against restarting every frame (a still render of each frame from scratch, ours and
+Cycles', as Cycles renders an animation) at equal time per frame, with the lens and without it: docs/design.md,
+"Depth of field and motion blur in motion".
 
 The scene is `moving_box` (a box sliding past a panning camera, two lights) focused on the box, or `many_lights`
 (a flight over 500 glowing lamps and 64 point lights) focused 14 m ahead. The error of every
 `--every`-th frame is the relMSE against that frame's converged reference (eval/report/reference.py, cached). CPU
-time (time.process_time), not wall time: the machine is shared.
+time (time.process_time), not wall time: the machine is shared; Cycles (direct light only, 2 threads) gets that
+time as its time limit per frame.
 
     python -m tools.experiments.dof_motion --width 160 --height 120 --frames 24 --every 6 --radius 0.12
     python -m tools.experiments.dof_motion --scene many_lights --width 160 --height 90 --radius 0.3
@@ -59,6 +60,16 @@ def restarted(scene, evaluated: set[int], budget_ms: float) -> tuple[dict[int, n
     return images, float(np.mean(samples))
 
 
+def cycles_rows(scene, evaluated: set[int], seconds: float) -> dict[int, np.ndarray]:
+    """Cycles (direct light only, eval/cycles/bridge.py) rendering each evaluated frame for `seconds`."""
+    from restircl.eval.cycles import bridge as cycles
+
+    if not cycles.available():
+        return {}
+    return {k: cycles.render(cycles.to_bpy(scene, k), seconds=seconds, threads=2).image[..., :3]
+            for k in sorted(evaluated)}
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--scene", choices=sorted(SCENES), default="moving_box")
@@ -79,9 +90,11 @@ def main() -> None:
         refs = {k: get_reference(scene, k, a.ref_seconds).image[..., :3] for k in sorted(evaluated)}
         ms, anim = animation(scene, evaluated)
         still, samples = restarted(scene, evaluated, ms)
+        cyc = cycles_rows(scene, evaluated, ms / 1e3)
         row = {"radius": radius, "cpu_ms_per_frame": ms, "restart_samples": samples,
                "animation_rel_mse": float(np.mean([rel_mse(anim[k], refs[k]) for k in evaluated])),
-               "restart_rel_mse": float(np.mean([rel_mse(still[k], refs[k]) for k in evaluated]))}
+               "restart_rel_mse": float(np.mean([rel_mse(still[k], refs[k]) for k in evaluated])),
+               "cycles_rel_mse": float(np.mean([rel_mse(cyc[k], refs[k]) for k in cyc])) if cyc else None}
         print(json.dumps(row))
         result["rows"].append(row)
     result["load_after"] = os.getloadavg()

@@ -10,7 +10,7 @@ small).
 
 The loop (render_still) drives the renderer through its public frame API (FrameSource: Renderer.run_frame,
 read_frame, frame_params), as any tool may; it decides nothing about a frame but its jitter, its Sobol index and
-key, and the chain of history it continues.
+key, the chain of history it continues, and its time within the shutter (motion blur, render/shutter.py).
 """
 
 from __future__ import annotations
