@@ -37,6 +37,9 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
     camera_ray(cam, ray_px.x, ray_px.y, &o, &d);
 #endif
     Hit hit = trace_closest(nodes, tris, o, d, INFINITY);
+#ifdef HAS_CAMERA_HIDDEN
+    hit = camera_seen_hit(nodes, tris, objects, o, d, hit);
+#endif
     float3 sun_seen = (float3)(0.0f);  /* the suns a ray that misses sees (lights/camera_visible.h) */
 #ifdef HAS_CAMERA_LIGHTS
     if (camera_light_pixel(lights, camera_lights, cam, prev_cam, next_cam, o, d, hit.t,

@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
-from . import holdout
+from . import camera_visibility, holdout
 from .camera import CameraReader
 from .fingerprint import fingerprint
 from .light import LightReader
@@ -106,7 +106,8 @@ def export_scene(depsgraph, frames: Sequence[int] | None = None,
     sc = restircl.Scene(name=scene.name, frame_count=sampled.count)
     sc.materials = materials.materials
     sc.meshes = meshes.build()
-    holdout.mark(sc, depsgraph.view_layer, scene.objects, warnings.add)
+    holdout.mark(sc, depsgraph.view_layer, scene.objects)
+    camera_visibility.mark(sc, depsgraph.view_layer, scene.objects)
     sc.lights = lights.build()
     if meshes.deforming:
         warnings.add(f"object(s) {', '.join(repr(n) for n in meshes.deforming[:5])} deform during the animation: "

@@ -24,21 +24,23 @@ MATERIAL_FLAGS = ("HAS_GLOSSY", "HAS_TEXTURES")
 # HAS_LIGHT_PASSES: the shading kernels also write Cycles' light passes (Settings.light_passes, opencl/film/)
 # HAS_DOF: the camera has an aperture (depth of field, opencl/camera/lens.h)
 # HAS_HOLDOUT: some object is a holdout (Mesh.holdout: camera rays see a hole there)
+# HAS_CAMERA_HIDDEN: some object is hidden from the camera (Mesh.camera_visible off, opencl/camera/hidden.h)
 ALL_FLAGS = (*LIGHT_FLAGS.values(), "HAS_MOTION", "HAS_MOVING_OBJECTS", *MATERIAL_FLAGS, "HAS_LIGHT_TREE",
              "HAS_CAMERA_LIGHTS", "HAS_PICK_TABLE", "HAS_PATHS", "HAS_GI_REUSE", "HAS_LIGHT_PASSES", "HAS_DOF",
-             "HAS_HOLDOUT")
+             "HAS_HOLDOUT", "HAS_CAMERA_HIDDEN")
 
 
 def derive_flags(light_types: Iterable[int], motion: bool, moving_objects: bool,
                  materials: dict[str, bool] | None = None, light_tree: bool = False,
                  camera_lights: bool = False, pick_table: bool = False, paths: bool = False,
                  gi_reuse: bool = False, light_passes: bool = False, dof: bool = False,
-                 holdout: bool = False) -> dict[str, bool]:
+                 holdout: bool = False, camera_hidden: bool = False) -> dict[str, bool]:
     """Flags for a scene with these light types, whether anything moves between frames, what its materials
     need (MATERIAL_FLAGS -> bool, python/restircl/upload/materials.py), whether it samples from the light tree,
     whether the camera sees lights, whether still renders pick lights from the per-pixel table, whether light
     bounces (paths), whether ReSTIR GI reuses the bounces (gi_reuse, only with paths) and whether the light passes
-    are written, whether the camera has an aperture (dof) and whether some object is a holdout."""
+    are written, whether the camera has an aperture (dof), whether some object is a holdout and whether some
+    object is hidden from the camera."""
     types = set(light_types)
     flags = {name: t in types for t, name in LIGHT_FLAGS.items()}
     flags["HAS_MOTION"] = bool(motion or moving_objects)
@@ -53,6 +55,7 @@ def derive_flags(light_types: Iterable[int], motion: bool, moving_objects: bool,
     flags["HAS_LIGHT_PASSES"] = bool(light_passes)
     flags["HAS_DOF"] = bool(dof)
     flags["HAS_HOLDOUT"] = bool(holdout)
+    flags["HAS_CAMERA_HIDDEN"] = bool(camera_hidden)
     return flags
 
 
@@ -79,7 +82,8 @@ def renderer_flags(scene: Scene, ds: DeviceScene, settings: Settings, *, interac
                         pick_table=stills_use_pick_table(settings, ds.sampled_light_count, light_tree),
                         paths=settings.max_bounces > 0, gi_reuse=settings.gi_reuse,
                         light_passes=settings.light_passes, dof=interactive or (cam is not None and cam.has_dof),
-                        holdout=any(m.holdout for m in scene.meshes))
+                        holdout=any(m.holdout for m in scene.meshes),
+                        camera_hidden=not all(m.camera_visible for m in scene.meshes))
 
 
 def describe(flags: dict[str, bool]) -> list[str]:

@@ -59,7 +59,8 @@ def save_scene(scene: SceneParts, path: str | Path) -> None:
         "environment": write_environment(scene.environment, arrays),
     }
     for i, mesh in enumerate(scene.meshes):
-        meta["meshes"].append({"name": mesh.name, "holdout": bool(mesh.holdout)})
+        meta["meshes"].append({"name": mesh.name, "holdout": bool(mesh.holdout),
+                               "camera_visible": bool(mesh.camera_visible)})
         arrays[f"mesh{i}_vertices"] = mesh.vertices
         arrays[f"mesh{i}_triangles"] = mesh.triangles
         arrays[f"mesh{i}_material_ids"] = mesh.material_ids
@@ -121,7 +122,8 @@ def load_scene(path: str | Path, cls: type[S]) -> S:
             scene.meshes.append(Mesh(m["name"], data[f"mesh{i}_vertices"], data[f"mesh{i}_triangles"],
                                      data[f"mesh{i}_material_ids"], data[f"mesh{i}_transforms"],
                                      uvs=data.get(f"mesh{i}_uvs"), normals=data.get(f"mesh{i}_normals"),
-                                     holdout=bool(m.get("holdout", False))))
+                                     holdout=bool(m.get("holdout", False)),
+                                     camera_visible=bool(m.get("camera_visible", True))))
         for i, d in enumerate(meta["lights"]):
             d = dict(d)
             d["color"] = tuple(d["color"])

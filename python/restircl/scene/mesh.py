@@ -22,6 +22,7 @@ class Mesh:
     normals: np.ndarray | None = None  # (T, 3, 3) per-corner object-space shading normals (smooth shading)
     holdout: bool = False  # camera rays that meet it see nothing, with alpha 0 (Blender's Holdout); other rays
     # see it as it is
+    camera_visible: bool = True  # off: camera rays pass through it (Ray Visibility > Camera, Indirect Only)
 
     def __post_init__(self) -> None:
         self.vertices = np.asarray(self.vertices, dtype=np.float64).reshape(-1, 3)
