@@ -158,9 +158,11 @@
 #define MAX_TEX_PROGRAM 16
 
 /* per-object attribute flags (ObjectInfo) (upload/tri_attributes.py) */
-#define OBJECT_ATTRIBUTES 1
-#define OBJECT_NORMALS    2
-#define OBJECT_UVS        4
+#define OBJECT_ATTRIBUTES    1
+#define OBJECT_NORMALS       2
+#define OBJECT_UVS           4
+#define OBJECT_HOLDOUT       8
+#define OBJECT_CAMERA_HIDDEN 16
 
 /* reuse modes (Settings.bias_correction) (settings/table.py BIAS_CORRECTIONS) */
 #define BIAS_NONE     0

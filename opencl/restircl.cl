@@ -7,6 +7,8 @@
 #include "bvh/traverse.h"
 #include "bvh/transparent.h"
 #include "camera/camera.h"
+#include "camera/lens.h"
+#include "camera/hidden.h"
 #include "lights/lights.h"
 #include "lights/camera_visible.h"
 #include "lights/array.h"

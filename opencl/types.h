@@ -150,7 +150,10 @@ typedef struct {
     int height;
     int kind;         /* CAMERA_PERSP or CAMERA_ORTHO */
     int texture_full; /* 1: camera rays read images at full resolution; 0: at their ray cone's mip level */
-} Camera;             /* 112 bytes */
+    float4 aperture;  /* thin lens (camera/lens.h): x: radius (world units; 0: a pinhole), y: height over width,
+                       * z: blades (a polygon of that many corners; below 3 a disc), w: the polygon's rotation */
+    float4 focus;     /* x: distance from the origin to the plane in focus, along forward; yzw: unused */
+} Camera;             /* 144 bytes */
 
 /* ---- per-pixel buffers ------------------------------------------------------------------------ */
 

@@ -16,8 +16,9 @@ import traceback
 import warnings
 from dataclasses import dataclass
 
-from . import compat, export, light_paths, preview, render_result
+from . import compat, export, light_paths, motion_blur, preview, render_result
 from .properties import make_settings, render_kwargs
+from .region import region_camera, render_region
 
 MAX_REPORTED_WARNINGS = 8
 
@@ -69,7 +70,7 @@ def _frames_to_sample(scene, frame: int, animation: bool, warmup: int, use_vecto
     """Blender frames whose motion is exported. An animation samples the rest of the frame range and, before
     it, the warm-up frames (at least one when the Vector pass is on: motion needs a previous frame)."""
     if not animation:
-        return [frame]
+        return motion_blur.still_motion(scene, frame).frames
     step = max(1, int(scene.frame_step))
     before = max(int(warmup), 1 if use_vector else 0)
     last = frame if deforming else max(frame, int(scene.frame_end))
@@ -109,9 +110,8 @@ def _render(engine, depsgraph) -> None:
     if engine.is_preview:
         preview.render_preview(engine, depsgraph, restircl, known)
         return
-    width, height = export.render_resolution(scene)
-    if scene.render.use_border:
-        engine.report({"WARNING"}, "restircl: render region (border) is ignored; the full frame is rendered")
+    region = render_region(scene, *export.render_resolution(scene))
+    width, height = (region.width, region.height) if region is not None else export.render_resolution(scene)
     device_spec = scene.restircl.device.strip() or None
     job = _Job(engine, depsgraph, restircl, known, int(scene.frame_current), bool(engine.is_animation),
                (scene.name, view_layer.name), device_spec,
@@ -136,6 +136,7 @@ def _render(engine, depsgraph) -> None:
     if bad:
         engine.report({"WARNING"}, "restircl: NaN/Inf values replaced by 0: "
                       + ", ".join(f"{k} {v}" for k, v in sorted(bad.items())))
+    # a region's result is the region's size: Blender places it in the frame (or crops to it) itself
     render_result.write_result(engine, result, width, height, view_layer, scene.render.film_transparent)
 
 
@@ -173,8 +174,17 @@ def _start_session(job: _Job, session: _Session | None) -> _Session | None:
     deforming = job.animation and session is not None and session.animation and session.deforming
     frames = _frames_to_sample(depsgraph.scene, job.frame, job.animation, job.props.warmup_frames,
                                depsgraph.view_layer.use_pass_vector, deforming)
+    # a still's frames stand for the times within its shutter (motion_blur.still_motion)
+    step = 1.0 if job.animation else motion_blur.still_motion(depsgraph.scene, job.frame).step
     try:
-        exp = export.export_scene(depsgraph, frames, frame_set=lambda f: engine.frame_set(f, 0.0), camera=camera)
+        exp = export.export_scene(depsgraph, frames, camera=camera, frame_set=lambda f: engine.frame_set(
+            *((f, 0.0) if job.animation else motion_blur.subframe(f, job.frame, step))))
+        exp.scene.camera = region_camera(exp.scene.camera,
+                                         render_region(depsgraph.scene, *export.render_resolution(depsgraph.scene)))
+        if not job.animation:
+            exp.scene.camera.shutter = motion_blur.scene_shutter(depsgraph.scene, step)
+            motion_blur.hold_unblurred(exp.scene, depsgraph.scene.objects, exp.index_of(job.frame))
+        motion_blur.warn_unblurred(depsgraph.scene, job.animation, exp.deforming, exp.warnings.append)
         exp.scene.validate()
     except job.known as exc:
         job.error(exc)
@@ -243,7 +253,8 @@ def _render_frame(job: _Job, session: _Session, new_sequence: bool):
     if engine.test_break():
         return None
     scene = job.depsgraph.scene
-    aovs = render_result.aovs_needed(job.depsgraph.view_layer, scene.render.film_transparent)
+    aovs = (render_result.aovs_needed(job.depsgraph.view_layer, scene.render.film_transparent)
+            or any(m.holdout for m in exp.scene.meshes))  # a holdout's alpha comes from the G-buffer
     result = renderer.render_frame(index, aovs=aovs, sample=job.frame)
     session.last_frame = job.frame
     _Status(job, session).show(1, 1, getattr(result, "ms", None))

@@ -83,6 +83,9 @@ def _combined(frame, height: int, width: int, film_transparent: bool) -> np.ndar
         colour[..., 3] = np.isfinite(np.asarray(depth, dtype=np.float32)).reshape(height, width)
     elif not film_transparent:
         colour[..., 3] = 1.0
+    holdout = getattr(frame, "holdout", None)
+    if holdout is not None and np.shape(holdout) == (height, width):  # a hole, film or not (as Cycles)
+        colour[np.asarray(holdout, bool)] = 0.0
     return colour
 
 

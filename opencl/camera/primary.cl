@@ -19,7 +19,7 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
                       const __global float* ggx_tables,
                       const __global Light* lights, const __global float4* camera_lights,
                       __global GSample* gbuf, __global GlossySample* glossy, __global float4* vector,
-                      __global float4* light_passes)
+                      __global float4* light_passes, FrameParams frame_params)
 {
     int x = get_global_id(0), y = get_global_id(1);
     int w = cam->width, h = cam->height;
@@ -27,11 +27,22 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
     int i = y * w + x;
     float2 ray_px = (float2)((float)x + 0.5f + cam->jitter.x, (float)y + 0.5f + cam->jitter.y);
     float3 o, d;
+#ifdef HAS_DOF
+    if (cam->aperture.x > 0.0f)  /* the ray's own lens point; its hit is reprojected as a pinhole sees it */
+        camera_lens_ray(cam, ray_px.x, ray_px.y, lens_uv(&frame_params, i), &o, &d);
+    else
+        camera_ray(cam, ray_px.x, ray_px.y, &o, &d);
+#else
+    (void)frame_params;
     camera_ray(cam, ray_px.x, ray_px.y, &o, &d);
+#endif
 #ifdef HAS_TRANSPARENCY  /* the first surface the ray does not pass (bvh/transparent.h) */
     Hit hit = trace_camera(nodes, tris, o, d, INFINITY, cam->jitter.z, (uint)i);
 #else
     Hit hit = trace_closest(nodes, tris, o, d, INFINITY);
+#endif
+#ifdef HAS_CAMERA_HIDDEN
+    hit = camera_seen_hit(nodes, tris, objects, o, d, hit);
 #endif
     float3 sun_seen = (float3)(0.0f);  /* the suns a ray that misses sees (lights/camera_visible.h) */
 #ifdef HAS_CAMERA_LIGHTS
@@ -72,15 +83,24 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
         return;
     }
 #endif
-    if (hit.prim < 0) {
+    int holdout = -1;  /* the holdout object the ray met (Mesh.holdout): the pixel is a hole, as a miss of nothing */
+#ifdef HAS_HOLDOUT
+    /* the object id without its light sets (lights/linking.h) */
+    int hit_obj = hit.prim >= 0 ? (as_int(tris[hit.prim].e2.w) & LINK_OBJECT_MASK) : -1;
+    if (hit_obj >= 0 && (as_int(objects[hit_obj].gen_mid.w) & OBJECT_HOLDOUT)) {
+        holdout = hit_obj;
+        sun_seen = (float3)(0.0f);
+    }
+#endif
+    if (hit.prim < 0 || holdout >= 0) {
         g.pos = (float4)(0.0f, 0.0f, 0.0f, INFINITY);
         g.normal = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
         g.gnormal = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
-        g.albedo = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
+        g.albedo = (float4)(0.0f, 0.0f, 0.0f, as_float(holdout));  /* w: -1, or the holdout's object (its alpha 0) */
         g.emission = (float4)(sun_seen, 0.0f);  /* a sun the ray sees is in front of the world */
         float3 world_seen = (float3)(0.0f);
 #ifdef HAS_ENVIRONMENT
-        world_seen = environment_seen(lights, d);
+        if (holdout < 0) world_seen = environment_seen(lights, d);
         g.emission.xyz += world_seen;
 #endif
 #ifdef HAS_LIGHT_PASSES  /* the suns are lights (Emission), the world is the Environment */

@@ -451,7 +451,7 @@ def _every_field_scene():
     material = restircl.Material(name="a", normal=restircl.materials.textures.NormalMap(), mix=0.5)
     light = restircl.Light(name="l", type="point", transforms=np.eye(4), radius=0.2,
                            power_per_frame=np.array([1.0, 0.5]))
-    cam = restircl.Camera(transforms=np.eye(4), cuts=(1,))
+    cam = restircl.Camera(transforms=np.eye(4), cuts=(1,), focus_per_frame=np.array([2.0, 3.0]))
     world = restircl.Environment(image=np.ones((2, 4, 3), np.float32), path="sky.exr", rotation=np.eye(3),
                                  strength_per_frame=np.array([1.0, 2.0]))
     return restircl.Scene(meshes=[mesh], materials=[material], lights=[light], camera=cam,

@@ -95,6 +95,16 @@ def cycles_and_ours(tmp_path: Path, sc, cycles_samples: int, our_samples: int, l
     return err, ratio
 
 
+def assert_agrees(tmp_path: Path, sc, cycles_samples: int, our_samples: int, label: str, record_property,
+                  bound: float = 0.01) -> float:
+    """cycles_and_ours, asserted: relMSE below `bound`, the image sums within 1 %; returns the relMSE."""
+    err, ratio = cycles_and_ours(tmp_path, sc, cycles_samples, our_samples, label)
+    record_property("relmse", err)
+    assert err < bound, f"{label}: relMSE {100 * err:.3f} % against Cycles"
+    assert ratio == pytest.approx(1.0, abs=0.01)
+    return err
+
+
 def guard_engine(monkeypatch) -> list[int]:
     """One entry per unexpected exception that the engine's last-resort handler catches (and prints) from now on:
     a test asserts it stays empty."""

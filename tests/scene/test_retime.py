@@ -5,7 +5,8 @@ import math
 import numpy as np
 import pytest
 from restircl import scenes
-from restircl.scene.retime import interpolate_transform, retime
+from restircl.scene.interpolation import interpolate_transform
+from restircl.scene.retime import retime
 
 
 def _rot_z(a: float, t=(0.0, 0.0, 0.0), s: float = 1.0) -> np.ndarray:

@@ -8,7 +8,9 @@ animation render exports its geometry once and its motion as per-frame matrices.
     mesh.py         geometry, instances and the probes that detect deforming objects
     material.py     the material node reader
     light.py        lights in Blender's units, converted as Cycles does (docs/units.md)
-    camera.py       the render camera, its resolution and camera cuts
+    camera.py       the render camera, its resolution, depth of field and camera cuts
+    holdout.py      the holdout objects (view layer collections, object visibility, the Holdout shader)
+    camera_visibility.py  objects hidden from camera rays (Ray Visibility > Camera, Indirect Only collections)
     motion.py       the frames sampled and the per-frame tracks of transforms
     world.py        the world (not rendered: a warning when it would light the scene)
     fingerprint.py  the hash the engine compares to reuse a renderer

@@ -6,6 +6,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 from ..light_groups import light_group_names, object_group
+from . import camera_visibility, holdout
 from .camera import CameraReader
 from .fingerprint import fingerprint
 from .light import LightReader
@@ -106,6 +107,8 @@ def export_scene(depsgraph, frames: Sequence[int] | None = None,
     sc = restircl.Scene(name=scene.name, frame_count=sampled.count)
     sc.materials = materials.materials
     sc.meshes = meshes.build()
+    holdout.mark(sc, depsgraph.view_layer, scene.objects)
+    camera_visibility.mark(sc, depsgraph.view_layer, scene.objects)
     sc.lights = lights.build()
     if meshes.deforming:
         warnings.add(f"object(s) {', '.join(repr(n) for n in meshes.deforming[:5])} deform during the animation: "

@@ -36,6 +36,8 @@ CAMERA = np.dtype(
         ("height", np.int32),
         ("kind", np.int32),
         ("texture_full", np.int32),
+        ("aperture", F4),
+        ("focus", F4),
     ]
 )
 GSAMPLE = np.dtype(

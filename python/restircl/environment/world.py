@@ -56,7 +56,7 @@ class Environment:
     def strength_at(self, frame: int) -> float:
         if self.strength_per_frame is None or len(self.strength_per_frame) == 0:
             return float(self.strength)
-        return float(self.strength) * float(self.strength_per_frame[min(frame, len(self.strength_per_frame) - 1)])
+        return float(self.strength) * float(self.strength_per_frame[min(int(frame), len(self.strength_per_frame) - 1)])
 
     def validate(self) -> Environment:
         """Raise WorldError naming the world for what cannot be rendered; return self.

@@ -57,6 +57,8 @@ def camera_record(cam: Camera, frame: int, jitter_px: tuple[float, float] = (0.0
     rec["width"] = cam.width
     rec["height"] = cam.height
     rec["texture_full"] = int(texture_full)
+    rec["aperture"][0] = (cam.aperture_radius, cam.aperture_ratio, float(cam.aperture_blades), cam.aperture_rotation)
+    rec["focus"][0, 0] = cam.focus_at(frame)
     return rec
 
 

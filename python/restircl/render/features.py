@@ -29,21 +29,26 @@ MATERIAL_FLAGS = ("HAS_GLOSSY", "HAS_TEXTURES", "HAS_TRANSMISSION", "HAS_TRANSPA
 # HAS_LIGHT_LINKING: some emitter has light or shadow linking (lights/linking.py, opencl/lights/linking.h)
 # HAS_LIGHT_GROUPS: the number of light groups (Scene.light_groups, opencl/film/light_groups.h); the light passes'
 # planes carry them, so it turns HAS_LIGHT_PASSES on
+# HAS_DOF: the camera has an aperture (depth of field, opencl/camera/lens.h)
+# HAS_HOLDOUT: some object is a holdout (Mesh.holdout: camera rays see a hole there)
+# HAS_CAMERA_HIDDEN: some object is hidden from the camera (Mesh.camera_visible off, opencl/camera/hidden.h)
 ALL_FLAGS = (*LIGHT_FLAGS.values(), "HAS_MOTION", "HAS_MOVING_OBJECTS", *MATERIAL_FLAGS, "HAS_LIGHT_TREE",
              "HAS_CAMERA_LIGHTS", "HAS_PICK_TABLE", "HAS_PATHS", "HAS_GI_REUSE", "HAS_LIGHT_PASSES",
-             "HAS_LIGHT_LINKING", "HAS_LIGHT_GROUPS")
+             "HAS_LIGHT_LINKING", "HAS_LIGHT_GROUPS", "HAS_DOF", "HAS_HOLDOUT", "HAS_CAMERA_HIDDEN")
 
 
 def derive_flags(light_types: Iterable[int], motion: bool, moving_objects: bool,
                  materials: dict[str, bool] | None = None, light_tree: bool = False,
                  camera_lights: bool = False, pick_table: bool = False, paths: bool = False,
                  gi_reuse: bool = False, light_passes: bool = False,
-                 light_linking: bool = False, light_groups: int = 0) -> dict[str, bool | int]:
+                 light_linking: bool = False, light_groups: int = 0, dof: bool = False,
+                 holdout: bool = False, camera_hidden: bool = False) -> dict[str, bool | int]:
     """Flags for a scene with these light types, whether anything moves between frames, what its materials
     need (MATERIAL_FLAGS -> bool, python/restircl/upload/materials.py), whether it samples from the light tree,
     whether the camera sees lights, whether still renders pick lights from the per-pixel table, whether light
     bounces (paths), whether ReSTIR GI reuses the bounces (gi_reuse, only with paths) and whether the light passes
-    are written, whether some emitter links lights or shadows, and how many light groups there are."""
+    are written, whether some emitter links lights or shadows, how many light groups there are, whether the camera
+    has an aperture (dof), whether some object is a holdout and whether some object is hidden from the camera."""
     types = set(light_types)
     flags = {name: t in types for t, name in LIGHT_FLAGS.items()}
     flags["HAS_MOTION"] = bool(motion or moving_objects)
@@ -60,6 +65,9 @@ def derive_flags(light_types: Iterable[int], motion: bool, moving_objects: bool,
     flags["HAS_LIGHT_GROUPS"] = int(light_groups) if light_groups else False
     if light_groups:
         flags["HAS_LIGHT_PASSES"] = True
+    flags["HAS_DOF"] = bool(dof)
+    flags["HAS_HOLDOUT"] = bool(holdout)
+    flags["HAS_CAMERA_HIDDEN"] = bool(camera_hidden)
     return flags
 
 
@@ -87,7 +95,11 @@ def renderer_flags(scene: Scene, ds: DeviceScene, settings: Settings, *, interac
                                                                                 light_tree),
                                                paths=settings.max_bounces > 0, gi_reuse=settings.gi_reuse,
                                                light_passes=settings.light_passes, light_linking=uses_linking(scene),
-                                               light_groups=light_group_count(scene)), settings)
+                                               light_groups=light_group_count(scene),
+                                               dof=interactive or (cam is not None and cam.has_dof),
+                                               holdout=any(m.holdout for m in scene.meshes),
+                                               camera_hidden=not all(m.camera_visible for m in scene.meshes)),
+                                  settings)
 
 
 def with_transparent_bound(flags: dict, settings: Settings) -> dict:

@@ -50,6 +50,7 @@ class Frame:
     # Cryptomatte (Settings.cryptomatte_levels, render/cryptomatte.py): kind -> (H, W, 2 * levels) id, coverage
     cryptomatte: dict[str, np.ndarray] | None = None
     cryptomatte_names: dict[str, list[str]] | None = None  # kind -> the names of its ids (for the manifest)
+    holdout: np.ndarray | None = None  # (H, W) bool: the camera ray met a holdout (Mesh.holdout): alpha 0 there
 
 
 class DeviceFrame(NamedTuple):
@@ -128,3 +129,5 @@ def read_aovs(queue: cl.CommandQueue, out: Frame, gbuf: cl.Buffer, vector_buf: c
         if crypto_levels:
             out.cryptomatte = cryptomatte.from_gbuffer(g, scene, crypto_levels)
             out.cryptomatte_names = {k: cryptomatte.kind_names(scene, k) for k in cryptomatte.KINDS}
+    # a holdout is a miss that names the object it met (camera/primary.cl)
+    out.holdout = ~hit & (L.float_bits_to_int(g["albedo"][..., 3]) >= 0)

@@ -123,7 +123,7 @@ class Primary(Stage):
                             **self.scene.surface, ggx_tables=self.scene.ggx_tables_buf or b.none,
                             object_motion=self.scene.motion_buf, lights=self.scene.lights_buf,
                             camera_lights=self.scene.camera_lights_buf, gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
-                            vector=b.vector, light_passes=b.light_passes)
+                            vector=b.vector, light_passes=b.light_passes, frame_params=state.frame_params)
 
 
 class LightTiles(Stage):

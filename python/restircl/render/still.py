@@ -10,7 +10,7 @@ small).
 
 The loop (render_still) drives the renderer through its public frame API (FrameSource: Renderer.run_frame,
 read_frame, frame_params), as any tool may; it decides nothing about a frame but its jitter, its Sobol index and
-key, and the chain of history it continues.
+key, the chain of history it continues, and its time within the shutter (motion blur, render/shutter.py).
 """
 
 from __future__ import annotations
@@ -34,6 +34,7 @@ from .history import History
 from .light_passes import fill_planes, planes_buffer
 from .passes import LIGHT_PLANES
 from .qmc import still_key, still_uses_sobol
+from .shutter import ShutterTimes
 
 HALF_BLOCK = 8  # frames per block of a still render's two half buffers (error_estimate)
 R2_FLOOR = 0.25  # error_estimate: r^2 is taken as at least R2_FLOOR * mean^2
@@ -167,6 +168,7 @@ class FrameSource(Protocol):
     scene: Scene
     history: History
     still: StillAccumulation
+    scene: Scene  # its camera's shutter (motion blur)
     qmc: tuple[int, int, int] | None  # FrameParams (qmc, qmc_index, qmc_key) of the next frame; None: its own
     flags: dict  # the program's feature flags (render/features.py)
 
@@ -251,13 +253,15 @@ def render_still(
     if r.settings.cryptomatte_levels:
         acc.use_cryptomatte(r.settings.cryptomatte_levels)
     halves = HalfStreams(r.settings, r.history)
+    assert r.scene.camera is not None
+    times = ShutterTimes(r.scene.camera.shutter, r.settings.seed)
     gbuf = r.history.gbuf(r.history.cur)
     stage: dict[str, float] = {}
     t0 = time.perf_counter()
     for k in range(max(int(samples), 1)):
         if should_stop is not None and acc.counts[0] > 0 and should_stop():
             break
-        gbuf = _add_sample(r, halves, frame, half_of(k), stage)
+        gbuf = _add_sample(r, halves, times.time(frame, half_of(k)), half_of(k), stage)
         done, n_half = acc.counts
         if progress is not None:
             progress(done, samples)
@@ -271,8 +275,9 @@ def render_still(
     return _result(r, frame, gbuf, stage, t0)
 
 
-def _add_sample(r: FrameSource, halves: HalfStreams, frame: int, half: int, stage: dict[str, float]) -> cl.Buffer:
-    """Render one frame into half buffer `half`; adds its stage times to `stage`, returns its G-buffer."""
+def _add_sample(r: FrameSource, halves: HalfStreams, frame: float, half: int, stage: dict[str, float]) -> cl.Buffer:
+    """Render one frame (at its time within the shutter) into half buffer `half`; adds its stage times to `stage`,
+    returns its G-buffer."""
     qmc = halves.qmc(half)
     if qmc is not None:
         r.qmc = qmc

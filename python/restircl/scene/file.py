@@ -63,7 +63,8 @@ def save_scene(scene: SceneParts, path: str | Path) -> None:
     }
     for i, mesh in enumerate(scene.meshes):
         meta["meshes"].append({"name": mesh.name, "lightgroup": mesh.lightgroup, **_links(mesh.linking),
-                               "attributes": list(mesh.attributes or {})})
+                               "attributes": list(mesh.attributes or {}), "holdout": bool(mesh.holdout),
+                               "camera_visible": bool(mesh.camera_visible)})
         for k, a in enumerate((mesh.attributes or {}).values()):
             arrays[f"mesh{i}_attribute{k}"] = np.asarray(a, np.float64)
         arrays[f"mesh{i}_vertices"] = mesh.vertices
@@ -87,11 +88,15 @@ def save_scene(scene: SceneParts, path: str | Path) -> None:
         c = scene.camera
         meta["camera"] = {k: getattr(c, k) for k in ("width", "height", "lens", "sensor_width", "sensor_height",
                                                      "sensor_fit", "shift_x", "shift_y", "type",
-                                                     "ortho_scale")}
+                                                     "ortho_scale", "aperture_radius", "focus_distance",
+                                                     "aperture_blades", "aperture_rotation", "aperture_ratio",
+                                                     "shutter")}
         meta["camera"]["cuts"] = list(c.cuts)
         meta["camera"]["width"] = int(c.width)
         meta["camera"]["height"] = int(c.height)
         arrays["camera_transforms"] = c.transforms
+        if c.focus_per_frame is not None:
+            arrays["camera_focus_per_frame"] = np.asarray(c.focus_per_frame, np.float64)
     arrays["meta"] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
     with open(path, "wb") as f:
         np.savez_compressed(f, **arrays)
@@ -131,7 +136,9 @@ def load_scene(path: str | Path, cls: type[S]) -> S:
                                      uvs=data.get(f"mesh{i}_uvs"), normals=data.get(f"mesh{i}_normals"),
                                      linking=Linking(**m.get("linking", {})), lightgroup=m.get("lightgroup", ""),
                                      attributes={n: data[f"mesh{i}_attribute{k}"]
-                                                 for k, n in enumerate(m.get("attributes", []))} or None))
+                                                 for k, n in enumerate(m.get("attributes", []))} or None,
+                                     holdout=bool(m.get("holdout", False)),
+                                     camera_visible=bool(m.get("camera_visible", True))))
         for i, d in enumerate(meta["lights"]):
             d = dict(d)
             d["color"] = tuple(d["color"])
@@ -141,7 +148,8 @@ def load_scene(path: str | Path, cls: type[S]) -> S:
         if meta["camera"] is not None:
             c = dict(meta["camera"])
             c["cuts"] = tuple(c.get("cuts", ()))
-            scene.camera = Camera(transforms=data["camera_transforms"], **c)
+            scene.camera = Camera(transforms=data["camera_transforms"],
+                                  focus_per_frame=data.get("camera_focus_per_frame"), **c)
         scene.environment = read_environment(meta.get("environment"), data)
         scene.light_groups = list(meta.get("light_groups", []))
     except SceneError:

@@ -48,7 +48,7 @@ class Light:
     def power_at(self, frame: int) -> float:
         if self.power_per_frame is None or len(self.power_per_frame) == 0:
             return float(self.power)
-        return float(self.power) * float(self.power_per_frame[min(frame, len(self.power_per_frame) - 1)])
+        return float(self.power) * float(self.power_per_frame[min(int(frame), len(self.power_per_frame) - 1)])
 
     def validate(self) -> None:
         """Raise SceneError naming the light and the bad field."""

@@ -26,6 +26,9 @@ class Mesh:
     pass_index: int = 0  # Object > Relations > Pass Index: the Object Index pass (render/index_passes.py)
     asset: str = ""  # the Cryptomatte asset it belongs to (Blender: the root of its parent chain); "": its own name
     attributes: dict[str, np.ndarray] | None = None  # name -> (T, 3, 4) per-corner RGBA (colour attributes)
+    holdout: bool = False  # camera rays that meet it see nothing, with alpha 0 (Blender's Holdout); other rays
+    # see it as it is
+    camera_visible: bool = True  # off: camera rays pass through it (Ray Visibility > Camera, Indirect Only)
 
     def __post_init__(self) -> None:
         self.vertices = np.asarray(self.vertices, dtype=np.float64).reshape(-1, 3)

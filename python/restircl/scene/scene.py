@@ -21,6 +21,7 @@ from ..materials.material import Material
 from .camera import Camera
 from .errors import SceneError
 from .file import load_scene, save_scene
+from .interpolation import transform_at
 from .light import Light
 from .mesh import Mesh
 
@@ -63,8 +64,9 @@ class Scene:
         ) or (self.environment is not None and self.environment.strength_per_frame is not None)
 
     @staticmethod
-    def at(transforms: np.ndarray, frame: int) -> np.ndarray:
-        return transforms[min(max(frame, 0), transforms.shape[0] - 1)]
+    def at(transforms: np.ndarray, frame: float) -> np.ndarray:
+        """The transform at `frame`; between two frames (a shutter's time) interpolated (scene/interpolation.py)."""
+        return transform_at(transforms, frame)
 
     # ---- validation --------------------------------------------------------------------------------
 

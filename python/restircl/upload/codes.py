@@ -102,7 +102,8 @@ def families() -> tuple[Family, ...]:
                kind="constants"),
         Family("per-object attribute flags (ObjectInfo)", "upload/tri_attributes.py", (
             ("OBJECT_ATTRIBUTES", tri_attributes.OBJECT_ATTRIBUTES), ("OBJECT_NORMALS", tri_attributes.OBJECT_NORMALS),
-            ("OBJECT_UVS", tri_attributes.OBJECT_UVS)), kind="flags"),
+            ("OBJECT_UVS", tri_attributes.OBJECT_UVS), ("OBJECT_HOLDOUT", tri_attributes.OBJECT_HOLDOUT),
+            ("OBJECT_CAMERA_HIDDEN", tri_attributes.OBJECT_CAMERA_HIDDEN)), kind="flags"),
         Family("reuse modes (Settings.bias_correction)", "settings/table.py BIAS_CORRECTIONS",
                _enum("BIAS_", BIAS_CORRECTIONS)),
         Family("one-sample methods of the direct pass (ShadeParams.method)", "settings/table.py SHADE_METHODS",

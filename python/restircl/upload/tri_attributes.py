@@ -13,8 +13,9 @@ from ..scene.mesh import Mesh
 from ..scene.scene import Scene, WorldTriangles
 
 #: ObjectInfo flags (OBJECT_* in opencl/codes.h): its triangles have TriAttr records; its TriAttr normals are
-#: Mesh.normals (shade smooth); it has a UV map
-OBJECT_ATTRIBUTES, OBJECT_NORMALS, OBJECT_UVS = 1, 2, 4
+#: Mesh.normals (shade smooth); it has a UV map; it is a holdout (Mesh.holdout, camera/primary.cl); the camera does
+#: not see it (Mesh.camera_visible, camera/hidden.h)
+OBJECT_ATTRIBUTES, OBJECT_NORMALS, OBJECT_UVS, OBJECT_HOLDOUT, OBJECT_CAMERA_HIDDEN = 1, 2, 4, 8, 16
 LOD_FLOOR = -60.0  # 0.5 log2 of a vanishing area ratio: the finest level, never -inf
 
 
@@ -41,6 +42,8 @@ def object_infos(scene: Scene, attributes: bool) -> np.ndarray:
         if attributes:
             flags = OBJECT_ATTRIBUTES | (OBJECT_NORMALS if mesh.normals is not None else 0)
             flags |= OBJECT_UVS if mesh.uvs is not None else 0
+        flags |= OBJECT_HOLDOUT if mesh.holdout else 0
+        flags |= 0 if mesh.camera_visible else OBJECT_CAMERA_HIDDEN
         info["gen_mid"][k, :3] = mid
         info["gen_mid"][k, 3] = L.int_bits(np.array([flags]))[0]
         info["gen_scale"][k, :3] = scale

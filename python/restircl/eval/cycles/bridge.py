@@ -157,6 +157,11 @@ def to_bpy(scene: Scene, frame: int = 0):
     cd.shift_x, cd.shift_y = float(cam.shift_x), float(cam.shift_y)
     cd.type, cd.ortho_scale = cam.type, float(cam.ortho_scale)
     cd.clip_start, cd.clip_end = 1e-3, 1e5
+    if cam.has_dof:  # the thin lens in Blender's terms (the inverse of the add-on's export/camera.py)
+        cd.dof.use_dof, cd.dof.focus_distance = True, cam.focus_at(frame)
+        cd.dof.aperture_fstop = (1.0 if cam.type == "ORTHO" else cam.lens * 1e-3) / (2.0 * cam.aperture_radius)
+        cd.dof.aperture_blades, cd.dof.aperture_rotation = int(cam.aperture_blades), float(cam.aperture_rotation)
+        cd.dof.aperture_ratio = float(cam.aperture_ratio)
     ob = bpy.data.objects.new("Camera", cd)
     sc.collection.objects.link(ob)
     ob.matrix_world = _matrix(Scene.at(cam.transforms, frame))

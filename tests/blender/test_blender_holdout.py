@@ -1,0 +1,74 @@
+"""Holdout against Cycles: the box of the comparison scene made a holdout three ways (a view layer's collection set
+to Holdout, the object's Visibility > Holdout, the Holdout shader) renders as a hole, colour and alpha 0 with the
+film opaque or transparent, while its shadow stays; the negative control leaves the box in and must fail."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+
+from restircl.eval import blender_scenes as scenes  # noqa: E402
+from restircl.eval.blender_scenes import comparison_scene  # noqa: E402
+
+from .test_blender_support import ensure_registered, needs_renderer, read_exr_passes, relmse, render_to  # noqa: E402
+
+pytestmark = [pytest.mark.blender, needs_renderer]
+
+
+def holdout_scene(how: str, transparent: bool):
+    ensure_registered()
+    sc = comparison_scene("mixed", 64, 48)
+    sc.render.film_transparent = transparent
+    box = bpy.data.objects["Box"]
+    if how == "collection":
+        col = bpy.data.collections.new("Hold")
+        sc.collection.children.link(col)
+        sc.collection.objects.unlink(box)
+        col.objects.link(box)
+        sc.view_layers[0].layer_collection.children["Hold"].holdout = True
+    elif how == "object":
+        box.is_holdout = True
+    else:
+        mat = bpy.data.materials.new("Hole")
+        mat.use_nodes = True
+        tree = mat.node_tree
+        tree.nodes.clear()
+        out = tree.nodes.new("ShaderNodeOutputMaterial")
+        tree.links.new(tree.nodes.new("ShaderNodeHoldout").outputs[0], out.inputs["Surface"])
+        box.data.materials.clear()
+        box.data.materials.append(mat)
+    return sc
+
+
+def both(tmp_path, sc) -> tuple[np.ndarray, np.ndarray]:
+    scenes.cycles_direct_only(sc, samples=256, seed=1, threads=2)
+    render_to(sc, tmp_path / "cycles.exr")
+    sc.render.engine = "RESTIRCL"
+    sc.restircl.method = "reference"
+    sc.restircl.samples = 64
+    render_to(sc, tmp_path / "ours.exr")
+    return (read_exr_passes(tmp_path / "cycles.exr")["Combined"], read_exr_passes(tmp_path / "ours.exr")["Combined"])
+
+
+@pytest.mark.parametrize(("how", "transparent"), [("collection", False), ("object", True), ("shader", False)])
+def test_holdout_agrees_with_cycles(tmp_path, how, transparent, record_property):
+    cyc, ours = both(tmp_path, holdout_scene(how, transparent))
+    hole = cyc[..., 3] < 0.5
+    assert 0.01 < hole.mean() < 0.2, "the box is not a hole in Cycles' image: nothing is tested"
+    # our alpha is the last sample's coverage (0 or 1): edge pixels may differ, no more
+    assert np.mean((ours[..., 3] == 0) != hole) < 0.02
+    assert np.all(ours[..., :3][ours[..., 3] == 0] == 0)
+    err = relmse(ours, cyc)
+    record_property("relmse", err)
+    print(f"holdout {how}: relMSE {100 * err:.3f} %")
+    assert err < 0.01
+
+
+def test_holdout_negative_control(tmp_path, monkeypatch):
+    from restircl_blender.export import holdout
+
+    monkeypatch.setattr(holdout, "mark", lambda *args: None)
+    cyc, ours = both(tmp_path, holdout_scene("collection", False))
+    assert relmse(ours, cyc) > 0.01
