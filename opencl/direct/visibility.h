@@ -39,7 +39,12 @@ inline bool visible(const __global BVHNode* nodes, const __global Tri* tris, con
     float tmax;
     uint2 blockers;
     shadow_ray(tris, s, e, &o, &d, &tmax, &blockers);
-    return !(tmax > 0.0f) || !trace_any_of(nodes, tris, o, d, tmax, blockers);
+    if (!(tmax > 0.0f)) return true;
+#ifdef HAS_TRANSPARENCY  /* trace_any passes transparent surfaces by their coverage (bvh/transparent.h); the yes/no
+                          * test of a light with linked shadows takes its blockers as opaque */
+    if (blockers.x == 0xFFFFFFFFu && blockers.y == 0xFFFFFFFFu) return !trace_any(nodes, tris, o, d, tmax);
+#endif
+    return !trace_any_of(nodes, tris, o, d, tmax, blockers);
 }
 
 /* The fraction of light sample e that reaches s: visible()'s 1 or 0; in transparent builds the product of the

@@ -301,6 +301,7 @@ def test_lights_behind_the_surface_stay_exact_zero_with_bsdf_candidates(device):
 
 PICK_SRC = BSDF_SRC + """
 #include "bvh/traverse.h"
+#include "bvh/transparent.h"
 #include "sampling/reservoir.h"
 #include "direct/target.h"
 #include "direct/visibility.h"
