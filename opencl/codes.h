@@ -208,7 +208,7 @@
 #define CAMERA_LIGHT_ROWS 7
 
 /* the per-pixel light pick (lights/pick_table.py) */
-#define PICK_TABLE_MAX   16
+#define PICK_TABLE_MAX   64
 #define PICK_TABLE_FLOOR 0.25f
 
 /* the light tree (lights/tree.py) */

@@ -18,28 +18,26 @@
 #define PICK_TABLE_ONE 65536u
 #define PICK_TABLE_POINTS 4         /* points per light of the estimate (2 x 2 strata) */
 
-/* The light of the word `bits` in row `row` of n lights, *pdf its probability. */
-inline int pick_table_light(const __global ushort* row, int n, uint bits, float* pdf)
-{
-    uint v = bits >> 16, lo = 0u;
-    for (int l = 0; l < n - 1; ++l) {
-        uint hi = (uint)row[l];
-        if (v < hi) {
-            *pdf = (float)(hi - lo) * (1.0f / 65536.0f);
-            return l;
-        }
-        lo = hi;
-    }
-    *pdf = (float)(PICK_TABLE_ONE - lo) * (1.0f / 65536.0f);
-    return n - 1;
-}
-
 /* The probability of light `light` in row `row` of n lights. */
 inline float pick_table_pdf(const __global ushort* row, int n, int light)
 {
     uint lo = light > 0 ? (uint)row[light - 1] : 0u;
     uint hi = light < n - 1 ? (uint)row[light] : PICK_TABLE_ONE;
     return (float)(hi - lo) * (1.0f / 65536.0f);
+}
+
+/* The light of the word `bits` in row `row` of n lights, *pdf its probability: the first light whose cumulative
+ * bound exceeds the word's top 16 bits (a bisection: rows are non-decreasing). */
+inline int pick_table_light(const __global ushort* row, int n, uint bits, float* pdf)
+{
+    uint v = bits >> 16;
+    int lo = 0, hi = n - 1;  /* the answer lies in [lo, hi]: light n - 1's bound is PICK_TABLE_ONE */
+    while (lo < hi) {
+        int mid = (lo + hi) >> 1;
+        if (v < (uint)row[mid]) hi = mid; else lo = mid + 1;
+    }
+    *pdf = pick_table_pdf(row, n, lo);
+    return lo;
 }
 
 #endif

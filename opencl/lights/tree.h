@@ -115,29 +115,32 @@ inline float light_tree_branch(const __global LightTreeNode* nodes, int c, float
     return clamp_f(p, LIGHT_TREE_MIN_BRANCH, 1.0f - LIGHT_TREE_MIN_BRANCH);
 }
 
-/* Descend with the random stream `state` (a fresh number per level): the light of the leaf reached, *pdf its
- * probability. memo[j] caches the branch of node j < LIGHT_TREE_MEMO at this point (negative: not yet computed):
- * the top levels are the same for every candidate of a pixel. */
-inline int light_tree_descend(const LightPick* lp, float3 x, float3 n, uint state, float* memo, float* pdf)
+/* light_tree_branch of node j's children at x, from memo[j] where j < LIGHT_TREE_MEMO (computed there the first
+ * time: the top levels are the same for every candidate of a pixel; negative: not yet computed). */
+inline float light_tree_branch_at(const LightPick* lp, int j, float3 x, float3 n, float* memo)
+{
+    if (j >= LIGHT_TREE_MEMO) return light_tree_branch(lp->nodes, 2 * j + 1, x, n);
+    if (memo[j] < 0.0f) memo[j] = light_tree_branch(lp->nodes, 2 * j + 1, x, n);
+    return memo[j];
+}
+
+/* Descend from the root: the light of the leaf reached, *pdf its probability (the product of the branches taken,
+ * as light_tree_leaf_pdf computes it). Each branch draws a fresh number from the random stream `state`, or, with
+ * `stratified`, compares the one uniform u in [0, 1) and remaps it onto [0, 1) for the next level: the stratified
+ * descent, by which the strata of a Sobol word stay strata over the leaves (a stream seeded by the word loses
+ * them). memo: light_tree_branch_at's. */
+inline int light_tree_descend(const LightPick* lp, float3 x, float3 n, uint state, float u, int stratified, float* memo,
+                              float* pdf)
 {
     int j = 0;
     float p = 1.0f;
     while (j < lp->leaves - 1) {
         int c = 2 * j + 1;
-        float p0;
-        if (j < LIGHT_TREE_MEMO) {
-            if (memo[j] < 0.0f) memo[j] = light_tree_branch(lp->nodes, c, x, n);
-            p0 = memo[j];
-        } else {
-            p0 = light_tree_branch(lp->nodes, c, x, n);
-        }
-        if (rng_next(&state) < p0) {
-            p *= p0;
-            j = c;
-        } else {
-            p *= 1.0f - p0;
-            j = c + 1;
-        }
+        float p0 = light_tree_branch_at(lp, j, x, n, memo);
+        bool first = (stratified ? u : rng_next(&state)) < p0;
+        p *= first ? p0 : 1.0f - p0;
+        j = first ? c : c + 1;
+        if (stratified) u = fmin_f(first ? u / p0 : (u - p0) / (1.0f - p0), 0x1.fffffep-1f);  /* rounding may reach 1 */
     }
     *pdf = p;
     return lp->nodes[j].meta.x;
@@ -164,18 +167,20 @@ inline float light_tree_leaf_pdf(const LightPick* lp, int leaf, float3 x, float3
 }
 
 /* A light for the random word `bits` at x: from the tree with probability p_local, else a distant one (by its
- * light-array pdf); the word seeds the descent's stream. */
-inline int light_tree_pick(const LightPick* lp, float3 x, float3 n, uint bits, float* memo, float* pdf)
+ * light-array pdf). The word seeds the descent's stream or, `stratified` (a Sobol word), is the one uniform of
+ * the stratified descent, its share below p_local the tree's, the rest the distant lights'. */
+inline int light_tree_pick(const LightPick* lp, float3 x, float3 n, uint bits, int stratified, float* memo,
+                           float* pdf)
 {
     uint state = bits;
-    float u = rng_next(&state);
+    float u = stratified ? (float)(bits >> 8) * (1.0f / 16777216.0f) : rng_next(&state);
     if (lp->distant_count == 0 || u < lp->p_local) {
         float p;
-        int light = light_tree_descend(lp, x, n, state, memo, &p);
+        int light = light_tree_descend(lp, x, n, state, fmin_f(u / lp->p_local, 0x1.fffffep-1f), stratified, memo, &p);
         *pdf = p * lp->p_local;
         return light;
     }
-    u = rng_next(&state);
+    u = stratified ? (u - lp->p_local) / (1.0f - lp->p_local) : rng_next(&state);
     int k = 0;
     while (k < lp->distant_count - 1 && !(u < as_float(lp->distant[k].y))) ++k;
     int light = lp->distant[k].x;
@@ -184,19 +189,19 @@ inline int light_tree_pick(const LightPick* lp, float3 x, float3 n, uint bits, f
 }
 
 /* The candidates' lights and pick pdfs for n random words (direct/ris.h, as light_array_lights does for slots). */
-inline void light_tree_lights(const LightPick* lp, float3 x, float3 n, const uint* bits, int count, int* light,
-                              float* pdf)
+inline void light_tree_lights(const LightPick* lp, float3 x, float3 n, const uint* bits, int count, int stratified,
+                              int* light, float* pdf)
 {
     float memo[LIGHT_TREE_MEMO];
     for (int j = 0; j < LIGHT_TREE_MEMO; ++j) memo[j] = -1.0f;
-    for (int k = 0; k < count; ++k) light[k] = light_tree_pick(lp, x, n, bits[k], memo, &pdf[k]);
+    for (int k = 0; k < count; ++k) light[k] = light_tree_pick(lp, x, n, bits[k], stratified, memo, &pdf[k]);
 }
 #endif
 
 /* The lights of `count` candidates at x (normal n) and their pick pdfs, from the tree or from the light array
- * (then bits[k] is a slot). */
-inline void light_pick_lights(const LightPick* lp, float3 x, float3 n, const uint* bits, int count, int* light,
-                              float* pdf)
+ * (then bits[k] is a slot); `stratified`: the words are Sobol words (the tree's descent keeps their strata). */
+inline void light_pick_lights(const LightPick* lp, float3 x, float3 n, const uint* bits, int count, int stratified,
+                              int* light, float* pdf)
 {
 #ifdef HAS_PICK_TABLE
     if (lp->table_n > 0) {
@@ -206,7 +211,7 @@ inline void light_pick_lights(const LightPick* lp, float3 x, float3 n, const uin
 #endif
 #ifdef HAS_LIGHT_TREE
     if (lp->tree) {
-        light_tree_lights(lp, x, n, bits, count, light, pdf);
+        light_tree_lights(lp, x, n, bits, count, stratified, light, pdf);
         return;
     }
 #endif

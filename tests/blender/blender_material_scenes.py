@@ -9,17 +9,7 @@ import bpy
 import numpy as np
 from restircl.eval import blender_scenes as scenes
 
-
-def _principled(name: str, **inputs):
-    mat = bpy.data.materials.new(name)
-    tree = mat.node_tree
-    tree.nodes.clear()
-    out = tree.nodes.new("ShaderNodeOutputMaterial")
-    p = tree.nodes.new("ShaderNodeBsdfPrincipled")
-    for k, v in inputs.items():
-        p.inputs[k].default_value = v
-    tree.links.new(p.outputs[0], out.inputs["Surface"])
-    return mat, tree, p
+_principled = scenes.principled_nodes
 
 
 def pattern_image(name: str, size: int = 64, non_color: bool = False):
@@ -60,15 +50,7 @@ def _image_node(tree, img):
     return tex
 
 
-def _object(op, name: str, mat, smooth: bool = False, **kw):
-    op(**kw)
-    ob = bpy.context.object
-    ob.name = name
-    ob.data.materials.append(mat)
-    if smooth:
-        for f in ob.data.polygons:
-            f.use_smooth = True
-    return ob
+_object = scenes.primitive
 
 
 def _sphere(name: str, mat, location, radius: float = 0.6):

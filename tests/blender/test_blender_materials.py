@@ -74,13 +74,7 @@ def warnings_of(warnings: list[str], name: str) -> list[str]:
     return [w for w in warnings if f"material {name!r}" in w]
 
 
-def principled(name: str, **inputs):
-    mat, tree, out = node_material(name)
-    p = tree.nodes.new("ShaderNodeBsdfPrincipled")
-    for k, v in inputs.items():
-        p.inputs[k].default_value = v
-    tree.links.new(p.outputs[0], out.inputs["Surface"])
-    return mat, tree, p
+principled = scenes.principled_nodes
 
 
 def test_principled_fields():

@@ -7,7 +7,7 @@ sample too, whose MIS weights take the table's pdf of the light a BSDF ray met (
 
 import numpy as np
 import pytest
-from restircl import Renderer
+from restircl import Light, Renderer, translation
 from restircl.lights.pick_table import FLOOR, MAX_LIGHTS, ONE, uses_table
 
 from .. import helpers as h
@@ -54,6 +54,7 @@ def test_applies_to_still_ris_of_few_lights_only():
     assert not uses_table("array", "ris", 7, still=True)
     assert not uses_table("auto", "ris", 7, still=False)
     assert not uses_table("auto", "restir", 7, still=True)
+    assert uses_table("auto", "ris", 64, still=True) and not uses_table("auto", "ris", 65, still=True)
     assert not uses_table("auto", "ris", MAX_LIGHTS + 1, still=True)
     assert not uses_table("auto", "ris", 1, still=True)
 
@@ -79,6 +80,34 @@ def test_ris_with_the_table_matches_reference(device, reference, extra):
     samples, _ = collect_with_table(h.mixed_lights_scene(W, H), s, frames, device)
     assert np.all(np.isfinite(samples))
     h.assert_mean_equals_reference(samples, reference, batches, f"table {extra}")
+
+
+def many_lights_scene():
+    """mixed_lights with 36 more small point lights over the floor (49 light records: above the old cap of 16)."""
+    scene = h.mixed_lights_scene(W, H)
+    rng = np.random.default_rng(4)
+    for k in range(36):
+        x, y = rng.uniform(-1.8, 1.8, 2)
+        scene.lights.append(Light(f"extra{k}", "point", tuple(rng.uniform(0.3, 1.0, 3)), float(10 ** rng.uniform(0, 2)),
+                                  translation(float(x), float(y), float(rng.uniform(0.1, 1.5))), radius=0.02 * (k % 2)))
+    return scene.validate()
+
+
+def test_ris_with_a_table_of_many_lights_matches_reference(device, reference_samples):
+    """A row of 49 lights (the bisection of pick_table_light over a long row; the table kernel's arrays) is a
+    distribution with the floor, and RIS over its candidates is unbiased."""
+    frames, batches = SIZES["quick"]
+    scene = many_lights_scene()
+    ref = reference_samples(scene, h.Settings(method="reference", seed=101, jitter=False), frames)
+    s = h.Settings(method="ris", candidates=2, seed=9, jitter=False, sampler="random")
+    samples, r = collect_with_table(scene, s, frames, device)
+    n = len(r.lights.power)
+    assert 16 < n <= MAX_LIGHTS
+    p = r.pick_table.read(n)
+    emits = r.light_array.pdf > 0
+    assert np.allclose(p.sum(axis=1), 1.0, atol=0)
+    assert np.all(p[:, emits] >= FLOOR * r.light_array.pdf[emits] - 2.0 / ONE)
+    h.assert_mean_equals_reference(samples, ref, batches, "table of 49 lights")
 
 
 def test_the_harness_rejects_a_wrong_pdf(device, reference, monkeypatch):

@@ -36,7 +36,7 @@ __kernel void tree_picks(const __global LightTreeNode* nodes, const __global int
         uint bits = rng_next_uint(&rng);
         int light;
         float p;
-        light_pick_lights(&lp, x.xyz, n.xyz, &bits, 1, &light, &p);
+        light_pick_lights(&lp, x.xyz, n.xyz, &bits, 1, 0, &light, &p);
         atomic_inc(&counts[light]);
         float q = light_pick_pdf(&lp, light, x.xyz, n.xyz);
         worst = fmax(worst, fabs(p - q) / q);

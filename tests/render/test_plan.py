@@ -98,7 +98,8 @@ def test_pick_table_only_for_still_ris_frames_of_a_few_lights():
     assert plan(still, method="ris").pick_table
     assert plan(still, method="ris", light_proposal="pixel").pick_table
     assert not plan(still, method="ris", light_proposal="array").pick_table
-    assert not plan(replace(still, light_count=17), method="ris").pick_table  # more than 16 lights
+    assert plan(replace(still, light_count=64), method="ris").pick_table
+    assert not plan(replace(still, light_count=65), method="ris").pick_table  # more than 64 lights
     assert not plan(replace(still, light_count=1), method="ris").pick_table
     assert not plan(still, method="restir").pick_table
     assert not plan(replace(still, pick_table=False), method="ris").pick_table  # not compiled in / not a still

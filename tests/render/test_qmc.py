@@ -286,7 +286,10 @@ def sobol_problems(runs: np.ndarray, reference: np.ndarray) -> list[str]:
     return problems
 
 
-@pytest.mark.parametrize("extra", [{}, {"bsdf_sampling": "on"}, {"candidates": 9}, {"bsdf_mis_sample": True}])
+# light_proposal tree: the tree's stratified descent of a Sobol word (lights/tree.h light_tree_descend), its
+# pdf the one light_pick_pdf gives the MIS weights of the BSDF candidates
+@pytest.mark.parametrize("extra", [{}, {"bsdf_sampling": "on"}, {"candidates": 9}, {"bsdf_mis_sample": True},
+                                   {"light_proposal": "tree"}, {"light_proposal": "tree", "bsdf_sampling": "on"}])
 def test_sobol_ris_mean_equals_reference(device, reference, extra):
     # RUNS runs of 32 frames are independent (own keys); their means are compared with the exhaustive reference
     s = Settings(**{"method": "ris", "sampler": "sobol", "candidates": 4, "jitter": False, **extra})

@@ -12,7 +12,9 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     c = sub.add_parser("compare", help="ours against Cycles at equal wall time on the tuning scenes (needs bpy)",
                        description="Render the tuning scenes (studio, neon, garden; sky, an HDRI world, with "
                                    "--kinds; the validation scenes interior, outdoor and gallery and the tuning "
-                                   "scenes of global illumination gi_tuning_room and gi_tuning_yard) with Cycles "
+                                   "scenes of global illumination gi_tuning_room and gi_tuning_yard; user, a typical "
+                                   "user's glossy, textured scene under an HDRI with 43 lights, built in Blender "
+                                   "and exported by the add-on, a validation kind) with Cycles "
                                    "(direct light only, or --max-bounces) and our methods (default: ReSTIR as "
                                    "for an animation; auto: F12's still estimator; ris and the other still "
                                    "candidates of eval/cycles_compare.OURS) for each wall-time budget, and "
@@ -20,8 +22,8 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
                                    "plot.")
     c.add_argument("--kinds", default="studio,neon,garden",
                    help="tuning kinds (studio, neon, garden, sky), the validation kinds (interior, outdoor: global "
-                        "illumination; gallery: direct light) and the tuning kinds of global illumination "
-                        "(gi_tuning_room, gi_tuning_yard) (%(default)s)")
+                        "illumination; gallery, user: direct light) and the tuning kinds of global "
+                        "illumination (gi_tuning_room, gi_tuning_yard) (%(default)s)")
     c.add_argument("--methods", default="cycles,default,auto,ris")
     c.add_argument("--budgets", type=POSITIVE.parse_list, default="1,4,16", help="seconds (%(default)s)")
     c.add_argument("--reps", type=COUNT, default=3, help="repetitions of every budget (%(default)s)")

@@ -94,7 +94,31 @@ def principled_material(name: str, base=(0.8, 0.8, 0.8), emission=(0.0, 0.0, 0.0
     return mat
 
 
+def principled_nodes(name: str, **inputs) -> tuple[bpy.types.Material, bpy.types.NodeTree, bpy.types.Node]:
+    """A material of one Principled BSDF with these inputs (socket name: value): (material, tree, the BSDF node),
+    for linking textures into its sockets."""
+    mat, tree, out = _material(name)
+    p = tree.nodes.new("ShaderNodeBsdfPrincipled")
+    for k, v in inputs.items():
+        p.inputs[k].default_value = v
+    tree.links.new(p.outputs[0], out.inputs["Surface"])
+    return mat, tree, p
+
+
 # ---- objects ------------------------------------------------------------------------------------------
+
+
+def primitive(op, name: str, mat, smooth: bool = False, **kw) -> bpy.types.Object:
+    """An object made by one of bpy.ops.mesh's primitive operators, as a user adds one (with its UVs), named, with
+    material `mat` and, with smooth, smooth shading."""
+    op(**kw)
+    ob = bpy.context.object
+    ob.name = name
+    ob.data.materials.append(mat)
+    if smooth:
+        for f in ob.data.polygons:
+            f.use_smooth = True
+    return ob
 
 
 def link(ob: bpy.types.Object, collection: bpy.types.Collection | None = None) -> bpy.types.Object:

@@ -12,8 +12,11 @@ import pyopencl as cl
 from ..core.buffers import alloc
 from ..core.kernels import Kernels
 
-#: lights/pick_table.h PICK_TABLE_MAX: a row covers at most this many lights (memory: 2 (n - 1) bytes per pixel)
-MAX_LIGHTS = 16
+#: lights/pick_table.h PICK_TABLE_MAX: a row covers at most this many lights (memory: 2 (n - 1) bytes per pixel, 126
+#: at 64: 261 MB at 1920 x 1080). Above 16 lights the candidates came from the light array until the tuning garden
+#: with 24, 48 and 64 lights measured the table 0.79, 0.68 and 0.37x the array's relMSE x CPU seconds at 64 frames
+#: (docs/measurements/error-vs-time.md, "The per-pixel light pick up to 64 lights")
+MAX_LIGHTS = 64
 #: lights/pick_table.h PICK_TABLE_FLOOR: the light array's share of every probability
 FLOOR = 0.25
 ONE = 65536

@@ -210,8 +210,11 @@ def tree_pays(types: np.ndarray) -> bool:
     """light_proposal="auto": whether the tree beats the light array at equal time for lights of these types.
     Not yet anywhere measured: on the 2-core CPU (PoCL) a tree candidate halved RIS's per-frame error on the
     tuning garden (300 point lights) but cost 2.5-4x an array candidate, and gave 10 % on neon; at equal time the
-    array won on both (docs/measurements/benchmarks.md, "Light tree"). So auto keeps the array until a device measures
-    otherwise."""
+    array won on both (docs/measurements/benchmarks.md, "Light tree"). On few lights stills pick from the per-pixel
+    table (lights/pick_table.py, up to 64 lights), a better proposal than the tree's bound, and on studio the tree's
+    candidates proposed worse than the array's even with the stratified descent of Sobol words
+    (docs/measurements/error-vs-time.md, "Few lights, one factor at a time"). So auto keeps the array until a device
+    measures otherwise."""
     return False
 
 

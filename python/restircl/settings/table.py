@@ -66,13 +66,13 @@ PATH_LIGHT_PICK_CHOICES = (
 )
 
 LIGHT_PROPOSAL_CHOICES = (
-    Choice("auto", "Auto", "Still RIS renders of at most 16 lights: the per-pixel table (it measured better than "
+    Choice("auto", "Auto", "Still RIS renders of at most 64 lights: the per-pixel table (it measured better than "
            "the light array at equal time there); else the light tree where it measured better than the light "
            "array (so far nowhere on the CPU), else the light array", 0),
     Choice("array", "Light Array", "Candidates from the power-proportional light array (O(1) per candidate)", 1),
     Choice("tree", "Light Tree", "Candidates from the light tree: picked by power, distance and orientation at each "
            "shading point (a descent per candidate)", 2),
-    Choice("pixel", "Per-Pixel Table", "Still RIS renders of at most 16 lights: candidates picked by each pixel's own "
+    Choice("pixel", "Per-Pixel Table", "Still RIS renders of at most 64 lights: candidates picked by each pixel's own "
            "probabilities, from every light's unshadowed contribution estimated once per render; else the light "
            "array", 3),
 )

@@ -32,7 +32,8 @@ from __future__ import annotations
 import hashlib
 import json
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -44,6 +45,7 @@ from ...scene.scene import Scene
 from ...settings.table import Settings
 from ..metrics import rel_mse
 from ..report.reference import default_cache_dir, get_reference, scene_digest
+from ..scenes import user_scene
 from ..scenes.held_out import HEIGHT, KINDS, WIDTH
 from ..scenes.kinds import scene_of_kind
 from . import bridge as cycles
@@ -86,12 +88,22 @@ OURS: dict[str, dict] = {
     "ris_tree": {"method": "ris", "light_proposal": "tree"},
     # F12's still path with NEE at path vertices from the light array (the bounced light's pick before the tree)
     "auto_path_array": {"path_light_pick": "array"},
+    # the factors in which Cycles' direct light differs from F12's still path on few lights, one at a time: the
+    # light tree as the candidates' proposal (Cycles samples its tree), a BSDF sample of its own shadow ray combined
+    # with the light sample by MIS (Cycles' light and BSDF sampling), solid-angle sampling of every area light
+    "auto_tree": {"light_proposal": "tree"},
+    "auto_mis": {"bsdf_mis_sample": True},
 }
+#: Cycles as the timed renders' opponent, and with one of its own factors switched off (the scene's Cycles settings
+#: changed for its renders): its light tree, which also splits a light sample into several where the tree's
+#: importance bound is loose
+CYCLES: dict[str, dict] = {"cycles": {}, "cycles_no_tree": {"use_light_tree": False}}
 #: our methods whose settings go through still_settings, as F12's and the CLI's still renders do
-STILL_PATH = ("auto", "auto_random", "auto_array", "auto_solid", "auto_solid_near", "auto_path_array")
+STILL_PATH = ("auto", "auto_random", "auto_array", "auto_solid", "auto_solid_near", "auto_path_array", "auto_tree",
+              "auto_mis")
 #: what a comparison runs unless told otherwise; any of OURS may be named
 METHODS = ("cycles", "default", "auto", "ris")
-ALL_METHODS = ("cycles", *OURS)
+ALL_METHODS = (*CYCLES, *OURS)
 CALIBRATION_SPP = 16
 
 
@@ -213,6 +225,19 @@ def time_cycles(bpy_scene, budget: float, calibration: dict, seed: int, threads:
     return res.image, res.total_seconds, spp
 
 
+@contextmanager
+def cycles_variant(sc, method: str) -> Iterator[None]:
+    """Scene sc's Cycles settings as the Cycles method `method` (CYCLES) has them, restored afterwards."""
+    old = {k: getattr(sc.cycles, k) for k in CYCLES[method]}
+    for k, v in CYCLES[method].items():
+        setattr(sc.cycles, k, v)
+    try:
+        yield
+    finally:
+        for k, v in old.items():
+            setattr(sc.cycles, k, v)
+
+
 def ours_settings(method: str, scene: Scene, paths: LightPaths = DIRECT) -> Settings:
     """The settings of one of our methods (OURS) for `scene`, with the Light Paths `paths`."""
     s = Settings(**OURS[method], **paths.overrides()).validate()
@@ -230,6 +255,15 @@ def time_ours(scene: Scene, settings: Settings, budget: float, device=None) -> t
     return img, time.perf_counter() - t0, setup, int(out.samples)
 
 
+def scene_pair(kind: str, width: int, height: int) -> tuple[Scene, object]:
+    """(restircl Scene, bpy scene) of `kind`: a kind built in Blender (user_scene.py) as it is and as the add-on
+    exports it; any other written to bpy from our Scene."""
+    if kind in user_scene.KINDS:
+        return user_scene.user_scene(width, height)
+    scene = scene_of_kind(kind, width, height)
+    return scene, cycles.to_bpy(scene)
+
+
 def run_kind(kind: str, budgets=BUDGETS, reps: int = 3, methods=METHODS, width: int | None = None,
              height: int | None = None, reference_spp: int = REFERENCE_SPP, threads: int = 2, device=None,
              cache_dir: Path | None = None, agreement_seconds: float = 60.0, cycles_world_map: int = 0,
@@ -238,24 +272,30 @@ def run_kind(kind: str, budgets=BUDGETS, reps: int = 3, methods=METHODS, width: 
     so a change of the machine's load spreads over all of them), every render with the Light Paths `paths`.
     cycles_world_map: the timed Cycles renders' world importance map (cycles_world.set_world_map: 0 = Blender's
     default; the reference keeps the default)."""
-    scene = scene_of_kind(kind, width or WIDTH, height or HEIGHT)
-    sc = cycles.to_bpy(scene)
+    scene, sc = scene_pair(kind, width or WIDTH, height or HEIGHT)
     ref = cycles_reference(kind, scene, sc, reference_spp, threads, cache_dir, log, paths)
     agree = agreement(scene, ref, device, agreement_seconds, cache_dir, log, paths)
     log(f"{kind}: ours converged against Cycles: relMSE {agree['rel_mse']:.2e}, sum ratio {agree['sum_ratio']:.4f}")
     result = KindResult(kind, ref, agree)
     set_world_map(sc, cycles_world_map)
-    if "cycles" in methods:
-        result.cycles_calibration = calibrate_cycles(sc, threads, paths)
+    calibration = {}
+    for m in (m for m in methods if m in CYCLES):
+        with cycles_variant(sc, m):
+            calibration[m] = calibrate_cycles(sc, threads, paths)
+    if calibration:
+        result.cycles_calibration = dict(calibration.get("cycles", {}))
+        result.cycles_calibration.update({f"{m} {k}": v for m in calibration if m != "cycles"
+                                          for k, v in calibration[m].items()})
     settings = {m: ours_settings(m, scene, paths) for m in methods if m in OURS}
     for s in settings.values():  # compile the kernels once (F12 after the first)
         Renderer(scene, s, device).render_still(0, 2)
     for rep in range(reps):
         for budget in budgets:
             for m in methods:
-                if m == "cycles":
-                    cal = result.cycles_calibration
-                    img, secs, spp = time_cycles(sc, budget, cal, seed=1000 + rep, threads=threads, paths=paths)
+                if m in CYCLES:
+                    cal = calibration[m]
+                    with cycles_variant(sc, m):
+                        img, secs, spp = time_cycles(sc, budget, cal, seed=1000 + rep, threads=threads, paths=paths)
                     setup = cal["fixed_seconds"]
                 else:
                     settings[m].seed = 1000 + rep
@@ -274,14 +314,14 @@ def equal_samples(kind: str, samples: int = 64, methods=METHODS, width: int | No
     """Every method at the same number of samples (Cycles spp, our frames): {method: {rel_mse, seconds}}. The error
     at equal samples does not depend on the machine's load, and the seconds per sample measured in the same run
     give the cost side: together they separate the estimator from the speed. Needs the cached reference."""
-    scene = scene_of_kind(kind, width or WIDTH, height or HEIGHT)
-    sc = cycles.to_bpy(scene)
+    scene, sc = scene_pair(kind, width or WIDTH, height or HEIGHT)
     ref = cycles_reference(kind, scene, sc, reference_spp, threads, cache_dir, log, paths)
     out = {}
     for m in methods:
-        if m == "cycles":
-            cycles.render(sc, samples=1, threads=threads, paths=paths.cycles())
-            res = cycles.render(sc, samples=samples, seed=7, threads=threads, paths=paths.cycles())
+        if m in CYCLES:
+            with cycles_variant(sc, m):
+                cycles.render(sc, samples=1, threads=threads, paths=paths.cycles())
+                res = cycles.render(sc, samples=samples, seed=7, threads=threads, paths=paths.cycles())
             img, secs = res.image, res.total_seconds
         else:
             r = Renderer(scene, replace(ours_settings(m, scene, paths), seed=7), device)
@@ -298,6 +338,6 @@ def run(kinds=KINDS, **kwargs) -> list[KindResult]:
     return [run_kind(k, **kwargs) for k in kinds]
 
 
-__all__ = ["ALL_METHODS", "BUDGETS", "METHODS", "OURS", "OVER_BUDGET", "STILL_PATH", "CyclesReference", "KindResult",
-           "Row", "agreement", "calibrate_cycles", "cycles_reference", "equal_samples", "halves_rel_mse",
-           "ours_settings", "run", "run_kind", "time_cycles", "time_ours"]
+__all__ = ["ALL_METHODS", "BUDGETS", "CYCLES", "METHODS", "OURS", "OVER_BUDGET", "STILL_PATH", "CyclesReference",
+           "KindResult", "Row", "agreement", "calibrate_cycles", "cycles_reference", "cycles_variant", "equal_samples",
+           "halves_rel_mse", "ours_settings", "run", "run_kind", "scene_pair", "time_cycles", "time_ours"]
