@@ -85,6 +85,8 @@ def _image(name: str, px: np.ndarray, non_color: bool):
 def _source_material(name: str):
     """The material as an artist sets it up for the glTF exporter (images, Separate Color, occlusion group)."""
     mat = bpy.data.materials.new(name)
+    if mat.node_tree is None:  # Blender before 5.0 makes a new material without a node tree
+        mat.use_nodes = True
     tree = mat.node_tree
     p = tree.nodes["Principled BSDF"]
 

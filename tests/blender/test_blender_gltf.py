@@ -86,47 +86,124 @@ def _noise_material(name: str):
     return mat
 
 
-@pytest.mark.parametrize("case", ["no UV map", "zero-area UV map"])
-def test_a_failed_bake_is_reported_and_the_value_used(case):
-    """A bake that cannot write a texel is said in the export's warnings (Blender's report), never a silent zero."""
+# UVs per corner of the plane's one quad: all on one point (Blender 4.2 and 5.0 bake zeros there, 5.3 one texel's value
+# spread by the bake's margin over most of the image), all on one line (5.3 bakes an image that varies), and a good map
+# of little area: two corners on one UV, the quad a triangle of area 1/4 (the plane's own map is the whole square)
+UV_MAPS = {"zero-area UV map": [(0.25, 0.25)] * 4, "UV map on a line": [(0.1, 0.5), (0.9, 0.5), (0.7, 0.5), (0.2, 0.5)],
+           "folded UV map": [(0.0, 0.0), (1.0, 0.0), (0.5, 0.5), (0.0, 0.0)]}
+
+
+def _noisy_plane(case: str):
+    """A plane of a material that bakes (a Noise Texture on Roughness), with the UV map of `case` (or none)."""
     from .test_blender_export_textures import plane
+
+    ob = plane(_noise_material("Noisy"), uv=case != "no UV map")
+    if case in UV_MAPS:
+        for loop, uv in zip(ob.data.uv_layers[0].data, UV_MAPS[case], strict=True):
+            loop.uv = uv
+    return ob
+
+
+def _failure(case: str) -> str:
+    return "needs a UV map" if case == "no UV map" else \
+        "failed: the UV map 'UVMap' of object 'Plane' has zero area on the faces of material 'Noisy'"
+
+
+@pytest.mark.parametrize("case", ["no UV map", "zero-area UV map", "UV map on a line"])
+def test_a_failed_bake_is_reported_and_the_value_used(case):
+    """A bake that cannot write a texel is said in the export's warnings (Blender's report), never a silent zero:
+    a zero-area UV map is told from the mesh before the bake, the same on every Blender."""
     from .test_blender_materials import export, warnings_of
 
     fresh_scene()
-    ob = plane(_noise_material("Noisy"), uv=case != "no UV map")
-    if case == "zero-area UV map":
-        uv = ob.data.uv_layers[0].data
-        for loop in uv:
-            loop.uv = (0.5, 0.5)
+    _noisy_plane(case)
     exp = export(bake_resolution=16)
     m = next(m for m in exp.scene.materials if m.name == "Noisy")
     assert m.roughness == pytest.approx(0.5)  # the Principled BSDF's own Roughness, as the warning says
     mine = warnings_of(exp.warnings, "Noisy")
-    # a zero-area UV map bakes to zeros in Blender 5.0 and to the one value at that UV point in 5.3: both are failures
-    wants = ("needs a UV map",) if case == "no UV map" else ("failed: the baked 16x16 image is all zero",
-                                                            "failed: the baked image is one value")
-    assert any(any(x in w for x in wants) and "Noise Texture" in w and "the input's value is used" in w
-               for w in mine), mine
+    assert any(_failure(case) in w and "Noise Texture" in w and "the input's value is used" in w for w in mine), mine
 
 
-@pytest.mark.xfail(bpy.app.version >= (5, 1, 0), strict=False,
-                   reason="Blender 5.3 bakes this zero-area UV map (at a texel corner) to an image that passes the "
-                          "check; the export's own check of a zero-area map (above) reports it")
-def test_the_report_of_a_failed_bake_reaches_blender(tmp_path, monkeypatch):
-    """F12 of a scene whose bake fails: the engine reports the failure (RenderEngine.report) and renders."""
-    from .test_blender_export_textures import plane
+@pytest.mark.parametrize("case", ["folded UV map", "plane's own UV map"])
+def test_a_bake_on_a_good_uv_map_is_not_reported(case):
+    """The control of the test above: a UV map of some area (a quarter of the square, or all of it) bakes the noise,
+    and nothing says it failed."""
+    from restircl import ImageTexture
+
+    from .test_blender_materials import export, warnings_of
+
+    fresh_scene()
+    _noisy_plane(case)
+    exp = export(bake_resolution=16)
+    m = next(m for m in exp.scene.materials if m.name == "Noisy")
+    assert isinstance(m.roughness, ImageTexture), m.roughness
+    baked = np.asarray(m.roughness.image)
+    assert np.ptp(baked) > 0.05, "the noise baked to one value"
+    mine = warnings_of(exp.warnings, "Noisy")
+    assert not any("fail" in w or "zero" in w or "input's value" in w for w in mine), mine
+    assert any("baked to images" in w and "Noise Texture" in w for w in mine), mine
+
+
+def test_the_check_of_a_baked_image():
+    """All zero, one value, or one value and zeros (Blender 5.3's bake of a zero-area UV map: one texel spread by
+    the margin) while a texture feeds the graph are failures; an image that varies, also beside zeros, is not, nor
+    is one value that no texture feeds."""
+    from restircl_blender.export.bake import bake_failure
+
+    fresh_scene()
+    tree = _noise_material("Noisy").node_tree
+    noise = tree.nodes["Noise Texture"]
+    value = tree.nodes.new("ShaderNodeMath")
+    zeros = np.zeros((4, 4), np.float32)
+    spread = zeros.copy()
+    spread[:, :3] = 0.43
+    ramp = np.linspace(0.0, 1.0, 16, dtype=np.float32).reshape(4, 4)
+    assert "is all zero" in bake_failure(zeros, noise)
+    assert "one value (0.5) while" in bake_failure(zeros + 0.5, noise)
+    assert "one value (0.43) on the 12 texels not zero" in bake_failure(spread, noise)
+    assert "one value (0.43) on the 12 texels not zero" in bake_failure(np.dstack([spread, spread, zeros]), noise)
+    assert "NaN" in bake_failure(np.where(spread > 0, np.nan, 0.0), noise)
+    assert bake_failure(ramp, noise) == "" and bake_failure(np.where(spread > 0, ramp, 0.0), noise) == ""
+    assert bake_failure(np.dstack([spread, ramp, zeros]), noise) == ""
+    assert bake_failure(zeros + 0.5, value) == "" and bake_failure(spread, value) == ""
+
+
+@pytest.mark.parametrize(("case", "area"), [("plane's own UV map", 1.0), ("folded UV map", 0.25),
+                                            ("zero-area UV map", 0.0), ("UV map on a line", 0.0)])
+def test_the_uv_area_of_a_material(case, area):
+    """The UV area the bake check measures, against the areas of the maps above worked out by hand; faces of another
+    material slot do not count."""
+    from restircl_blender.export.bake_uv import uv_area
+
+    fresh_scene()
+    ob = _noisy_plane(case)
+    mesh = ob.data
+    assert uv_area(mesh, mesh.uv_layers[0], [0], 1) == pytest.approx(area, abs=1e-6)
+    ob.data.materials.append(_noise_material("Other"))
+    mesh.polygons[0].material_index = 1
+    assert uv_area(mesh, mesh.uv_layers[0], [0], 2) is None
+    assert uv_area(mesh, mesh.uv_layers[0], [1], 2) == pytest.approx(area, abs=1e-6)
+
+
+@pytest.mark.parametrize("case", ["zero-area UV map", "plane's own UV map"])
+def test_the_report_of_a_failed_bake_reaches_blender(tmp_path, monkeypatch, case):
+    """F12 of a scene whose bake fails: the engine reports the failure (RenderEngine.report) and renders; with a
+    good UV map it reports the bake and no failure."""
     from .test_blender_support import record_engine, render_to
 
     sc = fresh_scene()
-    ob = plane(_noise_material("Noisy"))
-    for loop in ob.data.uv_layers[0].data:
-        loop.uv = (0.25, 0.25)
+    _noisy_plane(case)
     sc.render.engine = "RESTIRCL"
     sc.restircl.bake_resolution = 16
     sc.restircl.samples = 1
     reports, _stats = record_engine(monkeypatch)
     render_to(sc, tmp_path / "out.exr")
-    assert any("Noise Texture" in r and "failed" in r and "all zero" in r for r in reports), reports
+    assert (tmp_path / "out.exr").stat().st_size > 0
+    failed = [r for r in reports if "Noise Texture" in r and "failed" in r]
+    if case == "zero-area UV map":
+        assert any(_failure(case) in r for r in failed), reports
+    else:
+        assert not failed and any("baked to images" in r and "Noise Texture" in r for r in reports), reports
 
 
 @pytest.mark.slow

@@ -33,6 +33,8 @@ def export(**kw):
 
 def node_material(name: str):
     mat = bpy.data.materials.new(name)
+    if mat.node_tree is None:  # Blender before 5.0 makes a new material without a node tree
+        mat.use_nodes = True
     tree = mat.node_tree
     tree.nodes.clear()
     return mat, tree, tree.nodes.new("ShaderNodeOutputMaterial")

@@ -1,15 +1,20 @@
 """Baking a node graph the renderer does not evaluate (a Noise Texture, a Color Ramp, ...) to an image, through
 Cycles' own bake: the socket that feeds the input is wired for a moment into an Emission shader on the Material
 Output, and an Emit bake on the object's UV map writes what it outputs into a float image (what glTF exporters
-do). Everything is put back afterwards, also when the bake fails. Every baked image is checked: all zero, or one
-value where a texture feeds the graph, is a failed bake (no texel of the object's UV map was written: a zero-area or
-missing UV map, faces outside it). A failure is a note in the export's warnings, which Blender's report shows, and the
+do). Everything is put back afterwards, also when the bake fails. A UV map of zero area on the material's faces is a
+failed bake told before baking, from the mesh (bake_uv.py: what Blender writes into such an image differs between
+releases). Every baked image is checked: all zero, or one value (but for texels left zero) where a texture feeds the
+graph, is a failed bake (no texel of the object's UV map was written, or one spread by the bake's margin: a missing
+UV map, faces outside it). A failure is a note in the export's warnings, which Blender's report shows, and the
 input's own value is used."""
 
 from __future__ import annotations
 
+from functools import cached_property
+
 import numpy as np
 
+from .bake_uv import zero_uv_area
 from .nodes import Source, find_input, output_node
 from .notes import Notes
 
@@ -26,9 +31,18 @@ class Baker:
         self.notes = notes
         self.count = 0
 
+    @cached_property
+    def no_texels(self) -> str:
+        """Why the object's UV map leaves the bake nothing to write ("" when it does not)."""
+        return zero_uv_area(self.ob, self.mat, self.size)
+
     def __call__(self, src: Source, want: str):
         from restircl import ImageTexture
 
+        if self.no_texels:
+            self.notes.note(f"baking {src.label()} {src.node.name!r} failed: {self.no_texels}; the input's value is "
+                            "used")
+            return None
         try:
             pixels = bake_socket(self.mat, self.ob, _original_socket(self.mat, src), self.size)
         except (RuntimeError, ValueError, TypeError, KeyError) as e:
@@ -46,15 +60,18 @@ class Baker:
 
 
 def bake_failure(image: np.ndarray, node) -> str:
-    """Why a baked image cannot be what the graph gives ("" when it may be): all zero, or constant while a texture
-    node feeds the graph."""
+    """Why a baked image cannot be what the graph gives ("" when it may be): all zero, or constant (but for texels
+    left zero) while a texture node feeds the graph."""
     if not np.all(np.isfinite(image)):
         return "the baked image holds NaN or infinite texels"
     if not np.any(image):
         return (f"the baked {image.shape[1]}x{image.shape[0]} image is all zero (does the object's UV map cover "
                 "an area?)")
-    if float(image.max() - image.min()) <= 1e-6 and _has_texture(node):
-        return f"the baked image is one value ({float(image.flat[0]):g}) while a texture feeds it"
+    texels = image.reshape(-1, image.shape[-1] if image.ndim == 3 else 1)
+    written = texels[np.any(texels != 0, axis=1)]  # a bake margin spreads one texel's value over the unwritten zeros
+    if float(np.ptp(written, axis=0).max()) <= 1e-6 and _has_texture(node):
+        where = "" if len(written) == len(texels) else f" on the {len(written)} texels not zero"
+        return f"the baked image is one value ({float(written.flat[0]):g}){where} while a texture feeds it"
     return ""
 
 
