@@ -1,13 +1,15 @@
 """Every scene kind `restircl compare` renders, by name: the tuning kinds (held_out.py, gi_tuning.py for global
 illumination), the validation kinds of global illumination (validation.py) and of direct light
-(validation_direct.py), and the glass table of issue 39 (glass.py)."""
+(validation_direct.py), the glass table of issue 39 (glass.py) and its lights
+inside glass globes (glass_globe.py)."""
 
 from __future__ import annotations
 
 from ...scene.scene import Scene
-from . import gi_tuning, glass, held_out, validation, validation_direct
+from . import gi_tuning, glass, glass_globe, held_out, validation, validation_direct
 
 KINDS = held_out.KINDS + validation.KINDS + validation_direct.KINDS + gi_tuning.KINDS + glass.KINDS
+KINDS += glass_globe.KINDS
 
 
 def scene_of_kind(kind: str, width: int = held_out.WIDTH, height: int = held_out.HEIGHT) -> Scene:
@@ -22,4 +24,6 @@ def scene_of_kind(kind: str, width: int = held_out.WIDTH, height: int = held_out
         return validation_direct.validation_direct(kind, width, height)
     if kind in glass.KINDS:
         return glass.glass_table(width, height)
+    if kind in glass_globe.KINDS:
+        return glass_globe.glass_globe(kind, width, height)
     raise ValueError(f"no scene kind {kind!r}; kinds: {', '.join(KINDS)}")
