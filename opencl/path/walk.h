@@ -89,6 +89,15 @@ inline float3 path_walk(const PathScene* ps, PathState* st, uint* rng, const Qmc
     const PathParams* p = ps->params;
     const bool nee = p->sampler.light_count > 0;
     float3 L = (float3)(0.0f);
+#ifdef HAS_TRANSMISSION
+    /* The emitters the first ray meets are the direct estimator's (its BSDF candidates'); where the primary hit is
+     * smooth glass and the method draws no BSDF candidates there (reference, uniform, light array, bsdf_sampling
+     * off), no light sample reaches them either, so the path counts them (weight 1: p_light is 0 at singular s). */
+    const bool first_uncounted = st->bounces == 0 && surface_is_singular(&st->s)
+                                 && bsdf_source_at(&st->s, ps->hits).count == 0;
+#else
+    const bool first_uncounted = false;
+#endif
     while (st->s.valid) {
         float u0 = rng_next(rng), u1 = rng_next(rng), u_rr = rng_next(rng);
         if (q->on) {
@@ -132,7 +141,7 @@ inline float3 path_walk(const PathScene* ps, PathState* st, uint* rng, const Qmc
         last = last || st->transmission > p->max_transmission;
 #endif
         Hit h = trace_closest(ps->nodes, ps->sc->tris, path_ray_origin(ps->sc->tris, &st->s, wi), wi, INFINITY);
-        if (st->bounces > 1 && nee) {
+        if ((st->bounces > 1 || first_uncounted) && nee) {
             GroupLight eg;  /* each emitter's share, scaled as the sum is clamped */
             group_light_clear(&eg);
             float3 em = T_before * path_emitters(&st->s, wi, h, ps->lights, ps->tri_light, ps->lp, ps->hits, &eg);

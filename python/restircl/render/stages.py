@@ -324,7 +324,10 @@ def path_params(scene: DeviceScene, settings: Settings, plan: FramePlan) -> np.v
     sampler = L.pack(L.SAMPLER_PARAMS, light_count=scene.sampled_light_count, slot_count=scene.light_array.slot_count,
                      light_tree=int(tree is not None), tree_leaves=tree.leaves if tree else 0,
                      tree_distant=tree.distant_count if tree else 0, tree_p_local=tree.p_local if tree else 1.0,
-                     bsdf_analytic=plan.path_analytic, bsdf_triangles=int(plan.path_triangles))
+                     bsdf_analytic=plan.path_analytic, bsdf_triangles=int(plan.path_triangles),
+                     # the direct estimator's BSDF candidates: the walk counts the first ray's emitters at smooth
+                     # glass where it drew none (path/walk.h); paths read no other use of them
+                     bsdf_candidates=plan.bsdf_candidates, bsdf_glossy_only=int(plan.bsdf_glossy_only))
     return L.pack(L.PATH_PARAMS, sampler=sampler, max_bounces=s.max_bounces, max_diffuse=s.diffuse_bounces,
                   max_glossy=s.glossy_bounces, min_bounces=s.min_light_bounces, clamp_indirect=s.clamp_indirect,
                   light_threshold=s.light_threshold, max_transmission=s.transmission_bounces)
