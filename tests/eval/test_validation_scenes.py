@@ -46,7 +46,8 @@ def test_valid_deterministic_and_sized(kind):
 
 def test_kinds_resolve_beside_the_held_out_ones():
     assert set(K.KINDS) == set(H.KINDS) | {"interior", "outdoor", "gallery", "gi_tuning_room", "gi_tuning_yard",
-                                           "glass_table", "globe_frosted", "globe_clear", "globe_frosted_unshadowed"}
+                                           "glass_table", "globe_frosted", "globe_clear", "globe_frosted_unshadowed",
+                                           "user"}
     assert K.scene_of_kind("gallery", 48, 27).name == "gallery"
     assert K.scene_of_kind("glass_table", 48, 27).name == "glass_table_glass"
     assert K.scene_of_kind("interior", 48, 27).name == "interior"
