@@ -68,7 +68,7 @@ def test_f12_cryptomatte_agrees_with_cycles(tmp_path):
         rank0, cov0 = ours[f"{layer.lower()}00.r"], ours[f"{layer.lower()}00.g"]
         want = cyc[f"{layer.lower()}00.r"]
         inner = cyc[f"{layer.lower()}00.g"] > 0.999  # Cycles saw one id alone there
-        assert inner.mean() > 0.5
+        assert inner.mean() > 0.4  # enough such pixels to compare (5.0.1: over half, 5.3 filters more: 0.497)
         np.testing.assert_array_equal(rank0[inner].view(np.uint32), want[inner].view(np.uint32))
         # coverage 1 there, but at an edge the two renderers' samples may fall otherwise (Cycles filters them)
         assert np.mean(cov0[inner & (rank0 != 0)] > 0.99) > 0.95
