@@ -6,8 +6,8 @@ image down (measured: relMSE 10.8 -> 0.17, 4 seeds); diffuse surfaces keep their
 import numpy as np
 import pytest
 from restircl import Camera, Light, Material, Mesh, Renderer, Scene, Settings, look_at, scenes, translation
-from restircl.render import pipeline
 
+from ..bias_controls import built_with
 from ..helpers import rel_mse
 
 W, H, FRAMES, FIRST_SCORED = 40, 24, 12, 4
@@ -47,12 +47,9 @@ def errors(device):
     refs = per_frame_references(scene, device)
     seeds = range(4)
     after = np.array([taa_errors(scene, refs, s, device).mean() for s in seeds])
-    build = pipeline.build_program
-    try:  # before: the same build with view_dependence() = 0 everywhere
-        pipeline.build_program = lambda dev, flags, **kw: build(dev, flags, extra_options=("-DVIEW_DEPENDENCE_OFF",))
+    with pytest.MonkeyPatch.context() as mp:  # before: the same build with view_dependence() = 0 everywhere
+        built_with(mp, "VIEW_DEPENDENCE_OFF")
         before = np.array([taa_errors(scene, refs, s, device).mean() for s in seeds])
-    finally:
-        pipeline.build_program = build
     return before, after
 
 
