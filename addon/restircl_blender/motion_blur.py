@@ -2,7 +2,8 @@
 (Position: Start, Center or End; Shutter in frames), the times within it whose motion a still exports, and what is
 not blurred (warnings).
 
-A still exports its motion at STEPS + 1 evenly spaced times over the shutter (Blender's subframes), so that motion
+A still exports its motion at STEPS + 1 (or more, below) evenly spaced times over the shutter (Blender's subframes),
+so that motion
 that bends within a frame (Bezier keys easing in and out, Blender's default) is followed within the shutter, and
 the renderer interpolates between those (scene/interpolation.py). The export knows whole frames only: the times
 reach it as stand-in frame numbers, `frame + k` for the k-th step from the rendered frame, which `subframe` turns

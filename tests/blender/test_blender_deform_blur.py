@@ -1,8 +1,10 @@
 """Deformation motion blur against Cycles: F12 with Render Properties > Motion Blur on, of a glowing bar whose shape
-key stretches it (and, in one case, that moves as well), rendered with the reference method. Which objects have
+key stretches it (and, in one case, that moves as well), and of a smooth sheet under a sun whose waves travel
+(its shading normals follow the deformation), rendered with the reference method. Which objects have
 their deformation read, and at which times (Cycles' rule: 2^Steps + 1 steps over the shutter, Object > Motion Blur),
-is tested on the export alone. The negative control renders ours with the deformation ignored (the bar as it is at
-the frame, as before deformation blur): it must fail the bound that the blurred one passes.
+is tested on the export alone. The negative controls render ours with the deformation ignored (the bar as it is at
+the frame, as before deformation blur), or the sheet's normals held at the frame: each must fail the bound that
+the right one passes.
 
 relMSE as in test_blender_cycles.py; figures measured when written are in docs/blender.md ("Motion blur")."""
 
@@ -94,6 +96,59 @@ def test_ignored_deformation_is_a_negative_control(tmp_path, monkeypatch):
     assert err > BOUND, f"ignored deformation passed: relMSE {100 * err:.3f} %"
 
 
+def wave_scene():
+    """Frame 2 of 1..3, shutter 1 frame from Start: a smooth 4 m sheet of 48 x 48 quads seen from above, lit by a
+    sun 57 degrees from the vertical, with waves 0.12 m high along x whose phase moves a quarter turn over frames
+    1..3 (two shape keys, sine and cosine, keyed linearly). The normals tilt by up to 25 degrees and turn with the
+    phase; held at the shutter's opening, the shading is that of the opening."""
+    ensure_registered()
+    sc = scenes.new_scene(64, 48)
+    sc.frame_start, sc.frame_end = 1, 3
+    grey = scenes.diffuse_material("Grey", (0.8, 0.8, 0.8))
+    scenes.camera((0, 0, 5), (0, 0, 0), lens=35.0)
+    n = 48
+    u = np.linspace(-2.0, 2.0, n + 1)
+    row = n + 1
+    sheet = scenes.mesh_object("Sheet", [(x, y, 0.0) for y in u for x in u],
+                               [(j * row + i, j * row + i + 1, (j + 1) * row + i + 1, (j + 1) * row + i)
+                                for j in range(n) for i in range(n)], grey)
+    for f in sheet.data.polygons:
+        f.use_smooth = True
+    sheet.shape_key_add(name="Basis")
+    for name, wave in (("Sin", math.sin), ("Cos", math.cos)):
+        key = sheet.shape_key_add(name=name)
+        for i, v in enumerate(sheet.data.vertices):
+            key.data[i].co.z = 0.12 * wave(4.0 * v.co.x)
+    blocks = sheet.data.shape_keys.key_blocks
+    for frame, (a, b) in ((1, (1.0, 0.0)), (3, (0.0, 1.0))):
+        blocks["Sin"].value, blocks["Cos"].value = a, b
+        blocks["Sin"].keyframe_insert("value", frame=frame)
+        blocks["Cos"].keyframe_insert("value", frame=frame)
+    for fc in fcurves(sheet.data.shape_keys.animation_data.action):
+        for kp in fc.keyframe_points:
+            kp.interpolation = "LINEAR"
+        fc.update()
+    scenes.light("SUN", "Sun", (0, 0, 5), rotation=(0.0, 1.0, 0.0), energy=3.0)
+    sc.frame_set(2)
+    sc.render.use_motion_blur, sc.render.motion_blur_shutter, sc.render.motion_blur_position = True, 1.0, "START"
+    return sc
+
+
+@needs_renderer
+def test_smooth_normals_follow_the_deformation(tmp_path, record_property):
+    assert_agrees(tmp_path, wave_scene(), 256, 128, "deformation blur, smooth travelling waves", record_property)
+
+
+@needs_renderer
+def test_normals_held_at_the_frame_are_a_negative_control(tmp_path, monkeypatch):
+    import restircl
+
+    monkeypatch.setattr(restircl.Mesh, "normals_at",
+                        lambda self, frame: None if self.normals is None else np.asarray(self.normals, np.float64))
+    err, _ = cycles_and_ours(tmp_path, wave_scene(), 256, 128, "deformation blur, normals at the frame")
+    assert err > BOUND, f"normals held at the frame passed: relMSE {100 * err:.3f} %"
+
+
 class _Cycles:
     def __init__(self, blur: bool = True, deform: bool = True, steps: int = 1) -> None:
         self.use_motion_blur, self.use_deform_motion, self.motion_steps = blur, deform, steps
@@ -144,6 +199,21 @@ def test_deformation_is_read_at_cycles_steps(position, steps, frames):
     assert mesh.deform[:, 0, 0] == pytest.approx([-1.0] * len(frames))
     assert mesh.deform[:, 2, 1] == pytest.approx([0.2 + WIDEN * 0.5 * (t - 1) for t in times], abs=1e-6)
     assert not any("deform" in w for w in exp.warnings)
+
+
+def test_more_steps_than_the_shutter_has_parts_make_more_parts():
+    """Steps 4 (17 deformation steps) on the bar: the shutter is cut into 16 parts, not 8, so that every step is an
+    exported time; an object that cannot deform (a plain mesh) asks for none."""
+    from restircl_blender import motion_blur
+
+    sc = deform_scene(steps=4)
+    motion = motion_blur.still_motion(sc, 2)
+    assert motion.step == pytest.approx(1 / 32)
+    assert motion.frames == list(range(-6, 11))
+    assert motion_blur.deform_frames(sc, 2)(bpy.data.objects["Bar"]) == motion.frames
+    plain = scenes.quad("Plain", 1.0)
+    plain.cycles.motion_steps = 6
+    assert motion_blur.still_motion(sc, 2).step == pytest.approx(1 / 32)
 
 
 def test_deformation_off_is_not_read():

@@ -61,7 +61,8 @@ class MeshReader:
         """`deform(ob)`: the frames (among `frames`) at which object ob's deformation is read; None: nowhere."""
         self.frames = frames
         self._deform = deform
-        self._steps: dict[int, dict[int, np.ndarray | None]] = {}  # record -> frame index -> its vertices there
+        # record -> frame index -> its vertices there, and its corner normals (smooth meshes)
+        self._steps: dict[int, dict[int, tuple[np.ndarray, np.ndarray | None] | None]] = {}
         self._materials = materials
         self._warn = warn
         self._geometry: dict[int, _Geometry | None] = {}
@@ -96,7 +97,7 @@ class MeshReader:
         colors = self._colors(ob, geo, tri_ids)
         if not inst.is_instance and may_deform(ob):
             self._probes[ob.name] = (len(geo.vertices), _digest(geo.vertices))
-            self._read_steps(ob, geo.vertices)
+            self._read_steps(ob, geo)
         self._by_key[instance_key(inst)] = len(self._records)
         self._records.append(_Record(ob.name, geo.vertices, geo.triangles, tri_ids,
                                      self.frames.track(matrix(inst.matrix_world)), uvs, geo.normals,
@@ -104,8 +105,8 @@ class MeshReader:
                                      _asset(orig), colors))
         self.instances += int(inst.is_instance)
 
-    def _read_steps(self, ob, vertices: np.ndarray) -> None:
-        """Start reading the deformation steps of the object about to be recorded (its vertices here: `vertices`)."""
+    def _read_steps(self, ob, geo: _Geometry) -> None:
+        """Start reading the deformation steps of the object about to be recorded (its geometry here: `geo`)."""
         if self._deform is None:
             return
         self.deform_handled.append(ob.name)
@@ -113,7 +114,7 @@ class MeshReader:
         steps = sorted({numbers.index(f) for f in self._deform(ob) if f in numbers})
         if len(steps) > 1:
             here = self.frames.current_index
-            self._steps[len(self._records)] = {k: vertices if k == here else None for k in steps}
+            self._steps[len(self._records)] = {k: (geo.vertices, geo.normals) if k == here else None for k in steps}
 
     def _colors(self, ob, geo: _Geometry, tri_ids: np.ndarray) -> dict | None:
         """The colour attributes the object's materials read (Attribute nodes); a name it has none of is said."""
@@ -137,9 +138,9 @@ class MeshReader:
         probe = self._probes.get(ob.name)
         steps = self._steps.get(i)
         if steps is not None and k in steps:
-            verts = steps[k] = _read_vertices(ob)
+            step = steps[k] = _read_step(ob, self._records[i].normals is not None)
             if probe is not None and ob.name not in self.deforming and (
-                    verts is None or len(verts) != probe[0] or _digest(verts) != probe[1]):
+                    step is None or len(step[0]) != probe[0] or _digest(step[0]) != probe[1]):
                 self.deforming.append(ob.name)
         elif probe is not None and ob.name not in self.deforming and _deformed(ob, probe):
             self.deforming.append(ob.name)
@@ -162,18 +163,23 @@ class MeshReader:
                               **({"asset": r.asset} if r.asset else {}),
                               **(deform.get(i) or {})) for i, r in enumerate(self._records)]
 
-    def _deformation(self, r: _Record, steps: dict[int, np.ndarray | None]) -> dict | None:
-        """Mesh.deform and deform_times of a record from its vertices at its steps; None where it does not deform,
+    def _deformation(self, r: _Record, steps: dict[int, tuple[np.ndarray, np.ndarray | None] | None]) -> dict | None:
+        """Mesh.deform, deform_times (and deform_normals) of a record from its steps; None where it does not deform,
         or where its vertex count changes (then, as in Cycles, its deformation is not blurred: said)."""
         ks = sorted(steps)
-        verts = [steps[k] for k in ks]
-        if any(v is None or v.shape != r.vertices.shape for v in verts):
+        read = [steps[k] for k in ks]
+        if any(s is None or s[0].shape != r.vertices.shape for s in read):
             self._warn(f"object {r.name!r} changes its vertex count within the shutter: its deformation is not "
                        "blurred (as in Cycles)")
             return None
+        verts = [s[0] for s in read if s is not None]
         if all(np.array_equal(v, r.vertices) for v in verts):
             return None
-        return {"deform": np.stack(verts), "deform_times": np.array(ks, np.float64)}
+        out = {"deform": np.stack(verts), "deform_times": np.array(ks, np.float64)}
+        normals = [s[1] for s in read if s is not None]
+        if r.normals is not None and all(n is not None and n.shape == r.normals.shape for n in normals):
+            out["deform_normals"] = np.stack(normals)
+        return out
 
 
 def _asset(ob) -> str:
@@ -225,14 +231,21 @@ def _read_geometry(ob) -> _Geometry | None:
                      slots.astype(np.int64), mats, uvs, uv_name, normals, colors)
 
 
-def _read_vertices(ob) -> np.ndarray | None:
-    """The evaluated object's (V, 3) object-space vertices alone (a deformation step); None: it has no mesh."""
+def _read_step(ob, normals: bool) -> tuple[np.ndarray, np.ndarray | None] | None:
+    """The evaluated object's (V, 3) object-space vertices (a deformation step) and, with `normals`, its corner
+    normals per triangle (None when every face is flat); None: it has no mesh."""
     with _evaluated_mesh(ob) as me:
         if me is None:
             return None
         verts = np.empty(len(me.vertices) * 3, dtype=np.float32)
         me.vertices.foreach_get("co", verts)
-    return verts.reshape(-1, 3).astype(np.float64)
+        corner = None
+        if normals:
+            me.calc_loop_triangles()
+            loops = np.empty(len(me.loop_triangles) * 3, dtype=np.int64)
+            me.loop_triangles.foreach_get("loops", loops)
+            corner = _corner_normals(me, loops)
+    return verts.reshape(-1, 3).astype(np.float64), corner
 
 
 def _corner_colors(me, loops: np.ndarray) -> dict | None:

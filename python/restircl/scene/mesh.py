@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .deformation import check_deform, vertices_at
+from .deformation import at_time, check_deform
 from .errors import SceneError
 from .linking import Linking
 from .transforms import as_transforms
@@ -34,6 +34,7 @@ class Mesh:
     # still's shutter, interpolated linearly between them (scene/deformation.py); None: the vertices at all times
     deform: np.ndarray | None = None
     deform_times: np.ndarray | None = None
+    deform_normals: np.ndarray | None = None  # (S, T, 3, 3) the shading normals (`normals`) at deform_times
 
     def __post_init__(self) -> None:
         self.vertices = np.asarray(self.vertices, dtype=np.float64).reshape(-1, 3)
@@ -45,6 +46,8 @@ class Mesh:
             self.deform = np.asarray(self.deform, dtype=np.float64)
         if self.deform_times is not None:
             self.deform_times = np.asarray(self.deform_times, dtype=np.float64).reshape(-1)
+        if self.deform_normals is not None:
+            self.deform_normals = np.asarray(self.deform_normals, dtype=np.float64)
 
     @property
     def animated(self) -> bool:
@@ -56,7 +59,13 @@ class Mesh:
 
     def vertices_at(self, frame: float) -> np.ndarray:
         """The object-space vertices at `frame` (a time within a still's shutter: deformed)."""
-        return vertices_at(self.vertices, self.deform, self.deform_times, frame)
+        return at_time(self.vertices, self.deform, self.deform_times, frame)
+
+    def normals_at(self, frame: float) -> np.ndarray | None:
+        """The per-corner shading normals at `frame` (deformed; not normalised), None where the mesh has none."""
+        if self.normals is None:
+            return None
+        return at_time(np.asarray(self.normals, np.float64), self.deform_normals, self.deform_times, frame)
 
     def validate(self, material_count: int) -> None:
         """Raise SceneError naming the mesh and the bad field."""
@@ -67,7 +76,10 @@ class Mesh:
             raise SceneError(f"{label}: vertices contain NaN or Inf")
         if not np.all(np.isfinite(self.transforms)):
             raise SceneError(f"{label}: transform contains NaN or Inf")
-        check_deform(self.deform, self.deform_times, len(self.vertices), label)
+        check_deform(self.deform, self.deform_times, self.deform_normals, (len(self.vertices), len(self.triangles)),
+                     label)
+        if self.deform_normals is not None and self.normals is None:
+            raise SceneError(f"{label}: deform_normals without normals")
         t = self.triangles
         if len(t) and (t.min() < 0 or t.max() >= len(self.vertices)):
             raise SceneError(f"{label}: triangle vertex index out of range 0..{len(self.vertices) - 1}")
