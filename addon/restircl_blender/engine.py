@@ -184,7 +184,8 @@ def _start_session(job: _Job, session: _Session | None) -> _Session | None:
                                          render_region(depsgraph.scene, *export.render_resolution(depsgraph.scene)))
         if not job.animation:
             exp.scene.camera.shutter = motion_blur.scene_shutter(depsgraph.scene, step)
-            motion_blur.hold_unblurred(exp.scene, depsgraph.scene.objects, exp.index_of(job.frame))
+            motion_blur.hold_unblurred(exp.scene, depsgraph.scene.objects,
+                                       exp.index_of(motion_blur.shutter_middle(depsgraph.scene, job.frame)))
         motion_blur.warn_unblurred(depsgraph.scene, job.animation,
                                    [n for n in exp.deforming if n not in exp.deform_handled], exp.warnings.append)
         exp.scene.validate()

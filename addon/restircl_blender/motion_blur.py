@@ -71,15 +71,23 @@ def _deform_parts(scene) -> int:
     return max([0, *(deform_steps(ob) - 1 for ob in scene.objects if ob.type in GEOMETRY_TYPES and may_deform(ob))])
 
 
+def shutter_middle(scene, frame: int) -> int:
+    """The stand-in frame number (StillMotion) of the middle of the shutter of a still at `frame`, where Cycles reads
+    what it does not blur (the shutter's Position moves it off the frame)."""
+    numbers = still_motion(scene, frame).frames
+    return (numbers[0] + numbers[-1]) // 2
+
+
 def deform_frames(scene, frame: int) -> Callable[[object], list[int]]:
     """The stand-in frame numbers (StillMotion) at which a still at `frame` reads an object's deformation: its
-    `deform_steps` evenly spaced from the shutter's opening to its closing; none without motion blur."""
+    `deform_steps` evenly spaced from the shutter's opening to its closing; for an object whose deformation is not
+    blurred, the shutter's middle alone (its geometry there, as Cycles reads it)."""
     numbers = still_motion(scene, frame).frames
     lo, parts = numbers[0], numbers[-1] - numbers[0]
 
     def frames(ob, parent=None) -> list[int]:
         n = deform_steps(ob, parent) if parts else 0
-        return sorted({lo + round(i * parts / (n - 1)) for i in range(n)}) if n > 1 else []
+        return sorted({lo + round(i * parts / (n - 1)) for i in range(n)}) if n > 1 else [lo + parts // 2]
 
     return frames
 
@@ -99,7 +107,8 @@ def scene_shutter(scene, step: float) -> tuple[float, float]:
 
 def hold_unblurred(scene, objects, current: int) -> None:
     """Objects whose own Motion Blur is off (Object > Motion Blur, `cycles.use_motion_blur`) stay where they are at
-    the rendered frame (frame index `current` of the exported restircl.Scene `scene`) over the whole shutter."""
+    frame index `current` of the exported restircl.Scene `scene` (the shutter's middle, `shutter_middle`, where
+    Cycles reads them) over the whole shutter."""
     still = {ob.name for ob in objects
              if getattr(getattr(ob, "cycles", None), "use_motion_blur", True) is False}
     for mesh in scene.meshes:

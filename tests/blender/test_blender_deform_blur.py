@@ -87,6 +87,14 @@ def test_deformation_blur_agrees_with_cycles(tmp_path, position, moving, eased, 
 
 
 @needs_renderer
+def test_deformation_off_agrees_with_cycles(tmp_path, record_property):
+    """Deformation off with the shutter at Start: Cycles renders the bar as it is at the shutter's middle."""
+    sc = deform_scene("START")
+    bpy.data.objects["Bar"].cycles.use_deform_motion = False
+    assert_agrees(tmp_path, sc, 512, 256, "deformation off, START", record_property)
+
+
+@needs_renderer
 def test_ignored_deformation_is_a_negative_control(tmp_path, monkeypatch):
     """Ours with no deformation steps read: the bar at the frame, sharp."""
     from restircl_blender import motion_blur
@@ -216,15 +224,16 @@ def test_more_steps_than_the_shutter_has_parts_make_more_parts():
     assert motion_blur.still_motion(sc, 2).step == pytest.approx(1 / 32)
 
 
-def test_deformation_off_is_not_read():
-    """Object > Motion Blur > Deformation off: the bar at the frame, as Cycles renders it, and no warning."""
-
-    sc = deform_scene()
+@pytest.mark.parametrize(("position", "value"), [("CENTER", 0.5), ("START", 0.625), ("END", 0.375)])
+def test_deformation_off_is_read_at_the_shutters_middle(position, value):
+    """Object > Motion Blur > Deformation off: the bar sharp, as it is at the shutter's middle (the shape key's value
+    there: 0.25 a frame from 0 at frame 1), as Cycles renders it, and no warning."""
+    sc = deform_scene(position)
     bpy.data.objects["Bar"].cycles.use_deform_motion = False
     exp = export_still(sc, 2)
     mesh = exp.scene.meshes[0]
     assert mesh.deform is None
-    assert mesh.vertices[1, 0] == pytest.approx(1.75)
+    assert mesh.vertices[1, 0] == pytest.approx(1.0 + STRETCH * value)
     assert exp.deforming == ["Bar"] and exp.deform_handled == ["Bar"]
     assert not any("deform" in w for w in exp.warnings)
 

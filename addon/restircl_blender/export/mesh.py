@@ -112,8 +112,8 @@ class MeshReader:
         self.deform_handled.append(ob.name)
         numbers = self.frames.numbers
         steps = sorted({numbers.index(f) for f in self._deform(ob) if f in numbers})
-        if len(steps) > 1:
-            here = self.frames.current_index
+        here = self.frames.current_index
+        if len(steps) > 1 or (steps and steps[0] != here):  # blurred, or read at another time than the frame
             self._steps[len(self._records)] = {k: (geo.vertices, geo.normals) if k == here else None for k in steps}
 
     def _colors(self, ob, geo: _Geometry, tri_ids: np.ndarray) -> dict | None:
@@ -165,7 +165,8 @@ class MeshReader:
 
     def _deformation(self, r: _Record, steps: dict[int, tuple[np.ndarray, np.ndarray | None] | None]) -> dict | None:
         """Mesh.deform, deform_times (and deform_normals) of a record from its steps; None where it does not deform,
-        or where its vertex count changes (then, as in Cycles, its deformation is not blurred: said)."""
+        where its vertex count changes (then, as in Cycles, its deformation is not blurred: said), or where it has one
+        step (its deformation not blurred: the record takes that step's vertices and normals)."""
         ks = sorted(steps)
         read = [steps[k] for k in ks]
         if any(s is None or s[0].shape != r.vertices.shape for s in read):
@@ -173,11 +174,15 @@ class MeshReader:
                        "blurred (as in Cycles)")
             return None
         verts = [s[0] for s in read if s is not None]
+        normals = [s[1] for s in read if s is not None]
+        same_normals = r.normals is not None and all(n is not None and n.shape == r.normals.shape for n in normals)
+        if len(ks) == 1:  # not blurred: the geometry at the one time it is read (the shutter's middle)
+            r.vertices, r.normals = verts[0], normals[0] if same_normals else r.normals
+            return None
         if all(np.array_equal(v, r.vertices) for v in verts):
             return None
         out = {"deform": np.stack(verts), "deform_times": np.array(ks, np.float64)}
-        normals = [s[1] for s in read if s is not None]
-        if r.normals is not None and all(n is not None and n.shape == r.normals.shape for n in normals):
+        if same_normals:
             out["deform_normals"] = np.stack(normals)
         return out
 
