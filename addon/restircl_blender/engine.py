@@ -178,13 +178,16 @@ def _start_session(job: _Job, session: _Session | None) -> _Session | None:
     step = 1.0 if job.animation else motion_blur.still_motion(depsgraph.scene, job.frame).step
     try:
         exp = export.export_scene(depsgraph, frames, camera=camera, frame_set=lambda f: engine.frame_set(
-            *((f, 0.0) if job.animation else motion_blur.subframe(f, job.frame, step))))
+            *((f, 0.0) if job.animation else motion_blur.subframe(f, job.frame, step))),
+            deform=None if job.animation else motion_blur.deform_frames(depsgraph.scene, job.frame))
         exp.scene.camera = region_camera(exp.scene.camera,
                                          render_region(depsgraph.scene, *export.render_resolution(depsgraph.scene)))
         if not job.animation:
             exp.scene.camera.shutter = motion_blur.scene_shutter(depsgraph.scene, step)
-            motion_blur.hold_unblurred(exp.scene, depsgraph.scene.objects, exp.index_of(job.frame))
-        motion_blur.warn_unblurred(depsgraph.scene, job.animation, exp.deforming, exp.warnings.append)
+            motion_blur.hold_unblurred(exp.scene, depsgraph.scene.objects,
+                                       exp.index_of(motion_blur.shutter_middle(depsgraph.scene, job.frame)))
+        motion_blur.warn_unblurred(depsgraph.scene, job.animation,
+                                   [n for n in exp.deforming if n not in exp.deform_handled], exp.warnings.append)
         exp.scene.validate()
     except job.known as exc:
         job.error(exc)

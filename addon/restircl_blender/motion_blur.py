@@ -2,11 +2,17 @@
 (Position: Start, Center or End; Shutter in frames), the times within it whose motion a still exports, and what is
 not blurred (warnings).
 
-A still exports its motion at STEPS + 1 evenly spaced times over the shutter (Blender's subframes), so that motion
+A still exports its motion at STEPS + 1 (or more, below) evenly spaced times over the shutter (Blender's subframes),
+so that motion
 that bends within a frame (Bezier keys easing in and out, Blender's default) is followed within the shutter, and
 the renderer interpolates between those (scene/interpolation.py). The export knows whole frames only: the times
 reach it as stand-in frame numbers, `frame + k` for the k-th step from the rendered frame, which `subframe` turns
-back into Blender's (frame, subframe)."""
+back into Blender's (frame, subframe).
+
+Objects that deform within the shutter have their vertices read at Cycles' deformation motion steps (`deform_steps`:
+2^Steps + 1 evenly spaced times from the shutter's opening to its closing, Object > Motion Blur), which the renderer
+interpolates linearly, as Cycles does (scene/deformation.py); the shutter's parts are as many as the most steps ask
+for, so that every step is one of the exported times."""
 
 from __future__ import annotations
 
@@ -14,7 +20,10 @@ import math
 from collections.abc import Callable
 from typing import NamedTuple
 
-STEPS = 8  # the shutter's parts between the exported times
+from .export.mesh import GEOMETRY_TYPES, may_deform
+
+STEPS = 8  # the shutter's parts between the exported times (at least)
+MAX_DEFORM_STEPS = 129  # Cycles' most motion steps of an object
 
 
 class StillMotion(NamedTuple):
@@ -38,9 +47,49 @@ def still_motion(scene, frame: int) -> StillMotion:
     a, b = shutter(scene)
     if a == b:
         return StillMotion([frame], 1.0)
-    step = (b - a) / STEPS
+    step = (b - a) / max(STEPS, _deform_parts(scene))
     lo, hi = math.floor(a / step + 1e-9), math.ceil(b / step - 1e-9)
     return StillMotion([frame + k for k in range(lo, hi + 1)], step)
+
+
+def deform_steps(ob, parent=None) -> int:
+    """How many times over the shutter Cycles reads the deformation of object `ob` (an instance of `parent`'s):
+    2^Steps + 1 (Object > Motion Blur > Steps, `cycles.motion_steps`, at least 1, the larger of the object's and
+    the instancer's), at most MAX_DEFORM_STEPS; 0 where Motion Blur or its Deformation is off on either."""
+    owners = [o.original if getattr(o, "original", None) is not None else o
+              for o in ([ob] if parent is None or parent == ob else [ob, parent])]
+    settings = [c for c in (getattr(o, "cycles", None) for o in owners) if c is not None]
+    if not all(c.use_motion_blur and c.use_deform_motion for c in settings):
+        return 0
+    steps = max([1, *(int(c.motion_steps) for c in settings)])
+    return min(2 ** steps + 1, MAX_DEFORM_STEPS)
+
+
+def _deform_parts(scene) -> int:
+    """The shutter's parts that put every deformation step of the scene's objects that may deform on an exported
+    time (a power of two)."""
+    return max([0, *(deform_steps(ob) - 1 for ob in scene.objects if ob.type in GEOMETRY_TYPES and may_deform(ob))])
+
+
+def shutter_middle(scene, frame: int) -> int:
+    """The stand-in frame number (StillMotion) of the middle of the shutter of a still at `frame`, where Cycles reads
+    what it does not blur (the shutter's Position moves it off the frame)."""
+    numbers = still_motion(scene, frame).frames
+    return (numbers[0] + numbers[-1]) // 2
+
+
+def deform_frames(scene, frame: int) -> Callable[[object], list[int]]:
+    """The stand-in frame numbers (StillMotion) at which a still at `frame` reads an object's deformation: its
+    `deform_steps` evenly spaced from the shutter's opening to its closing; for an object whose deformation is not
+    blurred, the shutter's middle alone (its geometry there, as Cycles reads it)."""
+    numbers = still_motion(scene, frame).frames
+    lo, parts = numbers[0], numbers[-1] - numbers[0]
+
+    def frames(ob, parent=None) -> list[int]:
+        n = deform_steps(ob, parent) if parts else 0
+        return sorted({lo + round(i * parts / (n - 1)) for i in range(n)}) if n > 1 else [lo + parts // 2]
+
+    return frames
 
 
 def subframe(number: int, frame: int, step: float) -> tuple[int, float]:
@@ -58,7 +107,8 @@ def scene_shutter(scene, step: float) -> tuple[float, float]:
 
 def hold_unblurred(scene, objects, current: int) -> None:
     """Objects whose own Motion Blur is off (Object > Motion Blur, `cycles.use_motion_blur`) stay where they are at
-    the rendered frame (frame index `current` of the exported restircl.Scene `scene`) over the whole shutter."""
+    frame index `current` of the exported restircl.Scene `scene` (the shutter's middle, `shutter_middle`, where
+    Cycles reads them) over the whole shutter."""
     still = {ob.name for ob in objects
              if getattr(getattr(ob, "cycles", None), "use_motion_blur", True) is False}
     for mesh in scene.meshes:
@@ -68,7 +118,8 @@ def hold_unblurred(scene, objects, current: int) -> None:
 
 def warn_unblurred(scene, animation: bool, deforming: list[str], warn: Callable[[str], None]) -> None:
     """What the shutter does not blur: animation frames (real-time frames with TAA), objects that deform within
-    it, a rolling shutter."""
+    it whose deformation steps were not read (`deforming`: the export's deforming objects less those it read the
+    steps of, Export.deform_handled), a rolling shutter."""
     if shutter(scene) == (0.0, 0.0):
         return
     if animation:

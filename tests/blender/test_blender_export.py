@@ -447,7 +447,9 @@ def _every_field_scene():
     """A Scene with one of each part and no field left at None, so that every field can be changed."""
     mesh = restircl.Mesh(name="m", vertices=np.eye(3), triangles=np.array([[0, 1, 2]]),
                          material_ids=np.array([0]), transforms=np.eye(4), uvs=np.zeros((1, 3, 2)),
-                         normals=np.ones((1, 3, 3)), attributes={"Col": np.ones((1, 3, 4))})
+                         normals=np.ones((1, 3, 3)), attributes={"Col": np.ones((1, 3, 4))},
+                         deform=np.stack([np.eye(3), 2 * np.eye(3)]), deform_times=np.array([0.0, 1.0]),
+                         deform_normals=np.ones((2, 1, 3, 3)))
     material = restircl.Material(name="a", normal=restircl.materials.textures.NormalMap(), mix=0.5)
     light = restircl.Light(name="l", type="point", transforms=np.eye(4), radius=0.2,
                            power_per_frame=np.array([1.0, 0.5]))

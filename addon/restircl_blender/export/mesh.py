@@ -1,6 +1,7 @@
 """Blender geometry -> restircl.Mesh: meshes with modifiers applied (and curves, text, metaballs through
 `to_mesh`), collection and geometry-nodes instances (geometry read once per mesh datablock, one transform per
-instance), and the probes that tell whether an object deforms during an animation.
+instance), the probes that tell whether an object deforms during an animation, and the vertices of objects that
+deform within a still's shutter at their deformation steps (Mesh.deform, motion_blur.deform_frames).
 
 Shading normals are the evaluated mesh's corner normals (Blender 4.1+: smooth and flat faces, sharp edges, the
 Smooth by Angle modifier, custom normals), exported per triangle corner unless every face is flat. The UV map
@@ -9,7 +10,8 @@ Smooth by Angle modifier, custom normals), exported per triangle corner unless e
 from __future__ import annotations
 
 import hashlib
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numpy as np
@@ -54,8 +56,13 @@ class _Record:
 class MeshReader:
     """The meshes of the current frame (`read`), then their matrices at the other frames (`sample`)."""
 
-    def __init__(self, frames: Frames, materials: MaterialTable, warn: Callable[[str], None] = lambda _m: None):
+    def __init__(self, frames: Frames, materials: MaterialTable, warn: Callable[[str], None] = lambda _m: None,
+                 deform: Callable[[object], list[int]] | None = None):
+        """`deform(ob)`: the frames (among `frames`) at which object ob's deformation is read; None: nowhere."""
         self.frames = frames
+        self._deform = deform
+        # record -> frame index -> its vertices there, and its corner normals (smooth meshes)
+        self._steps: dict[int, dict[int, tuple[np.ndarray, np.ndarray | None] | None]] = {}
         self._materials = materials
         self._warn = warn
         self._geometry: dict[int, _Geometry | None] = {}
@@ -63,6 +70,8 @@ class MeshReader:
         self._by_key: dict[tuple, int] = {}
         self._probes: dict[str, tuple[int, bytes]] = {}  # object -> (vertex count, digest) at the current frame
         self.deforming: list[str] = []  # objects whose geometry changes between frames
+        self.deform_handled: list[str] = []  # objects whose deformation is read at its steps (or, by their
+        # settings, not blurred)
         self.instances = 0
 
     def read(self, inst) -> None:
@@ -86,14 +95,26 @@ class MeshReader:
                 self._warn(f"object {ob.name!r}: material {self._materials.materials[i].name!r} names UV map "
                            f"{name!r}; the active render map {geo.uv_name!r} is used")
         colors = self._colors(ob, geo, tri_ids)
-        if not inst.is_instance and _may_deform(ob):
+        if not inst.is_instance and may_deform(ob):
             self._probes[ob.name] = (len(geo.vertices), _digest(geo.vertices))
+            self._read_steps(ob, geo)
         self._by_key[instance_key(inst)] = len(self._records)
         self._records.append(_Record(ob.name, geo.vertices, geo.triangles, tri_ids,
                                      self.frames.track(matrix(inst.matrix_world)), uvs, geo.normals,
                                      read_linking(ob), object_group(ob), int(getattr(ob, "pass_index", 0)),
                                      _asset(orig), colors))
         self.instances += int(inst.is_instance)
+
+    def _read_steps(self, ob, geo: _Geometry) -> None:
+        """Start reading the deformation steps of the object about to be recorded (its geometry here: `geo`)."""
+        if self._deform is None:
+            return
+        self.deform_handled.append(ob.name)
+        numbers = self.frames.numbers
+        steps = sorted({numbers.index(f) for f in self._deform(ob) if f in numbers})
+        here = self.frames.current_index
+        if len(steps) > 1 or (steps and steps[0] != here):  # blurred, or read at another time than the frame
+            self._steps[len(self._records)] = {k: (geo.vertices, geo.normals) if k == here else None for k in steps}
 
     def _colors(self, ob, geo: _Geometry, tri_ids: np.ndarray) -> dict | None:
         """The colour attributes the object's materials read (Attribute nodes); a name it has none of is said."""
@@ -115,7 +136,13 @@ class MeshReader:
         ob = inst.object
         self._records[i].track[k] = matrix(inst.matrix_world)
         probe = self._probes.get(ob.name)
-        if probe is not None and ob.name not in self.deforming and _deformed(ob, probe):
+        steps = self._steps.get(i)
+        if steps is not None and k in steps:
+            step = steps[k] = _read_step(ob, self._records[i].normals is not None)
+            if probe is not None and ob.name not in self.deforming and (
+                    step is None or len(step[0]) != probe[0] or _digest(step[0]) != probe[1]):
+                self.deforming.append(ob.name)
+        elif probe is not None and ob.name not in self.deforming and _deformed(ob, probe):
             self.deforming.append(ob.name)
 
     @property
@@ -127,12 +154,37 @@ class MeshReader:
 
         for r in self._records:
             fill_gaps(r.track)
+        deform = {i: self._deformation(self._records[i], steps) for i, steps in self._steps.items()}
         return [restircl.Mesh(name=r.name, vertices=r.vertices, triangles=r.triangles, material_ids=r.material_ids,
                               transforms=transforms(r.track), uvs=r.uvs, normals=r.normals, attributes=r.colors,
                               **({} if r.linking is None else {"linking": r.linking}),
                               **({"lightgroup": r.lightgroup} if r.lightgroup else {}),
                               **({"pass_index": r.pass_index} if r.pass_index else {}),
-                              **({"asset": r.asset} if r.asset else {})) for r in self._records]
+                              **({"asset": r.asset} if r.asset else {}),
+                              **(deform.get(i) or {})) for i, r in enumerate(self._records)]
+
+    def _deformation(self, r: _Record, steps: dict[int, tuple[np.ndarray, np.ndarray | None] | None]) -> dict | None:
+        """Mesh.deform, deform_times (and deform_normals) of a record from its steps; None where it does not deform,
+        where its vertex count changes (then, as in Cycles, its deformation is not blurred: said), or where it has one
+        step (its deformation not blurred: the record takes that step's vertices and normals)."""
+        ks = sorted(steps)
+        read = [steps[k] for k in ks]
+        if any(s is None or s[0].shape != r.vertices.shape for s in read):
+            self._warn(f"object {r.name!r} changes its vertex count within the shutter: its deformation is not "
+                       "blurred (as in Cycles)")
+            return None
+        verts = [s[0] for s in read if s is not None]
+        normals = [s[1] for s in read if s is not None]
+        same_normals = r.normals is not None and all(n is not None and n.shape == r.normals.shape for n in normals)
+        if len(ks) == 1:  # not blurred: the geometry at the one time it is read (the shutter's middle)
+            r.vertices, r.normals = verts[0], normals[0] if same_normals else r.normals
+            return None
+        if all(np.array_equal(v, r.vertices) for v in verts):
+            return None
+        out = {"deform": np.stack(verts), "deform_times": np.array(ks, np.float64)}
+        if same_normals:
+            out["deform_normals"] = np.stack(normals)
+        return out
 
 
 def _asset(ob) -> str:
@@ -143,14 +195,26 @@ def _asset(ob) -> str:
     return root.name if root is not ob else ""
 
 
-def _read_geometry(ob) -> _Geometry | None:
+@contextmanager
+def _evaluated_mesh(ob) -> Iterator:
+    """The evaluated object's mesh (`to_mesh`), None where it has none, freed on leaving."""
     try:
         me = ob.to_mesh()
     except RuntimeError:
-        return None
+        me = None
     if me is None:
-        return None
+        yield None
+        return
     try:
+        yield me
+    finally:
+        ob.to_mesh_clear()
+
+
+def _read_geometry(ob) -> _Geometry | None:
+    with _evaluated_mesh(ob) as me:
+        if me is None:
+            return None
         me.calc_loop_triangles()
         nv, nt = len(me.vertices), len(me.loop_triangles)
         verts = np.empty(nv * 3, dtype=np.float32)
@@ -168,10 +232,25 @@ def _read_geometry(ob) -> _Geometry | None:
         uvs, uv_name = _corner_uvs(me, loops)
         normals = _corner_normals(me, loops)
         colors = _corner_colors(me, loops)
-    finally:
-        ob.to_mesh_clear()
     return _Geometry(verts.reshape(-1, 3).astype(np.float64), tris.reshape(-1, 3).astype(np.int64),
                      slots.astype(np.int64), mats, uvs, uv_name, normals, colors)
+
+
+def _read_step(ob, normals: bool) -> tuple[np.ndarray, np.ndarray | None] | None:
+    """The evaluated object's (V, 3) object-space vertices (a deformation step) and, with `normals`, its corner
+    normals per triangle (None when every face is flat); None: it has no mesh."""
+    with _evaluated_mesh(ob) as me:
+        if me is None:
+            return None
+        verts = np.empty(len(me.vertices) * 3, dtype=np.float32)
+        me.vertices.foreach_get("co", verts)
+        corner = None
+        if normals:
+            me.calc_loop_triangles()
+            loops = np.empty(len(me.loop_triangles) * 3, dtype=np.int64)
+            me.loop_triangles.foreach_get("loops", loops)
+            corner = _corner_normals(me, loops)
+    return verts.reshape(-1, 3).astype(np.float64), corner
 
 
 def _corner_colors(me, loops: np.ndarray) -> dict | None:
@@ -228,7 +307,9 @@ def _digest(arr: np.ndarray) -> bytes:
     return hashlib.blake2b(np.ascontiguousarray(arr, dtype=np.float32).tobytes(), digest_size=16).digest()
 
 
-def _may_deform(ob) -> bool:
+def may_deform(ob) -> bool:
+    """Whether the object's geometry may change with time: not a plain mesh, or modifiers, shape keys or animated
+    mesh data."""
     orig = ob.original if ob.original is not None else ob
     if ob.type != "MESH":
         return True

@@ -25,6 +25,7 @@ class Export:
     stats: dict = field(default_factory=dict)
     deforming: list[str] = field(default_factory=list)  # objects whose geometry changes between frames
     material_reads: list[tuple] = field(default_factory=list)  # MaterialTable.reads: export_materials reads again
+    deform_handled: list[str] = field(default_factory=list)  # objects whose deformation export_scene's `deform` read
 
     def index_of(self, frame: int) -> int:
         """Scene frame index of a Blender frame (the last sampled frame at or before it)."""
@@ -68,14 +69,15 @@ def export_materials(depsgraph, reads: list[tuple]) -> tuple[list | None, list[s
 
 def export_scene(depsgraph, frames: Sequence[int] | None = None,
                  frame_set: Callable[[int], None] | None = None, camera=None,
-                 bake_resolution: int | None = None) -> Export:
+                 bake_resolution: int | None = None, deform: Callable[[object], list[int]] | None = None) -> Export:
     """Export the evaluated scene.
 
     `frames` are the Blender frame numbers to sample motion at (default: only the current frame); it must
     contain the current frame, where the geometry is read. `frame_set(frame)` moves the depsgraph to a frame
     (RenderEngine.frame_set or Scene.frame_set); the depsgraph is moved back to the current frame at the end.
     `camera` overrides the scene camera (an evaluated camera object). `bake_resolution` overrides the scene's
-    setting (0: no baking)."""
+    setting (0: no baking). `deform(ob)`: the frames among `frames` at which an object that may deform has its
+    vertices read (a still's deformation steps, motion_blur.deform_frames); None: nowhere."""
     import restircl
 
     scene = depsgraph.scene
@@ -83,7 +85,7 @@ def export_scene(depsgraph, frames: Sequence[int] | None = None,
     warnings = Warnings()
     bake = scene_bake_resolution(scene) if bake_resolution is None else bake_resolution
     materials = MaterialTable(warnings.add, bake)
-    meshes = MeshReader(sampled, materials, warnings.add)
+    meshes = MeshReader(sampled, materials, warnings.add, deform)
     lights = LightReader(sampled, warnings.add)
     cameras = CameraReader(sampled, camera)
 
@@ -110,8 +112,9 @@ def export_scene(depsgraph, frames: Sequence[int] | None = None,
     holdout.mark(sc, depsgraph.view_layer, scene.objects)
     camera_visibility.mark(sc, depsgraph.view_layer, scene.objects)
     sc.lights = lights.build()
-    if meshes.deforming:
-        warnings.add(f"object(s) {', '.join(repr(n) for n in meshes.deforming[:5])} deform during the animation: "
+    redone = [n for n in meshes.deforming if n not in meshes.deform_handled]
+    if redone:
+        warnings.add(f"object(s) {', '.join(repr(n) for n in redone[:5])} deform during the animation: "
                      "the geometry is exported again each frame and the reuse history starts over")
     sc.camera = cameras.build()
     sc.environment = read_world(scene, warnings.add, bake)
@@ -127,4 +130,5 @@ def export_scene(depsgraph, frames: Sequence[int] | None = None,
     elif not sc.lights and not stats["emissive_materials"] and sc.environment is None:
         warnings.add("the scene has no lights and no emissive materials: the image is black")
     return Export(scene=sc, frames=sampled.numbers, warnings=list(warnings), stats=stats,
-                  deforming=meshes.deforming, material_reads=materials.reads)
+                  deforming=meshes.deforming, material_reads=materials.reads,
+                  deform_handled=meshes.deform_handled)

@@ -71,7 +71,7 @@ def save_scene(scene: SceneParts, path: str | Path) -> None:
         arrays[f"mesh{i}_triangles"] = mesh.triangles
         arrays[f"mesh{i}_material_ids"] = mesh.material_ids
         arrays[f"mesh{i}_transforms"] = mesh.transforms
-        for what in ("uvs", "normals"):
+        for what in ("uvs", "normals", "deform", "deform_times", "deform_normals"):
             if getattr(mesh, what) is not None:
                 arrays[f"mesh{i}_{what}"] = np.asarray(getattr(mesh, what), np.float64)
     for i, lt in enumerate(scene.lights):
@@ -138,7 +138,10 @@ def load_scene(path: str | Path, cls: type[S]) -> S:
                                      attributes={n: data[f"mesh{i}_attribute{k}"]
                                                  for k, n in enumerate(m.get("attributes", []))} or None,
                                      holdout=bool(m.get("holdout", False)),
-                                     camera_visible=bool(m.get("camera_visible", True))))
+                                     camera_visible=bool(m.get("camera_visible", True)),
+                                     deform=data.get(f"mesh{i}_deform"),
+                                     deform_times=data.get(f"mesh{i}_deform_times"),
+                                     deform_normals=data.get(f"mesh{i}_deform_normals")))
         for i, d in enumerate(meta["lights"]):
             d = dict(d)
             d["color"] = tuple(d["color"])

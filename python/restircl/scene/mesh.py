@@ -1,5 +1,5 @@
 """A triangle mesh: object-space vertices, triangles with a material id each, transforms per frame, and optional
-per-corner UVs and shading normals."""
+per-corner UVs and shading normals, and vertices that deform within a still's shutter (scene/deformation.py)."""
 
 from __future__ import annotations
 
@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .deformation import at_time, check_deform
 from .errors import SceneError
 from .linking import Linking
 from .transforms import as_transforms
@@ -29,6 +30,11 @@ class Mesh:
     holdout: bool = False  # camera rays that meet it see nothing, with alpha 0 (Blender's Holdout); other rays
     # see it as it is
     camera_visible: bool = True  # off: camera rays pass through it (Ray Visibility > Camera, Indirect Only)
+    # (S, V, 3) object-space vertices at the S scene frames deform_times (S,), increasing: the deformation within a
+    # still's shutter, interpolated linearly between them (scene/deformation.py); None: the vertices at all times
+    deform: np.ndarray | None = None
+    deform_times: np.ndarray | None = None
+    deform_normals: np.ndarray | None = None  # (S, T, 3, 3) the shading normals (`normals`) at deform_times
 
     def __post_init__(self) -> None:
         self.vertices = np.asarray(self.vertices, dtype=np.float64).reshape(-1, 3)
@@ -36,10 +42,30 @@ class Mesh:
         ids = np.asarray(self.material_ids, dtype=np.int64)
         self.material_ids = np.full(len(self.triangles), int(ids), np.int64) if ids.ndim == 0 else ids.reshape(-1)
         self.transforms = as_transforms(self.transforms, f"mesh {self.name!r}")
+        if self.deform is not None:
+            self.deform = np.asarray(self.deform, dtype=np.float64)
+        if self.deform_times is not None:
+            self.deform_times = np.asarray(self.deform_times, dtype=np.float64).reshape(-1)
+        if self.deform_normals is not None:
+            self.deform_normals = np.asarray(self.deform_normals, dtype=np.float64)
 
     @property
     def animated(self) -> bool:
         return self.transforms.shape[0] > 1 and not np.allclose(self.transforms, self.transforms[:1])
+
+    @property
+    def deforms(self) -> bool:
+        return self.deform is not None
+
+    def vertices_at(self, frame: float) -> np.ndarray:
+        """The object-space vertices at `frame` (a time within a still's shutter: deformed)."""
+        return at_time(self.vertices, self.deform, self.deform_times, frame)
+
+    def normals_at(self, frame: float) -> np.ndarray | None:
+        """The per-corner shading normals at `frame` (deformed; not normalised), None where the mesh has none."""
+        if self.normals is None:
+            return None
+        return at_time(np.asarray(self.normals, np.float64), self.deform_normals, self.deform_times, frame)
 
     def validate(self, material_count: int) -> None:
         """Raise SceneError naming the mesh and the bad field."""
@@ -50,6 +76,10 @@ class Mesh:
             raise SceneError(f"{label}: vertices contain NaN or Inf")
         if not np.all(np.isfinite(self.transforms)):
             raise SceneError(f"{label}: transform contains NaN or Inf")
+        check_deform(self.deform, self.deform_times, self.deform_normals, (len(self.vertices), len(self.triangles)),
+                     label)
+        if self.deform_normals is not None and self.normals is None:
+            raise SceneError(f"{label}: deform_normals without normals")
         t = self.triangles
         if len(t) and (t.min() < 0 or t.max() >= len(self.vertices)):
             raise SceneError(f"{label}: triangle vertex index out of range 0..{len(self.vertices) - 1}")

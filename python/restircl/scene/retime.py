@@ -52,6 +52,9 @@ def retime(scene: Scene, k: int) -> Scene:
     cam.cuts = tuple(c * k for c in cam.cuts)
     for obj in [*out.meshes, *out.lights]:
         obj.transforms = retime_transforms(obj.transforms, k, n)
+    for mesh in out.meshes:
+        if mesh.deform_times is not None:
+            mesh.deform_times = mesh.deform_times * k
     for lt in out.lights:
         if lt.power_per_frame is not None and len(lt.power_per_frame) > 1:
             lt.power_per_frame = retime_values(lt.power_per_frame, k, n)

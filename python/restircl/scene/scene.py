@@ -53,7 +53,7 @@ class Scene:
 
     @property
     def has_moving_objects(self) -> bool:
-        return any(m.animated for m in self.meshes)
+        return any(m.animated or m.deforms for m in self.meshes)
 
     @property
     def has_moving_lights(self) -> bool:
@@ -103,7 +103,7 @@ class Scene:
             if len(mesh.triangles) == 0:
                 continue
             m = self.at(mesh.transforms, frame)
-            wv = mesh.vertices @ m[:3, :3].T + m[:3, 3]
+            wv = mesh.vertices_at(frame) @ m[:3, :3].T + m[:3, 3]
             t = mesh.triangles
             a, b, c = wv[t[:, 0]], wv[t[:, 1]], wv[t[:, 2]]
             area2 = np.linalg.norm(np.cross(b - a, c - a), axis=1)

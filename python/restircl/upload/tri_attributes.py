@@ -76,10 +76,10 @@ def tri_attributes(scene: Scene, world: WorldTriangles, order: np.ndarray, frame
         if len(sel) == 0:
             continue
         t = prim[sel]
-        corners = mesh.vertices[mesh.triangles[t]]  # (n, 3, 3) object space
+        corners = mesh.vertices_at(frame)[mesh.triangles[t]]  # (n, 3, 3) object space
         if mesh.normals is not None:
             inv = np.linalg.inv(Scene.at(mesh.transforms, frame)[:3, :3])
-            n = np.asarray(mesh.normals, np.float64)[t] @ inv  # the inverse transpose, on row vectors
+            n = mesh.normals_at(frame)[t] @ inv  # the inverse transpose, on row vectors
             length = np.linalg.norm(n, axis=2, keepdims=True)
             n = np.where(length > 0, n / np.where(length > 0, length, 1.0), 0.0)
         else:
