@@ -31,8 +31,8 @@ __kernel void path_trace(const __global GSample* gbuf, const __global GlossySamp
     L = guard_finite(L, guards, GUARD_NONFINITE_SAMPLE);
     indirect[i] = (float4)(L, 1.0f);
     sample[i].xyz += L;
-#ifdef HAS_LIGHT_PASSES  /* all of it is bounced light, diffuse or glossy by the first scatter (Cycles' passes) */
-    light_pass_indirect(light_passes, frame_params.pixels, i, L, st.pass_diffuse);
+#ifdef HAS_LIGHT_PASSES  /* all of it is bounced light, diffuse, glossy or transmission by the first scatter (Cycles') */
+    light_pass_indirect(light_passes, frame_params.pixels, i, L, st.pass_diffuse, st.pass_through);
 #ifdef HAS_LIGHT_GROUPS  /* ... and each light's share to its group */
     light_groups_add(light_passes, frame_params.pixels, i, &st.groups, 1.0f);
 #endif
