@@ -11,6 +11,9 @@ __kernel void gi_shade(const __global GSample* gbuf, const __global GlossySample
     int i = get_global_id(0);
     if (i >= frame_params.pixels) return;
     Surface s = surface_load(gbuf, glossy, i);
+#ifdef HAS_TRANSMISSION  /* a pixel that transmits takes its bounced light from the path pass (path/path.cl) */
+    if (params.split_glass && s.valid && surface_transmits(&s)) return;
+#endif
     GIReservoir r = res[i];
     float3 c = (float3)(0.0f);
     float3 contrib;
