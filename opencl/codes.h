@@ -184,15 +184,18 @@
 #define TAA_CATMULL_ROM 1
 
 /* the planes of the light passes (render/passes.py LIGHT_PLANES) */
-#define LPASS_DIFFUSE_DIRECT   0
-#define LPASS_DIFFUSE_INDIRECT 1
-#define LPASS_GLOSSY_DIRECT    2
-#define LPASS_GLOSSY_INDIRECT  3
-#define LPASS_EMISSION         4
-#define LPASS_ENVIRONMENT      5
-#define LPASS_DIFFUSE_COLOR    6
-#define LPASS_GLOSSY_COLOR     7
-#define LPASS_COUNT            8
+#define LPASS_DIFFUSE_DIRECT        0
+#define LPASS_DIFFUSE_INDIRECT      1
+#define LPASS_GLOSSY_DIRECT         2
+#define LPASS_GLOSSY_INDIRECT       3
+#define LPASS_EMISSION              4
+#define LPASS_ENVIRONMENT           5
+#define LPASS_DIFFUSE_COLOR         6
+#define LPASS_GLOSSY_COLOR          7
+#define LPASS_TRANSMISSION_DIRECT   8
+#define LPASS_TRANSMISSION_INDIRECT 9
+#define LPASS_TRANSMISSION_COLOR    10
+#define LPASS_COUNT                 11
 
 /* camera kinds (Camera.kind) (scene/camera.py CAMERA_TYPES) */
 #define CAMERA_PERSP 0

@@ -301,7 +301,7 @@ typedef struct {
     float clamp_indirect;  /* Clamp Indirect (0: off): a contribution's rgb sum at most 3x this */
     float light_threshold; /* Light Threshold (0: off): NEE samples below it go through Russian roulette */
     int max_transmission;  /* refractions through a dielectric lobe */
-    int pad1;
+    int split_glass;       /* 1: ReSTIR GI runs beside it and shades the rest: only pixels that transmit here */
 } PathParams;              /* 96 bytes */
 
 /* ReSTIR GI pass 2 (restir_gi/temporal.cl). */
@@ -325,7 +325,7 @@ typedef struct {
 /* ReSTIR GI pass 4 (restir_gi/shade.cl). */
 typedef struct {
     int visible_known;     /* 1: the reuse kept only samples visible from their pixel (the unbiased modes) */
-    int pad0;
+    int split_glass;       /* 1: the path pass shades the pixels that transmit (path/path.cl): not here */
     int pad1;
     int pad2;
 } GIShadeParams;           /* 16 bytes */

@@ -14,6 +14,9 @@ a test that asserts it rejects one of these builds.
   render/test_restir_gi.py).
 - DIELECTRIC_WITHOUT_FRESNEL_IN_REFRACTION: glass refracts all that reaches it besides what it reflects
   (bsdf/microfacet_dielectric.h): energy made at every crossing (render/test_glass.py, the white furnace).
+- LIGHT_TREE_ONE_SIDED: the light tree ranks lights at a transmitting surface by the incidence bound of its normal
+  alone (lights/tree.h): no bias (the power floor keeps every light), the noise of lights behind rough glass
+  (lights/test_tree_glass.py).
 - TEST_OPAQUE_SHADOWS: shadow rays stop at transparent and alpha-masked surfaces as at opaque ones
   (bvh/transparent.h; render/test_transparency.py, blender/test_alpha_cycles.py)."""
 

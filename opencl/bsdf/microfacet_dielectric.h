@@ -211,6 +211,16 @@ inline float3 microfacet_dielectric_albedo(const Lobe* l)
     return m.reflect * m.f0;
 }
 
+/* What it lets through at view cosine mu: 1 - F at the macroscopic normal times the refraction's tint (the light
+ * passes' Transmission Color, film/light_passes.h) */
+inline float3 microfacet_dielectric_transmittance(const Lobe* l, float mu)
+{
+    MicrofacetDielectric m = microfacet_dielectric(l);
+    float3 t;
+    (void)dielectric_fresnel(&m, mu, &t);
+    return t;
+}
+
 /* Its weights summed over rgb: no metallic part; the rest is what it reflects and transmits */
 inline float2 microfacet_dielectric_weights(const Lobe* l)
 {

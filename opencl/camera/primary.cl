@@ -175,6 +175,12 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
     }
 #endif
     light_pass_seen(light_passes, w * h, i, g.emission.xyz, (float3)(0.0f), g.albedo.xyz, gloss_colour);
+#if defined(HAS_GLOSSY) && defined(HAS_TRANSMISSION)  /* the colour of what it lets through */
+    if (materials[as_int(g.gnormal.w)].info.y > 0) {
+        Surface ts = surface_of(&g, &gx);
+        light_pass_transmission_colour(light_passes, w * h, i, &ts);
+    }
+#endif
 #ifdef HAS_LIGHT_GROUPS  /* an emissive surface in its object's group (ObjectInfo.gen_scale.w) */
     light_groups_seen(light_passes, w * h, i, as_int(objects[obj].gen_scale.w), g.emission.xyz);
 #endif

@@ -102,7 +102,7 @@ inline void bsdf_candidate_add(const Surface* s, const __global Light* lights, c
     float rnd = sel ? 0.0f : rng_next(rng);
     float t = target_of_record(s, lights, rec, uv.x, uv.y, &e);
     if (!(t > 0.0f)) return;
-    float p_light = light_pick_pdf(lp, index, s->x, s->n) * light_point_pdf(rec, type, s->x, &e);
+    float p_light = light_pick_pdf(lp, index, s->x, light_pick_normal(s)) * light_point_pdf(rec, type, s->x, &e);
     float p_mix = mis_mixture_pdf(n_light, p_light, (float)b.count, bsdf_pdf_light_measure(s, &e));
     bool picked = sel ? res_update_remap(r, index, uv.x, uv.y, t / p_mix, t, sel, 0.0f)
                       : res_update(r, index, uv.x, uv.y, t / p_mix, t, rnd, 0.0f);

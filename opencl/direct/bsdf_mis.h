@@ -37,7 +37,7 @@ inline float3 bsdf_mis_term(const Surface* s, const __global Light* lights, cons
     LightEval e;
     if (!(target_of_record(s, lights, rec, uv.x, uv.y, &e) > 0.0f)) return (float3)(0.0f);
     float p_b = bsdf_pdf_light_measure(s, &e);
-    float p_l = light_pick_pdf(lp, index, s->x, s->n) * light_point_pdf(rec, type, s->x, &e);
+    float p_l = light_pick_pdf(lp, index, s->x, light_pick_normal(s)) * light_point_pdf(rec, type, s->x, &e);
     if (!(p_b > 0.0f) || !visible(nodes, tris, s, &e)) return (float3)(0.0f);
     return unshadowed_contrib(s, &e) / (p_l + p_b);
 }

@@ -23,7 +23,7 @@ __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySa
     Surface s = surface_load(gbuf, glossy, i);
     const float clamp = params.clamp_direct, k_seen = clamp_scale(gbuf[i].emission.xyz, clamp);
     float3 c = gbuf[i].emission.xyz * k_seen;
-    float3 pass_d = (float3)(0.0f), pass_g = (float3)(0.0f);  /* the light passes' diffuse and glossy direct */
+    DirectSplit pass = direct_split_zero();  /* the light passes' direct light */
     GroupLight gl;  /* ... and the light groups' (film/light_groups.h) */
     group_light_clear(&gl);
     if (s.valid && light_count > 0) {
@@ -44,8 +44,7 @@ __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySa
             /* W > 0: a candidate of target > 0 was picked, and e holds its evaluation */
             float v = 0.0f;  /* the transmittance: 1 or 0 but through transparent surfaces */
             if (r.W > 0.0f && (v = transmittance(nodes, tris, &s, &e)) > 0.0f) {
-                float3 x = direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) * r.W * v, clamp, &pass_d,
-                                               &pass_g);
+                float3 x = direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) * r.W * v, clamp, &pass);
                 c += x;
                 GROUP_ADD(&gl, lights, &lights[r.light], x);
             }
@@ -55,7 +54,7 @@ __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySa
                 group_light_clear(&mg);
                 float3 m = bsdf_mis_sample(&s, lights, &lp, nodes, tris, tri_light, bsdf, &rng, &q, &wi, &mg);
                 group_light_merge(&gl, &mg, (float3)(clamp_scale(m, clamp)));
-                c += direct_contribution(&s, wi, m, clamp, &pass_d, &pass_g);
+                c += direct_contribution(&s, wi, m, clamp, &pass);
             }
         } else {
             float2 uv;
@@ -67,14 +66,13 @@ __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySa
             float v = 0.0f;
             if (pdf > 0.0f && surface_light_eval(&s, &lights[light], uv.x, uv.y, &e)
                 && light_links(lights, &lights[light], &s, &e) && (v = transmittance(nodes, tris, &s, &e)) > 0.0f) {
-                float3 x = direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) / pdf * v, clamp, &pass_d,
-                                               &pass_g);
+                float3 x = direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) / pdf * v, clamp, &pass);
                 c += x;
                 GROUP_ADD(&gl, lights, &lights[light], x);
             }
         }
     }
-    direct_passes(light_passes, pixel_count, i, pass_d, pass_g, k_seen);
+    direct_passes(light_passes, pixel_count, i, &pass, k_seen);
     light_groups_add(light_passes, pixel_count, i, &gl, k_seen);
     out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), film_coverage(gbuf[i]));
 }
@@ -91,7 +89,7 @@ __kernel void shade_reference(const __global GSample* gbuf, const __global Gloss
     Surface s = surface_load(gbuf, glossy, i);
     const float clamp = params.clamp_direct, k_seen = clamp_scale(gbuf[i].emission.xyz, clamp);
     float3 c = gbuf[i].emission.xyz * k_seen;
-    float3 pass_d = (float3)(0.0f), pass_g = (float3)(0.0f);
+    DirectSplit pass = direct_split_zero();
     GroupLight gl;
     group_light_clear(&gl);
     if (s.valid) {
@@ -107,14 +105,13 @@ __kernel void shade_reference(const __global GSample* gbuf, const __global Gloss
             float v = 0.0f;
             if (pdf > 0.0f && surface_light_eval(&s, &lights[l], uv.x, uv.y, &e)
                 && light_links(lights, &lights[l], &s, &e) && (v = transmittance(nodes, tris, &s, &e)) > 0.0f) {
-                float3 x = direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) / pdf * v, clamp, &pass_d,
-                                               &pass_g);
+                float3 x = direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) / pdf * v, clamp, &pass);
                 c += x;
                 GROUP_ADD(&gl, lights, &lights[l], x);
             }
         }
     }
-    direct_passes(light_passes, pixel_count, i, pass_d, pass_g, k_seen);
+    direct_passes(light_passes, pixel_count, i, &pass, k_seen);
     light_groups_add(light_passes, pixel_count, i, &gl, k_seen);
     out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), film_coverage(gbuf[i]));
 }

@@ -31,6 +31,17 @@ inline bool surface_is_singular(const Surface* s)
 }
 #endif
 
+/* The normal by which the light pick ranks lights at s (lights/tree.h light_tree_importance): s->n, or twice it
+ * where s transmits, the mark of a surface that takes light from both sides. The pick and its pdf (light_pick_pdf,
+ * for the MIS weights) take the same, so they stay consistent. */
+inline float3 light_pick_normal(const Surface* s)
+{
+#ifdef HAS_TRANSMISSION
+    if (surface_transmits(s)) return 2.0f * s->n;
+#endif
+    return s->n;
+}
+
 /* light_eval of sample (u, v) of light rec at surface s: about s->n, or, where s transmits and the light lies
  * behind it, about -s->n */
 inline bool surface_light_eval(const Surface* s, const __global Light* rec, float u, float v, LightEval* e)

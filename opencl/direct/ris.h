@@ -78,7 +78,7 @@ inline void ris_candidates(const Surface* s, const __global Light* lights, const
         if (tiled) {
             light_tile_entries(tile_rec, tile_info, src.tile_base, pick, n, light, pick_pdf, rec);
         } else {
-            light_pick_lights(lp, s->x, s->n, pick, n, q->on, light, pick_pdf);
+            light_pick_lights(lp, s->x, light_pick_normal(s), pick, n, q->on, light, pick_pdf);
             for (int k = 0; k < n; ++k) rec[k] = &lights[light[k]];
         }
         for (int k = 0; k < n; ++k) type[k] = light_type(rec[k]);  /* read here: the record's line on its way early */

@@ -71,7 +71,10 @@ inline float2 light_tree_cos_sub(float cos_a, float sin_a, float cos_b, float si
 
 /* An upper bound (up to a constant) of what the lights below node nd can give point x of unit normal n. The cheap
  * exits first: x inside the box's bounding sphere (every direction may reach it), the whole box behind x's
- * tangent plane, lights that emit in every direction (points: no cone to test). */
+ * tangent plane, lights that emit in every direction (points: no cone to test). A surface that transmits (rough
+ * glass) takes light from behind its tangent plane too: its callers pass 2 n (direct/light_side.h
+ * light_pick_normal), and the incidence bound is then that of the nearer of n and -n, as Cycles' light tree treats
+ * a transmitting closure. */
 inline float light_tree_importance(const __global LightTreeNode* nd, float3 x, float3 n)
 {
     float4 lo = nd->lo, hi = nd->hi, ax = nd->axis;
@@ -84,6 +87,9 @@ inline float light_tree_importance(const __global LightTreeNode* nd, float3 x, f
     float sin2_b = r2 * inv_d * inv_d;
     float cos_b = sqrt(fmax_f(0.0f, 1.0f - sin2_b)), sin_b = sqrt(sin2_b);
     float cos_i = -dot3(n, wo);
+#if defined(HAS_TRANSMISSION) && !defined(LIGHT_TREE_ONE_SIDED)  /* (defined only by tests/lights/test_tree_glass.py) */
+    if (dot3(n, n) > 2.0f) cos_i = abs_f(0.5f * cos_i);  /* 2 n: a surface that takes light from both sides */
+#endif
     float cos_ip = cos_i >= cos_b ? 1.0f
                                   : cos_i * cos_b + sqrt(fmax_f(0.0f, 1.0f - cos_i * cos_i)) * sin_b;
     if (!(cos_ip > 0.0f)) return 0.0f;  /* the incidence angle's bound: the box is behind x */

@@ -17,7 +17,7 @@ inline float3 path_emitter_term(const Surface* s, const __global Light* lights, 
     if (finite_f(e.dist) ? !(e.dist < hit_t) : !escaped) return (float3)(0.0f);
     float p_bsdf = path_bsdf_pdf(s, rec, type, index, hits, &e);
     if (!(p_bsdf > 0.0f)) return (float3)(0.0f);
-    float p_light = light_pick_pdf(lp, index, s->x, s->n) * light_point_pdf(rec, type, s->x, &e);
+    float p_light = light_pick_pdf(lp, index, s->x, light_pick_normal(s)) * light_point_pdf(rec, type, s->x, &e);
 #ifdef HAS_TRANSMISSION  /* NEE skipped s (smooth glass, path/walk.h): the BSDF ray is the only way */
     if (surface_is_singular(s)) p_light = 0.0f;
 #endif

@@ -26,7 +26,7 @@ inline float3 path_nee(const Surface* s, const __global Light* lights, const Lig
     float r_keep = rng_next(rng);
     int light;
     float pick;
-    light_pick_lights(lp, s->x, s->n, &word, 1, 0, &light, &pick);
+    light_pick_lights(lp, s->x, light_pick_normal(s), &word, 1, 0, &light, &pick);
     *picked = light;
     const __global Light* rec = &lights[light];
     int type = light_type(rec);

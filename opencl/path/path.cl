@@ -24,6 +24,9 @@ __kernel void path_trace(const __global GSample* gbuf, const __global GlossySamp
     const LightPick lp = light_pick_source(slots, light_pdf, tree_nodes, tree_info, tree_distant, params.sampler);
     const PathScene ps = {&sc, nodes, lights, tri_light, &lp, bsdf_source(params.sampler), &params};
     PathState st = {surface_load(gbuf, glossy, i), (float3)(1.0f), (float3)(1.0f), 0, 0, 0};
+#ifdef HAS_TRANSMISSION  /* beside ReSTIR GI, which cannot reuse a path refracted at x0: only the pixels that transmit */
+    if (params.split_glass && !(st.s.valid && surface_transmits(&st.s))) return;
+#endif
     uint rng = rng_seed((uint)i, frame_params.sample, frame_params.seed, 8u);
     /* still RIS renders: the BSDF directions and the NEE samples from the pixel's Sobol sequence (sampling/qmc.h) */
     const Qmc q = qmc_stream(frame_params.qmc, frame_params.qmc_index, frame_params.qmc_key, (uint)i);
@@ -31,8 +34,8 @@ __kernel void path_trace(const __global GSample* gbuf, const __global GlossySamp
     L = guard_finite(L, guards, GUARD_NONFINITE_SAMPLE);
     indirect[i] = (float4)(L, 1.0f);
     sample[i].xyz += L;
-#ifdef HAS_LIGHT_PASSES  /* all of it is bounced light, diffuse or glossy by the first scatter (Cycles' passes) */
-    light_pass_indirect(light_passes, frame_params.pixels, i, L, st.pass_diffuse);
+#ifdef HAS_LIGHT_PASSES  /* all of it is bounced light, diffuse, glossy or transmission by the first scatter (Cycles') */
+    light_pass_indirect(light_passes, frame_params.pixels, i, L, st.pass_diffuse, st.pass_through);
 #ifdef HAS_LIGHT_GROUPS  /* ... and each light's share to its group */
     light_groups_add(light_passes, frame_params.pixels, i, &st.groups, 1.0f);
 #endif

@@ -30,6 +30,7 @@ typedef struct {
 #ifdef HAS_LIGHT_PASSES
     float3 pass_diffuse;  /* the diffuse share of the first scatter's BSDF (film/light_passes.h), which all its light
                              takes; 0 until it scatters (a zero initialiser leaves it 0) */
+    int pass_through;     /* whether the first scatter went through the surface: all its light is transmission's */
 #endif
 #ifdef HAS_LIGHT_GROUPS
     GroupLight groups;    /* the light it gathered by light group (film/light_groups.h); 0 from a zero initialiser */
@@ -128,7 +129,10 @@ inline float3 path_walk(const PathScene* ps, PathState* st, uint* rng, const Qmc
 #ifndef LIGHT_PASSES_BY_LAST_BOUNCE  /* defined only by the negative control of tests/render/test_light_passes.py */
         if (st->bounces == 0)
 #endif
+        {
             st->pass_diffuse = light_pass_share(f, bsdf_eval_diffuse(&st->s, wi));
+            st->pass_through = light_pass_through(&st->s, wi);
+        }
 #endif
         st->T *= f * (cos_n / pdf);
         ++st->bounces;

@@ -15,18 +15,18 @@ __kernel void restir_shade(const __global GSample* gbuf, const __global GlossySa
     Surface s = surface_load(gbuf, glossy, i);
     const float clamp = params.clamp_direct, k_seen = clamp_scale(gbuf[i].emission.xyz, clamp);
     float3 c = gbuf[i].emission.xyz * k_seen;
-    float3 pass_d = (float3)(0.0f), pass_g = (float3)(0.0f);
+    DirectSplit pass = direct_split_zero();
     GroupLight gl;  /* the light groups' direct light (film/light_groups.h) */
     group_light_clear(&gl);
     Reservoir r = res[i];
     LightEval e;
     if (s.valid && r.light >= 0 && r.W > 0.0f && target_of(&s, lights, r.light, r.u, r.v, &e) > 0.0f
         && (visible_known || visible(nodes, tris, &s, &e))) {
-        float3 x = direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) * r.W, clamp, &pass_d, &pass_g);
+        float3 x = direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) * r.W, clamp, &pass);
         c += x;
         GROUP_ADD(&gl, lights, &lights[r.light], x);
     }
-    direct_passes(light_passes, pixel_count, i, pass_d, pass_g, k_seen);
+    direct_passes(light_passes, pixel_count, i, &pass, k_seen);
     light_groups_add(light_passes, pixel_count, i, &gl, k_seen);
     out[i] = (float4)(guard_finite(c, guards, GUARD_NONFINITE_SAMPLE), film_coverage(gbuf[i]));
 }

@@ -11,6 +11,9 @@ __kernel void gi_shade(const __global GSample* gbuf, const __global GlossySample
     int i = get_global_id(0);
     if (i >= frame_params.pixels) return;
     Surface s = surface_load(gbuf, glossy, i);
+#ifdef HAS_TRANSMISSION  /* a pixel that transmits takes its bounced light from the path pass (path/path.cl) */
+    if (params.split_glass && s.valid && surface_transmits(&s)) return;
+#endif
     GIReservoir r = res[i];
     float3 c = (float3)(0.0f);
     float3 contrib;
@@ -21,10 +24,15 @@ __kernel void gi_shade(const __global GSample* gbuf, const __global GlossySample
     c = guard_finite(c, guards, GUARD_NONFINITE_SAMPLE);
     indirect[i] = (float4)(c, 1.0f);
     sample[i].xyz += c;
-#ifdef HAS_LIGHT_PASSES  /* diffuse or glossy by the BSDF at the visible point towards x_s: the first bounce's */
+#ifdef HAS_LIGHT_PASSES  /* split by the BSDF at the visible point towards x_s: the first bounce's */
     float3 share = (float3)(0.0f);
-    if (s.valid && gi_has_sample(&r)) share = light_pass_diffuse_share(&s, normalize(r.pos.xyz - s.x));
-    light_pass_indirect(light_passes, frame_params.pixels, i, c, share);
+    int through = 0;
+    if (s.valid && gi_has_sample(&r)) {
+        float3 wi = normalize(r.pos.xyz - s.x);
+        share = light_pass_diffuse_share(&s, wi);
+        through = light_pass_through(&s, wi);
+    }
+    light_pass_indirect(light_passes, frame_params.pixels, i, c, share, through);
 #else
     (void)light_passes;
 #endif

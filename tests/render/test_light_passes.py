@@ -1,7 +1,8 @@
 """Cycles' light passes (Settings.light_passes, render/light_passes.py, opencl/film/light_passes.h).
 
 With Cycles' convention (the Direct and Indirect passes divided by their part's colour) the passes of every pixel
-recombine to the image: (DiffDir + DiffInd) DiffCol + (GlossDir + GlossInd) GlossCol + Emit + Env = Combined, to
+recombine to the image: (DiffDir + DiffInd) DiffCol + (GlossDir + GlossInd) GlossCol + (TransDir + TransInd) TransCol
++ Emit + Env = Combined, to
 float rounding, for each direct estimator of a still, with and without bounces, and for an animation frame (ReSTIR
 DI and ReSTIR GI) against its own sample. Each pass is exactly zero where it must be: the glossy passes of a scene
 with only diffuse materials, the indirect ones at Max Bounces 0, the Environment without a world or where the camera
@@ -41,7 +42,7 @@ def _glossy_box(world: tuple[float, float, float] | None = (0.2, 0.25, 0.3)):
 def recombined(f) -> np.ndarray:
     """The image the passes of frame f add up to."""
     return ((f.diffuse_direct + f.diffuse_indirect) * f.albedo + (f.glossy_direct + f.glossy_indirect) * f.glossy_color
-            + f.emission + f.environment)
+            + (f.transmission_direct + f.transmission_indirect) * f.transmission_color + f.emission + f.environment)
 
 
 def _mismatch(rec: np.ndarray, image: np.ndarray) -> float:
@@ -81,7 +82,8 @@ def test_animation_frame_passes_recombine_to_its_sample(device):
 
 def test_passes_are_zero_where_they_must_be(device):
     diffuse_only = _still(path_test_scene(24, 18, light="both"), method="ris", max_bounces=3)
-    for name in ("glossy_direct", "glossy_indirect", "glossy_color", "environment"):
+    for name in ("glossy_direct", "glossy_indirect", "glossy_color", "environment", "transmission_direct",
+                 "transmission_indirect", "transmission_color"):
         assert not np.any(getattr(diffuse_only, name)), name
     assert diffuse_only.diffuse_indirect.max() > 0
     assert _mismatch(recombined(diffuse_only), diffuse_only.color[..., :3]) < 1e-5

@@ -1,10 +1,13 @@
-"""Ghosting through glass under TAA (issue 39): the camera of eval/scenes/glass_orbit.py orbits a smooth glass
-sphere; each variant renders the animation (ReSTIR DI + the path pass, one sample per pixel per frame) with several
+"""Ghosting through glass under TAA (issue 39): the camera of eval/scenes/glass_orbit.py orbits a glass sphere
+(smooth, or --roughness); each variant renders the animation (ReSTIR DI + the bounced light: the path pass at the
+sphere's pixels, ReSTIR GI at the rest; one sample per pixel per frame) with several
 seeds, scored against per-frame converged stills over the frames after FIRST. Two figures per variant, on the whole
 image and on the sphere's pixels: the mean relMSE of one run (what a viewer sees: noise and ghost) and the relMSE of
 the mean over the seeds (the noise shrinks by the seed count, the ghost, a lag behind the view, stays).
 
     python tools/experiments/taa_glass_ghost.py --seeds 8
+    python tools/experiments/taa_glass_ghost.py --seeds 4 --ref-spp 512 --roughness 0.3 \
+        --only "default,no history,no TAA"
 """
 
 from __future__ import annotations
@@ -46,8 +49,9 @@ def main() -> None:
     ap.add_argument("--ref-spp", type=int, default=1024)
     ap.add_argument("--only", default="", help="comma-separated words: run the variants whose name holds one")
     ap.add_argument("--ref-cache", default="", help="an .npy file holding the references (made if absent)")
+    ap.add_argument("--roughness", type=float, default=0.0, help="the sphere's roughness (0: smooth glass)")
     a = ap.parse_args()
-    scene = glass_orbit(frames=a.frames, deg_per_frame=a.deg)
+    scene = glass_orbit(frames=a.frames, deg_per_frame=a.deg, roughness=a.roughness)
     t0 = time.time()
     if a.ref_cache and os.path.exists(a.ref_cache):
         refs = list(np.load(a.ref_cache))

@@ -94,12 +94,12 @@ TAA_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), *_floats("alpha_min", "ga
                        *_ints("moving", "max_history", "reset", "filter", "dilate", "pad0")])
 
 PATH_PARAMS = np.dtype([("sampler", SAMPLER_PARAMS), *_ints("max_bounces", "max_diffuse", "max_glossy", "min_bounces"),
-                        *_floats("clamp_indirect", "light_threshold"), *_ints("max_transmission", "pad1")])
+                        *_floats("clamp_indirect", "light_threshold"), *_ints("max_transmission", "split_glass")])
 GI_TEMPORAL_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), ("m_cap", np.float32), ("bias_correction", np.int32),
                                ("permutation", np.uint32), ("pad0", np.int32)])
 GI_SPATIAL_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), ("neighbours", np.int32), ("radius", np.float32),
                               *_ints("bias_correction", "boost_neighbours")])
-GI_SHADE_PARAMS = np.dtype(_ints("visible_known", "pad0", "pad1", "pad2"))
+GI_SHADE_PARAMS = np.dtype(_ints("visible_known", "split_glass", "pad1", "pad2"))
 ATROUS_PARAMS = np.dtype([("step", np.int32), *_floats("sigma_l", "sigma_z"), ("pad0", np.int32)])
 
 #: struct name in types.h -> numpy dtype

@@ -39,6 +39,9 @@ class Frame:
     glossy_direct: np.ndarray | None = None
     glossy_indirect: np.ndarray | None = None
     glossy_color: np.ndarray | None = None
+    transmission_direct: np.ndarray | None = None
+    transmission_indirect: np.ndarray | None = None
+    transmission_color: np.ndarray | None = None
     emission: np.ndarray | None = None
     environment: np.ndarray | None = None
     coverage: np.ndarray | None = None  # (H, W) still renders of transparent scenes: the mean coverage (film alpha)

@@ -1,13 +1,15 @@
 """Cycles' light passes on the host (Settings.light_passes, feature HAS_LIGHT_PASSES): the planes the kernels write
 (opencl/film/light_passes.h: LIGHT_PLANES of render/passes.py, float4 per pixel), and their read-back into a Frame.
 
-The planes hold light before any division: the direct and the bounced light of the first surface's diffuse and
-glossy parts, the emitters and the world the camera sees, and the first surface's diffuse and glossy colours. As
-Cycles does, the Direct and Indirect passes are the light divided by the colour of their part, so that the
-compositor's (Direct + Indirect) x Color gives the light back; a channel whose colour is 0 takes the mean of the
-channels that could be divided (Cycles' "even" division), and a pixel whose colour is 0 in every channel gets 0.
+The planes hold light before any division: the direct and the bounced light of the first surface's diffuse, glossy
+and transmission parts, the emitters and the world the camera sees, and the first surface's diffuse, glossy and
+transmission colours. As Cycles does, the Direct and Indirect passes are the light divided by the colour of their
+part, so that the compositor's (Direct + Indirect) x Color gives the light back; a channel whose colour is 0 takes
+the mean of the channels that could be divided (Cycles' "even" division), and a pixel whose colour is 0 in every
+channel gets 0.
 A still render divides the sums of its samples (StillAccumulation sums the planes), which keeps the identity
-Combined = (DiffDir + DiffInd) DiffCol + (GlossDir + GlossInd) GlossCol + Emit + Env exact for the mean colours.
+Combined = (DiffDir + DiffInd) DiffCol + (GlossDir + GlossInd) GlossCol + (TransDir + TransInd) TransCol + Emit
++ Env exact for the mean colours.
 """
 
 from __future__ import annotations
@@ -24,7 +26,8 @@ from .passes import LIGHT_PLANES
 
 # the Frame field of each divided pass, and the plane of its colour
 DIVIDED = {"diffuse_direct": "diffuse_color", "diffuse_indirect": "diffuse_color",
-           "glossy_direct": "glossy_color", "glossy_indirect": "glossy_color"}
+           "glossy_direct": "glossy_color", "glossy_indirect": "glossy_color",
+           "transmission_direct": "transmission_color", "transmission_indirect": "transmission_color"}
 
 
 def light_group_settings(scene, settings: Settings) -> Settings:
@@ -85,6 +88,7 @@ def fill_frame(out: Frame, planes: dict[str, np.ndarray]) -> None:
     for name, colour in DIVIDED.items():
         setattr(out, name, divide_by_colour(planes[name], planes[colour]))
     out.glossy_color = planes["glossy_color"]
+    out.transmission_color = planes["transmission_color"]
     out.emission = planes["emission"]
     out.environment = planes["environment"]
     out.albedo = planes["diffuse_color"]

@@ -32,8 +32,8 @@ PASSES = (
     # the image before the denoiser, as Cycles keeps it when denoising
     Pass("noisy_image", "RGBA", "NoisyImage", "Noisy Image", "COLOR", None, requires="denoise"),
     # Cycles' light passes (Settings.light_passes; docs/design.md "Light passes"): the direct and the bounced light
-    # of the diffuse and the glossy parts of the first surface, each divided by its colour pass, and what the camera
-    # sees of the emitters and of the world
+    # of the diffuse, the glossy and the transmission parts of the first surface, each divided by its colour pass,
+    # and what the camera sees of the emitters and of the world
     Pass("diffuse_direct", "RGB", "DiffDir", "Diffuse Direct", "COLOR", "use_pass_diffuse_direct",
          blender_4="DiffDir", requires="light_passes"),
     Pass("diffuse_indirect", "RGB", "DiffInd", "Diffuse Indirect", "COLOR", "use_pass_diffuse_indirect",
@@ -44,6 +44,12 @@ PASSES = (
          blender_4="GlossInd", requires="light_passes"),
     Pass("glossy_color", "RGB", "GlossCol", "Glossy Color", "COLOR", "use_pass_glossy_color", blender_4="GlossCol",
          requires="light_passes"),
+    Pass("transmission_direct", "RGB", "TransDir", "Transmission Direct", "COLOR", "use_pass_transmission_direct",
+         blender_4="TransDir", requires="light_passes"),
+    Pass("transmission_indirect", "RGB", "TransInd", "Transmission Indirect", "COLOR",
+         "use_pass_transmission_indirect", blender_4="TransInd", requires="light_passes"),
+    Pass("transmission_color", "RGB", "TransCol", "Transmission Color", "COLOR", "use_pass_transmission_color",
+         blender_4="TransCol", requires="light_passes"),
     Pass("emission", "RGB", "Emit", "Emission", "COLOR", "use_pass_emit", blender_4="Emit", requires="light_passes"),
     Pass("environment", "RGB", "Env", "Environment", "COLOR", "use_pass_environment", blender_4="Env",
          requires="light_passes"),
@@ -54,7 +60,7 @@ PASSES = (
 # The per-pixel planes the kernels write where light passes are on (LPASS_* in opencl/codes.h, in this order): the
 # light of each kind before any division, and the colours of the first surface (render/light_passes.py divides)
 LIGHT_PLANES = ("diffuse_direct", "diffuse_indirect", "glossy_direct", "glossy_indirect", "emission", "environment",
-                "diffuse_color", "glossy_color")
+                "diffuse_color", "glossy_color", "transmission_direct", "transmission_indirect", "transmission_color")
 
 
 def blender_name(p: Pass, version: tuple[int, ...]) -> str:

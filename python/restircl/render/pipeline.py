@@ -214,7 +214,8 @@ class Renderer:
         if plan.paths:  # 6b light that bounced, added to the sample
             self.paths.run(state)
             timer.mark("paths")
-        elif plan.gi:  # 6b ... as ReSTIR GI's samples, reused over time and neighbours
+        if plan.gi:  # 6b ... as ReSTIR GI's samples, reused over time and neighbours (beside the path pass where a
+            # scene refracts: each shades its own pixels)
             self.restir_gi.run(state, timer)
         color_buf = self.buffers.sample
         if plan.taa:  # 7 temporal accumulation (animation frames; a still render averages instead)

@@ -46,7 +46,7 @@ class FrameSituation:
     camera_moved: bool = False  # the camera sees from elsewhere than at the last frame (render/camera.py)
     scene_moves: bool = False  # objects or lights move between frames, or an interactive edit moved something
     gi_history_valid: bool = False  # the last frame left ReSTIR GI reservoirs (History.gi_valid)
-    transmission: bool = False  # some material refracts (glass): ReSTIR GI does not reuse paths through it yet
+    transmission: bool = False  # some material refracts (glass): ReSTIR GI does not reuse paths refracted at x0
 
 
 @dataclass(frozen=True)
@@ -190,9 +190,11 @@ def path_plan(settings: Settings, situation: FrameSituation, restir_history: boo
     s, x = settings, situation
     bounces = s.max_bounces > 0
     # ReSTIR GI reconnects at the first bounce as if it were a reflection: a path refracted at the visible point
-    # is not a sample it can reuse yet, so scenes with glass run the path pass in every frame
-    gi = bounces and s.gi_reuse and not x.still and not x.transmission
-    return {"paths": bounces and not gi, "path_light_tree": x.path_light_tree and x.light_count > 1,
+    # is not a sample it can reuse, so where a scene refracts the path pass runs beside it and shades the pixels
+    # whose first surface transmits, ReSTIR GI the rest (PathParams / GIShadeParams split_glass)
+    gi = bounces and s.gi_reuse and not x.still
+    return {"paths": bounces and (not gi or x.transmission),
+            "path_light_tree": x.path_light_tree and x.light_count > 1,
             "path_analytic": x.analytic_lights if x.analytic_lights <= BSDF_ANALYTIC_MAX else 0,
             "path_triangles": x.triangle_lights, "gi": gi,
             "gi_temporal": gi and s.gi_temporal and restir_history and x.gi_history_valid,

@@ -90,7 +90,8 @@ class RestirGI(Stage):
 
     def shade(self, state: FrameState) -> None:
         h = self.history
-        params = L.pack(L.GI_SHADE_PARAMS, visible_known=int(self.settings.gi_bias_correction != "none"))
+        params = L.pack(L.GI_SHADE_PARAMS, visible_known=int(self.settings.gi_bias_correction != "none"),
+                        split_glass=int(state.plan.paths))
         self.kernels.launch("gi_shade", pixel_count(state), gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
                             **self.scene.geometry, res=h.gi_reservoirs(h.cur), guards=self.buffers.guards,
                             sample=self.buffers.sample, indirect=self.paths.indirect_buffer(state),

@@ -330,7 +330,8 @@ def path_params(scene: DeviceScene, settings: Settings, plan: FramePlan) -> np.v
                      bsdf_candidates=plan.bsdf_candidates, bsdf_glossy_only=int(plan.bsdf_glossy_only))
     return L.pack(L.PATH_PARAMS, sampler=sampler, max_bounces=s.max_bounces, max_diffuse=s.diffuse_bounces,
                   max_glossy=s.glossy_bounces, min_bounces=s.min_light_bounces, clamp_indirect=s.clamp_indirect,
-                  light_threshold=s.light_threshold, max_transmission=s.transmission_bounces)
+                  light_threshold=s.light_threshold, max_transmission=s.transmission_bounces,
+                  split_glass=int(plan.gi and plan.paths))
 
 
 class RealtimeFilter(Stage):

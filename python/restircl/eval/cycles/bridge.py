@@ -292,6 +292,16 @@ def _read_exr(path: Path) -> tuple[np.ndarray, dict]:
     return np.stack(rgb, axis=-1), header
 
 
+def exr_output(sc, multilayer: bool = False) -> None:
+    """Blender writes the render as a 32-bit float EXR: the Combined pass, or with `multilayer` every pass on."""
+    im = sc.render.image_settings
+    if hasattr(im, "media_type"):
+        im.media_type = "MULTI_LAYER_IMAGE" if multilayer else "IMAGE"
+    im.file_format = "OPEN_EXR_MULTILAYER" if multilayer else "OPEN_EXR"
+    im.color_depth = "32"
+    im.exr_codec = "ZIP"
+
+
 def render(sc, seconds: float | None = None, samples: int | None = None, seed: int = 0, threads: int = 0,
            workdir: Path | None = None, paths=None, adjust: Callable[[object], None] | None = None) -> CyclesResult:
     """Render the bpy scene `sc` with Cycles, direct light only, or with the Light Paths of restircl Settings
@@ -305,12 +315,7 @@ def render(sc, seconds: float | None = None, samples: int | None = None, seed: i
         light_paths(sc, paths)
     if adjust is not None:
         adjust(sc)
-    im = sc.render.image_settings
-    if hasattr(im, "media_type"):
-        im.media_type = "IMAGE"
-    im.file_format = "OPEN_EXR"
-    im.color_depth = "32"
-    im.exr_codec = "ZIP"
+    exr_output(sc)
     sc.render.use_stamp_render_time = True
     tmp = tempfile.TemporaryDirectory(dir=workdir)
     try:
@@ -341,5 +346,5 @@ def scene_for(scene: Scene | None, blend: str | Path | None = None, width: int |
     return scene, to_bpy(scene)
 
 
-__all__ = ["CyclesResult", "available", "direct_only", "load_blend", "parse_time", "render", "scene_for",
+__all__ = ["CyclesResult", "available", "direct_only", "exr_output", "load_blend", "parse_time", "render", "scene_for",
            "to_bpy"]

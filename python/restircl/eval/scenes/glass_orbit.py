@@ -21,9 +21,9 @@ GLASS_MESH = 4  # the sphere's index in the scene's meshes
 
 
 def glass_orbit(width: int = 40, height: int = 24, frames: int = 12, deg_per_frame: float = 3.0,
-                glass: bool = True) -> Scene:
+                glass: bool = True, roughness: float = 0.0) -> Scene:
     """The camera orbits the sphere deg_per_frame a frame at 3 m; glass=False leaves the sphere out (its pixels:
-    where the depth differs)."""
+    where the depth differs); `roughness` makes it rough glass."""
     fv, ft = quad(8, 8)
     wv, wt = quad(6, 3)
     rot_x = np.array([[1, 0, 0], [0, 0, -1], [0, 1, 0]], float)
@@ -32,7 +32,7 @@ def glass_orbit(width: int = 40, height: int = 24, frames: int = 12, deg_per_fra
     gv, gt = icosphere(3, 0.45)
     materials = [Material("floor", (0.6, 0.6, 0.6)), Material("wall", (0.6, 0.5, 0.4)),
                  Material("stripe", (0, 0, 0), (1.0, 0.9, 0.8), 20.0), Material("red", (0.8, 0.1, 0.1)),
-                 glass_material("glass", 0.0)]
+                 glass_material("glass", roughness)]
     meshes = [Mesh("floor", fv, ft, 0), Mesh("wall", wv @ rot_x.T + (0, 1.5, 1.5), wt, 1),
               Mesh("stripe", sv @ rot_x.T + (0.2, 1.45, 0.9), st, 2), Mesh("red", bv + (-0.4, 0.9, 0.3), bt, 3),
               Mesh("glass", gv, gt, 4, translation(0.0, 0.0, 0.6))]
