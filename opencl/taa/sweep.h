@@ -4,8 +4,8 @@
  * moving object over a still background (the blur's band), the pixel's own surface is the background, whose motion
  * (none) would keep the band where it was, and whose 3x3 neighbourhood (background only) would clip it away. So a
  * blurred frame reprojects a pixel by the fastest motion whose sweep crosses it (the band moves with its object),
- * without the same-surface test (a blurred pixel's history is several surfaces), and clips the history to the
- * colours the current frame shows along that sweep (docs/design.md, "Depth of field and motion blur in motion"). */
+ * without the same-surface test (a blurred pixel's history is several surfaces), and clips the history to a box
+ * that also spans the colours the current frame shows along that sweep (docs/design.md, "Depth of field and motion blur in motion"). */
 #ifndef RESTIRCL_TAA_SWEEP_H
 #define RESTIRCL_TAA_SWEEP_H
 
@@ -16,6 +16,13 @@
 #endif
 #define TAA_SWEEP_STEP 2
 #define TAA_SWEEP_TAPS 6  /* taps of the clip box along the sweep */
+/* The shortest path over the shutter (pixels) taken by these rules: a shorter blur lies within the 3x3 clip box of
+ * a sharp frame, whose rules keep it. Under them the history is not tested for the pixel's own surface, and TAA's
+ * clipping of a history kept over surface changes drains sub-pixel lights (a lamp hit by some frames' samples):
+ * the far lamps of many_lights under the flying camera lost half their light with every path taken. */
+#ifndef TAA_SWEEP_MIN
+#define TAA_SWEEP_MIN 3.0f
+#endif
 
 /* Distance from point p to the segment a..b. */
 inline float taa_segment_distance(float2 p, float2 a, float2 b)

@@ -135,20 +135,25 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
     float n_prev = 0.0f;
     float2 prev, sweep = (float2)(0.0f);
     const bool blurred = p.moving && p.sweep_close > p.sweep_open;
+    bool swept = false;
     if (!p.reset) {
         GSample cur = gbuf[i];
-        /* the nearest surface's motion first (edges of a moving object follow it), then the pixel's own; with
-         * motion blur, the fastest motion whose sweep crosses the pixel, any surface's history (taa/sweep.h) */
+        /* with motion blur, where the fastest path over the shutter that crosses the pixel is TAA_SWEEP_MIN
+         * pixels long or more, that motion and any surface's history (taa/sweep.h); else the nearest surface's
+         * motion (edges of a moving object follow it), then the pixel's own */
         bool fetched = false;
-        if (blurred && taa_sweep_motion(gbuf, x, y, width, height, p.sweep_open, p.sweep_close, &sweep)) {
+        swept = blurred && taa_sweep_motion(gbuf, x, y, width, height, p.sweep_open, p.sweep_close, &sweep)
+            && length(sweep) * (p.sweep_close - p.sweep_open) >= TAA_SWEEP_MIN;
+        if (swept) {
             prev = (float2)((float)x + 0.5f, (float)y + 0.5f) + sweep;
             fetched = finite_f(prev.x) && finite_f(prev.y)
                 && taa_fetch(&cur, prev, prev_gbuf, history_in, width, height, 0, p.filter,
                              p.similar.depth_tolerance, p.similar.normal_cos, &h, &n_prev);
-        } else if (p.dilate && p.moving && taa_dilated_position(gbuf, x, y, width, height, &prev))
+        }
+        if (!fetched && p.dilate && p.moving && taa_dilated_position(gbuf, x, y, width, height, &prev))
             fetched = taa_fetch(&cur, prev, prev_gbuf, history_in, width, height, p.moving, p.filter,
                                 p.similar.depth_tolerance, p.similar.normal_cos, &h, &n_prev);
-        if (!fetched && !blurred && reproject_position(gbuf, x, y, width, &prev))
+        if (!fetched && reproject_position(gbuf, x, y, width, &prev))
             fetched = taa_fetch(&cur, prev, prev_gbuf, history_in, width, height, p.moving, p.filter,
                                 p.similar.depth_tolerance, p.similar.normal_cos, &h, &n_prev);
         if (fetched && (!finite3_f(h) || !finite_f(n_prev))) {
@@ -173,7 +178,7 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
         float3 mean = m1 / cnt;
         float3 sigma = sqrt(fmax(m2 / cnt - mean * mean, (float3)(0.0f)));
         float3 extent = gamma * sigma;
-        if (blurred) {
+        if (swept) {
             /* motion blur: the box also spans what the pixel sees along its sweep (a blurred pixel's history
              * mixes those colours: a variance box of the mixture would clip its extremes) */
             float3 lo = mean - extent, hi = mean + extent;

@@ -213,3 +213,18 @@ def test_a_sharp_animation_frame_fails_the_bound(tmp_path, monkeypatch, cycles_s
     err = image_error(ours, cycles_slide)
     print(f"sharp animation frame: error {err:.4f} against Cycles' blurred frame")
     assert err > ANIMATION_BOUND, f"a sharp frame passed: error {err:.4f}"
+
+
+def test_an_animation_exports_the_frames_its_shutters_reach():
+    """Frame 10 alone with a shutter a frame long: Center reaches into frames 9 and 11, Start into 11, End into 9
+    (else the scene holds still there: the first or last exported frame's transforms)."""
+    from restircl_blender import engine
+
+    sc = slide_scene(True)
+    assert engine._frames_to_sample(sc, 10, True, 0, False, False) == [9, 10, 11]
+    sc.render.motion_blur_position = "START"
+    assert engine._frames_to_sample(sc, 10, True, 0, False, False) == [10, 11]
+    sc.render.motion_blur_position = "END"
+    assert engine._frames_to_sample(sc, 10, True, 2, False, False) == [8, 9, 10]
+    sc.render.use_motion_blur = False
+    assert engine._frames_to_sample(sc, 10, True, 0, False, False) == [10]

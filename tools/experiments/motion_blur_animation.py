@@ -3,14 +3,16 @@ shutter, taa/sweep.h) against restarting every frame (a motion-blurred still of 
 Cycles', as Cycles renders an animation) at equal CPU time per frame: docs/design.md, "Depth of field and motion
 blur in motion".
 
-The scene is `moving_box` (a box sliding by --speed a frame past a camera panning 0.08 m a frame, two lights) with
-a shutter of --shutter frames around each frame. The error of every `--every`-th frame is the relMSE against that
+The scene is `moving_box` (a box sliding by --speed a frame past a camera panning 0.08 m a frame, two lights) or
+`many_lights` (a camera flying over 500 glowing lamps and 64 point lights), with a shutter of --shutter frames
+around each frame. The error of every `--every`-th frame is the relMSE against that
 frame's converged motion-blurred reference (eval/report/reference.py: a still, each sample at its own time). CPU
 time (time.process_time), not wall time: the machine is shared; Cycles (direct light only, 2 threads, motion blur
 with the same shutter, linear motion between whole frames as ours) gets that time as its time limit per frame.
 The same run renders the animation sharp (no shutter) for the cost of the blur per frame.
 
     python -m tools.experiments.motion_blur_animation --width 96 --height 54 --frames 24 --every 6
+    python -m tools.experiments.motion_blur_animation --scene many_lights
 """
 
 from __future__ import annotations
@@ -24,8 +26,10 @@ from pathlib import Path
 import numpy as np
 from restircl.eval.metrics import rel_mse
 from restircl.eval.report.reference import get_reference
+from restircl.render.pipeline import Renderer
 from restircl.scene.scene import Scene
-from restircl.scenes.builtin import moving_box
+from restircl.scenes.builtin import many_lights, moving_box
+from restircl.settings.table import Settings
 
 from .dof_motion import animation, restarted
 
@@ -56,6 +60,12 @@ def cycles_blurred(scene: Scene, frame: int, seconds: float) -> np.ndarray:
     return cycles.render(sc, seconds=seconds, threads=2).image[..., :3]
 
 
+def taa_ms(scene: Scene, frames: int = 12) -> float:
+    """Milliseconds of TAA's stage per frame (the sweep's search with motion blur), after the first two frames."""
+    r = Renderer(scene, Settings())
+    return float(np.mean([r.render_frame(k).stage_ms["taa"] for k in range(frames)][2:]))
+
+
 def _fcurves(action) -> list:
     if hasattr(action, "layers") and len(action.layers):
         return [fc for layer in action.layers for strip in layer.strips for bag in strip.channelbags
@@ -65,20 +75,25 @@ def _fcurves(action) -> list:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--scene", choices=("moving_box", "many_lights"), default="moving_box")
     for name, default in (("width", 96), ("height", 54), ("frames", 24), ("every", 6)):
         ap.add_argument(f"--{name}", type=int, default=default)
     for name, value in (("speed", 0.2), ("shutter", 1.0), ("ref-seconds", 20.0)):
         ap.add_argument(f"--{name}", type=float, default=value)
     a = ap.parse_args()
     evaluated = {k for k in range(a.frames) if k % a.every == a.every - 1}
-    result: dict = {"load_before": os.getloadavg()}
+    result: dict = {"scene": a.scene, "load_before": os.getloadavg()}
     cache = Path(tempfile.gettempdir()) / "restircl_motion_blur_refs"
-    scene = moving_box(a.width, a.height, frames=a.frames, speed=a.speed)
+    def make():
+        if a.scene == "many_lights":
+            return many_lights(a.width, a.height, frames=a.frames)
+        return moving_box(a.width, a.height, frames=a.frames, speed=a.speed)
+
+    scene = make()
     assert scene.camera is not None
     scene.camera.shutter = (-0.5 * a.shutter, 0.5 * a.shutter)
     refs = {k: get_reference(scene, k, a.ref_seconds, cache_dir=cache).image[..., :3] for k in sorted(evaluated)}
-    sharp = moving_box(a.width, a.height, frames=a.frames, speed=a.speed)
-    sharp_ms, sharp_anim = animation(sharp, evaluated)
+    sharp_ms, sharp_anim = animation(make(), evaluated)
     ms, anim = animation(scene, evaluated)
     still, samples = restarted(scene, evaluated, ms)
     cyc = {k: cycles_blurred(scene, k, ms / 1e3) for k in sorted(evaluated)}
@@ -86,7 +101,7 @@ def main() -> None:
               for name, images in (("animation", anim), ("sharp_animation", sharp_anim), ("restart", still),
                                    ("cycles_restart", cyc))}
     result.update(shutter=a.shutter, cpu_ms_per_frame=ms, sharp_cpu_ms_per_frame=sharp_ms, restart_samples=samples,
-                  rel_mse=errors, load_after=os.getloadavg())
+                  rel_mse=errors, taa_ms=taa_ms(scene), sharp_taa_ms=taa_ms(make()), load_after=os.getloadavg())
     print(json.dumps(result))
 
 if __name__ == "__main__":
