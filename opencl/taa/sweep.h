@@ -12,9 +12,9 @@
 /* How far (pixels) a sweep is looked for around a pixel, on a grid of that step: a blur longer than the radius
  * from its object's edge at this frame's time is clipped there. */
 #ifndef TAA_SWEEP_RADIUS
-#define TAA_SWEEP_RADIUS 8
+#define TAA_SWEEP_RADIUS 6
 #endif
-#define TAA_SWEEP_STEP 2
+#define TAA_SWEEP_STEP 3
 #define TAA_SWEEP_TAPS 6  /* taps of the clip box along the sweep */
 /* The shortest path over the shutter (pixels) taken by these rules: a shorter blur lies within the 3x3 clip box of
  * a sharp frame, whose rules keep it. Under them the history is not tested for the pixel's own surface, and TAA's

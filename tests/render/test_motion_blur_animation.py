@@ -5,7 +5,7 @@ band (where the blurred and the sharp stills differ), the relMSE of one frame pe
 
 Negative controls: sharp animation frames (no shutter), and blurred frames whose TAA reprojects and clips as a sharp
 frame does (its sweep left out). Measured when written (96x72, frame 8, 512-sample references, 6 seeds): blurred
-0.074-0.107, sharp 0.186-0.217, without the sweep 0.20-0.43."""
+0.073-0.106, sharp 0.186-0.217, without the sweep 0.20-0.43."""
 
 from __future__ import annotations
 
