@@ -1,4 +1,4 @@
-"""Motion blur of still renders: each sample of a still is the scene at its own time within the open shutter
+"""Motion blur. Still renders: each sample of a still is the scene at its own time within the open shutter
 (Camera.shutter, frames from the rendered frame), so that the average over the samples is the image integrated
 over the shutter, as Cycles' is. The whole image of one sample shares its time: the camera, the objects and the
 lights are where they are then (Scene.at between frames, scene/interpolation.py), and the geometry and its BVH are
