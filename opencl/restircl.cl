@@ -74,6 +74,7 @@
 #include "restir_gi/spatial.cl"
 #include "restir_gi/shade.cl"
 #endif
+#include "taa/sweep.h"
 #include "taa/taa.cl"
 #include "filter/atrous.cl"
 #include "still/accumulate.cl"

@@ -353,7 +353,10 @@ typedef struct {
     int filter;            /* history fetch: TAA_BILINEAR or TAA_CATMULL_ROM */
     int dilate;            /* 1: take the motion of the nearest surface in the 3x3 neighbourhood */
     int pad0;
-} TaaParams;               /* 48 bytes */
+    float sweep_open;      /* motion blur: the shutter from this frame's time, in frames (taa/sweep.h); */
+    float sweep_close;     /* open == close: a sharp frame */
+    int pad1, pad2;
+} TaaParams;               /* 64 bytes */
 
 /* One iteration of the real-time filter (filter/atrous.cl). */
 typedef struct {

@@ -12,6 +12,7 @@ Nothing here lets an exception escape into Blender: failures are reported with R
 
 from __future__ import annotations
 
+import math
 import traceback
 import warnings
 from dataclasses import dataclass
@@ -68,13 +69,17 @@ def _report_warnings(engine, messages) -> None:
 def _frames_to_sample(scene, frame: int, animation: bool, warmup: int, use_vector: bool,
                       deforming: bool) -> list[int]:
     """Blender frames whose motion is exported. An animation samples the rest of the frame range and, before
-    it, the warm-up frames (at least one when the Vector pass is on: motion needs a previous frame)."""
+    it, the warm-up frames (at least one when the Vector pass is on: motion needs a previous frame); with motion
+    blur, also the frames its first and last frames' shutters reach into."""
     if not animation:
         return motion_blur.still_motion(scene, frame).frames
     step = max(1, int(scene.frame_step))
-    before = max(int(warmup), 1 if use_vector else 0)
+    a, b = motion_blur.shutter(scene)
+    before = max(int(warmup), 1 if use_vector else 0, math.ceil(-a / step))
     last = frame if deforming else max(frame, int(scene.frame_end))
-    return [frame - k * step for k in range(before, 0, -1)] + list(range(frame, last + 1, step))
+    frames = list(range(frame, last + 1, step))
+    return ([frame - k * step for k in range(before, 0, -1)] + frames
+            + [frames[-1] + k * step for k in range(1, math.ceil(b / step) + 1)])
 
 
 @dataclass
@@ -174,20 +179,23 @@ def _start_session(job: _Job, session: _Session | None) -> _Session | None:
     deforming = job.animation and session is not None and session.animation and session.deforming
     frames = _frames_to_sample(depsgraph.scene, job.frame, job.animation, job.props.warmup_frames,
                                depsgraph.view_layer.use_pass_vector, deforming)
-    # a still's frames stand for the times within its shutter (motion_blur.still_motion)
-    step = 1.0 if job.animation else motion_blur.still_motion(depsgraph.scene, job.frame).step
+    # a still's frames stand for the times within its shutter (motion_blur.still_motion); an animation's are
+    # frame_step apart, each frame rendered at a time of its shutter (render/shutter.py)
+    step = (float(max(1, int(depsgraph.scene.frame_step))) if job.animation
+            else motion_blur.still_motion(depsgraph.scene, job.frame).step)
     try:
         exp = export.export_scene(depsgraph, frames, camera=camera, frame_set=lambda f: engine.frame_set(
             *((f, 0.0) if job.animation else motion_blur.subframe(f, job.frame, step))),
             deform=None if job.animation else motion_blur.deform_frames(depsgraph.scene, job.frame))
         exp.scene.camera = region_camera(exp.scene.camera,
                                          render_region(depsgraph.scene, *export.render_resolution(depsgraph.scene)))
+        exp.scene.camera.shutter = motion_blur.scene_shutter(depsgraph.scene, step)
         if not job.animation:
-            exp.scene.camera.shutter = motion_blur.scene_shutter(depsgraph.scene, step)
             motion_blur.hold_unblurred(exp.scene, depsgraph.scene.objects,
                                        exp.index_of(motion_blur.shutter_middle(depsgraph.scene, job.frame)))
         motion_blur.warn_unblurred(depsgraph.scene, job.animation,
-                                   [n for n in exp.deforming if n not in exp.deform_handled], exp.warnings.append)
+                                   [n for n in exp.deforming if n not in exp.deform_handled], exp.warnings.append,
+                                   depsgraph.scene.objects)
         exp.scene.validate()
     except job.known as exc:
         job.error(exc)

@@ -116,18 +116,21 @@ def hold_unblurred(scene, objects, current: int) -> None:
             mesh.transforms = mesh.transforms[min(current, mesh.transforms.shape[0] - 1)]
 
 
-def warn_unblurred(scene, animation: bool, deforming: list[str], warn: Callable[[str], None]) -> None:
-    """What the shutter does not blur: animation frames (real-time frames with TAA), objects that deform within
-    it whose deformation steps were not read (`deforming`: the export's deforming objects less those it read the
-    steps of, Export.deform_handled), a rolling shutter."""
+def warn_unblurred(scene, animation: bool, deforming: list[str], warn: Callable[[str], None], objects=()) -> None:
+    """What the shutter does not blur: objects that deform within it whose deformation steps were not read
+    (`deforming`: the export's deforming objects less those it read the steps of, Export.deform_handled; animation
+    frames read none), a rolling shutter, and in animation frames (one time of the shutter per frame, accumulated by
+    TAA: render/shutter.py) the objects whose own Motion Blur is off, which move with the rest (`objects`: the
+    scene's)."""
     if shutter(scene) == (0.0, 0.0):
-        return
-    if animation:
-        warn("motion blur is rendered in still renders (F12) only; animation frames are rendered sharp")
         return
     if deforming:
         warn(f"object(s) {', '.join(repr(n) for n in deforming[:5])} deform within the shutter: their deformation "
              "is not blurred (their geometry at the frame moves with their transform only)")
+    held = [ob.name for ob in objects if getattr(getattr(ob, "cycles", None), "use_motion_blur", True) is False]
+    if animation and held:
+        warn(f"object(s) {', '.join(repr(n) for n in held[:5])} have their Motion Blur off: animation frames blur "
+             "them with the rest (still renders keep them sharp)")
     cycles = getattr(scene, "cycles", None)
     if cycles is not None and getattr(cycles, "rolling_shutter_type", "NONE") != "NONE":
         warn("rolling shutter is not rendered: the whole image is exposed at once")

@@ -133,12 +133,24 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
     }
     float3 h = (float3)(0.0f);
     float n_prev = 0.0f;
-    float2 prev;
+    float2 prev, sweep = (float2)(0.0f);
+    const bool blurred = p.moving && p.sweep_close > p.sweep_open;
+    bool swept = false;
     if (!p.reset) {
         GSample cur = gbuf[i];
-        /* the nearest surface's motion first (edges of a moving object follow it), then the pixel's own */
+        /* with motion blur, where the fastest path over the shutter that crosses the pixel is TAA_SWEEP_MIN
+         * pixels long or more, that motion and any surface's history (taa/sweep.h); else the nearest surface's
+         * motion (edges of a moving object follow it), then the pixel's own */
         bool fetched = false;
-        if (p.dilate && p.moving && taa_dilated_position(gbuf, x, y, width, height, &prev))
+        swept = blurred && taa_sweep_motion(gbuf, x, y, width, height, p.sweep_open, p.sweep_close, &sweep)
+            && length(sweep) * (p.sweep_close - p.sweep_open) >= TAA_SWEEP_MIN;
+        if (swept) {
+            prev = (float2)((float)x + 0.5f, (float)y + 0.5f) + sweep;
+            fetched = finite_f(prev.x) && finite_f(prev.y)
+                && taa_fetch(&cur, prev, prev_gbuf, history_in, width, height, 0, p.filter,
+                             p.similar.depth_tolerance, p.similar.normal_cos, &h, &n_prev);
+        }
+        if (!fetched && p.dilate && p.moving && taa_dilated_position(gbuf, x, y, width, height, &prev))
             fetched = taa_fetch(&cur, prev, prev_gbuf, history_in, width, height, p.moving, p.filter,
                                 p.similar.depth_tolerance, p.similar.normal_cos, &h, &n_prev);
         if (!fetched && reproject_position(gbuf, x, y, width, &prev))
@@ -165,7 +177,22 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
             }
         float3 mean = m1 / cnt;
         float3 sigma = sqrt(fmax(m2 / cnt - mean * mean, (float3)(0.0f)));
-        h = ycocg_to_rgb(clip_to_box(rgb_to_ycocg(h), mean, gamma * sigma));
+        float3 extent = gamma * sigma;
+        if (swept) {
+            /* motion blur: the box also spans what the pixel sees along its sweep (a blurred pixel's history
+             * mixes those colours: a variance box of the mixture would clip its extremes) */
+            float3 lo = mean - extent, hi = mean + extent;
+            for (int k = 0; k < TAA_SWEEP_TAPS; ++k) {
+                float3 v = taa_sweep_tap(sample, x, y, width, height, sweep, p.sweep_open, p.sweep_close, k);
+                if (!finite3_f(v)) continue;
+                v = rgb_to_ycocg(v);
+                lo = fmin(lo, v);
+                hi = fmax(hi, v);
+            }
+            mean = 0.5f * (lo + hi);
+            extent = 0.5f * (hi - lo);
+        }
+        h = ycocg_to_rgb(clip_to_box(rgb_to_ycocg(h), mean, extent));
     }
     float n = fmin_f(n_prev + 1.0f, (float)p.max_history);
     /* a still scene keeps converging (1/n up to max_history); motion brings back the floor alpha_min */

@@ -47,6 +47,7 @@ from .history import History
 from .light_passes import fill_planes, light_group_settings
 from .plan import FramePlan, FrameSituation, light_source, plan_frame
 from .restir_gi import RestirGI
+from .shutter import at_phase, frame_phase, shifted, sweep
 from .stages import (
     BoilingFilter,
     FrameState,
@@ -153,8 +154,7 @@ class Renderer:
         out = self.read_frame(color_buf, gbuf, frame, aovs=aovs)
         if self.settings.denoise:
             denoise_by_gbuffer(out, self.read_gbuffer(gbuf))
-        out.stage_ms = stage
-        out.ms = (time.perf_counter() - t0) * 1e3
+        out.stage_ms, out.ms = stage, (time.perf_counter() - t0) * 1e3
         return out
 
     def render_view(self, camera: Camera, *, cut: bool = False, aovs: bool = False) -> Frame:
@@ -241,14 +241,14 @@ class Renderer:
     def _begin_frame(self, frame: int, still: bool, jitter_px: tuple[float, float] | None) -> FrameState:
         """Upload the scene at `frame`, plan the frame (render/plan.py) and pack the records its stages share."""
         s, ds = self.settings, self.device_scene
-        ds.upload(frame, self._last_frame)
+        phase = 0.0 if still else frame_phase(self.scene.camera, frame, self._sample, s.seed)  # motion blur
+        ds.upload(shifted(frame, phase), shifted(self._last_frame, phase))
         params = self.frame_params()
-        plan = plan_frame(s, self._situation(frame, still, sobol=bool(params["qmc"])))
+        self.last_plan = plan = at_phase(plan_frame(s, self._situation(frame, still, sobol=bool(params["qmc"]))), phase)
         if plan.drop_history:
             self.history.invalidate()
-        self.last_plan = plan
         jit = jitter_px if jitter_px is not None else jitter(self._sample) if s.jitter else (0.0, 0.0)
-        return FrameState(plan, params, sampler_params(plan, ds, s), jit)
+        return FrameState(plan, params, sampler_params(plan, ds, s), jit, sweep(self.scene.camera, phase, still))
 
     def _situation(self, frame: int, still: bool, sobol: bool) -> FrameSituation:
         """What plan_frame needs to know of frame `frame`, its scene as uploaded and the renderer's history."""

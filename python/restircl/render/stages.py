@@ -39,6 +39,7 @@ class FrameState:
     frame_params: np.void  # FrameParams
     sampler: np.void  # SamplerParams
     jitter: tuple[float, float] = (0.0, 0.0)
+    sweep: tuple[float, float] = (0.0, 0.0)  # motion blur: the shutter, in frames from the frame's time (TAA)
 
 
 def sampler_params(plan: FramePlan, scene: DeviceScene, settings: Settings) -> np.void:
@@ -367,7 +368,8 @@ class Taa(Stage):
         s, h = self.settings, self.history
         params = L.pack(L.TAA_PARAMS, alpha_min=s.alpha_min, gamma=s.gamma, similar=self._similarity(),
                         moving=int(moving), max_history=s.max_history, reset=int(not state.plan.history),
-                        filter=TAA_FILTERS.index(s.taa_filter), dilate=int(s.taa_dilation))
+                        filter=TAA_FILTERS.index(s.taa_filter), dilate=int(s.taa_dilation),
+                        sweep_open=state.sweep[0], sweep_close=state.sweep[1])
         self.kernels.launch("taa", image_size(state), sample=self.buffers.sample, gbuf=h.gbuf(h.cur),
                             glossy=h.glossy(h.cur),
                             prev_gbuf=h.gbuf(h.prev), history_in=h.taa[h.prev], history_out=h.taa[h.cur],
