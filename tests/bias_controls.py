@@ -14,6 +14,9 @@ a test that asserts it rejects one of these builds.
   render/test_restir_gi.py).
 - DIELECTRIC_WITHOUT_FRESNEL_IN_REFRACTION: glass refracts all that reaches it besides what it reflects
   (bsdf/microfacet_dielectric.h): energy made at every crossing (render/test_glass.py, the white furnace).
+- TEST_DESCENT_WITHOUT_REMAP: the light tree's stratified descent compares the same uniform at every level
+  instead of remapping it (lights/tree.h): the leaves are reached with other probabilities than the pdf says
+  (render/test_path_descent.py, the path pass's NEE from the tree with the Sobol sampler).
 - TEST_OPAQUE_SHADOWS: shadow rays stop at transparent and alpha-masked surfaces as at opaque ones
   (bvh/transparent.h; render/test_transparency.py, blender/test_alpha_cycles.py)."""
 
