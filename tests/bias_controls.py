@@ -17,6 +17,9 @@ a test that asserts it rejects one of these builds.
 - LIGHT_TREE_ONE_SIDED: the light tree ranks lights at a transmitting surface by the incidence bound of its normal
   alone (lights/tree.h): no bias (the power floor keeps every light), the noise of lights behind rough glass
   (lights/test_tree_glass.py).
+- TEST_DESCENT_WITHOUT_REMAP: the light tree's stratified descent compares the same uniform at every level
+  instead of remapping it (lights/tree.h): the leaves are reached with other probabilities than the pdf says
+  (render/test_path_descent.py, the path pass's NEE from the tree with the Sobol sampler).
 - TEST_OPAQUE_SHADOWS: shadow rays stop at transparent and alpha-masked surfaces as at opaque ones
   (bvh/transparent.h; render/test_transparency.py, blender/test_alpha_cycles.py)."""
 

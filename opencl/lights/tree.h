@@ -146,7 +146,9 @@ inline int light_tree_descend(const LightPick* lp, float3 x, float3 n, uint stat
         bool first = (stratified ? u : rng_next(&state)) < p0;
         p *= first ? p0 : 1.0f - p0;
         j = first ? c : c + 1;
+#ifndef TEST_DESCENT_WITHOUT_REMAP  /* negative control of the tests only (tests/bias_controls.py): u not remapped */
         if (stratified) u = fmin_f(first ? u / p0 : (u - p0) / (1.0f - p0), 0x1.fffffep-1f);  /* rounding may reach 1 */
+#endif
     }
     *pdf = p;
     return lp->nodes[j].meta.x;

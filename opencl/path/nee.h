@@ -3,7 +3,9 @@
  * weight against the BSDF ray (path/mis.h), and a shadow ray. Cycles' Light Threshold is a Russian roulette on the
  * sample before its shadow ray: a contribution whose largest channel is below the threshold survives with
  * probability max / threshold and is divided by it, so the estimate stays unbiased and dim samples cost no ray.
- * With the Sobol sampler (q->on: still RIS renders) the pick and the point come from the vertex's own 4D group. */
+ * With the Sobol sampler (q->on: still RIS renders) the pick and the point come from the vertex's own 4D group,
+ * and the tree descends by the stratified remap of the pick's word (lights/tree.h light_tree_descend), as a RIS
+ * candidate does: the word's strata over the frames stay strata over the leaves. */
 #ifndef RESTIRCL_PATH_NEE_H
 #define RESTIRCL_PATH_NEE_H
 
@@ -26,7 +28,8 @@ inline float3 path_nee(const Surface* s, const __global Light* lights, const Lig
     float r_keep = rng_next(rng);
     int light;
     float pick;
-    light_pick_lights(lp, s->x, light_pick_normal(s), &word, 1, 0, &light, &pick);
+    /* a Sobol word: the stratified descent */
+    light_pick_lights(lp, s->x, light_pick_normal(s), &word, 1, q->on, &light, &pick);
     *picked = light;
     const __global Light* rec = &lights[light];
     int type = light_type(rec);

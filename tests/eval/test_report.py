@@ -275,3 +275,27 @@ def test_flip_absent_gives_a_clear_note(device, monkeypatch):
     rep = R.run_report(scene, ["light_array"], (0.02,), device=device, reference=ref, log=logs.append)
     assert FLIP_MISSING in rep.notes and FLIP_MISSING in logs
     assert "flip-evaluator" in FLIP_MISSING and all(r.flip is None for r in rep.rows)
+
+
+def test_reference_key_ignores_the_order_of_the_triangles(cornell, device):
+    # the same triangles listed in another order and started at other corners (as Blender's exports of one mesh
+    # differ between processes) find the cached reference; a moved vertex does not
+    import dataclasses
+
+    scene, ref, cache = cornell
+    rng = np.random.default_rng(2)
+    meshes = []
+    for m in scene.meshes:
+        order = rng.permutation(len(m.triangles))
+        shift = rng.integers(0, 3, len(order))
+        tris = np.array([np.roll(t, -int(s)) for t, s in zip(m.triangles[order], shift, strict=True)])
+        meshes.append(dataclasses.replace(m, triangles=tris, material_ids=m.material_ids[order]))
+    logs: list[str] = []
+    same = get_reference(dataclasses.replace(scene, meshes=meshes), 0, seconds_hint=8.0, device=device,
+                         cache_dir=cache, log=logs.append)
+    assert any("cached" in m for m in logs) and same.path == ref.path
+    moved = [dataclasses.replace(m, vertices=m.vertices + (0.01 if i == 0 else 0.0)) for i, m in enumerate(meshes)]
+    logs.clear()
+    other = get_reference(dataclasses.replace(scene, meshes=moved), 0, frames=8, device=device, cache_dir=cache,
+                          log=logs.append)
+    assert not any("cached" in m for m in logs) and other.path != ref.path

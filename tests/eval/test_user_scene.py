@@ -50,3 +50,23 @@ def test_cycles_variant_switches_its_setting_for_its_renders_only():
     with C.cycles_variant(sc, "cycles"):
         assert sc.cycles.use_light_tree
     assert set(C.CYCLES) <= set(C.ALL_METHODS)
+
+
+def test_reference_key_is_the_same_in_another_process(tmp_path):
+    # Blender lists a mesh's loop triangles in another order in each process (the spheres' here): the reference's
+    # key (eval/report/reference.py) is taken of the scene's canonical form and its probe rendered from it, so a
+    # second process finds the first one's reference
+    import os
+    import subprocess
+    import sys
+
+    code = ("import sys\n"
+            "from restircl.eval.report.reference import get_reference\n"
+            "from restircl.eval.scenes.user_scene import user_scene\n"
+            "r = get_reference(user_scene(16, 9)[0], 0, frames=2, cache_dir=sys.argv[1], log=print)\n"
+            "print('PATH', r.path)\n")
+    runs = [subprocess.run([sys.executable, "-c", code, str(tmp_path)], capture_output=True, text=True,
+                           env=dict(os.environ), check=True).stdout for _ in range(2)]
+    paths = [next(line for line in out.splitlines() if line.startswith("PATH")) for out in runs]
+    assert "reference: saved" in runs[0] and "reference: cached" in runs[1], runs
+    assert paths[0] == paths[1]

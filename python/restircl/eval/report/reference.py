@@ -1,11 +1,13 @@
 """Converged reference images for `restircl report`, cached on disk.
 
-References are computed once and cached, keyed by the scene file's content, the frame, the device and a digest of
-the reference estimator's own first two frames (a probe: an edit of the code that changes what the reference
-estimator renders gives another key, so a stale reference is never reused; an edit that leaves it bit-identical,
-e.g. to the ReSTIR kernels, keeps the cache). A reference is an unbiased estimator run long: exhaustive over the
-lights (`reference`) when the scene has few, else RIS with 32 candidates; its own remaining error is estimated from
-its half buffers and written into the report.
+References are computed once and cached, keyed by the scene's content (the file of its key form, scene/canonical.py:
+an export that lists the same triangles in another order, or whose normals differ by float rounding, gives the same
+key), the frame, the device and a digest of the reference estimator's own first two frames (a probe: an edit of the
+code that changes what the reference estimator renders gives another key, so a stale reference is never reused; an
+edit that leaves it bit-identical, e.g. to the ReSTIR kernels, keeps the cache). The probe is rendered from the key
+form, so it does not see the order either; the reference from the canonical form. A reference is an unbiased
+estimator run long: exhaustive over the lights (`reference`) when the scene has few, else RIS with 32 candidates;
+its own remaining error is estimated from its half buffers and written into the report.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from ...render.pipeline import Renderer
+from ...scene.canonical import canonical_scene, key_scene
 from ...scene.scene import Scene
 from ...settings.table import Settings
 
@@ -33,8 +36,10 @@ def estimator_digest(probe: np.ndarray, device_label: str) -> str:
 
 
 def scene_digest(scene: Scene, cache_dir: Path) -> str:
+    """Digest of the scene's content: the file of its key form (scene/canonical.py key_scene: the same for any order
+    of its triangles)."""
     tmp = cache_dir / f"scene.{time.monotonic_ns()}.tmp.npz"
-    scene.save(tmp)
+    key_scene(scene).save(tmp)
     try:
         return hashlib.sha256(tmp.read_bytes()).hexdigest()[:16]
     finally:
@@ -88,10 +93,10 @@ def get_reference(scene: Scene, frame: int = 0, seconds_hint: float = 60.0, fram
                  **(overrides or {})}
     settings = Settings(method="reference" if n_lights <= 16 else "ris", candidates=32, seed=987654,
                         **overrides).validate()
-    r = Renderer(scene, settings, device)
-    # the probe also keeps lazy kernel compilation and first uploads out of the timing below
-    probe = r.render_still(frame, 2).color
-    key = (f"{scene_digest(scene, cache_dir)}_{estimator_digest(probe, r.device.label)}_f{frame}"
+    # the probe, and so the key, must not see the order of the triangles nor the rounding of their normals
+    pr = Renderer(key_scene(scene), settings, device)
+    probe = pr.render_still(frame, 2).color
+    key = (f"{scene_digest(scene, cache_dir)}_{estimator_digest(probe, pr.device.label)}_f{frame}"
            f"{overrides_tag(overrides)}")
     path = cache_dir / f"reference_{scene.name}_{key}.npy"
     meta_path = path.with_suffix(".json")
@@ -100,7 +105,9 @@ def get_reference(scene: Scene, frame: int = 0, seconds_hint: float = 60.0, fram
         log(f"reference: cached {path}")
         return Reference(np.load(path), meta["method"], meta["frames"], meta["seconds"], meta["est_rel_mse"],
                          str(path))
+    r = Renderer(canonical_scene(scene), settings, pr.device)
     if frames is None:
+        r.render_still(frame, 1)  # its first uploads out of the timing
         t0 = time.perf_counter()
         r.render_still(frame, 4)
         per = (time.perf_counter() - t0) / 4

@@ -9,6 +9,8 @@ docs/measurements/temporal-stability.md, "ReSTIR DI in motion against RIS").
                        small square area lights on the stall fronts) of powers over three decades, seen from a camera
                        that flies down the middle lane while turning (1.5 degrees and 0.25 m per frame). It was
                        written after the defaults were chosen and is only rendered for the final before / after.
+    market_orbit       VALIDATION scene, never tuned on: the same market seen from a camera orbiting its centre
+                       from 15 m out and 7 m up, 1 degree per frame (the tuning scene's motion on another scene).
 """
 
 from __future__ import annotations
@@ -88,7 +90,18 @@ def market_validation(width: int, height: int, frames: int, seed: int = 11) -> S
     return Scene([Mesh("market", v, t, m)], materials, lights, cam, name="market_validation").validate()
 
 
-MOTION_SCENES = {"garden_orbit": garden_orbit, "market_validation": market_validation}
+def market_orbit(width: int, height: int, frames: int, step_deg: float = 1.0) -> Scene:
+    """The validation market with its camera orbiting the centre, `step_deg` per frame."""
+    sc = market_validation(width, height, 1)
+    start = math.radians(-70.0)
+    eyes = [(15.0 * math.cos(start + math.radians(step_deg * f)), 15.0 * math.sin(start + math.radians(step_deg * f)),
+             7.0) for f in range(frames)]
+    sc.camera = Camera(np.stack([look_at(e, (0.0, 0.0, 1.0)) for e in eyes]), width, height, lens=26.0)
+    sc.name = "market_orbit"
+    return sc.validate()
+
+
+MOTION_SCENES = {"garden_orbit": garden_orbit, "market_validation": market_validation, "market_orbit": market_orbit}
 
 
 def motion_scene(name: str, width: int, height: int, frames: int) -> Scene:
