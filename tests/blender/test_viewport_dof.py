@@ -20,9 +20,9 @@ ensure_registered()
 
 from restircl import Renderer, Settings, scenes  # noqa: E402
 from restircl.eval import blender_scenes as bscenes  # noqa: E402
+from restircl.eval.metrics import rel_mse  # noqa: E402
 from restircl_blender.viewport_session import ViewportSession, view_camera  # noqa: E402
 
-from ..helpers import rel_mse  # noqa: E402
 from .test_viewport_session import H, W, orbit_view, perspective  # noqa: E402
 
 pytestmark = pytest.mark.blender
