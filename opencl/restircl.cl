@@ -78,4 +78,5 @@
 #include "taa/taa.cl"
 #include "filter/atrous.cl"
 #include "still/accumulate.cl"
+#include "still/holdout.cl"
 #include "film/cryptomatte.cl"

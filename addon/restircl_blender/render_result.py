@@ -83,10 +83,24 @@ def _combined(frame, height: int, width: int, film_transparent: bool) -> np.ndar
         colour[..., 3] = np.isfinite(np.asarray(depth, dtype=np.float32)).reshape(height, width)
     elif not film_transparent:
         colour[..., 3] = 1.0
+    shares = getattr(frame, "holdout_shares", None)
     holdout = getattr(frame, "holdout", None)
-    if holdout is not None and np.shape(holdout) == (height, width):  # a hole, film or not (as Cycles)
+    if shares is not None and np.shape(shares) == (height, width, 2):  # a still's: the share each sample saw
+        colour[..., 3] = _holdout_alpha(colour[..., 3], np.asarray(shares, np.float32), film_transparent,
+                                        coverage is not None)
+    elif holdout is not None and np.shape(holdout) == (height, width):  # a hole, film or not (as Cycles)
         colour[np.asarray(holdout, bool)] = 0.0
     return colour
+
+
+def _holdout_alpha(alpha: np.ndarray, shares: np.ndarray, film_transparent: bool, has_coverage: bool) -> np.ndarray:
+    """The film's alpha of a still with a holdout, as Cycles': the share of the pixel that neither the holdout nor
+    (on a transparent film) the world covers. The colour needs nothing: its samples that met the holdout are 0.
+    The coverage of a transparent scene's film already counts both as 0."""
+    if film_transparent and has_coverage:
+        return alpha
+    seen = 1.0 - shares[..., 0] - (shares[..., 1] if film_transparent else 0.0)
+    return np.clip(seen, 0.0, 1.0).astype(np.float32)
 
 
 def _set_rect(render_pass, pixels: np.ndarray) -> None:

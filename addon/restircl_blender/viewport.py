@@ -15,6 +15,7 @@ from . import export
 from .export.convert import matrix
 from .properties import make_settings
 from .viewport_edit import SceneEdit
+from .viewport_lens import view_lens
 from .viewport_session import ViewportSession, scaled_size, view_camera
 
 
@@ -179,13 +180,15 @@ def view_draw(engine, context, depsgraph) -> None:
         engine.update_stats("", f"restircl: unexpected {type(exc).__name__}: {exc}")
 
 
-def region_camera(context, pixel_size: int):
-    """The restircl.Camera of the 3D view in `context` at the render size of its region."""
+def region_camera(context, pixel_size: int, depsgraph=None):
+    """The restircl.Camera of the 3D view in `context` at the render size of its region; through the camera
+    (Camera View) with that camera's depth of field (viewport_lens)."""
     region, rv3d = context.region, context.region_data
     w, h = scaled_size(region.width, region.height, pixel_size)
     ortho_view = not rv3d.is_perspective and rv3d.view_perspective != "CAMERA"
     back = 0.5 * float(context.space_data.clip_end) if ortho_view else 0.0
-    return view_camera(matrix(rv3d.view_matrix), matrix(rv3d.window_matrix), w, h, back)
+    thin_lens = view_lens(context, depsgraph) if depsgraph is not None else None
+    return view_camera(matrix(rv3d.view_matrix), matrix(rv3d.window_matrix), w, h, back, thin_lens)
 
 
 def _view_draw(engine, context, depsgraph) -> None:
@@ -194,7 +197,7 @@ def _view_draw(engine, context, depsgraph) -> None:
         engine.update_stats("", f"restircl: {vp.message if vp is not None else 'no scene'}")
         return
     session = vp.session
-    session.set_view(region_camera(context, depsgraph.scene.restircl.viewport_pixel_size))
+    session.set_view(region_camera(context, depsgraph.scene.restircl.viewport_pixel_size, depsgraph))
     frame = session.latest()
     if frame is not None:
         draw_frame(engine, depsgraph.scene, vp, frame, context.region.width, context.region.height)

@@ -28,11 +28,14 @@ from restircl.render.camera import views_differ
 from .viewport_edit import SceneEdit, apply_edit
 
 
-def view_camera(view_matrix, window_matrix, width: int, height: int, ortho_back: float = 0.0) -> Camera:
+def view_camera(view_matrix, window_matrix, width: int, height: int, ortho_back: float = 0.0,
+                thin_lens: dict | None = None) -> Camera:
     """The restircl.Camera of a 3D view: `view_matrix` (world to view) and `window_matrix` (the projection, as
     Blender's RegionView3D has them; they already hold the camera view's zoom and offset) for an image of
     width x height. An orthographic view sees in front of and behind its origin (Blender clips it at
-    +-clip_end / 2): its rays start `ortho_back` behind it."""
+    +-clip_end / 2): its rays start `ortho_back` behind it. `thin_lens`: the Camera fields of a thin lens
+    (aperture_radius, focus_distance, ...; viewport_lens.view_lens), none for a pinhole."""
+    thin = dict(thin_lens or {})
     v = np.asarray(view_matrix, np.float64).reshape(4, 4)
     p = np.asarray(window_matrix, np.float64).reshape(4, 4)
     to_world = np.linalg.inv(v)
@@ -40,11 +43,11 @@ def view_camera(view_matrix, window_matrix, width: int, height: int, ortho_back:
     if p[3, 3] == 0.0:  # perspective: x_ndc = p00 x / -z + p02 at z = -1, so the plane's x = (x_ndc + p02) / p00
         return Camera(to_world, int(width), int(height), lens=18.0 / half_x, sensor_width=36.0,
                       sensor_fit="HORIZONTAL", shift_x=0.5 * p[0, 2],
-                      shift_y=0.5 * p[1, 2] / p[1, 1] / half_x)
+                      shift_y=0.5 * p[1, 2] / p[1, 1] / half_x, **thin)
     scale = 2.0 * half_x  # orthographic: x_ndc = p00 x + p03
     to_world[:3, 3] += to_world[:3, 2] * ortho_back  # the view looks along -Z: back is +Z
     return Camera(to_world, int(width), int(height), type="ORTHO", ortho_scale=scale, sensor_fit="HORIZONTAL",
-                  shift_x=-p[0, 3] / p[0, 0] / scale, shift_y=-p[1, 3] / p[1, 1] / scale)
+                  shift_x=-p[0, 3] / p[0, 0] / scale, shift_y=-p[1, 3] / p[1, 1] / scale, **thin)
 
 
 def scaled_size(width: int, height: int, pixel_size: int) -> tuple[int, int]:

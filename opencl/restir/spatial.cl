@@ -24,8 +24,14 @@ __kernel void restir_spatial(const __global GSample* gbuf, const __global Glossy
     int k_want = (pass == 0 && p.boost_neighbours > p.spatial_neighbours && c.M <= p.fresh_m)
                  ? p.boost_neighbours : p.spatial_neighbours;
     int k_max = min(k_want, MAX_NEIGHBOURS);
+    float radius = p.spatial_radius;
+#ifdef EXPERIMENT_COC_RADIUS_SCALE
+    /* tools/experiments/dof_coc_reuse.py, compiled out of every ordinary build: the disk grown to the pixel's circle
+     * of confusion (radius in pixels = scale * |1 / depth - 1 / focus|), at most 64 pixels */
+    radius = fmax_f(radius, fmin_f(EXPERIMENT_COC_RADIUS_SCALE * fabs(1.0f / s.depth - EXPERIMENT_COC_FOCUS_INV), 64.0f));
+#endif
     for (int k = 0; k < k_max; ++k) {
-        float2 o = disk_offset(p.spatial_radius, &rng);
+        float2 o = disk_offset(radius, &rng);
         int nx = x + round_i(o.x), ny = y + round_i(o.y);
         bool inside = nx >= 0 && ny >= 0 && nx < width && ny < height && !(nx == x && ny == y);
         used[k] = inside ? ny * width + nx : i;  /* i: rejected below */

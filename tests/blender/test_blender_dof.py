@@ -128,7 +128,7 @@ def test_dof_negative_control(tmp_path, monkeypatch, wrong):
     corner) must fail the bound that the right reading passes: the scene tells these apart."""
     from restircl_blender.export import camera as camera_export
 
-    real = camera_export._lens_params
+    real = camera_export.lens_params
     make, scene_args, spoil = WRONG[wrong]
 
     def misread(cam_obj, warn):
@@ -137,7 +137,7 @@ def test_dof_negative_control(tmp_path, monkeypatch, wrong):
             spoil(p)
         return p
 
-    monkeypatch.setattr(camera_export, "_lens_params", misread)
+    monkeypatch.setattr(camera_export, "lens_params", misread)
     samples = (4096, 2048) if make is bokeh_scene else (512, 256)  # as the agreement tests render them
     err, _ = cycles_and_ours(tmp_path, make(**scene_args), *samples, f"dof, {wrong} misread")
     assert err > BOUND, f"a misread {wrong} passed: relMSE {100 * err:.3f} %"

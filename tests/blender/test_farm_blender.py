@@ -111,3 +111,52 @@ def test_blend_on_bpy_workers(tmp_path):
         a = read_exr(tmp_path / "farm" / f"anim_000{f}.exr")
         b = read_exr(tmp_path / "local" / f"anim_000{f}.exr")
         assert a.keys() == b.keys() and all(np.array_equal(a[k], b[k]) for k in a), f
+
+
+def test_farm_honours_the_render_region(tmp_path):
+    """A .blend with a Render Region on a local cluster of 2 bpy workers: the workers render the region alone
+    (its camera, its size) and write it where the frame has it, empty elsewhere (alpha 0, depth 1e10: nothing
+    there); with Crop to Render Region the frames are the region alone, the same pixels. The region's depth is the
+    whole frame's there: the region's camera is the whole camera's, in part."""
+    ensure_registered()
+    sc = small_scene()
+    sc.render.resolution_x, sc.render.resolution_y = 32, 24
+    _moving(sc, (1, 2))
+    r = sc.render
+    r.use_border, r.use_crop_to_border = True, False
+    # Blender truncates the border to whole pixels: columns 8..23, rows 6..17 from the bottom (6..17 from the top)
+    r.border_min_x, r.border_max_x, r.border_min_y, r.border_max_y = 0.25, 0.75, 0.25, 0.75
+    cols, rows = slice(8, 24), slice(6, 18)
+    paths = {}
+    for name, border, crop in (("whole", False, False), ("placed", True, False), ("cropped", True, True)):
+        r.use_border, r.use_crop_to_border = border, crop
+        paths[name] = tmp_path / f"{name}.blend"
+        bpy.ops.wm.save_as_mainfile(filepath=str(paths[name]))
+    frames = FrameRange(1, 2)
+    chunks = plan_chunks(frames, 1, 0, earliest=frames.first)
+
+    def job(name):
+        return Job(name, str(tmp_path / "out"), SceneSource.of_path(paths[name]), asdict(Settings()),
+                   index_offset=frames.first, export_last=frames.last)
+
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+                                  silence_logs=logging.ERROR) as cluster:
+        res = run_farm(job("placed"), chunks, scheduler=cluster.scheduler_address)
+    assert res.written == 2
+    for c in chunks:  # the same job's reference renders, in this process
+        render_chunk(job("whole"), c)
+        render_chunk(job("cropped"), c)
+    inside = np.zeros((24, 32), bool)
+    inside[rows, cols] = True
+    for f in frames.frames():
+        whole = read_exr(tmp_path / "out" / f"whole_000{f}.exr")
+        placed = read_exr(tmp_path / "out" / f"placed_000{f}.exr")
+        cropped = read_exr(tmp_path / "out" / f"cropped_000{f}.exr")
+        assert whole["R"].shape == placed["R"].shape == (24, 32) and cropped["R"].shape == (12, 16)
+        assert placed.keys() == cropped.keys() == whole.keys()
+        for k in placed:  # the cropped frame is the placed frame's region, bit for bit
+            assert np.array_equal(placed[k][rows, cols], cropped[k], equal_nan=True), k
+        assert all(np.all(placed[c][~inside] == 0.0) for c in "RGBA"), "pixels outside the region were written"
+        assert np.all(placed["A"][inside] == 1.0) and placed["R"][inside].mean() > 0.01
+        assert np.all(placed["Depth.Z"][~inside] == 1e10)
+        assert np.allclose(placed["Depth.Z"][rows, cols], whole["Depth.Z"][rows, cols], rtol=1e-4)

@@ -33,9 +33,9 @@ from restircl.settings.table import Settings
 SCENES = {"moving_box": (moving_box, 5.6), "many_lights": (many_lights, 14.0)}
 
 
-def animation(scene, evaluated: set[int]) -> tuple[float, dict[int, np.ndarray]]:
+def animation(scene, evaluated: set[int], settings: Settings | None = None) -> tuple[float, dict[int, np.ndarray]]:
     """CPU ms per frame (after the first two, which compile) and the images of the evaluated frames."""
-    r = Renderer(scene, Settings())
+    r = Renderer(scene, settings or Settings())
     ms, images = [], {}
     for k in range(scene.frames):
         c0 = time.process_time()
@@ -70,8 +70,9 @@ def cycles_rows(scene, evaluated: set[int], seconds: float) -> dict[int, np.ndar
             for k in sorted(evaluated)}
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+def scene_arguments(description: str) -> argparse.ArgumentParser:
+    """The scene, its size, frames and lens, and the references' time (also tools/experiments/dof_coc_reuse.py)."""
+    ap = argparse.ArgumentParser(description=description)
     ap.add_argument("--scene", choices=sorted(SCENES), default="moving_box")
     ap.add_argument("--width", type=int, default=160)
     ap.add_argument("--height", type=int, default=120)
@@ -79,7 +80,11 @@ def main() -> None:
     ap.add_argument("--every", type=int, default=6)
     ap.add_argument("--radius", type=float, default=0.12)
     ap.add_argument("--ref-seconds", type=float, default=20.0)
-    a = ap.parse_args()
+    return ap
+
+
+def main() -> None:
+    a = scene_arguments(__doc__.split("\n\n")[0]).parse_args()
     evaluated = {k for k in range(a.frames) if k % a.every == a.every - 1}
     result = {"scene": a.scene, "load_before": os.getloadavg(), "rows": []}
     make, focus = SCENES[a.scene]

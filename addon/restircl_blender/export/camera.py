@@ -82,7 +82,7 @@ def _camera_params(cam_obj, scene, warn: Callable[[str], None]) -> dict:
     r = scene.render
     if abs(r.pixel_aspect_x - r.pixel_aspect_y) > 1e-6:
         warn("non-square pixel aspect is rendered with square pixels")
-    return {**_lens_params(cam_obj, warn),
+    return {**lens_params(cam_obj, warn),
         "width": w, "height": h, "lens": float(cd.lens), "sensor_width": float(cd.sensor_width),
         "sensor_height": float(cd.sensor_height), "sensor_fit": cd.sensor_fit,
         "shift_x": float(cd.shift_x), "shift_y": float(cd.shift_y), "type": cd.type,
@@ -90,7 +90,7 @@ def _camera_params(cam_obj, scene, warn: Callable[[str], None]) -> dict:
     }
 
 
-def _lens_params(cam_obj, warn: Callable[[str], None]) -> dict:
+def lens_params(cam_obj, warn: Callable[[str], None]) -> dict:
     """Depth of field as Cycles reads Blender's camera: an aperture of radius focal length / (2 F-stop) (metres:
     the focal length is in mm; 1 / (2 F-stop) for an orthographic camera), focused at the distance along the view
     axis to the focus object's origin, else at Focus Distance."""

@@ -18,6 +18,7 @@ from ..render.pipeline import Renderer
 from ..scene.scene import Scene
 from ..settings.table import Settings
 from .chunks import Chunk
+from .region import FrameRegion
 
 
 @dataclass(frozen=True)
@@ -71,7 +72,8 @@ class ChunkReport:
     total_s: float = 0.0
 
 
-_CACHE: dict[tuple, Renderer] = {}  # one renderer per worker process: its scene, kernels and buffers
+# one renderer per worker process (its scene, kernels and buffers), with the render region of its frames
+_CACHE: dict[tuple, tuple[Renderer, FrameRegion | None]] = {}
 
 
 def render_chunk(job: Job, chunk: Chunk, scene_data: bytes | None = None,
@@ -86,7 +88,7 @@ def render_chunk(job: Job, chunk: Chunk, scene_data: bytes | None = None,
     if todo is None:
         report.total_s = time.perf_counter() - t0
         return report
-    renderer = _renderer(job, scene_data)
+    renderer, region = _renderer(job, scene_data)
     report.setup_s = time.perf_counter() - t0
     renderer.reset()  # a chunk's frames depend on the chunk only, not on what this worker rendered before
     for number in todo.rendered:
@@ -96,7 +98,7 @@ def render_chunk(job: Job, chunk: Chunk, scene_data: bytes | None = None,
         if number < todo.first:
             report.warmup_s += frame.ms / 1e3
         if keep:
-            write_frame(out, job.name, number, frame)
+            write_frame(out, job.name, number, frame if region is None else region.place(frame))
             report.written += 1
             if on_frame is not None:
                 on_frame(number, frame.ms)
@@ -105,17 +107,31 @@ def render_chunk(job: Job, chunk: Chunk, scene_data: bytes | None = None,
     return report
 
 
-def _renderer(job: Job, scene_data: bytes | None) -> Renderer:
+def _renderer(job: Job, scene_data: bytes | None) -> tuple[Renderer, FrameRegion | None]:
     key = (job.source, tuple(sorted(job.settings.items())), job.device, job.index_offset, job.export_last)
-    renderer = _CACHE.get(key)
-    if renderer is None:
+    cached = _CACHE.get(key)
+    if cached is None:
         _CACHE.clear()  # one job at a time per worker: let the last one's buffers go
-        renderer = Renderer(load_source(job, scene_data), Settings(**job.settings), job.device)
-        _CACHE[key] = renderer
-    return renderer
+        scene, region = load_source_region(job, scene_data)
+        cached = Renderer(scene, Settings(**job.settings), job.device), region
+        _CACHE[key] = cached
+    return cached
+
+
+def load_source_region(job: Job, scene_data: bytes | None) -> tuple[Scene, FrameRegion | None]:
+    """The job's scene, and the render region of a .blend (its camera then sees the region alone)."""
+    src = job.source
+    if src.kind != "blend":
+        return load_source(job, scene_data), None
+    from ..io.blend import export_blend_region
+
+    assert src.path is not None
+    scene, region = export_blend_region(src.path, job.index_offset, job.export_last, src.width, src.height)
+    return (scene if region is None else region.apply(scene)), region
 
 
 def load_source(job: Job, scene_data: bytes | None) -> Scene:
+    """The job's scene (a .blend's of the full frame, whatever its render region)."""
     src = job.source
     if src.kind == "blend":
         from ..io.blend import export_blend

@@ -7,6 +7,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from ..farm.region import FrameRegion, blend_region
 from ..scene.errors import SceneError
 from ..scene.scene import Scene
 
@@ -69,3 +70,11 @@ def export_blend(path: str | Path, first: int, last: int, width: int | None = No
     scene = exp.scene.validate()
     scene.name = Path(path).stem
     return scene
+
+
+def export_blend_region(path: str | Path, first: int, last: int, width: int | None = None,
+                        height: int | None = None) -> tuple[Scene, FrameRegion | None]:
+    """export_blend, and the file's render region (Render Region, Crop to Render Region; None: the whole frame).
+    The scene's camera still sees the whole frame: FrameRegion.apply narrows it."""
+    scene = export_blend(path, first, last, width, height)
+    return scene, blend_region(import_bpy().context.scene, addon_module())

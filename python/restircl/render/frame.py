@@ -54,6 +54,8 @@ class Frame:
     cryptomatte: dict[str, np.ndarray] | None = None
     cryptomatte_names: dict[str, list[str]] | None = None  # kind -> the names of its ids (for the manifest)
     holdout: np.ndarray | None = None  # (H, W) bool: the camera ray met a holdout (Mesh.holdout): alpha 0 there
+    # (H, W, 2) still renders with a holdout: the shares of the samples whose camera ray met a holdout, and nothing
+    holdout_shares: np.ndarray | None = None
 
 
 class DeviceFrame(NamedTuple):

@@ -66,6 +66,7 @@ class StillAccumulation:
         self.planes = len(LIGHT_PLANES)  # planes in those: the light passes', then the light groups'
         self.crypto: cl.Buffer | None = None  # Cryptomatte's slots (opencl/film/cryptomatte.cl), where on
         self.crypto_levels = 0
+        self.holdout: cl.Buffer | None = None  # counts of the samples that met a holdout, and nothing (HAS_HOLDOUT)
 
     def use_light_passes(self, groups: int = 0) -> cl.Buffer:
         """Sum the light passes' planes (and `groups` light groups' planes) of each sample too; returns the buffer of
@@ -85,7 +86,25 @@ class StillAccumulation:
         if self.light_sums is not None:
             cl.enqueue_fill_buffer(self.kernels.device.queue, self.light_sums, np.float32(0), 0,
                                    self.pixels * 16 * self.planes)
+        if self.holdout is not None:
+            cl.enqueue_fill_buffer(self.kernels.device.queue, self.holdout, np.float32(0), 0, self.pixels * 8)
         self.counts = (0, 0)
+
+    def use_holdout(self) -> None:
+        """Count the samples whose camera ray met a holdout, and nothing (opencl/still/holdout.cl), from now on."""
+        if self.holdout is None:
+            self.holdout = alloc(self.kernels.device.context, self.pixels * 8)
+        cl.enqueue_fill_buffer(self.kernels.device.queue, self.holdout, np.float32(0), 0, self.pixels * 8)
+
+    def add_holdout(self, gbuf: cl.Buffer, frame_params: np.void) -> None:
+        self.kernels.launch("accumulate_holdout", (self.pixels,), gbuf=gbuf, shares=self.holdout,
+                            frame_params=frame_params)
+
+    def holdout_shares(self, done: int) -> np.ndarray:
+        """(H, W, 2) shares of the samples whose camera ray met a holdout, and nothing."""
+        counts = np.empty((self.pixels, 2), np.float32)
+        cl.enqueue_copy(self.kernels.device.queue, counts, self.holdout)
+        return (counts / max(done, 1)).reshape(*self.shape, 2)
 
     def use_cryptomatte(self, levels: int) -> None:
         """Count the ids each sample's camera ray hit (Cryptomatte, render/cryptomatte.py) from now on: empty slots."""
@@ -252,6 +271,8 @@ def render_still(
     acc.clear(aux=r.settings.denoise)
     if r.settings.cryptomatte_levels:
         acc.use_cryptomatte(r.settings.cryptomatte_levels)
+    if r.flags.get("HAS_HOLDOUT"):
+        acc.use_holdout()
     halves = HalfStreams(r.settings, r.history)
     assert r.scene.camera is not None
     times = ShutterTimes(r.scene.camera.shutter, r.settings.seed)
@@ -289,6 +310,8 @@ def _add_sample(r: FrameSource, halves: HalfStreams, frame: float, half: int, st
     r.still.add(r.sample_buf, r.frame_params(), half)
     if r.settings.cryptomatte_levels:  # the frame's G-buffer (the previous slot once the history swapped)
         r.still.add_cryptomatte(gbuf, r.frame_params())
+    if r.flags.get("HAS_HOLDOUT"):  # the frame's G-buffer, as above
+        r.still.add_holdout(gbuf, r.frame_params())
     if r.settings.denoise:  # the frame's G-buffer is in the previous slot once run_frame has swapped the history
         r.still.add_aux(gbuf, r.history.glossy(r.history.prev), r.frame_params())
     return gbuf
@@ -315,6 +338,8 @@ def _result(r: FrameSource, frame: int, gbuf: cl.Buffer, stage: dict[str, float]
     out.error_estimate = acc.error_estimate(done, n_half) if done >= 2 else None
     if r.flags.get("HAS_TRANSPARENCY"):  # the samples' w: 1 where the camera ray stopped (transparent.h film_coverage)
         out.coverage = acc.coverage(done)
+    if r.flags.get("HAS_HOLDOUT"):  # the shares of the pixel a holdout and the world cover: the film's alpha
+        out.holdout_shares = acc.holdout_shares(done)
     if r.settings.denoise:
         albedo, normal, emission = acc.aux_images(done)
         if denoise_frame(out, albedo, normal, emission):  # the passes show the guides the denoiser saw, as in Cycles
