@@ -86,17 +86,17 @@ def _combined(frame, height: int, width: int, film_transparent: bool) -> np.ndar
     shares = getattr(frame, "holdout_shares", None)
     holdout = getattr(frame, "holdout", None)
     if shares is not None and np.shape(shares) == (height, width, 2):  # a still's: the share each sample saw
-        colour[..., 3] = _holdout_alpha(colour[..., 3], np.asarray(shares, np.float32), film_transparent,
+        colour[..., 3] = _covered_alpha(colour[..., 3], np.asarray(shares, np.float32), film_transparent,
                                         coverage is not None)
     elif holdout is not None and np.shape(holdout) == (height, width):  # a hole, film or not (as Cycles)
         colour[np.asarray(holdout, bool)] = 0.0
     return colour
 
 
-def _holdout_alpha(alpha: np.ndarray, shares: np.ndarray, film_transparent: bool, has_coverage: bool) -> np.ndarray:
-    """The film's alpha of a still with a holdout, as Cycles': the share of the pixel that neither the holdout nor
-    (on a transparent film) the world covers. The colour needs nothing: its samples that met the holdout are 0.
-    The coverage of a transparent scene's film already counts both as 0."""
+def _covered_alpha(alpha: np.ndarray, shares: np.ndarray, film_transparent: bool, has_coverage: bool) -> np.ndarray:
+    """The film's alpha of a still, as Cycles': the share of the pixel that neither a holdout nor (on a transparent
+    film) the world covers, antialiased at the edges rather than the last sample's 0 or 1. The colour needs nothing:
+    its samples that met the holdout are 0. The coverage of a transparent scene's film already counts both as 0."""
     if film_transparent and has_coverage:
         return alpha
     seen = 1.0 - shares[..., 0] - (shares[..., 1] if film_transparent else 0.0)

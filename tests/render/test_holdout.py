@@ -57,4 +57,9 @@ def test_a_still_counts_the_share_of_its_samples_that_met_the_hole(device):
     inside[:, [0, -1]] = False
     assert inside.sum() >= 8 and np.all(hole[inside] == 1.0)
     without = Renderer(occluder_scene(32, 24), Settings(method="light_array"), device).render_still(0, 2)
-    assert without.holdout_shares is None  # no holdout: nothing counted
+    # no holdout: no sample names one; the world's share is still counted (a transparent film's alpha)
+    assert without.holdout_shares is not None and without.depth is not None
+    assert np.all(without.holdout_shares[..., 0] == 0)
+    world, missed = without.holdout_shares[..., 1], ~np.isfinite(without.depth)  # missed: by the last sample
+    assert np.all(world * 2 == np.round(world * 2))  # counts of 2 samples
+    assert np.all(world[missed] >= 0.5) and np.all(world[~missed] <= 0.5) and 0.1 < missed.mean() < 0.9

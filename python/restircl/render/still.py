@@ -271,8 +271,7 @@ def render_still(
     acc.clear(aux=r.settings.denoise)
     if r.settings.cryptomatte_levels:
         acc.use_cryptomatte(r.settings.cryptomatte_levels)
-    if r.flags.get("HAS_HOLDOUT"):
-        acc.use_holdout()
+    acc.use_holdout()  # the film's alpha: the shares of the holdout and the world, in every still
     halves = HalfStreams(r.settings, r.history)
     assert r.scene.camera is not None
     times = ShutterTimes(r.scene.camera.shutter, r.settings.seed)
@@ -310,8 +309,7 @@ def _add_sample(r: FrameSource, halves: HalfStreams, frame: float, half: int, st
     r.still.add(r.sample_buf, r.frame_params(), half)
     if r.settings.cryptomatte_levels:  # the frame's G-buffer (the previous slot once the history swapped)
         r.still.add_cryptomatte(gbuf, r.frame_params())
-    if r.flags.get("HAS_HOLDOUT"):  # the frame's G-buffer, as above
-        r.still.add_holdout(gbuf, r.frame_params())
+    r.still.add_holdout(gbuf, r.frame_params())  # the frame's G-buffer, as above
     if r.settings.denoise:  # the frame's G-buffer is in the previous slot once run_frame has swapped the history
         r.still.add_aux(gbuf, r.history.glossy(r.history.prev), r.frame_params())
     return gbuf
@@ -338,8 +336,7 @@ def _result(r: FrameSource, frame: int, gbuf: cl.Buffer, stage: dict[str, float]
     out.error_estimate = acc.error_estimate(done, n_half) if done >= 2 else None
     if r.flags.get("HAS_TRANSPARENCY"):  # the samples' w: 1 where the camera ray stopped (transparent.h film_coverage)
         out.coverage = acc.coverage(done)
-    if r.flags.get("HAS_HOLDOUT"):  # the shares of the pixel a holdout and the world cover: the film's alpha
-        out.holdout_shares = acc.holdout_shares(done)
+    out.holdout_shares = acc.holdout_shares(done)  # the shares of the pixel a holdout and the world cover
     if r.settings.denoise:
         albedo, normal, emission = acc.aux_images(done)
         if denoise_frame(out, albedo, normal, emission):  # the passes show the guides the denoiser saw, as in Cycles
