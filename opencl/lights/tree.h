@@ -1,8 +1,9 @@
 /* The light tree: a spatial proposal for RIS candidates (built on the host by lights/tree.py, which says how it is
  * laid out). A pick descends from the root, at each node taking a child with probability
- *     p = (1 - F) I_c / (I_0 + I_1) + F phi_c / (phi_0 + phi_1),
- * I the children's importance bounds at the shading point (power x orientation bound / squared distance, the bound
- * of pbrt-v4's LightBounds::Importance), phi their power, F = LIGHT_TREE_FLOOR. The power term is the floor: every
+ *     p = (1 - F) (N_c / (N_0 + N_1) + R_c / (R_0 + R_1)) / 2 + F phi_c / (phi_0 + phi_1),
+ * N and R the children's importances at the shading point (power x orientation bound / squared distance, as pbrt-v4's
+ * LightBounds::Importance, but at the distance of the box's nearest point and of its farthest corner instead of its
+ * centre's: light_tree_importance), phi their power, F = LIGHT_TREE_FLOOR. The power term is the floor: every
  * light of power > 0 keeps a nonzero probability everywhere, so RIS over tree candidates stays unbiased even where
  * a bound is wrong (a shading normal, a normal map); no branch goes below LIGHT_TREE_MIN_BRANCH. The pick's pdf
  * is the product of the branch probabilities; light_pick_pdf recomputes it for a given light from its leaf index
@@ -69,16 +70,25 @@ inline float2 light_tree_cos_sub(float cos_a, float sin_a, float cos_b, float si
     return (float2)(cos_a * cos_b + sin_a * sin_b, sin_a * cos_b - cos_a * sin_b);
 }
 
-/* An upper bound (up to a constant) of what the lights below node nd can give point x of unit normal n. The cheap
- * exits first: x inside the box's bounding sphere (every direction may reach it), the whole box behind x's
- * tangent plane, lights that emit in every direction (points: no cone to test). */
-inline float light_tree_importance(const __global LightTreeNode* nd, float3 x, float3 n)
+/* What the lights below node nd can give point x of unit normal n, up to a constant: their power times a bound of
+ * the orientation terms (incidence at x, emission by the lights' cone) over squared distance, at two distances: .x
+ * at the nearest point of the box (a bound; 0 when x is in it, then kept finite by a floor of 1e-12) and .y at its
+ * farthest corner. The centre's distance would judge a box with one light beside x, its others metres away, as
+ * far as its centre. The cheap exits first: x inside the box's bounding sphere (every direction may reach it), the
+ * whole box behind x's tangent plane, lights that emit in every direction (points: no cone to test). */
+inline float2 light_tree_importance(const __global LightTreeNode* nd, float3 x, float3 n)
 {
     float4 lo = nd->lo, hi = nd->hi, ax = nd->axis;
+    float3 a = lo.xyz - x, b = x - hi.xyz;  /* per axis: how far x is below the box, above it */
+    float3 near = (float3)(fmax_f(fmax_f(a.x, b.x), 0.0f), fmax_f(fmax_f(a.y, b.y), 0.0f),
+                           fmax_f(fmax_f(a.z, b.z), 0.0f));
+    float3 far = (float3)(fmax_f(abs_f(a.x), abs_f(b.x)), fmax_f(abs_f(a.y), abs_f(b.y)),
+                          fmax_f(abs_f(a.z), abs_f(b.z)));
+    float2 inv_d2 = (float2)(1.0f / fmax_f(dot3(near, near), 1e-12f), 1.0f / fmax_f(dot3(far, far), 1e-12f));
     float3 d = x - 0.5f * (lo.xyz + hi.xyz);
     float3 ext = hi.xyz - lo.xyz;
     float d2 = dot3(d, d), r2 = 0.25f * dot3(ext, ext);
-    if (d2 <= r2) return lo.w / fmax_f(r2, 1e-12f);
+    if (d2 <= r2) return lo.w * inv_d2;
     float inv_d = 1.0f / sqrt(d2);
     float3 wo = d * inv_d;  /* from the node towards x */
     float sin2_b = r2 * inv_d * inv_d;
@@ -86,8 +96,8 @@ inline float light_tree_importance(const __global LightTreeNode* nd, float3 x, f
     float cos_i = -dot3(n, wo);
     float cos_ip = cos_i >= cos_b ? 1.0f
                                   : cos_i * cos_b + sqrt(fmax_f(0.0f, 1.0f - cos_i * cos_i)) * sin_b;
-    if (!(cos_ip > 0.0f)) return 0.0f;  /* the incidence angle's bound: the box is behind x */
-    float cos_p = 1.0f;                 /* the emission angle's bound */
+    if (!(cos_ip > 0.0f)) return (float2)(0.0f);  /* the incidence angle's bound: the box is behind x */
+    float cos_p = 1.0f;                            /* the emission angle's bound */
     float cos_o = hi.w;
     if (cos_o > -1.0f) {
         float cos_w = dot3(ax.xyz, wo);
@@ -95,12 +105,21 @@ inline float light_tree_importance(const __global LightTreeNode* nd, float3 x, f
         float2 w_o = light_tree_cos_sub(cos_w, sqrt(fmax_f(0.0f, 1.0f - cos_w * cos_w)), cos_o,
                                         as_float(nd->meta.z));
         cos_p = light_tree_cos_sub(w_o.x, w_o.y, cos_b, sin_b).x;
-        if (cos_p < ax.w) return 0.0f;
+        if (cos_p < ax.w) return (float2)(0.0f);
     }
-    return lo.w * cos_ip * cos_p / d2;
+    return (lo.w * cos_ip * cos_p) * inv_d2;
 }
 
-/* The probability of taking the first of the children c, c + 1 at x, kept within [B, 1 - B] (B =
+/* The share a of a + b, or -1 where the sum is 0 or not finite. */
+inline float light_tree_share(float a, float b)
+{
+    float sum = a + b;
+    return sum > 0.0f && finite_f(sum) ? a / sum : -1.0f;
+}
+
+/* The probability of taking the first of the children c, c + 1 at x: the mean of their importance shares at the
+ * near and at the far distances (light_tree_importance; one of them alone where the other's sum is 0 or not
+ * finite, their power share where both are), mixed with the power share, and kept within [B, 1 - B] (B =
  * LIGHT_TREE_MIN_BRANCH): a float draw could not reach a branch of probability 1e-12 that the pmf would still count,
  * and 1 - p of the clamped p is what the descent takes the second child with, to float rounding. */
 inline float light_tree_branch(const __global LightTreeNode* nodes, int c, float3 x, float3 n)
@@ -109,9 +128,10 @@ inline float light_tree_branch(const __global LightTreeNode* nodes, int c, float
     /* a child without power is never taken (the light array gives such lights no slot either) */
     if (!(phi0 > 0.0f) || !(phi1 > 0.0f)) return phi0 > 0.0f ? 1.0f : 0.0f;
     float pw = phi0 / (phi0 + phi1);
-    float i0 = light_tree_importance(&nodes[c], x, n), i1 = light_tree_importance(&nodes[c + 1], x, n);
-    float sum = i0 + i1;
-    float p = !(sum > 0.0f) || !finite_f(sum) ? pw : (1.0f - LIGHT_TREE_FLOOR) * (i0 / sum) + LIGHT_TREE_FLOOR * pw;
+    float2 i0 = light_tree_importance(&nodes[c], x, n), i1 = light_tree_importance(&nodes[c + 1], x, n);
+    float near = light_tree_share(i0.x, i1.x), far = light_tree_share(i0.y, i1.y);
+    float pi = near >= 0.0f ? (far >= 0.0f ? 0.5f * (near + far) : near) : (far >= 0.0f ? far : pw);
+    float p = (1.0f - LIGHT_TREE_FLOOR) * pi + LIGHT_TREE_FLOOR * pw;
     return clamp_f(p, LIGHT_TREE_MIN_BRANCH, 1.0f - LIGHT_TREE_MIN_BRANCH);
 }
 
