@@ -71,43 +71,45 @@ inline float2 light_tree_cos_sub(float cos_a, float sin_a, float cos_b, float si
 }
 
 /* What the lights below node nd can give point x of unit normal n, up to a constant: their power times a bound of
- * the orientation terms (incidence at x, emission by the lights' cone) over squared distance, at two distances: .x
- * at the nearest point of the box (a bound; 0 when x is in it, then kept finite by a floor of 1e-12) and .y at its
- * farthest corner. The centre's distance would judge a box with one light beside x, its others metres away, as
- * far as its centre. The cheap exits first: x inside the box's bounding sphere (every direction may reach it), the
- * whole box behind x's tangent plane, lights that emit in every direction (points: no cone to test). */
+ * the orientation terms (incidence at x, emission by the lights' cone; 1 where x is inside the box's bounding sphere,
+ * which every direction may reach, and no cone to test for lights that emit in every direction) over squared
+ * distance, at two distances: .x at the box's nearest point (an upper bound; 0 when x is in the box, then kept
+ * finite by a floor of 1e-12) and .y at its farthest corner. The centre's distance would judge a box with one light
+ * beside x, its others metres away, as far as its centre. */
 inline float2 light_tree_importance(const __global LightTreeNode* nd, float3 x, float3 n)
 {
     float4 lo = nd->lo, hi = nd->hi, ax = nd->axis;
-    float3 a = lo.xyz - x, b = x - hi.xyz;  /* per axis: how far x is below the box, above it */
-    float3 near = (float3)(fmax_f(fmax_f(a.x, b.x), 0.0f), fmax_f(fmax_f(a.y, b.y), 0.0f),
-                           fmax_f(fmax_f(a.z, b.z), 0.0f));
-    float3 far = (float3)(fmax_f(abs_f(a.x), abs_f(b.x)), fmax_f(abs_f(a.y), abs_f(b.y)),
-                          fmax_f(abs_f(a.z), abs_f(b.z)));
-    float2 inv_d2 = (float2)(1.0f / fmax_f(dot3(near, near), 1e-12f), 1.0f / fmax_f(dot3(far, far), 1e-12f));
     float3 d = x - 0.5f * (lo.xyz + hi.xyz);
-    float3 ext = hi.xyz - lo.xyz;
-    float d2 = dot3(d, d), r2 = 0.25f * dot3(ext, ext);
-    if (d2 <= r2) return lo.w * inv_d2;
-    float inv_d = 1.0f / sqrt(d2);
-    float3 wo = d * inv_d;  /* from the node towards x */
-    float sin2_b = r2 * inv_d * inv_d;
-    float cos_b = sqrt(fmax_f(0.0f, 1.0f - sin2_b)), sin_b = sqrt(sin2_b);
-    float cos_i = -dot3(n, wo);
-    float cos_ip = cos_i >= cos_b ? 1.0f
-                                  : cos_i * cos_b + sqrt(fmax_f(0.0f, 1.0f - cos_i * cos_i)) * sin_b;
-    if (!(cos_ip > 0.0f)) return (float2)(0.0f);  /* the incidence angle's bound: the box is behind x */
-    float cos_p = 1.0f;                            /* the emission angle's bound */
-    float cos_o = hi.w;
-    if (cos_o > -1.0f) {
-        float cos_w = dot3(ax.xyz, wo);
-        if (nd->meta.y & LIGHT_TREE_TWO_SIDED) cos_w = abs_f(cos_w);
-        float2 w_o = light_tree_cos_sub(cos_w, sqrt(fmax_f(0.0f, 1.0f - cos_w * cos_w)), cos_o,
-                                        as_float(nd->meta.z));
-        cos_p = light_tree_cos_sub(w_o.x, w_o.y, cos_b, sin_b).x;
-        if (cos_p < ax.w) return (float2)(0.0f);
+    float3 half_ext = 0.5f * (hi.xyz - lo.xyz);
+    float d2 = dot3(d, d), r2 = dot3(half_ext, half_ext);
+    float bound = lo.w;
+    if (d2 > r2) {
+        float inv_d = 1.0f / sqrt(d2);
+        float3 wo = d * inv_d;  /* from the node towards x */
+        float sin2_b = r2 * inv_d * inv_d;
+        float cos_b = sqrt(fmax_f(0.0f, 1.0f - sin2_b)), sin_b = sqrt(sin2_b);
+        float cos_i = -dot3(n, wo);
+        float cos_ip = cos_i >= cos_b ? 1.0f
+                                      : cos_i * cos_b + sqrt(fmax_f(0.0f, 1.0f - cos_i * cos_i)) * sin_b;
+        if (!(cos_ip > 0.0f)) return (float2)(0.0f);  /* the incidence angle's bound: the box is behind x */
+        float cos_p = 1.0f;                            /* the emission angle's bound */
+        float cos_o = hi.w;
+        if (cos_o > -1.0f) {
+            float cos_w = dot3(ax.xyz, wo);
+            if (nd->meta.y & LIGHT_TREE_TWO_SIDED) cos_w = abs_f(cos_w);
+            float2 w_o = light_tree_cos_sub(cos_w, sqrt(fmax_f(0.0f, 1.0f - cos_w * cos_w)), cos_o,
+                                            as_float(nd->meta.z));
+            cos_p = light_tree_cos_sub(w_o.x, w_o.y, cos_b, sin_b).x;
+            if (cos_p < ax.w) return (float2)(0.0f);
+        }
+        bound *= cos_ip * cos_p;
     }
-    return (lo.w * cos_ip * cos_p) * inv_d2;
+    /* per axis, x's distance from the box's near face (0 between the faces) and from its far face */
+    float3 ad = (float3)(abs_f(d.x), abs_f(d.y), abs_f(d.z));
+    float3 near = (float3)(fmax_f(ad.x - half_ext.x, 0.0f), fmax_f(ad.y - half_ext.y, 0.0f),
+                           fmax_f(ad.z - half_ext.z, 0.0f));
+    float3 far = ad + half_ext;
+    return (float2)(bound / fmax_f(dot3(near, near), 1e-12f), bound / fmax_f(dot3(far, far), 1e-12f));
 }
 
 /* The share a of a + b, or -1 where the sum is 0 or not finite. */

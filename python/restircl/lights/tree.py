@@ -245,11 +245,11 @@ def importance(nodes: np.ndarray, x: np.ndarray, n: np.ndarray) -> tuple[np.ndar
     sin_o = nodes["meta"][:, 2].copy().view(np.float32).astype(np.float64)
     ax = nodes["axis"][:, :3].astype(np.float64)
     two = (nodes["meta"][:, 1] & NODE_TWO_SIDED) != 0
-    near = np.maximum(np.maximum(lo - x, x - hi), 0.0)
-    far = np.maximum(np.abs(x - lo), np.abs(x - hi))
+    d = x - 0.5 * (lo + hi)
+    near = np.maximum(np.abs(d) - 0.5 * (hi - lo), 0.0)  # per axis, from the box's near face (0 between the faces)
+    far = np.abs(d) + 0.5 * (hi - lo)  # ... and from its far face
     inv_near = 1.0 / np.maximum(np.einsum("ij,ij->i", near, near), 1e-12)
     inv_far = 1.0 / np.maximum(np.einsum("ij,ij->i", far, far), 1e-12)
-    d = x - 0.5 * (lo + hi)
     d2 = np.einsum("ij,ij->i", d, d)
     r2 = 0.25 * np.einsum("ij,ij->i", hi - lo, hi - lo)
     inside = d2 <= r2
