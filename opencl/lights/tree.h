@@ -1,8 +1,9 @@
 /* The light tree: a spatial proposal for RIS candidates (built on the host by lights/tree.py, which says how it is
  * laid out). A pick descends from the root, at each node taking a child with probability
- *     p = (1 - F) I_c / (I_0 + I_1) + F phi_c / (phi_0 + phi_1),
- * I the children's importance bounds at the shading point (power x orientation bound / squared distance, the bound
- * of pbrt-v4's LightBounds::Importance), phi their power, F = LIGHT_TREE_FLOOR. The power term is the floor: every
+ *     p = (1 - F) (N_c / (N_0 + N_1) + R_c / (R_0 + R_1)) / 2 + F phi_c / (phi_0 + phi_1),
+ * N and R the children's importances at the shading point (power x orientation bound / squared distance, as pbrt-v4's
+ * LightBounds::Importance, but at the distance of the box's nearest point and of its farthest corner instead of its
+ * centre's: light_tree_importance), phi their power, F = LIGHT_TREE_FLOOR. The power term is the floor: every
  * light of power > 0 keeps a nonzero probability everywhere, so RIS over tree candidates stays unbiased even where
  * a bound is wrong (a shading normal, a normal map); no branch goes below LIGHT_TREE_MIN_BRANCH. The pick's pdf
  * is the product of the branch probabilities; light_pick_pdf recomputes it for a given light from its leaf index
@@ -69,44 +70,63 @@ inline float2 light_tree_cos_sub(float cos_a, float sin_a, float cos_b, float si
     return (float2)(cos_a * cos_b + sin_a * sin_b, sin_a * cos_b - cos_a * sin_b);
 }
 
-/* An upper bound (up to a constant) of what the lights below node nd can give point x of unit normal n. The cheap
- * exits first: x inside the box's bounding sphere (every direction may reach it), the whole box behind x's
- * tangent plane, lights that emit in every direction (points: no cone to test). A surface that transmits (rough
- * glass) takes light from behind its tangent plane too: its callers pass 2 n (direct/light_side.h
- * light_pick_normal), and the incidence bound is then that of the nearer of n and -n, as Cycles' light tree treats
- * a transmitting closure. */
-inline float light_tree_importance(const __global LightTreeNode* nd, float3 x, float3 n)
+/* What the lights below node nd can give point x of unit normal n, up to a constant: their power times a bound of
+ * the orientation terms (incidence at x, emission by the lights' cone; 1 where x is inside the box's bounding sphere,
+ * which every direction may reach, and no cone to test for lights that emit in every direction) over squared
+ * distance, at two distances: .x at the box's nearest point (an upper bound; 0 when x is in the box, then kept
+ * finite by a floor of 1e-12) and .y at its farthest corner. The centre's distance would judge a box with one light
+ * beside x, its others metres away, as far as its centre. A surface that transmits (rough glass) takes light from
+ * behind its tangent plane too: its callers pass 2 n (direct/light_side.h light_pick_normal), and the incidence
+ * bound is then that of the nearer of n and -n, as Cycles' light tree treats a transmitting closure. */
+inline float2 light_tree_importance(const __global LightTreeNode* nd, float3 x, float3 n)
 {
     float4 lo = nd->lo, hi = nd->hi, ax = nd->axis;
     float3 d = x - 0.5f * (lo.xyz + hi.xyz);
-    float3 ext = hi.xyz - lo.xyz;
-    float d2 = dot3(d, d), r2 = 0.25f * dot3(ext, ext);
-    if (d2 <= r2) return lo.w / fmax_f(r2, 1e-12f);
-    float inv_d = 1.0f / sqrt(d2);
-    float3 wo = d * inv_d;  /* from the node towards x */
-    float sin2_b = r2 * inv_d * inv_d;
-    float cos_b = sqrt(fmax_f(0.0f, 1.0f - sin2_b)), sin_b = sqrt(sin2_b);
-    float cos_i = -dot3(n, wo);
+    float3 half_ext = 0.5f * (hi.xyz - lo.xyz);
+    float d2 = dot3(d, d), r2 = dot3(half_ext, half_ext);
+    float bound = lo.w;
+    if (d2 > r2) {
+        float inv_d = 1.0f / sqrt(d2);
+        float3 wo = d * inv_d;  /* from the node towards x */
+        float sin2_b = r2 * inv_d * inv_d;
+        float cos_b = sqrt(fmax_f(0.0f, 1.0f - sin2_b)), sin_b = sqrt(sin2_b);
+        float cos_i = -dot3(n, wo);
 #if defined(HAS_TRANSMISSION) && !defined(LIGHT_TREE_ONE_SIDED)  /* (defined only by tests/lights/test_tree_glass.py) */
-    if (dot3(n, n) > 2.0f) cos_i = abs_f(0.5f * cos_i);  /* 2 n: a surface that takes light from both sides */
+        if (dot3(n, n) > 2.0f) cos_i = abs_f(0.5f * cos_i);  /* 2 n: a surface that takes light from both sides */
 #endif
-    float cos_ip = cos_i >= cos_b ? 1.0f
-                                  : cos_i * cos_b + sqrt(fmax_f(0.0f, 1.0f - cos_i * cos_i)) * sin_b;
-    if (!(cos_ip > 0.0f)) return 0.0f;  /* the incidence angle's bound: the box is behind x */
-    float cos_p = 1.0f;                 /* the emission angle's bound */
-    float cos_o = hi.w;
-    if (cos_o > -1.0f) {
-        float cos_w = dot3(ax.xyz, wo);
-        if (nd->meta.y & LIGHT_TREE_TWO_SIDED) cos_w = abs_f(cos_w);
-        float2 w_o = light_tree_cos_sub(cos_w, sqrt(fmax_f(0.0f, 1.0f - cos_w * cos_w)), cos_o,
-                                        as_float(nd->meta.z));
-        cos_p = light_tree_cos_sub(w_o.x, w_o.y, cos_b, sin_b).x;
-        if (cos_p < ax.w) return 0.0f;
+        float cos_ip = cos_i >= cos_b ? 1.0f
+                                      : cos_i * cos_b + sqrt(fmax_f(0.0f, 1.0f - cos_i * cos_i)) * sin_b;
+        if (!(cos_ip > 0.0f)) return (float2)(0.0f);  /* the incidence angle's bound: the box is behind x */
+        float cos_p = 1.0f;                            /* the emission angle's bound */
+        float cos_o = hi.w;
+        if (cos_o > -1.0f) {
+            float cos_w = dot3(ax.xyz, wo);
+            if (nd->meta.y & LIGHT_TREE_TWO_SIDED) cos_w = abs_f(cos_w);
+            float2 w_o = light_tree_cos_sub(cos_w, sqrt(fmax_f(0.0f, 1.0f - cos_w * cos_w)), cos_o,
+                                            as_float(nd->meta.z));
+            cos_p = light_tree_cos_sub(w_o.x, w_o.y, cos_b, sin_b).x;
+            if (cos_p < ax.w) return (float2)(0.0f);
+        }
+        bound *= cos_ip * cos_p;
     }
-    return lo.w * cos_ip * cos_p / d2;
+    /* per axis, x's distance from the box's near face (0 between the faces) and from its far face */
+    float3 ad = (float3)(abs_f(d.x), abs_f(d.y), abs_f(d.z));
+    float3 near = (float3)(fmax_f(ad.x - half_ext.x, 0.0f), fmax_f(ad.y - half_ext.y, 0.0f),
+                           fmax_f(ad.z - half_ext.z, 0.0f));
+    float3 far = ad + half_ext;
+    return (float2)(bound / fmax_f(dot3(near, near), 1e-12f), bound / fmax_f(dot3(far, far), 1e-12f));
 }
 
-/* The probability of taking the first of the children c, c + 1 at x, kept within [B, 1 - B] (B =
+/* The share a of a + b, or -1 where the sum is 0 or not finite. */
+inline float light_tree_share(float a, float b)
+{
+    float sum = a + b;
+    return sum > 0.0f && finite_f(sum) ? a / sum : -1.0f;
+}
+
+/* The probability of taking the first of the children c, c + 1 at x: the mean of their importance shares at the
+ * near and at the far distances (light_tree_importance; one of them alone where the other's sum is 0 or not
+ * finite, their power share where both are), mixed with the power share, and kept within [B, 1 - B] (B =
  * LIGHT_TREE_MIN_BRANCH): a float draw could not reach a branch of probability 1e-12 that the pmf would still count,
  * and 1 - p of the clamped p is what the descent takes the second child with, to float rounding. */
 inline float light_tree_branch(const __global LightTreeNode* nodes, int c, float3 x, float3 n)
@@ -115,9 +135,10 @@ inline float light_tree_branch(const __global LightTreeNode* nodes, int c, float
     /* a child without power is never taken (the light array gives such lights no slot either) */
     if (!(phi0 > 0.0f) || !(phi1 > 0.0f)) return phi0 > 0.0f ? 1.0f : 0.0f;
     float pw = phi0 / (phi0 + phi1);
-    float i0 = light_tree_importance(&nodes[c], x, n), i1 = light_tree_importance(&nodes[c + 1], x, n);
-    float sum = i0 + i1;
-    float p = !(sum > 0.0f) || !finite_f(sum) ? pw : (1.0f - LIGHT_TREE_FLOOR) * (i0 / sum) + LIGHT_TREE_FLOOR * pw;
+    float2 i0 = light_tree_importance(&nodes[c], x, n), i1 = light_tree_importance(&nodes[c + 1], x, n);
+    float near = light_tree_share(i0.x, i1.x), far = light_tree_share(i0.y, i1.y);
+    float pi = near >= 0.0f ? (far >= 0.0f ? 0.5f * (near + far) : near) : (far >= 0.0f ? far : pw);
+    float p = (1.0f - LIGHT_TREE_FLOOR) * pi + LIGHT_TREE_FLOOR * pw;
     return clamp_f(p, LIGHT_TREE_MIN_BRANCH, 1.0f - LIGHT_TREE_MIN_BRANCH);
 }
 

@@ -11,7 +11,7 @@ import pytest
 from restircl import scenes
 from restircl.core.program import build_program
 from restircl.lights.device_lights import scene_lights
-from restircl.lights.tree import build_light_tree, inorder_leaves, light_bounds, merge_cones, path_tree, pmf
+from restircl.lights.tree import build_light_tree, light_bounds, merge_cones, path_tree, pmf
 from restircl.render.features import general_flags
 
 from ..helpers import mixed_lights_scene
@@ -152,16 +152,6 @@ def test_merge_cones_contains_both():
 
 def _unit_rows(v):
     return v / np.linalg.norm(v, axis=1, keepdims=True)
-
-
-@pytest.mark.parametrize("leaves", [1, 2, 3, 5, 8, 13, 100])
-def test_inorder_leaves_are_the_left_to_right_leaves(leaves):
-    def walk(j):
-        if j >= leaves - 1:
-            return [j]
-        return walk(2 * j + 1) + walk(2 * j + 2)
-
-    np.testing.assert_array_equal(inorder_leaves(leaves), walk(0))
 
 
 @pytest.mark.parametrize("which", ["mixed", "many"])

@@ -2,8 +2,8 @@
 Cycles' light tree, written here for our light records). Mirrors opencl/lights/tree.h.
 
 Every light with a position and power > 0 is a leaf of a binary tree stored in implicit heap order (node j has the
-children 2j + 1 and 2j + 2; the N leaves are nodes N - 1 .. 2N - 2), the leaves' in-order sequence being the lights
-sorted by the Morton code of their centres, so that siblings are neighbours in space. A node bounds its lights by
+children 2j + 1 and 2j + 2; the N leaves are nodes N - 1 .. 2N - 2), the lights placed on the leaves by cuts of
+space (lights/tree_leaves.py), so that every node's lights are neighbours. A node bounds its lights by
 a box, a cone of emission normals (axis, theta_o, plus theta_e: how far beyond the normals they still emit), their
 summed power and whether any is two-sided. The device descends from the root choosing each child with probability
 proportional to an importance bound at the shading point, mixed with the children's power share (a floor: every
@@ -26,6 +26,7 @@ from ..core import layouts as L
 from ..settings.table import Settings
 from .bounds import DISTANT
 from .registry import groups
+from .tree_leaves import leaf_lights
 
 NODE_TWO_SIDED = 1  # lights/tree.h LIGHT_TREE_TWO_SIDED: a light below the node emits on both sides
 
@@ -103,36 +104,6 @@ def merge_cones(wa: np.ndarray, ta: np.ndarray, wb: np.ndarray, tb: np.ndarray) 
     return axis, theta
 
 
-def morton_order(centres: np.ndarray) -> np.ndarray:
-    """Indices sorting the points by their 30-bit Morton code in their bounding box."""
-    if len(centres) == 0:
-        return np.zeros(0, np.int64)
-    lo, hi = centres.min(axis=0), centres.max(axis=0)
-    q = ((centres - lo) / np.where(hi > lo, hi - lo, 1.0) * 1023.0).astype(np.uint64)
-    code = np.zeros(len(centres), np.uint64)
-    for bit in range(10):
-        for axis in range(3):
-            code |= ((q[:, axis] >> np.uint64(bit)) & np.uint64(1)) << np.uint64(3 * bit + 2 - axis)
-    return np.argsort(code, kind="stable")
-
-
-def inorder_leaves(leaves: int) -> np.ndarray:
-    """The heap indices of the leaves (nodes leaves - 1 .. 2 leaves - 2) in their left-to-right order."""
-    if leaves <= 0:
-        return np.zeros(0, np.int64)
-    total = 2 * leaves - 1
-    # left-to-right order of a complete tree: sort the leaves by their path from the root, read as a binary
-    # fraction (the bits of j + 1 below the leading one, shifted to a common depth)
-    j = np.arange(leaves - 1, total, dtype=np.int64)
-    k = j + 1
-    depth = np.floor(np.log2(k)).astype(np.int64)
-    depth = np.where((np.int64(1) << depth) > k, depth - 1, depth)  # guard log2 rounding
-    depth = np.where((np.int64(1) << (depth + 1)) <= k, depth + 1, depth)
-    max_depth = int(depth.max())
-    key = (k - (np.int64(1) << depth)) << (max_depth - depth)
-    return j[np.argsort(key, kind="stable")]
-
-
 def build_light_tree(records: np.ndarray, types: np.ndarray, power: np.ndarray,
                      array_pdf: np.ndarray | None = None) -> LightTree:
     """The tree over the lights (layouts.LIGHT records with their LIGHT_* types and light-array power). The
@@ -152,9 +123,8 @@ def build_light_tree(records: np.ndarray, types: np.ndarray, power: np.ndarray,
     info = np.zeros((n, 2), np.int32)
     info[:, 0] = -1
     if leaves:
-        centres = 0.5 * (bnd.lo[local] + bnd.hi[local])
-        sorted_lights = local[morton_order(centres)]
-        slots = inorder_leaves(leaves)
+        sorted_lights = local[leaf_lights(0.5 * (bnd.lo[local] + bnd.hi[local]))]
+        slots = np.arange(leaves - 1, 2 * leaves - 1)
         light[slots] = sorted_lights
         for dst, src in ((lo, bnd.lo), (hi, bnd.hi), (axis, bnd.axis)):
             dst[slots] = src[sorted_lights]
@@ -269,14 +239,19 @@ def _cos_sub(cos_a, sin_a, cos_b, sin_b):
     return c, s
 
 
-def importance(nodes: np.ndarray, x: np.ndarray, n: np.ndarray) -> np.ndarray:
-    """Each node's importance bound at point x with unit normal n (float64; the device computes it in float)."""
+def importance(nodes: np.ndarray, x: np.ndarray, n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each node's importance at point x with unit normal n at the distance of its box's nearest point and of its
+    farthest corner (lights/tree.h light_tree_importance; float64, the device computes it in float)."""
     lo, hi = nodes["lo"][:, :3].astype(np.float64), nodes["hi"][:, :3].astype(np.float64)
     phi, cos_o, cos_e = (nodes[k][:, 3].astype(np.float64) for k in ("lo", "hi", "axis"))
     sin_o = nodes["meta"][:, 2].copy().view(np.float32).astype(np.float64)
     ax = nodes["axis"][:, :3].astype(np.float64)
     two = (nodes["meta"][:, 1] & NODE_TWO_SIDED) != 0
     d = x - 0.5 * (lo + hi)
+    near = np.maximum(np.abs(d) - 0.5 * (hi - lo), 0.0)  # per axis, from the box's near face (0 between the faces)
+    far = np.abs(d) + 0.5 * (hi - lo)  # ... and from its far face
+    inv_near = 1.0 / np.maximum(np.einsum("ij,ij->i", near, near), 1e-12)
+    inv_far = 1.0 / np.maximum(np.einsum("ij,ij->i", far, far), 1e-12)
     d2 = np.einsum("ij,ij->i", d, d)
     r2 = 0.25 * np.einsum("ij,ij->i", hi - lo, hi - lo)
     inside = d2 <= r2
@@ -290,8 +265,8 @@ def importance(nodes: np.ndarray, x: np.ndarray, n: np.ndarray) -> np.ndarray:
     c1, s1 = _cos_sub(cos_w, np.sqrt(np.maximum(0.0, 1 - cos_w**2)), cos_o, sin_o)
     cos_p, _ = _cos_sub(c1, s1, cos_b, sin_b)
     cos_p = np.where(cos_o > -1, cos_p, 1.0)
-    val = np.where((cos_p < cos_e) | (cos_ip <= 0), 0.0, phi * cos_ip * cos_p / np.maximum(d2, 1e-300))
-    return np.where(inside, phi / np.maximum(r2, 1e-12), val)
+    bound = np.where(inside, phi, np.where((cos_p < cos_e) | (cos_ip <= 0), 0.0, phi * cos_ip * cos_p))
+    return bound * inv_near, bound * inv_far
 
 
 def pmf(tree: LightTree, x: np.ndarray, n: np.ndarray) -> np.ndarray:
@@ -301,23 +276,29 @@ def pmf(tree: LightTree, x: np.ndarray, n: np.ndarray) -> np.ndarray:
     out[far] = tree.light_info[far, 1].view(np.float32)
     if tree.leaves == 0:
         return out
-    imp = importance(tree.nodes, np.asarray(x, np.float64), np.asarray(n, np.float64))
+    near_imp, far_imp = importance(tree.nodes, np.asarray(x, np.float64), np.asarray(n, np.float64))
     phi = tree.nodes["lo"][:, 3].astype(np.float64)
     prob = np.ones(len(tree.nodes))
     for j in range(tree.leaves - 1):  # parents before children
         c0, c1 = 2 * j + 1, 2 * j + 2
-        p0 = branch(imp[c0], imp[c1], phi[c0], phi[c1])
+        p0 = branch((near_imp[c0], far_imp[c0]), (near_imp[c1], far_imp[c1]), phi[c0], phi[c1])
         prob[c0], prob[c1] = prob[j] * p0, prob[j] * (1 - p0)
     leaf = tree.light_info[~far, 0]
     out[~far] = tree.p_local * prob[leaf]
     return out
 
 
-def branch(i0: float, i1: float, phi0: float, phi1: float) -> float:
-    """The probability of the first child (lights/tree.h light_tree_branch)."""
+def _share(a: float, b: float) -> float | None:
+    s = a + b
+    return a / s if s > 0 and np.isfinite(s) else None
+
+
+def branch(i0: tuple[float, float], i1: tuple[float, float], phi0: float, phi1: float) -> float:
+    """The probability of the first child (lights/tree.h light_tree_branch) of children of (near, far) importances
+    i0, i1 and powers phi0, phi1."""
     if not (phi0 > 0 and phi1 > 0):
         return 1.0 if phi0 > 0 else 0.0
     pw = phi0 / (phi0 + phi1)
-    s = i0 + i1
-    p = (1 - FLOOR) * i0 / s + FLOOR * pw if s > 0 and np.isfinite(s) else pw
+    shares = [v for v in (_share(i0[0], i1[0]), _share(i0[1], i1[1])) if v is not None]
+    p = (1 - FLOOR) * (sum(shares) / len(shares) if shares else pw) + FLOOR * pw
     return min(max(p, MIN_BRANCH), 1 - MIN_BRANCH)
