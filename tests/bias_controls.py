@@ -14,6 +14,8 @@ a test that asserts it rejects one of these builds.
   render/test_restir_gi.py).
 - DIELECTRIC_WITHOUT_FRESNEL_IN_REFRACTION: glass refracts all that reaches it besides what it reflects
   (bsdf/microfacet_dielectric.h): energy made at every crossing (render/test_glass.py, the white furnace).
+- TEST_DIELECTRIC_REFLECT_PDF_SCALE=s: the dielectric lobe's reflection pdf times s, its sampling unchanged
+  (bsdf/microfacet_dielectric.h; materials/test_dielectric_branch.py).
 - TEST_OPAQUE_SHADOWS: shadow rays stop at transparent and alpha-masked surfaces as at opaque ones
   (bvh/transparent.h; render/test_transparency.py, blender/test_alpha_cycles.py)."""
 
