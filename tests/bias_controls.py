@@ -16,6 +16,9 @@ a test that asserts it rejects one of these builds.
   (bsdf/microfacet_dielectric.h): energy made at every crossing (render/test_glass.py, the white furnace).
 - TEST_DIELECTRIC_REFLECT_PDF_SCALE=s: the dielectric lobe's reflection pdf times s, its sampling unchanged
   (bsdf/microfacet_dielectric.h; materials/test_dielectric_branch.py).
+- TEST_PATH_LINKED_NEE_ONLY (the reference: the path's BSDF rays leave lights with linked shadows to NEE) and
+  TEST_PATH_LINKED_NEE_WEIGHT_ONE (NEE weight 1 beside the BSDF rays' weights: counted twice), path/mis.h, path/nee.h
+  (render/test_path_linked_lights.py).
 - TEST_OPAQUE_SHADOWS: shadow rays stop at transparent and alpha-masked surfaces as at opaque ones
   (bvh/transparent.h; render/test_transparency.py, blender/test_alpha_cycles.py)."""
 
