@@ -19,6 +19,8 @@ a test that asserts it rejects one of these builds.
 - TEST_PATH_LINKED_NEE_ONLY (the reference: the path's BSDF rays leave lights with linked shadows to NEE) and
   TEST_PATH_LINKED_NEE_WEIGHT_ONE (NEE weight 1 beside the BSDF rays' weights: counted twice), path/mis.h, path/nee.h
   (render/test_path_linked_lights.py).
+- GLASS_KEEPS_HISTORY: TAA keeps a glass pixel's history (surface/view_dependence.h leaves dielectric lobes out), the
+  rule before 2026-12-05 (render/test_taa_glass.py).
 - TEST_OPAQUE_SHADOWS: shadow rays stop at transparent and alpha-masked surfaces as at opaque ones
   (bvh/transparent.h; render/test_transparency.py, blender/test_alpha_cycles.py)."""
 
