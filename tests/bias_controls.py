@@ -20,6 +20,13 @@ a test that asserts it rejects one of these builds.
 - TEST_DESCENT_WITHOUT_REMAP: the light tree's stratified descent compares the same uniform at every level
   instead of remapping it (lights/tree.h): the leaves are reached with other probabilities than the pdf says
   (render/test_path_descent.py, the path pass's NEE from the tree with the Sobol sampler).
+- TEST_DIELECTRIC_REFLECT_PDF_SCALE=s: the dielectric lobe's reflection pdf times s, its sampling unchanged
+  (bsdf/microfacet_dielectric.h; materials/test_dielectric_branch.py).
+- TEST_PATH_LINKED_NEE_ONLY (the reference: the path's BSDF rays leave lights with linked shadows to NEE) and
+  TEST_PATH_LINKED_NEE_WEIGHT_ONE (NEE weight 1 beside the BSDF rays' weights: counted twice), path/mis.h, path/nee.h
+  (render/test_path_linked_lights.py).
+- GLASS_KEEPS_HISTORY: TAA keeps a glass pixel's history (surface/view_dependence.h leaves dielectric lobes out), the
+  rule before 2026-12-05 (render/test_taa_glass.py).
 - TEST_OPAQUE_SHADOWS: shadow rays stop at transparent and alpha-masked surfaces as at opaque ones
   (bvh/transparent.h; render/test_transparency.py, blender/test_alpha_cycles.py)."""
 

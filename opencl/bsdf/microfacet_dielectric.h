@@ -10,12 +10,16 @@
  * excludes the cosine at wi, as everywhere behind the BSDF seam; reflection has both directions on wo's side of the
  * normal, refraction wi on the other.
  *
- * Sampling picks reflection with the probability p_reflect (the lobe's own lane: the reflectance's share at the
- * macroscopic normal for this pixel's view, kept away from 0 and 1 where both branches exist so that every
- * microfacet's branch can be drawn), then a visible normal, then reflects or refracts wo about it. The pdf is that
- * mixture's density of wi. An interface with eta 1 (within 1e-4, as Cycles' singular case) bends no ray and reflects
- * nothing: it passes wo straight on through a cone of half-angle DIELECTRIC_PASS_ANGLE about -wo, uniformly, which
- * keeps f, pdf and sampling finite and consistent (the cone is far below a pixel's footprint). */
+ * Sampling draws a visible normal, then reflects wo about it with the probability that this microfacet reflects
+ * (its reflected share of what it scatters, dielectric_p_reflect_at) and refracts otherwise. The pdf is that
+ * mixture's density of wi. The choice at the microfacet, not at the macroscopic normal, keeps every sample's weight
+ * f cos / pdf at G2 / G1 times what the microfacet scatters: a branch chosen by the macroscopic normal's Fresnel
+ * carries F(h) / F(n) (or the same of 1 - F), which inside glass near the critical angle, where F(n) is 1 and a
+ * tilted microfacet refracts, reaches 1 / the floor of that probability: the fireflies of rough glass. The choice
+ * takes a third uniform, hashed from (u0, u1): the lobe seam passes two. An interface with eta 1 (within 1e-4, as
+ * Cycles' singular case) bends no ray and reflects nothing: it passes wo straight on through a cone of half-angle
+ * DIELECTRIC_PASS_ANGLE about -wo, uniformly, which keeps f, pdf and sampling finite and consistent (the cone is far
+ * below a pixel's footprint). */
 #ifndef RESTIRCL_BSDF_MICROFACET_DIELECTRIC_H
 #define RESTIRCL_BSDF_MICROFACET_DIELECTRIC_H
 
@@ -34,15 +38,15 @@ typedef struct {
     float alpha;      /* a.w: roughness^2, clamped to GGX_ALPHA_MIN */
     float3 transmit;  /* b.xyz: tint of the refraction, times the closure's weight */
     float eta;        /* b.w: IOR beyond the interface over IOR on wo's side */
-    float3 f0;        /* c.xyz: reflectance at normal incidence: F0 of the IOR, times the Principled's Specular Tint */
-    float p_reflect;  /* c.w: probability that sampling reflects */
+    float3 f0;        /* c.xyz: reflectance at normal incidence: F0 of the IOR, times the Principled's Specular Tint
+                         (c.w unused) */
     float smooth;     /* d.x: 1 where Cycles' Roughness makes the lobe a delta (no light sample can meet it) */
     float no_fresnel; /* d.y: 1 for the Refraction BSDF: it transmits all but what total internal reflection keeps */
 } MicrofacetDielectric;
 
 inline MicrofacetDielectric microfacet_dielectric(const Lobe* l)
 {
-    MicrofacetDielectric m = {l->a.xyz, l->a.w, l->b.xyz, l->b.w, l->c.xyz, l->c.w, l->d.x, l->d.y};
+    MicrofacetDielectric m = {l->a.xyz, l->a.w, l->b.xyz, l->b.w, l->c.xyz, l->d.x, l->d.y};
     return m;
 }
 
@@ -68,18 +72,23 @@ inline float3 dielectric_fresnel(const MicrofacetDielectric* m, float c, float3*
     return Fc * m->reflect;
 }
 
-/* The reflection probability of sampling for view cosine mu, from the reflectance and transmittance at the
- * macroscopic normal; in (0, 1) strictly while both branches exist, since a tilted microfacet may refract where the
- * macroscopic normal reflects all (and the reverse). */
-inline float dielectric_p_reflect(const MicrofacetDielectric* m, float mu)
+/* The probability that sampling reflects at a microfacet that wo meets at cosine c: the rgb sum of what it reflects
+ * over that of all it scatters. 0 where it reflects nothing and 1 where it transmits nothing (total internal
+ * reflection), so each branch is drawn wherever its f is not 0; where it scatters nothing (the Refraction BSDF under
+ * total internal reflection) 0: the refraction, which finds no direction there, so nothing is drawn. */
+inline float dielectric_p_reflect_at(const MicrofacetDielectric* m, float c)
 {
     float3 t;
-    float3 r = dielectric_fresnel(m, mu, &t);
-    float ar = m->reflect.x + m->reflect.y + m->reflect.z, at = m->transmit.x + m->transmit.y + m->transmit.z;
-    if (!(at > 0.0f) || abs_f(m->eta - 1.0f) < DIELECTRIC_ETA_ONE) return at > 0.0f ? 0.0f : 1.0f;
-    if (!(ar > 0.0f) || m->no_fresnel != 0.0f) return 0.0f;
+    float3 r = dielectric_fresnel(m, c, &t);
     float sr = r.x + r.y + r.z, st = t.x + t.y + t.z;
-    return clamp_f(sr / fmax_f(sr + st, 1e-30f), 0.02f, 0.98f);
+    return sr + st > 0.0f ? sr / (sr + st) : 0.0f;
+}
+
+/* The third uniform of a sample, for its branch: a hash of the two it was given (the visible normal's) */
+inline float dielectric_branch_uniform(float u0, float u1)
+{
+    uint h = pcg_hash(as_uint(u0) ^ pcg_hash(as_uint(u1) ^ 0x3c6ef372u));
+    return (float)(h >> 8) * (1.0f / 16777216.0f);
 }
 
 /* The record of m with sampling weight `weight` */
@@ -88,7 +97,7 @@ inline Lobe microfacet_dielectric_lobe(const MicrofacetDielectric* m, float weig
     Lobe l = lobe_record(LOBE_MICROFACET_DIELECTRIC, m->alpha, weight);
     l.a.xyz = m->reflect;
     l.b = (float4)(m->transmit, m->eta);
-    l.c = (float4)(m->f0, m->p_reflect);
+    l.c = (float4)(m->f0, 0.0f);
     l.d.xy = (float2)(m->smooth, m->no_fresnel);
     return l;
 }
@@ -163,18 +172,23 @@ inline float microfacet_dielectric_pdf(const Lobe* l, float3 n, float3 wo, float
         float3 hv = wo + wi;
         float hl = dot3(hv, hv);
         if (!(hl > 1e-12f)) return 0.0f;
-        return m.p_reflect * ggx_d_half(alpha2, n, hv, hl) * g1 / (4.0f * co);
+        float pr = dielectric_p_reflect_at(&m, clamp_f(dot3(hv, wo) / sqrt(hl), 0.0f, 1.0f));
+#ifdef TEST_DIELECTRIC_REFLECT_PDF_SCALE  /* negative control of tests/materials/test_dielectric_branch.py only */
+        pr *= TEST_DIELECTRIC_REFLECT_PDF_SCALE;
+#endif
+        return pr * ggx_d_half(alpha2, n, hv, hl) * g1 / (4.0f * co);
     }
     float3 h;
     float co_h, ci_h, hl2;
     if (!dielectric_refraction_half(n, wo, wi, m.eta, &h, &co_h, &ci_h, &hl2)) return 0.0f;
     float D = ggx_d_half(alpha2, n, h, 1.0f);
-    return (1.0f - m.p_reflect) * D * g1 * m.eta * m.eta * co_h * -ci_h / (co * hl2);
+    float pt = 1.0f - dielectric_p_reflect_at(&m, co_h);
+    return pt * D * g1 * m.eta * m.eta * co_h * -ci_h / (co * hl2);
 }
 
-/* Reflect (probability p_reflect) or refract wo about a visible normal drawn from (u0, u1); false where nothing was
- * drawn: wo below the surface, total internal reflection on a refraction, or a direction on the wrong side for its
- * branch (the pdf counts each branch on its own side only). */
+/* Reflect or refract wo about a visible normal drawn from (u0, u1), reflecting with that microfacet's probability
+ * (dielectric_p_reflect_at); false where nothing was drawn: wo below the surface, or a direction on the wrong side
+ * for its branch (the pdf counts each branch on its own side only). */
 inline bool microfacet_dielectric_sample(const Lobe* l, float3 n, float3 wo, float u0, float u1, float3* wi)
 {
     MicrofacetDielectric m = microfacet_dielectric(l);
@@ -188,12 +202,9 @@ inline bool microfacet_dielectric_sample(const Lobe* l, float3 n, float3 wo, flo
         *wi = norm3(s * cos(phi) * t + s * sin(phi) * b + (1.0f - omc) * w);
         return dot3(n, *wi) < -GGX_COS_MIN;
     }
-    bool reflect = u0 < m.p_reflect;
-    u0 = reflect ? u0 / m.p_reflect : (u0 - m.p_reflect) / (1.0f - m.p_reflect);
-    u0 = clamp_f(u0, 0.0f, 0.99999994f);
     float3 h = ggx_sample_normal(n, wo, co, m.alpha, u0, u1);
     float c = dot3(wo, h);
-    if (reflect) {
+    if (dielectric_branch_uniform(u0, u1) < dielectric_p_reflect_at(&m, clamp_f(c, 0.0f, 1.0f))) {
         *wi = 2.0f * c * h - wo;
         return dot3(n, *wi) > 0.0f;
     }

@@ -154,13 +154,12 @@ inline float light_point_pdf(const __global Light* l, int type, float3 x, const 
     return 0.0f;
 }
 
-/* Can a ray hit light `index` (of type `type`)? Triangles when the BSDF candidates look for them (triangles: 1);
- * analytic lights when their index is below `analytic` (the BSDF candidates test that many, the scene's lights
- * coming first in the light array); then as the type says (not a delta, emits). */
-inline bool light_hittable(const __global Light* l, int type, int index, int analytic, int triangles)
+/* Can a ray meet light `index` (of type `type`), blockers aside? Triangles when the BSDF candidates look for them
+ * (triangles: 1); analytic lights when their index is below `analytic` (the BSDF candidates test that many, the
+ * scene's lights coming first in the light array); then as the type says (not a delta, emits). */
+inline bool light_type_hittable(const __global Light* l, int type, int index, int analytic, int triangles)
 {
     if (type == LIGHT_TRIANGLE ? triangles == 0 : index >= analytic) return false;
-    if (!light_ray_findable(l)) return false;
     switch (type) {
 #ifdef HAS_TRIANGLE_LIGHTS
     case LIGHT_TRIANGLE: return triangle_hittable(l);
@@ -186,6 +185,13 @@ inline bool light_hittable(const __global Light* l, int type, int index, int ana
     default: break;
     }
     return false;
+}
+
+/* Can a BSDF ray that stops at the first surface it meets find light `index`? As light_type_hittable, but never a
+ * light whose shadows are linked (lights/record.h light_ray_findable). */
+inline bool light_hittable(const __global Light* l, int type, int index, int analytic, int triangles)
+{
+    return light_ray_findable(l) && light_type_hittable(l, type, index, analytic, triangles);
 }
 
 /* The radiance that reaches x from the point (u, v) of l that a ray from x hit (light_hit): what a camera ray sees

@@ -7,27 +7,34 @@
 #ifndef RESTIRCL_PATH_EMITTERS_H
 #define RESTIRCL_PATH_EMITTERS_H
 
-/* The BSDF-ray term of light `index` (record rec, sample uv) met from s. */
-inline float3 path_emitter_term(const Surface* s, const __global Light* lights, const __global Light* rec, int type,
-                                int index, float2 uv, const LightPick* lp, BsdfSource hits, float hit_t, bool escaped)
+/* The BSDF-ray term of light `index` (record rec, sample uv) met from s. A light whose shadows are linked is met
+ * through what does not shadow it: its term takes the transmittance of the light's own blockers between s and the
+ * light (direct/visibility.h, NEE's shadow ray), whatever surface the ray stopped at. */
+inline float3 path_emitter_term(const Surface* s, const __global BVHNode* nodes, const __global Tri* tris,
+                                const __global Light* lights, const __global Light* rec, int type, int index,
+                                float2 uv, const LightPick* lp, BsdfSource hits, float hit_t, bool escaped)
 {
     LightEval e;
     if (!surface_light_eval(s, rec, uv.x, uv.y, &e) || !light_links(lights, rec, s, &e)) return (float3)(0.0f);
+    const bool linked = !light_ray_findable(rec);
     /* met before the surface the ray hit, or, at infinity, only by a ray that escaped */
-    if (finite_f(e.dist) ? !(e.dist < hit_t) : !escaped) return (float3)(0.0f);
+    if (!linked && (finite_f(e.dist) ? !(e.dist < hit_t) : !escaped)) return (float3)(0.0f);
     float p_bsdf = path_bsdf_pdf(s, rec, type, index, hits, &e);
     if (!(p_bsdf > 0.0f)) return (float3)(0.0f);
     float p_light = light_pick_pdf(lp, index, s->x, light_pick_normal(s)) * light_point_pdf(rec, type, s->x, &e);
 #ifdef HAS_TRANSMISSION  /* NEE skipped s (smooth glass, path/walk.h): the BSDF ray is the only way */
     if (surface_is_singular(s)) p_light = 0.0f;
 #endif
-    return unshadowed_contrib(s, &e) * (path_mis_weight(p_bsdf, p_light) / p_bsdf);
+    float3 c = unshadowed_contrib(s, &e) * (path_mis_weight(p_bsdf, p_light) / p_bsdf);
+    if (linked && luminance(c) > 0.0f) c *= transmittance(nodes, tris, s, &e);
+    return c;
 }
 
 /* The emitters the ray from s in direction wi meets before its hit h (h.prim < 0: it escaped); each light's term
  * also to *groups (film/light_groups.h). */
-inline float3 path_emitters(const Surface* s, float3 wi, Hit h, const __global Light* lights,
-                            const __global int* tri_light, const LightPick* lp, BsdfSource hits, GroupLight* groups)
+inline float3 path_emitters(const Surface* s, float3 wi, Hit h, const __global BVHNode* nodes,
+                            const __global Tri* tris, const __global Light* lights, const __global int* tri_light,
+                            const LightPick* lp, BsdfSource hits, GroupLight* groups)
 {
     float3 c = (float3)(0.0f);
     bool escaped = h.prim < 0;
@@ -36,8 +43,8 @@ inline float3 path_emitters(const Surface* s, float3 wi, Hit h, const __global L
         const __global Light* rec = &lights[l];
         int type = light_type(rec);
         float2 uv;
-        if (light_hittable(rec, type, l, hits.analytic, hits.triangles) && light_hit(rec, type, s->x, wi, &uv)) {
-            float3 t = path_emitter_term(s, lights, rec, type, l, uv, lp, hits, hit_t, escaped);
+        if (path_light_hittable(rec, type, l, hits) && light_hit(rec, type, s->x, wi, &uv)) {
+            float3 t = path_emitter_term(s, nodes, tris, lights, rec, type, l, uv, lp, hits, hit_t, escaped);
             c += t;
             GROUP_ADD(groups, lights, rec, t);
         }
@@ -47,8 +54,8 @@ inline float3 path_emitters(const Surface* s, float3 wi, Hit h, const __global L
         int l = tri_light[h.prim];
         /* the triangle itself is the hit: no distance test (its own point, rounded, may lie a hair beyond h.t) */
         if (l >= 0) {
-            float3 t = path_emitter_term(s, lights, &lights[l], LIGHT_TRIANGLE, l, triangle_uv(h.u, h.v), lp, hits,
-                                         INFINITY, true);
+            float3 t = path_emitter_term(s, nodes, tris, lights, &lights[l], LIGHT_TRIANGLE, l,
+                                         triangle_uv(h.u, h.v), lp, hits, INFINITY, true);
             c += t;
             GROUP_ADD(groups, lights, &lights[l], t);
         }

@@ -14,12 +14,24 @@ inline float path_mis_weight(float p, float q)
     return p2 > 0.0f ? p2 / (p2 + q2) : 0.0f;
 }
 
-/* The BSDF's density of light sample e at s, where a BSDF ray of the path can meet light `index` (hits: what the
- * path's rays look for), else 0. */
+/* Can a BSDF ray of the path find light `index` (hits: what the path's rays look for)? As light_hittable, and
+ * also an analytic light whose shadows are linked: path/emitters.h tests the light's own blockers between the
+ * vertex and the light, as NEE's shadow ray does, where the ray itself stops at the first surface it meets. */
+inline bool path_light_hittable(const __global Light* rec, int type, int index, BsdfSource hits)
+{
+#ifdef TEST_PATH_LINKED_NEE_ONLY  /* the reference of tests/render/test_path_linked_lights.py only: NEE alone */
+    return light_hittable(rec, type, index, hits.analytic, hits.triangles);
+#else
+    return (type != LIGHT_TRIANGLE || light_ray_findable(rec))
+           && light_type_hittable(rec, type, index, hits.analytic, hits.triangles);
+#endif
+}
+
+/* The BSDF's density of light sample e at s, where a BSDF ray of the path can find light `index`, else 0. */
 inline float path_bsdf_pdf(const Surface* s, const __global Light* rec, int type, int index, BsdfSource hits,
                            const LightEval* e)
 {
-    return light_hittable(rec, type, index, hits.analytic, hits.triangles) ? bsdf_pdf_light_measure(s, e) : 0.0f;
+    return path_light_hittable(rec, type, index, hits) ? bsdf_pdf_light_measure(s, e) : 0.0f;
 }
 
 #endif

@@ -40,6 +40,9 @@ inline float3 path_nee(const Surface* s, const __global Light* lights, const Lig
     if (!(p_light > 0.0f) || !surface_light_eval(s, rec, uv.x, uv.y, &e) || !light_links(lights, rec, s, &e))
         return (float3)(0.0f);
     float w = path_mis_weight(p_light, path_bsdf_pdf(s, rec, type, light, hits, &e));
+#ifdef TEST_PATH_LINKED_NEE_WEIGHT_ONE  /* negative control of tests/render/test_path_linked_lights.py only */
+    if (!light_ray_findable(rec)) w = 1.0f;
+#endif
     float3 c = unshadowed_contrib(s, &e) * (w / p_light);
     if (threshold > 0.0f) {
         float keep = fmax_f(c.x, fmax_f(c.y, c.z)) / threshold;

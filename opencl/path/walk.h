@@ -148,7 +148,8 @@ inline float3 path_walk(const PathScene* ps, PathState* st, uint* rng, const Qmc
         if ((st->bounces > 1 || first_uncounted) && nee) {
             GroupLight eg;  /* each emitter's share, scaled as the sum is clamped */
             group_light_clear(&eg);
-            float3 em = T_before * path_emitters(&st->s, wi, h, ps->lights, ps->tri_light, ps->lp, ps->hits, &eg);
+            float3 em = T_before * path_emitters(&st->s, wi, h, ps->nodes, ps->sc->tris, ps->lights, ps->tri_light,
+                                                     ps->lp, ps->hits, &eg);
             L += path_clamp(em, st->prefix, p->clamp_indirect);
 #ifdef HAS_LIGHT_GROUPS
             group_light_merge(&st->groups, &eg, T_before * path_clamp_scale(em, st->prefix, p->clamp_indirect));

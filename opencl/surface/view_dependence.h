@@ -19,10 +19,9 @@ inline float view_dependence(const Surface* s)
     if (!s->valid || s->mat.lobes == 0) return 0.0f;
     float total = lambert_weight(s->mat.albedo), sharp = 0.0f;
     for (int k = 0; k < s->mat.lobes; ++k) {
-#if defined(HAS_TRANSMISSION) && !defined(GLASS_VIEW_DEPENDENT)
-        /* glass keeps its history (docs/design.md, "Glass under motion"): what it shows moves with the view, but one
-         * path per frame through it is so noisy (the branch between reflection and refraction, caustics) that
-         * dropping the history costs more than the ghost it removes. GLASS_VIEW_DEPENDENT: rated as a mirror. */
+#if defined(HAS_TRANSMISSION) && defined(GLASS_KEEPS_HISTORY)
+        /* the negative control of tests/render/test_taa_glass.py only: glass left out, so it keeps its history.
+         * Glass is rated as a mirror (docs/design.md, "Glass under motion"): what it shows moves with the view. */
         if (lobe_kind(&s->mat.lobe[k]) == LOBE_MICROFACET_DIELECTRIC) continue;
 #endif
         float w = lobe_weight(&s->mat.lobe[k]);

@@ -139,7 +139,7 @@ __kernel void one(const __global Light* l, __global float4* out)
 
 #: each dispatch function (lights/lights.h) and the function of each type it calls: <name>_<suffix>
 DISPATCH = {"lights.h": {"light_eval": "eval", "light_sample_typed": "sample", "light_hit": "hit",
-                         "light_point_pdf": "point_pdf", "light_hittable": "hittable",
+                         "light_point_pdf": "point_pdf", "light_type_hittable": "hittable",
                          "light_hit_radiance": "hit_radiance"}}
 
 

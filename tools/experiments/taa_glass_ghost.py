@@ -25,13 +25,11 @@ from restircl.settings.table import Settings
 
 FIRST = 4
 BOUNCES = 4  # camera -> glass -> glass -> wall: the wall's light reaches the eye after two refractions
-VARIANTS = {"TAA, glass keeps its history (default)": (True, ()),
-            "TAA, glass rated as a mirror: no history": (True, ("-DGLASS_VIEW_DEPENDENT",)),
-            "TAA, glass as a mirror, raise towards 0.5": (True, ("-DGLASS_VIEW_DEPENDENT", "-DTAA_GLOSSY_ALPHA=0.5f")),
-            "TAA, glass as a mirror, no raise, clip box a quarter": (True, ("-DGLASS_VIEW_DEPENDENT",
-                                                                           "-DTAA_GLOSSY_ALPHA=0.1f")),
-            "TAA, glass as a mirror, no raise, clip box a half": (True, ("-DGLASS_VIEW_DEPENDENT",
-                                                                        "-DTAA_GLOSSY_ALPHA=0.1f",
+VARIANTS = {"TAA, glass keeps its history": (True, ("-DGLASS_KEEPS_HISTORY",)),
+            "TAA, glass rated as a mirror: no history (default)": (True, ()),
+            "TAA, glass as a mirror, raise towards 0.5": (True, ("-DTAA_GLOSSY_ALPHA=0.5f",)),
+            "TAA, glass as a mirror, no raise, clip box a quarter": (True, ("-DTAA_GLOSSY_ALPHA=0.1f",)),
+            "TAA, glass as a mirror, no raise, clip box a half": (True, ("-DTAA_GLOSSY_ALPHA=0.1f",
                                                                         "-DTAA_GLOSSY_GAMMA=0.5f")),
             "no TAA": (False, ())}
 

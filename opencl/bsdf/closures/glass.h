@@ -48,7 +48,6 @@ inline Lobe dielectric_closure_lobe(const ClosureInputs* c, float mu, float3 ref
         m.reflect *= k;
         m.transmit *= k;
     }
-    m.p_reflect = dielectric_p_reflect(&m, mu);
     float3 t;
     float3 rr = dielectric_fresnel(&m, mu, &t);
     /* the sampling weight: what it scatters at the macroscopic normal (reflected plus transmitted) */
