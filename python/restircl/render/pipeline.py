@@ -214,8 +214,7 @@ class Renderer:
         if plan.paths:  # 6b light that bounced, added to the sample
             self.paths.run(state)
             timer.mark("paths")
-        if plan.gi:  # 6b ... as ReSTIR GI's samples, reused over time and neighbours (beside the path pass where a
-            # scene refracts: each shades its own pixels)
+        if plan.gi:  # 6b ... as ReSTIR GI's samples, reused (beside the path pass where a scene refracts: plan.py)
             self.restir_gi.run(state, timer)
         color_buf = self.buffers.sample
         if plan.taa:  # 7 temporal accumulation (animation frames; a still render averages instead)
