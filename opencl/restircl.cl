@@ -8,6 +8,7 @@
 #include "bvh/transparent.h"
 #include "camera/camera.h"
 #include "camera/lens.h"
+#include "camera/coverage_number.h"
 #include "camera/hidden.h"
 #include "lights/lights.h"
 #include "lights/camera_visible.h"

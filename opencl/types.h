@@ -145,7 +145,7 @@ typedef struct {
     float4 lens;      /* x, y: half the view plane (tan of the half field of view, or world units when orthographic);
                        * z, w: shift in the same units */
     float4 jitter;    /* xy: sub-pixel jitter in pixels applied to this frame's rays; z: this frame's point of a
-                         stratified sequence in [0, 1) (bvh/transparent.h trace_camera); w: unused */
+                         stratified sequence in [0, 1) (camera/coverage_number.h); w: unused */
     int width;
     int height;
     int kind;         /* CAMERA_PERSP or CAMERA_ORTHO */

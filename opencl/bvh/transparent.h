@@ -106,17 +106,14 @@ inline Hit trace_closest_transparent(const __global BVHNode* nodes, const __glob
 }
 
 /* A camera ray: as trace_closest_transparent, but a ray that reached the bound ends: prim TRANSPARENT_ENDED at the
- * surface where it ended. Its choice at the first surface is stratified over the frames: the frame's point of the
- * camera's sequence (Camera.jitter.z) turned by a hash of the pixel, so that a pixel behind a half-transparent pane
- * sees pane and floor in even turns, as Cycles' stratified numbers make it (pure coins left 2-4x its error on the
- * alpha scene); the surfaces behind draw hashed numbers (a second number of the same sequence would be tied to
- * the first). */
+ * surface where it ended. Its choice at the first surface takes the number u0 in [0, 1) (camera/coverage_number.h:
+ * stratified over the samples, so that a pixel behind a half-transparent pane sees pane and floor in even turns, as
+ * Cycles' stratified numbers make it; pure coins left 2-4x its error on the alpha scene); the surfaces behind draw
+ * hashed numbers (a second number of the same sequence would be tied to the first). */
 inline Hit trace_camera(const __global BVHNode* nodes, const __global Tri* tris, float3 o, float3 d, float tmax,
-                        float sequence, uint pixel)
+                        float u0)
 {
     bool ended;
-    float u0 = sequence + (float)(pcg_hash(pixel ^ 0x6a09e667u) >> 8) * (1.0f / 16777216.0f);
-    u0 = u0 >= 1.0f ? u0 - 1.0f : u0;
     Hit h = trace_through(nodes, tris, o, d, tmax, true, u0, &ended);
     if (ended) h.prim = TRANSPARENT_ENDED;
     return h;

@@ -37,7 +37,7 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
     camera_ray(cam, ray_px.x, ray_px.y, &o, &d);
 #endif
 #ifdef HAS_TRANSPARENCY  /* the first surface the ray does not pass (bvh/transparent.h) */
-    Hit hit = trace_camera(nodes, tris, o, d, INFINITY, cam->jitter.z, (uint)i);
+    Hit hit = trace_camera(nodes, tris, o, d, INFINITY, camera_coverage_number(cam, &frame_params, (uint)i));
 #else
     Hit hit = trace_closest(nodes, tris, o, d, INFINITY);
 #endif

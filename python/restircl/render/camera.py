@@ -30,7 +30,8 @@ GOLDEN = 0.6180339887498949  # frac of the golden ratio: the most even 1D sequen
 
 def camera_sequence(sample: int, seed: int) -> float:
     """The frame's point in [0, 1) of a golden-ratio sequence over the sample index, shifted by the seed: it
-    stratifies the camera rays' choice at the first transparent surface over the frames (bvh/transparent.h)."""
+    stratifies the camera rays' choice at the first transparent surface over the frames of animations and of the
+    random sampler's stills (camera/coverage_number.h; stills from the Sobol sequence take the pixel's own)."""
     v = (sample * GOLDEN + (seed * 0.41421356237309503) % 1.0) % 1.0
     return float(np.nextafter(np.float32(1.0), np.float32(0.0))) if np.float32(v) >= 1.0 else v
 
