@@ -11,7 +11,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from .mesh import _read_step
+from .mesh import read_step
 from .scene import Export
 
 
@@ -42,7 +42,7 @@ def read_frame_deformation(depsgraph, exp: Export, frame: int, step: float, time
         for name, times in wanted.items():
             ob = depsgraph.objects.get(name)
             if t in times:
-                read[name].append(None if ob is None else _read_step(ob, any(m.normals is not None
+                read[name].append(None if ob is None else read_step(ob, any(m.normals is not None
                                                                              for m in meshes[name])))
     frame_set(frame, 0.0)
     origin = exp.index_of(frame)
