@@ -18,6 +18,7 @@ import warnings
 from dataclasses import dataclass
 
 from . import compat, export, light_paths, motion_blur, preview, render_result
+from .export.frame_deformation import read_frame_deformation
 from .properties import make_settings, render_kwargs
 from .region import region_camera, render_region
 
@@ -190,6 +191,10 @@ def _start_session(job: _Job, session: _Session | None) -> _Session | None:
         exp.scene.camera = region_camera(exp.scene.camera,
                                          render_region(depsgraph.scene, *export.render_resolution(depsgraph.scene)))
         exp.scene.camera.shutter = motion_blur.scene_shutter(depsgraph.scene, step)
+        if job.animation:  # each frame's deformation over its shutter (and the warm-up frames')
+            read_frame_deformation(depsgraph, exp, job.frame, step, lambda ob: motion_blur.animation_deform_times(
+                depsgraph.scene, exp.frames, job.frame, motion_blur.deform_steps(ob)), engine.frame_set,
+                exp.warnings.append)
         if not job.animation:
             motion_blur.hold_unblurred(exp.scene, depsgraph.scene.objects,
                                        exp.index_of(motion_blur.shutter_middle(depsgraph.scene, job.frame)))

@@ -92,6 +92,19 @@ def deform_frames(scene, frame: int) -> Callable[[object], list[int]]:
     return frames
 
 
+def animation_deform_times(scene, frames: list[int], frame: int, steps: int) -> list[float]:
+    """The Blender times (frames) at which an animation frame `frame` reads the deformation of an object with
+    `steps` deformation steps (deform_steps): each over the shutter of every exported frame (`frames`) up to
+    `frame` (the warm-up frames before it render at their own shutters' times) and of the exported frame after it
+    (the Vector pass's next time), evenly spaced from its opening to its closing; none without motion blur or
+    without steps."""
+    a, b = shutter(scene)
+    if a == b or steps < 2:
+        return []
+    read = [f for f in frames if f <= frame] + [f for f in frames if f > frame][:1]
+    return sorted({round(f + a + (b - a) * i / (steps - 1), 9) for f in read for i in range(steps)})
+
+
 def subframe(number: int, frame: int, step: float) -> tuple[int, float]:
     """Blender's (frame, subframe) of stand-in frame `number` of a still at `frame` (StillMotion)."""
     t = frame + (number - frame) * step
@@ -119,9 +132,9 @@ def hold_unblurred(scene, objects, current: int) -> None:
 def warn_unblurred(scene, animation: bool, deforming: list[str], warn: Callable[[str], None], objects=()) -> None:
     """What the shutter does not blur: objects that deform within it whose deformation steps were not read
     (`deforming`: the export's deforming objects less those it read the steps of, Export.deform_handled; animation
-    frames read none), a rolling shutter, and in animation frames (one time of the shutter per frame, accumulated by
-    TAA: render/shutter.py) the objects whose own Motion Blur is off, which move with the rest (`objects`: the
-    scene's)."""
+    frames read theirs after the export: export/frame_deformation.py), a rolling shutter, and in animation frames
+    (one time of the shutter per frame, accumulated by TAA: render/shutter.py) the objects whose own Motion Blur is
+    off, which move with the rest (`objects`: the scene's)."""
     if shutter(scene) == (0.0, 0.0):
         return
     if deforming:

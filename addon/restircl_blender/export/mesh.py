@@ -138,7 +138,7 @@ class MeshReader:
         probe = self._probes.get(ob.name)
         steps = self._steps.get(i)
         if steps is not None and k in steps:
-            step = steps[k] = _read_step(ob, self._records[i].normals is not None)
+            step = steps[k] = read_step(ob, self._records[i].normals is not None)
             if probe is not None and ob.name not in self.deforming and (
                     step is None or len(step[0]) != probe[0] or _digest(step[0]) != probe[1]):
                 self.deforming.append(ob.name)
@@ -236,7 +236,7 @@ def _read_geometry(ob) -> _Geometry | None:
                      slots.astype(np.int64), mats, uvs, uv_name, normals, colors)
 
 
-def _read_step(ob, normals: bool) -> tuple[np.ndarray, np.ndarray | None] | None:
+def read_step(ob, normals: bool) -> tuple[np.ndarray, np.ndarray | None] | None:
     """The evaluated object's (V, 3) object-space vertices (a deformation step) and, with `normals`, its corner
     normals per triangle (None when every face is flat); None: it has no mesh."""
     with _evaluated_mesh(ob) as me:

@@ -23,6 +23,7 @@ from ..lights.tree import LightTree, build_light_tree
 from ..scene.scene import Scene
 from .alpha import scene_is_transparent, with_transparency
 from .attributes import attribute_rows
+from .deform_motion import deform_motion
 from .glass_tables import device_tables
 from .materials import pack_materials
 from .textures import LoadedImage, PackedTextures, TexturePacker, warn_missing_uv_maps, warn_textured_emission
@@ -247,6 +248,9 @@ class DeviceScene:
             prev_f = last_frame if last_frame is not None else frame
             next_f = min(frame + 1, self.frame_count - 1)
             for k, mesh in enumerate(scene.meshes):
+                if mesh.deforms:
+                    motion[k] = deform_motion(mesh, frame, prev_f), deform_motion(mesh, frame, next_f)
+                    continue
                 inv = np.linalg.inv(Scene.at(mesh.transforms, frame))
                 motion[k, 0] = (Scene.at(mesh.transforms, prev_f) @ inv)[:3, :]
                 motion[k, 1] = (Scene.at(mesh.transforms, next_f) @ inv)[:3, :]
