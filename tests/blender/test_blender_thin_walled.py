@@ -1,9 +1,11 @@
-"""Thin-walled glass and thin film (issue 39), as Blender's Cycles has them: no shader node has a thin-walled mode
-(no "Thin Walled" input or property on any BSDF node: Cycles models a pane as the two surfaces of a solid, or one
-sheet that refracts in and never out), while the Glass, the Principled and the Metallic BSDF have Thin Film
-(Thickness, IOR), an iridescent coating that changes their Fresnel, for glass both what it reflects and what it
-transmits. restircl does not model the film: the add-on exports such glass as glass without it and names the film in
-the material's warning; a film of thickness 0 (the default) is no film and no warning."""
+"""Thin-walled glass and thin film (issue 39), as Blender's Cycles has them: up to Blender 5.0 no shader node has a
+thin-walled mode (no "Thin Wall" input or property on any BSDF node: Cycles models a pane as the two surfaces of a
+solid, or one sheet that refracts in and never out); Blender 5.3's Principled BSDF has a Thin Wall input (no other
+node has one), which restircl does not model: the add-on renders such a material as a solid and names "thin wall" in
+its warning (a Principled with Thin Wall off: no warning). Meanwhile the Glass, the Principled and the Metallic BSDF
+have Thin Film (Thickness, IOR), an iridescent coating that changes their Fresnel, for glass both what it reflects
+and what it transmits. restircl does not model the film: the add-on exports such glass as glass without it and names
+the film in the material's warning; a film of thickness 0 (the default) is no film and no warning."""
 
 from __future__ import annotations
 
@@ -24,13 +26,17 @@ def _bsdf_node_types() -> list[str]:
     return sorted(n for n in dir(bpy.types) if n.startswith("ShaderNodeBsdf") or n == "ShaderNodeSubsurfaceScattering")
 
 
-def test_no_bsdf_node_has_a_thin_walled_mode():
+def _has_thin_wall(node) -> bool:
+    names = [s.name.lower() for s in node.inputs] + [p.identifier.lower() for p in node.bl_rna.properties]
+    return any("thin" in n and "wall" in n for n in names)
+
+
+def test_only_the_principled_bsdf_may_have_a_thin_wall():
     _, tree, _ = node_material(bpy, "probe")
     seen = []
     for kind in _bsdf_node_types():
         node = tree.nodes.new(kind)
-        names = [s.name.lower() for s in node.inputs] + [p.identifier.lower() for p in node.bl_rna.properties]
-        assert not any("thin" in n and "wall" in n for n in names), (kind, names)
+        assert kind == "ShaderNodeBsdfPrincipled" or not _has_thin_wall(node), kind
         if any(s.name == "Thin Film Thickness" for s in node.inputs):
             seen.append(kind)
     assert len(_bsdf_node_types()) >= 10
@@ -60,3 +66,28 @@ def test_glass_with_a_thin_film_exports_as_glass_with_a_warning():
     assert mats["Filmed"].kind == mats["Clear"].kind == "glass"
     assert any("Filmed" in w and "thin film" in w for w in exp.warnings), exp.warnings
     assert not any("Clear" in w for w in exp.warnings), exp.warnings
+
+
+def test_principled_thin_wall_renders_as_a_solid_with_a_warning():
+    ensure_registered()
+    _, tree, _ = node_material(bpy, "probe")
+    if not _has_thin_wall(tree.nodes.new("ShaderNodeBsdfPrincipled")):
+        pytest.skip("this Blender's Principled BSDF has no Thin Wall input")
+    from restircl_blender import export as ex
+
+    def principled(name: str, thin: bool):
+        mat, tree, out = node_material(bpy, name)
+        p = tree.nodes.new("ShaderNodeBsdfPrincipled")
+        p.inputs["Transmission Weight"].default_value = 1.0
+        p.inputs["Thin Wall"].default_value = thin
+        tree.links.new(p.outputs[0], out.inputs["Surface"])
+        return mat
+
+    scenes.new_scene(32, 24)
+    scenes.quad("Walled", 1, material=principled("Walled", True), location=(0, 0, 1))
+    scenes.quad("Solid", 1, material=principled("Solid", False), location=(0, 0, 2))
+    scenes.light("POINT", "Lamp", (0, 0, 5), energy=100.0)
+    scenes.camera((0, -6, 4), (0, 0, 1))
+    exp = ex.export_scene(bpy.context.evaluated_depsgraph_get(), None, frame_set=bpy.context.scene.frame_set)
+    assert any("Walled" in w and "thin wall" in w for w in exp.warnings), exp.warnings
+    assert not any("Solid" in w for w in exp.warnings), exp.warnings

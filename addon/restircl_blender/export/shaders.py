@@ -19,6 +19,7 @@ PRINCIPLED_LOBES = (
     (("Anisotropic",), "anisotropy", 0.0),
     (("Thin Film Thickness",), "thin film", 0.0),
     (("Diffuse Roughness",), "diffuse roughness", 0.0),
+    (("Thin Wall",), "thin wall", 0.0),  # Blender 5.3's Principled: an infinitely thin sheet, rendered as a solid
 )
 GLOSSY_NODES = ("ShaderNodeBsdfGlossy", "ShaderNodeBsdfAnisotropic")
 # the dielectric BSDFs (opencl/bsdf/microfacet_dielectric.h): node -> Material.kind
