@@ -10,11 +10,10 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from restircl.eval import blender_scenes as scenes  # noqa: E402
 from restircl.eval.blender_scenes import comparison_scene  # noqa: E402
 
-from .test_blender_holdout import EDGE_BOUND, alpha_relmse  # noqa: E402
-from .test_blender_support import ensure_registered, needs_renderer, read_exr_passes, render_to  # noqa: E402
+from .test_blender_holdout import EDGE_BOUND, alpha_relmse, both  # noqa: E402
+from .test_blender_support import ensure_registered, needs_renderer  # noqa: E402
 
 pytestmark = [pytest.mark.blender, needs_renderer]
 
@@ -25,14 +24,7 @@ def test_transparent_film_edges_alpha_is_the_covered_share(tmp_path, record_prop
     sc.render.film_transparent = True
     for name in ("Floor", "Wall"):  # the box and the lamp against the world
         bpy.data.objects.remove(bpy.data.objects[name])
-    scenes.cycles_direct_only(sc, samples=256, seed=1, threads=2)
-    render_to(sc, tmp_path / "cycles.exr")
-    sc.render.engine = "RESTIRCL"
-    sc.restircl.method = "reference"
-    sc.restircl.samples = 64
-    render_to(sc, tmp_path / "ours.exr")
-    cyc = read_exr_passes(tmp_path / "cycles.exr")["Combined"][..., 3]
-    ours = read_exr_passes(tmp_path / "ours.exr")["Combined"][..., 3]
+    cyc, ours = (img[..., 3] for img in both(tmp_path, sc))
     edge = (cyc > 0.02) & (cyc < 0.98)
     assert edge.sum() >= 16, "Cycles' image has no antialiased edge against the world: nothing is tested"
     assert 0.05 < np.mean(cyc < 0.02) < 0.99, "no world seen, or nothing else: nothing is tested"

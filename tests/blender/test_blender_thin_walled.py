@@ -52,16 +52,22 @@ def _glass(name: str, thickness: float):
     return mat
 
 
-def test_glass_with_a_thin_film_exports_as_glass_with_a_warning():
+def _export_two_quads(material, with_it: str, without_it: str):
+    """The add-on's export of two quads under a lamp, of materials material(name, True) and material(name, False)
+    (made after the new scene, which removes the materials before it)."""
     ensure_registered()
     from restircl_blender import export as ex
 
     scenes.new_scene(32, 24)
-    scenes.quad("Filmed", 1, material=_glass("Filmed", 400.0), location=(0, 0, 1))
-    scenes.quad("Clear", 1, material=_glass("Clear", 0.0), location=(0, 0, 2))
+    scenes.quad(with_it, 1, material=material(with_it, True), location=(0, 0, 1))
+    scenes.quad(without_it, 1, material=material(without_it, False), location=(0, 0, 2))
     scenes.light("POINT", "Lamp", (0, 0, 5), energy=100.0)
     scenes.camera((0, -6, 4), (0, 0, 1))
-    exp = ex.export_scene(bpy.context.evaluated_depsgraph_get(), None, frame_set=bpy.context.scene.frame_set)
+    return ex.export_scene(bpy.context.evaluated_depsgraph_get(), None, frame_set=bpy.context.scene.frame_set)
+
+
+def test_glass_with_a_thin_film_exports_as_glass_with_a_warning():
+    exp = _export_two_quads(lambda name, on: _glass(name, 400.0 if on else 0.0), "Filmed", "Clear")
     mats = {m.name: m for m in exp.scene.materials}
     assert mats["Filmed"].kind == mats["Clear"].kind == "glass"
     assert any("Filmed" in w and "thin film" in w for w in exp.warnings), exp.warnings
@@ -73,7 +79,6 @@ def test_principled_thin_wall_renders_as_a_solid_with_a_warning():
     _, tree, _ = node_material(bpy, "probe")
     if not _has_thin_wall(tree.nodes.new("ShaderNodeBsdfPrincipled")):
         pytest.skip("this Blender's Principled BSDF has no Thin Wall input")
-    from restircl_blender import export as ex
 
     def principled(name: str, thin: bool):
         mat, tree, out = node_material(bpy, name)
@@ -83,11 +88,6 @@ def test_principled_thin_wall_renders_as_a_solid_with_a_warning():
         tree.links.new(p.outputs[0], out.inputs["Surface"])
         return mat
 
-    scenes.new_scene(32, 24)
-    scenes.quad("Walled", 1, material=principled("Walled", True), location=(0, 0, 1))
-    scenes.quad("Solid", 1, material=principled("Solid", False), location=(0, 0, 2))
-    scenes.light("POINT", "Lamp", (0, 0, 5), energy=100.0)
-    scenes.camera((0, -6, 4), (0, 0, 1))
-    exp = ex.export_scene(bpy.context.evaluated_depsgraph_get(), None, frame_set=bpy.context.scene.frame_set)
+    exp = _export_two_quads(principled, "Walled", "Solid")
     assert any("Walled" in w and "thin wall" in w for w in exp.warnings), exp.warnings
     assert not any("Solid" in w for w in exp.warnings), exp.warnings
