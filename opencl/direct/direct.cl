@@ -4,6 +4,22 @@
  * One shadow ray per light sample. Each contribution of direct light is clamped by Clamp Direct on its own
  * (direct/clamp.h) and, where light passes are on, split into them (film/light_passes.h). */
 
+/* One light sample (light l at (u, v), drawn with probability density pdf) added to the pixel's direct light, its
+ * light passes and its light group: its unshadowed contribution over pdf times the transmittance to it. */
+inline void direct_add_light_sample(const Surface* s, const __global BVHNode* nodes, const __global Tri* tris,
+                                    const __global Light* lights, int l, float2 uv, float pdf, float clamp,
+                                    float3* c, DirectSplit* pass, GroupLight* gl)
+{
+    LightEval e;
+    float v = 0.0f;
+    if (pdf > 0.0f && surface_light_eval(s, &lights[l], uv.x, uv.y, &e)
+        && light_links(lights, &lights[l], s, &e) && (v = transmittance(nodes, tris, s, &e)) > 0.0f) {
+        float3 x = direct_contribution(s, e.wi, unshadowed_contrib(s, &e) / pdf * v, clamp, pass);
+        *c += x;
+        GROUP_ADD(gl, lights, &lights[l], x);
+    }
+}
+
 __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySample* glossy, const __global BVHNode* nodes, const __global Tri* tris,
                            const __global Light* lights, const __global int* slots, const __global float* light_pdf,
                            const __global LightTreeNode* tree_nodes, const __global int2* tree_info,
@@ -63,13 +79,7 @@ __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySa
 #ifdef TEST_PICK_PDF_SCALE  /* negative controls of the tests only (tests/bias_controls.py): a wrong pdf */
             pdf *= TEST_PICK_PDF_SCALE;
 #endif
-            float v = 0.0f;
-            if (pdf > 0.0f && surface_light_eval(&s, &lights[light], uv.x, uv.y, &e)
-                && light_links(lights, &lights[light], &s, &e) && (v = transmittance(nodes, tris, &s, &e)) > 0.0f) {
-                float3 x = direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) / pdf * v, clamp, &pass);
-                c += x;
-                GROUP_ADD(&gl, lights, &lights[light], x);
-            }
+            direct_add_light_sample(&s, nodes, tris, lights, light, uv, pdf, clamp, &c, &pass, &gl);
         }
     }
     direct_passes(light_passes, pixel_count, i, &pass, k_seen);
@@ -101,14 +111,7 @@ __kernel void shade_reference(const __global GSample* gbuf, const __global Gloss
 #ifdef TEST_REFERENCE_PDF_SCALE  /* negative control of the tests only (tests/bias_controls.py): a wrong pdf */
             pdf *= TEST_REFERENCE_PDF_SCALE;
 #endif
-            LightEval e;
-            float v = 0.0f;
-            if (pdf > 0.0f && surface_light_eval(&s, &lights[l], uv.x, uv.y, &e)
-                && light_links(lights, &lights[l], &s, &e) && (v = transmittance(nodes, tris, &s, &e)) > 0.0f) {
-                float3 x = direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) / pdf * v, clamp, &pass);
-                c += x;
-                GROUP_ADD(&gl, lights, &lights[l], x);
-            }
+            direct_add_light_sample(&s, nodes, tris, lights, l, uv, pdf, clamp, &c, &pass, &gl);
         }
     }
     direct_passes(light_passes, pixel_count, i, &pass, k_seen);
