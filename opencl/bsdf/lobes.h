@@ -17,14 +17,16 @@
 #include "bsdf/microfacet_reflection.h"
 #ifdef HAS_TRANSMISSION
 #include "bsdf/microfacet_dielectric.h"
+#include "bsdf/thin_dielectric.h"
 #endif
 
-/* X(code, name) for every lobe kind; the dielectric (refracting) lobe only in builds whose scene transmits
- * (HAS_TRANSMISSION), so that the others keep one kind and no test of it */
+/* X(code, name) for every lobe kind; the dielectric (refracting) and thin dielectric lobes only in builds whose
+ * scene transmits (HAS_TRANSMISSION), so that the others keep one kind and no test of it */
 #ifdef HAS_TRANSMISSION
 #define BSDF_LOBE_KINDS(X) \
     X(LOBE_MICROFACET_REFLECTION, microfacet_reflection) \
-    X(LOBE_MICROFACET_DIELECTRIC, microfacet_dielectric)
+    X(LOBE_MICROFACET_DIELECTRIC, microfacet_dielectric) \
+    X(LOBE_THIN_DIELECTRIC, thin_dielectric)
 #else
 #define BSDF_LOBE_KINDS(X) \
     X(LOBE_MICROFACET_REFLECTION, microfacet_reflection)

@@ -11,20 +11,23 @@
 /* Whether the BSDF of s transmits light from behind it */
 inline bool surface_transmits(const Surface* s)
 {
-    for (int k = 0; k < s->mat.lobes; ++k)
-        if (lobe_kind(&s->mat.lobe[k]) == LOBE_MICROFACET_DIELECTRIC && microfacet_dielectric_transmits(&s->mat.lobe[k]))
-            return true;
+    for (int k = 0; k < s->mat.lobes; ++k) {
+        const Lobe* l = &s->mat.lobe[k];
+        if (lobe_kind(l) == LOBE_MICROFACET_DIELECTRIC && microfacet_dielectric_transmits(l)) return true;
+        if (lobe_kind(l) == LOBE_THIN_DIELECTRIC && thin_dielectric_transmits(l)) return true;  /* a thin wall */
+    }
     return false;
 }
 
-/* Whether s scatters through smooth dielectric lobes alone (Cycles' singular glass: Roughness^4 <= 2e-10, no
- * diffuse part): no light sample can meet such a lobe, so a path does no next-event estimation there
+/* Whether s scatters through smooth dielectric or thin dielectric lobes alone (Cycles' singular glass: Roughness^4
+ * <= 2e-10, no diffuse part): no light sample can meet such a lobe, so a path does no next-event estimation there
  * (path/walk.h) and the emitters its next ray meets take all the weight (path/emitters.h). */
 inline bool surface_is_singular(const Surface* s)
 {
     if (s->mat.lobes == 0 || s->mat.albedo.x + s->mat.albedo.y + s->mat.albedo.z > 0.0f) return false;
     for (int k = 0; k < s->mat.lobes; ++k) {
         const Lobe* l = &s->mat.lobe[k];
+        if (lobe_kind(l) == LOBE_THIN_DIELECTRIC && thin_dielectric(l).smooth != 0.0f) continue;  /* smooth thin wall */
         if (lobe_kind(l) != LOBE_MICROFACET_DIELECTRIC || microfacet_dielectric(l).smooth == 0.0f) return false;
     }
     return true;

@@ -97,6 +97,8 @@ inline void light_pass_transmission_colour(__global float4* lp, int pixels, int 
     for (int k = 0; k < s->mat.lobes; ++k)
         if (lobe_kind(&s->mat.lobe[k]) == LOBE_MICROFACET_DIELECTRIC)
             tc += microfacet_dielectric_transmittance(&s->mat.lobe[k], dot3(s->nl, s->wo));
+        else if (lobe_kind(&s->mat.lobe[k]) == LOBE_THIN_DIELECTRIC)
+            tc += thin_dielectric_transmittance(&s->mat.lobe[k]);
     light_pass_put(lp, pixels, LPASS_TRANSMISSION_COLOR, i, tc);
 }
 #endif

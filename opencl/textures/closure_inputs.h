@@ -21,6 +21,7 @@ typedef struct {
     float transmission; /* the Principled BSDF's Transmission Weight */
     int backfacing;     /* 1: the ray met the surface's back face (a refracting closure leaves its medium there); the
                            caller sets it, closure_constants leaves it 0 */
+    int thin_wall;      /* 1: the Principled BSDF's Thin Wall (Blender 5.3): its transmission is a sheet */
 } ClosureInputs;
 
 /* The constants of closure c (texture inputs not applied). */
@@ -41,6 +42,7 @@ inline ClosureInputs closure_constants(const __global Closure* c)
     in.normal = (float3)(0.0f);
     in.transmission = c->glass.x;
     in.backfacing = 0;
+    in.thin_wall = c->glass.y != 0.0f;
     return in;
 }
 

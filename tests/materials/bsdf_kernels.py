@@ -65,6 +65,7 @@ inline Surface test_surface(const __global float* p, int count, const __global f
         in[k].multiscatter = (int)q[11] >> 3;
         in[k].transmission = 0.0f;
         in[k].backfacing = 0;
+        in[k].thin_wall = 0;
     }
     return resolved_surface(in, count, tab, wo);
 }

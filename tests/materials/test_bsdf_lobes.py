@@ -38,7 +38,10 @@ def _material(name: str) -> Material:
     """A closure whose kind declares lobe `name`, one that makes it first where there is one."""
     kinds = sorted((k for k in CLOSURE_KINDS if name in k.lobes), key=lambda k: (k.lobes[0] != name, k.code))
     assert kinds, f"no closure kind makes lobe {name!r} (ClosureKind.lobes)"
-    return mid_material(kinds[0].name)
+    m = mid_material(kinds[0].name)
+    if name == "thin_dielectric":  # the Principled's transmission on a thin wall
+        m.transmission, m.thin_wall = 0.6, True
+    return m
 
 
 def _transmits(name: str) -> bool:

@@ -19,7 +19,6 @@ PRINCIPLED_LOBES = (
     (("Anisotropic",), "anisotropy", 0.0),
     (("Thin Film Thickness",), "thin film", 0.0),
     (("Diffuse Roughness",), "diffuse roughness", 0.0),
-    (("Thin Wall",), "thin wall", 0.0),  # Blender 5.3's Principled: an infinitely thin sheet, rendered as a solid
 )
 GLOSSY_NODES = ("ShaderNodeBsdfGlossy", "ShaderNodeBsdfAnisotropic")
 # the dielectric BSDFs (opencl/bsdf/microfacet_dielectric.h): node -> Material.kind
@@ -155,7 +154,8 @@ class ShaderReader:
             specular=inp.unit(find_input(node, ("Specular IOR Level", "Specular")), stack,
                               f"{label} Specular IOR Level"),
             specular_tint=inp.color(find_input(node, ("Specular Tint",)), stack),
-            distribution=self._distribution(node, label), transmission=self._transmission(node, stack, label))
+            distribution=self._distribution(node, label), transmission=self._transmission(node, stack, label),
+            thin_wall=self._thin_wall(node, stack, label))
         alpha = find_input(node, ("Alpha",))
         if alpha is not None:
             closure.alpha = inp.unit(alpha, stack, f"{label} Alpha")
@@ -179,6 +179,21 @@ class ShaderReader:
             return 0.0
         t = self.inputs.constant(sock, stack, f"{label} Transmission Weight")
         return min(max(t, 0.0), 1.0) if math.isfinite(t) else 0.0
+
+    def _thin_wall(self, node, stack: tuple, label: str) -> bool:
+        """Blender 5.3's Principled Thin Wall (opencl/bsdf/closures/thin_wall.h); a linked one is taken as its
+        default. Cycles' thin-walled subsurface (a diffuse and a translucent lobe) is not modelled: subsurface stays
+        in the lobes left out (PRINCIPLED_LOBES)."""
+        sock = find_input(node, ("Thin Wall",))
+        if sock is None:
+            return False
+        try:
+            src = resolve(sock, stack)
+        except NodeLoop:
+            return False
+        if src.linked:
+            self.notes.note(f"{label}: a linked Thin Wall is taken as its default value")
+        return bool(src.socket.default_value)
 
     def _dielectric(self, node, stack: tuple, label: str, kind: str):
         self._lobes_off(node, stack, label, ((("Thin Film Thickness",), "thin film", 0.0),))

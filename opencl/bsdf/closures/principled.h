@@ -16,6 +16,7 @@
 #include "bsdf/microfacet_reflection.h"
 #ifdef HAS_TRANSMISSION
 #include "bsdf/closures/glass.h"
+#include "bsdf/closures/thin_wall.h"
 #endif
 
 /* The closure's diffuse albedo (returned) at weight w > 0 and clamped Base Color base, and its lobe (lobes[0],
@@ -80,7 +81,9 @@ inline float3 principled_resolve(const ClosureInputs* c, float w, float3 base, f
     lobes[0] = microfacet_reflection_lobe(&m, fmax_f(sample_w, 1e-3f * (avg3(m.metal_w) + avg3(m.diel_w))));
     *count = has_lobe ? 1 : 0;
 #ifdef HAS_TRANSMISSION
-    if (wt > CLOSURE_WEIGHT_CUTOFF) lobes[(*count)++] = principled_glass_lobe(c, wt, base, mu, tab);
+    if (wt > CLOSURE_WEIGHT_CUTOFF)  /* Thin Wall: a sheet, not an interface (bsdf/closures/thin_wall.h) */
+        lobes[(*count)++] = c->thin_wall ? principled_thin_wall_lobe(c, wt, base, mu, tab)
+                                         : principled_glass_lobe(c, wt, base, mu, tab);
 #endif
     return base * diffuse_w;
 }

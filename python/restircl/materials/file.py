@@ -27,6 +27,8 @@ class MaterialWriter:
     def material(self, m: Material) -> dict:
         d: dict = {"name": m.name, "kind": m.kind, "ior": float(m.ior), "distribution": m.distribution,
                    "emission_strength": float(m.emission_strength), "transmission": float(m.transmission)}
+        if m.thin_wall:
+            d["thin_wall"] = True
         for name in _VALUE_FIELDS:
             d[name] = self.value(getattr(m, name))
         d["layers"] = [self.material(layer) for layer in m.layers]
@@ -90,7 +92,7 @@ class MaterialReader:
 
     def material(self, d: dict) -> Material:
         m = Material(name=d["name"], emission_strength=d["emission_strength"])
-        for key in ("kind", "ior", "distribution", "transmission"):
+        for key in ("kind", "ior", "distribution", "transmission", "thin_wall"):
             if key in d:
                 setattr(m, key, d[key])
         for name in _VALUE_FIELDS:

@@ -147,9 +147,14 @@ def _transmission(r: np.void, v: object, _node: Callable[[object], int]) -> None
     r["glass"][0] = float(v)  # type: ignore[arg-type]
 
 
+def _thin_wall(r: np.void, v: object, _node: Callable[[object], int]) -> None:
+    r["glass"][1] = 1.0 if v else 0.0  # type: ignore[index]
+
+
 FIELD_LANES: dict[str, Lanes] = {
     "albedo": _albedo, "metallic": _metallic, "roughness": _roughness, "ior": _ior, "specular": _specular,
     "specular_tint": _specular_tint, "distribution": _distribution, "normal": _normal, "transmission": _transmission,
+    "thin_wall": _thin_wall,
 }
 
 

@@ -41,6 +41,10 @@ def _principled(tree, c: Material):
     n.inputs["Specular IOR Level"].default_value = float(c.specular)
     n.inputs["Specular Tint"].default_value = _rgba(c.specular_tint)
     n.inputs["Transmission Weight"].default_value = float(c.transmission)
+    if c.thin_wall:  # Blender 5.3's Principled only: an older Blender cannot build this material
+        if "Thin Wall" not in n.inputs:
+            raise ValueError(f"{c.name}: this Blender's Principled BSDF has no Thin Wall input")
+        n.inputs["Thin Wall"].default_value = True
     return n
 
 

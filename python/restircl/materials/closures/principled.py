@@ -1,7 +1,8 @@
 """The Principled BSDF (opencl/bsdf/closures/principled.h): Lambertian diffuse of Base Color `albedo` under a GGX
 specular layer, Cycles' model without coat, sheen and subsurface; `transmission` (the Transmission Weight) makes
-that share of the dielectric part glass (opencl/bsdf/closures/glass.h). `specular` is the Specular IOR Level: 0 has
-no specular layer, so the default Material is a plain diffuse albedo."""
+that share of the dielectric part glass (opencl/bsdf/closures/glass.h), or with `thin_wall` a thin sheet
+(opencl/bsdf/closures/thin_wall.h). `specular` is the Specular IOR Level: 0 has no specular layer, so the default
+Material is a plain diffuse albedo."""
 
 from __future__ import annotations
 
@@ -24,5 +25,6 @@ def has_lobe(c: ClosureInputs) -> bool:
 
 KIND = ClosureKind("principled", code=0,
                    fields=("albedo", "metallic", "roughness", "ior", "specular", "specular_tint", "distribution",
-                           "normal", "transmission"),
-                   lobes=("microfacet_reflection", "microfacet_dielectric"), has_lobe=has_lobe, transmits=transmits)
+                           "normal", "transmission", "thin_wall"),
+                   lobes=("microfacet_reflection", "microfacet_dielectric", "thin_dielectric"), has_lobe=has_lobe,
+                   transmits=transmits)
