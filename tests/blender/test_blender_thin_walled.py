@@ -99,3 +99,25 @@ def test_principled_thin_wall_exports_as_a_thin_wall_without_a_warning():
     assert mats["Walled"].thin_wall is True and mats["Solid"].thin_wall is False
     assert mats["Walled"].transmission == mats["Solid"].transmission == 1.0
     assert not any("Walled" in w or "Solid" in w for w in exp.warnings), exp.warnings
+
+
+def test_a_linked_thin_wall_is_taken_as_its_default_with_a_warning():
+    ensure_registered()
+    if not principled_has_thin_wall():
+        pytest.skip("this Blender's Principled BSDF has no Thin Wall input")
+
+    def principled(name: str, linked: bool):
+        mat, tree, out = node_material(bpy, name)
+        p = tree.nodes.new("ShaderNodeBsdfPrincipled")
+        p.inputs["Transmission Weight"].default_value = 1.0
+        p.inputs["Thin Wall"].default_value = True
+        if linked:
+            tree.links.new(tree.nodes.new("ShaderNodeValue").outputs[0], p.inputs["Thin Wall"])
+        tree.links.new(p.outputs[0], out.inputs["Surface"])
+        return mat
+
+    exp = _export_two_quads(principled, "Driven", "Fixed")
+    mats = {m.name: m for m in exp.scene.materials}
+    assert mats["Driven"].thin_wall is True and mats["Fixed"].thin_wall is True
+    assert any("Driven" in w and "linked Thin Wall" in w for w in exp.warnings), exp.warnings
+    assert not any("Fixed" in w for w in exp.warnings), exp.warnings

@@ -191,8 +191,9 @@ class ShaderReader:
             src = resolve(sock, stack)
         except NodeLoop:
             return False
-        if src.linked:
+        if src.linked:  # the input's own value, not the node's that it is linked to
             self.notes.note(f"{label}: a linked Thin Wall is taken as its default value")
+            return bool(sock.default_value)
         return bool(src.socket.default_value)
 
     def _dielectric(self, node, stack: tuple, label: str, kind: str):

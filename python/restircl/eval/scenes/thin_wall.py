@@ -2,7 +2,8 @@
 same way here and, through eval/cycles/bridge.py, in Blender: one quad of tinted glass, no thickness, standing
 turned to the view over a lit floor, a box and a wall behind it, under a square area light behind the camera.
 `roughness` 0 is a window pane, 0.35 a frosted sheet; `thin_wall` False is the same quad as a solid's surface (what
-restircl rendered before it modelled Thin Wall: the ray refracts into the quad and never leaves)."""
+restircl rendered before it modelled Thin Wall: the ray refracts into the quad and never leaves); `ior`,
+`transmission` (the rest is the Principled's specular and diffuse) and `distribution` vary the sheet."""
 
 from __future__ import annotations
 
@@ -29,13 +30,14 @@ def _standing(x: float, y: float, z: float, turn_deg: float) -> np.ndarray:
     return np.array([[c, 0, -s, x], [s, 0, c, y], [0, 1, 0, z], [0, 0, 0, 1]], float)
 
 
-def thin_pane(width: int = 48, height: int = 36, roughness: float = 0.0, thin_wall: bool = True) -> Scene:
+def thin_pane(width: int = 48, height: int = 36, roughness: float = 0.0, thin_wall: bool = True, ior: float = IOR,
+              transmission: float = 1.0, distribution: str = "ggx") -> Scene:
     fv, ft = quad(8.0, 8.0)
     pv, pt = quad(1.6, 1.1)
     wv, wt = quad(8.0, 3.0)
     bv, bt = box((0.5, 0.5, 0.7))
-    sheet = Material("sheet", TINT, roughness=roughness, ior=IOR, specular=0.5, transmission=1.0,
-                     distribution="ggx", thin_wall=thin_wall)
+    sheet = Material("sheet", TINT, roughness=roughness, ior=ior, specular=0.5, transmission=transmission,
+                     distribution=distribution, thin_wall=thin_wall)
     mats = [Material("floor", (0.6, 0.6, 0.6)), sheet, Material("back", (0.7, 0.3, 0.2)),
             Material("block", (0.2, 0.4, 0.7))]
     meshes = [Mesh("floor", fv, ft, 0), Mesh("sheet", pv, pt, 1, _standing(0.0, -0.6, 0.6, 30.0)),
@@ -44,4 +46,4 @@ def thin_pane(width: int = 48, height: int = 36, roughness: float = 0.0, thin_wa
     lights = [Light("panel", "area", (1.0, 0.95, 0.9), LIGHT_POWER, translation(-0.6, -2.2, 2.8), size=1.4)]
     eye = look_at((0.4, -4.0, 1.6), (0.0, 0.0, 0.5))
     cam = Camera(eye[None], width, height, lens=35.0)
-    return Scene(meshes, mats, lights, cam, name=f"thin_pane_{roughness:g}{'' if thin_wall else '_solid'}")
+    return Scene(meshes, mats, lights, cam, name=f"thin_pane_{roughness:g}_{ior:g}{'' if thin_wall else '_solid'}")
