@@ -81,20 +81,24 @@ def test_glass_with_a_thin_film_exports_as_glass_with_a_warning():
     assert not any("Clear" in w for w in exp.warnings), exp.warnings
 
 
+def _thin_walled(name: str, thin: bool, linked: bool = False):
+    """A Principled BSDF of Transmission 1 with Thin Wall `thin`, linked to a Value node where `linked`"""
+    mat, tree, out = node_material(bpy, name)
+    p = tree.nodes.new("ShaderNodeBsdfPrincipled")
+    p.inputs["Transmission Weight"].default_value = 1.0
+    p.inputs["Thin Wall"].default_value = thin
+    if linked:
+        tree.links.new(tree.nodes.new("ShaderNodeValue").outputs[0], p.inputs["Thin Wall"])
+    tree.links.new(p.outputs[0], out.inputs["Surface"])
+    return mat
+
+
 def test_principled_thin_wall_exports_as_a_thin_wall_without_a_warning():
     ensure_registered()
     if not principled_has_thin_wall():
         pytest.skip("this Blender's Principled BSDF has no Thin Wall input")
 
-    def principled(name: str, thin: bool):
-        mat, tree, out = node_material(bpy, name)
-        p = tree.nodes.new("ShaderNodeBsdfPrincipled")
-        p.inputs["Transmission Weight"].default_value = 1.0
-        p.inputs["Thin Wall"].default_value = thin
-        tree.links.new(p.outputs[0], out.inputs["Surface"])
-        return mat
-
-    exp = _export_two_quads(principled, "Walled", "Solid")
+    exp = _export_two_quads(_thin_walled, "Walled", "Solid")
     mats = {m.name: m for m in exp.scene.materials}
     assert mats["Walled"].thin_wall is True and mats["Solid"].thin_wall is False
     assert mats["Walled"].transmission == mats["Solid"].transmission == 1.0
@@ -106,17 +110,7 @@ def test_a_linked_thin_wall_is_taken_as_its_default_with_a_warning():
     if not principled_has_thin_wall():
         pytest.skip("this Blender's Principled BSDF has no Thin Wall input")
 
-    def principled(name: str, linked: bool):
-        mat, tree, out = node_material(bpy, name)
-        p = tree.nodes.new("ShaderNodeBsdfPrincipled")
-        p.inputs["Transmission Weight"].default_value = 1.0
-        p.inputs["Thin Wall"].default_value = True
-        if linked:
-            tree.links.new(tree.nodes.new("ShaderNodeValue").outputs[0], p.inputs["Thin Wall"])
-        tree.links.new(p.outputs[0], out.inputs["Surface"])
-        return mat
-
-    exp = _export_two_quads(principled, "Driven", "Fixed")
+    exp = _export_two_quads(lambda name, on: _thin_walled(name, True, linked=on), "Driven", "Fixed")
     mats = {m.name: m for m in exp.scene.materials}
     assert mats["Driven"].thin_wall is True and mats["Fixed"].thin_wall is True
     assert any("Driven" in w and "linked Thin Wall" in w for w in exp.warnings), exp.warnings
