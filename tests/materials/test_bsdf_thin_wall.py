@@ -106,3 +106,17 @@ def test_rough_white_sheet_keeps_the_energy(kernels, theta):
     """Rough (0.5) white sheet: reflected plus transmitted throughput is 1 within the compensation's accuracy."""
     s = kernels.samples(sheet(0.5), False, view(theta), 100_000)
     assert s[:, 1, 0].mean() == pytest.approx(1.0, abs=0.03)
+
+
+def test_thin_wall_survives_a_scene_file(tmp_path):
+    """The flag is saved and loaded with the scene (scene/file.py) and packed into Closure.glass.y for the device."""
+    from restircl.eval.scenes.thin_wall import thin_pane
+    from restircl.scene.file import load_scene, save_scene
+    from restircl.scene.scene import Scene
+    from restircl.upload.materials import pack_materials
+
+    for thin in (True, False):
+        save_scene(thin_pane(8, 6, 0.2, thin), tmp_path / "pane.json")
+        back = load_scene(tmp_path / "pane.json", Scene)
+        assert [m.thin_wall for m in back.materials] == [False, thin, False, False]
+        assert pack_materials(back.materials).closures["glass"][1, 1] == (1.0 if thin else 0.0)
