@@ -1,0 +1,48 @@
+"""Thin walls in the path pass (opencl/bsdf/thin_dielectric.h through opencl/path/walk.h): a white furnace. A closed
+sphere of white thin-walled sheet (Principled Transmission 1, Thin Wall) in a uniform white world (radiance 1): a
+white sheet reflects R and passes T = 1 - R (the slab's sums), so every pixel converges to 1 when smooth, and when
+rough to 1 within the energy compensation's accuracy (Cycles applies it to both parts, as here). A tinted sheet
+(Base Color 0.5) absorbs: its sphere is darker than the world, which tells the harness can see a loss."""
+
+from __future__ import annotations
+
+import numpy as np
+from restircl import Camera, Environment, Material, Mesh, Renderer, Scene, Settings, look_at
+from restircl.scenes.shapes import icosphere
+
+from .test_glass import BOUNCES, SIZE
+
+BATCHES, FRAMES = 4, 32
+
+
+def sphere_mean(roughness: float, colour: float = 1.0) -> tuple[float, float]:
+    """The mean over the sphere's central pixels and its standard error over independent stills"""
+    sv, st = icosphere(3, 1.0)
+    cam = Camera(look_at((0.0, -4.0, 0.0), (0.0, 0.0, 0.0))[None], SIZE, SIZE, lens=50.0)
+    sheet = Material("sheet", (colour,) * 3, roughness=roughness, ior=1.5, specular=0.5, transmission=1.0,
+                     distribution="ggx", thin_wall=True)
+    scene = Scene([Mesh("ball", sv, st, 0)], [sheet], [], cam, environment=Environment(color=(1.0, 1.0, 1.0)),
+                  name="thin_wall_furnace")
+    s = Settings(method="ris", max_bounces=BOUNCES, diffuse_bounces=BOUNCES, glossy_bounces=BOUNCES,
+                 transmission_bounces=BOUNCES, jitter=False)
+    imgs = np.stack([Renderer(scene, Settings(**{**s.__dict__, "seed": 7 + b})).render_still(0, samples=FRAMES)
+                     .color[..., :3].astype(np.float64) for b in range(BATCHES)])
+    assert np.all(np.isfinite(imgs))
+    c = SIZE // 2
+    per_batch = imgs[:, c - 4:c + 4, c - 4:c + 4].mean(axis=(1, 2, 3))  # well inside the sphere's disk
+    return per_batch.mean(), per_batch.std(ddof=1) / np.sqrt(BATCHES)
+
+
+def test_smooth_white_thin_sphere_in_a_white_world_is_white(device):
+    mean, se = sphere_mean(0.0)
+    assert abs(mean - 1.0) < 4 * se + 2e-3, (mean, se)
+
+
+def test_rough_white_thin_sphere_keeps_the_energy(device):
+    mean, se = sphere_mean(0.4)
+    assert abs(mean - 1.0) < 4 * se + 2e-2, (mean, se)
+
+
+def test_a_tinted_thin_sphere_is_darker(device):
+    mean, se = sphere_mean(0.0, 0.5)
+    assert mean < 0.8, (mean, se)
