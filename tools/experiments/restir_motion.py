@@ -9,6 +9,10 @@ load moves the wall time of a frame by tens of percent. The error of every `--ev
 that frame's converged reference (cached). Methods are `restircl report` names, with settings changed written
 `base+key=value` (eval/report/methods.py).
 
+With two or more RIS rows `ris+candidates=N` rendered one frame per animation frame, every other method is also
+set against RIS at its own CPU time (equal_time_ris), so that a method cheaper than the budget is compared at its
+own cost too.
+
     python -m tools.experiments.restir_motion --scene garden_orbit --methods ris,restir,restir+m_cap=5 --seeds 3
 """
 
@@ -34,6 +38,38 @@ def cpu_times(scene, methods: list[str], repeats: int) -> dict[str, float]:
         for m in methods:
             got[m].append(frame_time_ms(scene, m, frames=6)[1])
     return {m: float(np.median(v)) for m, v in got.items()}
+
+
+def ris_candidates_of(method: str) -> int | None:
+    """The candidate count of a plain RIS variant `ris+candidates=N` (None for anything else)."""
+    head, *parts = method.split("+")
+    if head != "ris" or len(parts) != 1 or not parts[0].startswith("candidates="):
+        return None
+    return int(parts[0].partition("=")[2])
+
+
+def equal_time_ris(rows: list[dict], key: str = "mean_rel_mse_after_0") -> dict[str, tuple[float, float]] | None:
+    """RIS at each method's own CPU time, from the RIS rows of the same run rendered one frame per animation frame
+    (`ris+candidates=N`, k = 1): their CPU ms fitted as a + b N (least squares), the N of a method's CPU ms, and
+    RIS's relMSE (`key`: the mean or the median over the seeds) at that N interpolated linearly in log N and log
+    relMSE between the two nearest counts (the end segments beyond them). Returns {method: (N, relMSE)} for the
+    other methods, None with fewer than two counts."""
+    ladder = sorted((n, r["cpu_ms"], r[key]) for r in rows
+                    if (n := ris_candidates_of(r["method"])) is not None and r["k"] == 1)
+    if len({n for n, _, _ in ladder}) < 2:
+        return None
+    ns = np.array([n for n, _, _ in ladder], float)
+    b, a = np.polyfit(ns, [c for _, c, _ in ladder], 1)
+    log_n, log_e = np.log(ns), np.log([e for _, _, e in ladder])
+    out = {}
+    for r in rows:
+        if ris_candidates_of(r["method"]) is not None:
+            continue
+        n = max((r["cpu_ms"] - a) / b, 1.0)
+        j = int(np.clip(np.searchsorted(log_n, math.log(n)), 1, len(ns) - 1))
+        t = (math.log(n) - log_n[j - 1]) / (log_n[j] - log_n[j - 1])
+        out[r["method"]] = (n, float(math.exp(log_e[j - 1] + t * (log_e[j] - log_e[j - 1]))))
+    return out
 
 
 def main() -> None:
@@ -95,9 +131,22 @@ def main() -> None:
         print(f"{m:<56} {cpu[m]:>7.1f} {ks[m]:>3} {cpu[m] * ks[m]:>10.1f} {per_seed:>30} {mean:>8.4f} {ratio:>8.3f}"
               f"   per frame {' '.join(f'{e:.3f}' for e in frames)}", flush=True)
         rows.append({"method": m, "cpu_ms": cpu[m], "k": ks[m], "rel_mse_per_seed": errs[m],
-                     "mean_rel_mse_after_0": mean,
+                     "mean_rel_mse_after_0": mean, "median_rel_mse_after_0": float(np.median(errs[m])),
                      "rel_mse_per_frame": np.mean(per_frame[m], axis=0).tolist(),
                      "ratio_to_first": ratio})
+    matched = equal_time_ris(rows)
+    by_median = equal_time_ris(rows, "median_rel_mse_after_0")
+    if matched and by_median:
+        print("RIS at each method's own CPU time (candidates N from the RIS rows' CPU ms, relMSE interpolated "
+              "between their counts), by the mean and by the median over the seeds:")
+        for r in rows:
+            if r["method"] in matched:
+                n, e = matched[r["method"]]
+                em = by_median[r["method"]][1]
+                r["equal_time_ris"] = {"candidates": n, "rel_mse": e, "median_rel_mse": em}
+                print(f"{r['method']:<56} N {n:5.1f}  mean {r['mean_rel_mse_after_0']:.4f} / RIS {e:.4f} = "
+                      f"{r['mean_rel_mse_after_0'] / e:.3f}  median {r['median_rel_mse_after_0']:.4f} / RIS "
+                      f"{em:.4f} = {r['median_rel_mse_after_0'] / em:.3f}")
     if a.out:
         Path(a.out).parent.mkdir(parents=True, exist_ok=True)
         Path(a.out).write_text(json.dumps({
