@@ -21,6 +21,8 @@ typedef struct {
     float transmission; /* the Principled BSDF's Transmission Weight */
     int backfacing;     /* 1: the ray met the surface's back face (a refracting closure leaves its medium there); the
                            caller sets it, closure_constants leaves it 0 */
+    float film_thickness; /* Thin Film Thickness (nm; at most THIN_FILM_CUTOFF: no film, bsdf/thin_film.h) */
+    float film_ior;       /* Thin Film IOR */
 } ClosureInputs;
 
 /* The constants of closure c (texture inputs not applied). */
@@ -41,6 +43,8 @@ inline ClosureInputs closure_constants(const __global Closure* c)
     in.normal = (float3)(0.0f);
     in.transmission = c->glass.x;
     in.backfacing = 0;
+    in.film_thickness = c->glass.y;
+    in.film_ior = c->glass.z;
     return in;
 }
 

@@ -4,8 +4,9 @@ solid, or one sheet that refracts in and never out); Blender 5.3's Principled BS
 node has one), which restircl does not model: the add-on renders such a material as a solid and names "thin wall" in
 its warning (a Principled with Thin Wall off: no warning). Meanwhile the Glass, the Principled and the Metallic BSDF
 have Thin Film (Thickness, IOR), an iridescent coating that changes their Fresnel, for glass both what it reflects
-and what it transmits. restircl does not model the film: the add-on exports such glass as glass without it and names
-the film in the material's warning; a film of thickness 0 (the default) is no film and no warning."""
+and what it transmits: the add-on exports it (Material.thin_film_thickness, thin_film_ior; rendered by
+opencl/bsdf/thin_film.h, against Cycles in test_blender_thin_film_cycles.py) without a warning; a film of
+thickness 0 (the default) is no film."""
 
 from __future__ import annotations
 
@@ -66,12 +67,36 @@ def _export_two_quads(material, with_it: str, without_it: str):
     return ex.export_scene(bpy.context.evaluated_depsgraph_get(), None, frame_set=bpy.context.scene.frame_set)
 
 
-def test_glass_with_a_thin_film_exports_as_glass_with_a_warning():
+def test_glass_with_a_thin_film_exports_its_film_without_a_warning():
     exp = _export_two_quads(lambda name, on: _glass(name, 400.0 if on else 0.0), "Filmed", "Clear")
     mats = {m.name: m for m in exp.scene.materials}
     assert mats["Filmed"].kind == mats["Clear"].kind == "glass"
-    assert any("Filmed" in w and "thin film" in w for w in exp.warnings), exp.warnings
-    assert not any("Clear" in w for w in exp.warnings), exp.warnings
+    assert mats["Filmed"].thin_film_thickness == pytest.approx(400.0)
+    assert mats["Filmed"].thin_film_ior == pytest.approx(1.33)
+    assert mats["Clear"].thin_film_thickness == 0.0
+    assert not any("thin film" in w for w in exp.warnings), exp.warnings
+
+
+def test_principled_and_metallic_films_are_exported():
+    def filmed(kind: str):
+        def make(name: str, on: bool):
+            mat, tree, out = node_material(bpy, name)
+            n = tree.nodes.new(kind)
+            n.inputs["Thin Film Thickness"].default_value = 250.0 if on else 0.0
+            n.inputs["Thin Film IOR"].default_value = 1.6
+            tree.links.new(n.outputs[0], out.inputs["Surface"])
+            return mat
+        return make
+
+    for kind in ("ShaderNodeBsdfPrincipled", "ShaderNodeBsdfMetallic"):
+        if not hasattr(bpy.types, kind):
+            continue
+        exp = _export_two_quads(filmed(kind), "Filmed", "Clear")
+        mats = {m.name: m for m in exp.scene.materials}
+        assert mats["Filmed"].thin_film_thickness == pytest.approx(250.0), kind
+        assert mats["Filmed"].thin_film_ior == pytest.approx(1.6), kind
+        assert mats["Clear"].thin_film_thickness == 0.0, kind
+        assert not any("thin film" in w for w in exp.warnings), (kind, exp.warnings)
 
 
 def test_principled_thin_wall_renders_as_a_solid_with_a_warning():

@@ -17,12 +17,18 @@
 #ifdef HAS_TRANSMISSION
 #include "bsdf/closures/glass.h"
 #endif
+#ifdef HAS_THIN_FILM
+#include "bsdf/closures/principled_thin_film.h"
+#endif
 
 /* The closure's diffuse albedo (returned) at weight w > 0 and clamped Base Color base, and its lobe (lobes[0],
  * *count = 1) when it has a metallic or a specular part, for view cosine mu. */
 inline float3 principled_resolve(const ClosureInputs* c, float w, float3 base, float mu, const __global float* tab,
                                  Lobe* lobes, int* count)
 {
+#ifdef HAS_THIN_FILM  /* a Thin Film changes every Fresnel of the closure */
+    if (c->film_thickness > THIN_FILM_CUTOFF) return principled_thin_film_resolve(c, w, base, mu, tab, lobes, count);
+#endif
     ClosureGgx g = closure_ggx(c, mu, tab);
     MicrofacetReflection m = microfacet_reflection_none(g.alpha);
     bool has_lobe = false;

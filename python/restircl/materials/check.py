@@ -88,6 +88,11 @@ def _unit_number(value: object, name: str) -> None:
         raise MaterialError(f"{name} must be a number in [0, 1], got {value!r}")
 
 
+def _thickness(value: object, name: str) -> None:
+    if not isinstance(value, int | float) or not math.isfinite(value) or value < 0:
+        raise MaterialError(f"{name} must be a finite number >= 0 (nm), got {value!r}")
+
+
 def _distribution(value: object, name: str) -> None:
     if value not in DISTRIBUTIONS:
         raise MaterialError(f"{name} must be one of {DISTRIBUTIONS}, got {value!r}")
@@ -104,6 +109,7 @@ def _normal(value: object, name: str) -> None:
 FIELD_RULES: dict[str, Callable[[object, str], None]] = {
     "albedo": _colour, "metallic": _unit, "roughness": _unit, "ior": _ior, "specular": _unit,
     "specular_tint": _colour, "distribution": _distribution, "normal": _normal, "transmission": _unit_number,
+    "thin_film_thickness": _thickness, "thin_film_ior": _ior,
 }
 
 

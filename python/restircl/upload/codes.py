@@ -25,6 +25,7 @@ from ..core import layouts as L
 from ..core.program import opencl_dir
 from ..lights import area_sampling, camera_visible, linking, pick_table, record, registry, sphere, tree
 from ..lights import environment as environment_light
+from ..materials import thin_film
 from ..materials.material import MAX_LAYERS
 from ..materials.textures import (
     ATTRIBUTE_OUTPUTS,
@@ -81,6 +82,7 @@ def families() -> tuple[Family, ...]:
         Family("materials", "materials/material.py, upload/materials.py", (
             ("MAX_LAYERS", MAX_LAYERS), ("MATERIAL_MIX", material_pack.MATERIAL_MIX),
             ("TEX_NONE", material_pack.TEX_NONE)), kind="constants"),
+        Family("thin film", "materials/thin_film.py", (("THIN_FILM_CUTOFF", thin_film.CUTOFF),), kind="constants"),
         Family("texture nodes (TexNode.op.x)", "upload/textures.py NODE_KINDS",
                _enum("TEXNODE_", [name for name, _ in texture_pack.NODE_KINDS])),
         Family("image interpolation (TexNode.op.y)", "materials/textures.py INTERPOLATIONS",
