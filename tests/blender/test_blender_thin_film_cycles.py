@@ -1,6 +1,7 @@
 """Thin Film against Cycles (issue 39): four glossy spheres under point lights (direct light only), Principled BSDFs
-with a film of IOR 1.33 and thickness 250 nm and 500 nm, on a dielectric (black Base Color, IOR 1.5: what the
-spheres show is the film's reflection of the lights) and on a metal (Base Color (0.9, 0.6, 0.3)), exported by the
+with a film of IOR 1.33 and thickness 250 nm and 500 nm, on a dielectric (IOR 1.5; at 250 nm a black Base Color:
+what the sphere shows is the film's reflection of the lights; at 500 nm a blue one under it, layered by the film's
+albedo) and on a metal (Base Color (0.9, 0.6, 0.3)), exported by the
 add-on and rendered by restircl's reference method, against Cycles 5.0 at 64x48 (256 samples; ours 64). relMSE over
 the image and over each sphere's quarter below 1e-2; the negative control, our render with the film's thickness set
 to 0 (the film ignored), must fail that bound over the image against the same Cycles image. Measured when written:
@@ -24,7 +25,7 @@ FILM_IOR = 1.33
 # (name, thickness nm, Principled inputs)
 SPHERES = (
     ("Dielectric250", 250.0, {"Base Color": (0.0, 0.0, 0.0, 1.0), "Metallic": 0.0}),
-    ("Dielectric500", 500.0, {"Base Color": (0.0, 0.0, 0.0, 1.0), "Metallic": 0.0}),
+    ("Dielectric500", 500.0, {"Base Color": (0.1, 0.3, 0.6, 1.0), "Metallic": 0.0}),
     ("Metal250", 250.0, {"Base Color": (0.9, 0.6, 0.3, 1.0), "Metallic": 1.0}),
     ("Metal500", 500.0, {"Base Color": (0.9, 0.6, 0.3, 1.0), "Metallic": 1.0}),
 )

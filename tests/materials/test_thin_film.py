@@ -88,8 +88,9 @@ def _amplitudes(n1: complex, n2: complex, c1: complex) -> tuple[complex, complex
 def spectral_film(ci: float, d: float, n_f: float, substrate: complex, r23_magnitude: float | None = None,
                   step: float = 0.25, turn: int = 1, ambient: float = 1.0) -> np.ndarray:
     """Linear Rec.709 reflectance of a film (thickness d nm, IOR n_f) on a substrate of complex IOR `substrate` seen
-    from IOR `ambient` at cosine ci (1 where total internal reflection keeps it all); r23_magnitude replaces |r23| (s and p alike: Cycles' F82 metal keeps the F82 curve's
-    magnitude and the complex IOR's phase). turn -1: the film's phase turning the wrong way (a negative control)."""
+    from IOR `ambient` at cosine ci (1 where total internal reflection keeps it all); r23_magnitude replaces |r23|
+    (s and p alike: Cycles' F82 metal keeps the F82 curve's magnitude and the complex IOR's phase). turn -1: the
+    film's phase turning the wrong way (a negative control)."""
     lam = np.arange(360.0, 830.0 + step / 2, step)
     rs12, rp12, c2 = _amplitudes(ambient, n_f, ci)
     if c2.real == 0 or (substrate.imag == 0 and _amplitudes(n_f, substrate, c2)[2].real == 0):

@@ -52,15 +52,8 @@ inline float3 principled_resolve(const ClosureInputs* c, float w, float3 base, f
     float wt = wr * transmission;
     wr *= 1.0f - transmission;
 #endif
-    float ior = fmax_f(c->ior, 1e-5f);
-    float f0 = f0_from_ior(ior);
-    float eta = ior;
-    float level = fmax_f(c->specular, 0.0f);
-    if (level != 0.5f) {
-        f0 *= 2.0f * level;
-        eta = ior_from_f0(f0);
-        if (ior < 1.0f) eta = 1.0f / eta;
-    }
+    float f0;
+    float eta = principled_specular_eta(c, &f0);
     float3 diffuse_w = (float3)(wr);
     if (wr > CLOSURE_WEIGHT_CUTOFF && eta > 1.0f) {  /* an IOR <= 1: no reflection modelled (no transmission) */
         float3 df0 = saturate3((float3)(f0) * tint);

@@ -54,15 +54,8 @@ inline float3 principled_thin_film_resolve(const ClosureInputs* c, float w, floa
     float wt = wr * transmission;
     wr *= 1.0f - transmission;
 #endif
-    float ior = fmax_f(c->ior, 1e-5f);
-    float f0 = f0_from_ior(ior);
-    float eta = ior;
-    float level = fmax_f(c->specular, 0.0f);
-    if (level != 0.5f) {
-        f0 *= 2.0f * level;
-        eta = ior_from_f0(f0);
-        if (ior < 1.0f) eta = 1.0f / eta;
-    }
+    float f0;
+    float eta = principled_specular_eta(c, &f0);
     float3 diffuse_w = (float3)(wr);
     if (wr > CLOSURE_WEIGHT_CUTOFF && eta >= 1.0f) {  /* an IOR < 1: no reflection modelled (as principled.h) */
         float3 df0 = saturate3((float3)(f0) * tint);
@@ -79,8 +72,9 @@ inline float3 principled_thin_film_resolve(const ClosureInputs* c, float w, floa
         m.w = (float3)(wr) * comp;
         float3 f_mu = thin_film_specular(mu, eta, df0, m.thickness, m.film_ior);
         if (*count < MAX_LAYERS) lobes[(*count)++] = principled_film_lobe(&m, f_mu);
-        /* layering: the diffuse gets what the specular's estimated albedo at this view leaves */
-        diffuse_w *= clamp_f(1.0f - max3_f(comp * g.e * f_mu), 0.0f, 1.0f);
+        /* layering: the diffuse gets what the specular's estimated albedo at this view leaves, that albedo being
+         * (as Cycles estimates a film's) its weight times the film's Fresnel at the macroscopic normal */
+        diffuse_w *= clamp_f(1.0f - max3_f(comp * f_mu), 0.0f, 1.0f);
     }
 #ifdef HAS_TRANSMISSION
     if (wt > CLOSURE_WEIGHT_CUTOFF && *count < MAX_LAYERS) lobes[(*count)++] = principled_glass_lobe(c, wt, base, mu, tab);

@@ -178,11 +178,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m restircl.upload.codes", description=__doc__.split("\n\n")[0])
     ap.add_argument("--check", action="store_true", help="exit 1 if the header differs from the tables")
     a = ap.parse_args(argv)
-    path, text = header_path(), header()
+    return write_generated(header_path(), header(), a.check, "python -m restircl.upload.codes")
+
+
+def write_generated(path: Path, text: str, check: bool, command: str) -> int:
+    """Write a generated header where it differs from `text` (0), or with `check` only say whether it is current
+    (0) or not (1, naming the `command` that writes it)."""
     current = path.read_text() if path.exists() else None
-    if a.check:
+    if check:
         if current != text:
-            print(f"{path} is not current: run python -m restircl.upload.codes", file=sys.stderr)
+            print(f"{path} is not current: run {command}", file=sys.stderr)
             return 1
         return 0
     if current != text:

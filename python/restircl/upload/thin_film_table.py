@@ -22,12 +22,12 @@ from __future__ import annotations
 
 import argparse
 import functools
-import sys
 from collections.abc import Sequence
 
 import numpy as np
 
 from ..core.program import opencl_dir
+from .codes import write_generated
 
 SIZE = 512
 OPD_MAX = 9600.0  # nm
@@ -101,18 +101,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m restircl.upload.thin_film_table", description=__doc__.split("\n")[0])
     ap.add_argument("--check", action="store_true", help="exit 1 if the header differs from this module's table")
     a = ap.parse_args(argv)
-    path, text = opencl_dir() / HEADER, header()
-    current = path.read_text() if path.exists() else None
-    if a.check:
-        if current != text:
-            print(f"{path} is not current: run python -m restircl.upload.thin_film_table", file=sys.stderr)
-            return 1
-        return 0
-    if current != text:
-        path.write_text(text)
-        print(f"wrote {path}")
-    return 0
-
+    return write_generated(opencl_dir() / HEADER, header(), a.check, "python -m restircl.upload.thin_film_table")
 
 if __name__ == "__main__":
     raise SystemExit(main())
