@@ -116,3 +116,20 @@ def test_principled_thin_wall_renders_as_a_solid_with_a_warning():
     exp = _export_two_quads(principled, "Walled", "Solid")
     assert any("Walled" in w and "thin wall" in w for w in exp.warnings), exp.warnings
     assert not any("Solid" in w for w in exp.warnings), exp.warnings
+
+
+def test_a_filmed_part_metal_with_transmission_says_its_glass_is_left_out():
+    """A film makes the metal and the specular each a lobe; with Transmission Weight too the glass lobe is past what
+    a material holds (MAX_LAYERS): the warning names it (the same without the film: no warning)."""
+    def principled(name: str, on: bool):
+        mat, tree, out = node_material(bpy, name)
+        p = tree.nodes.new("ShaderNodeBsdfPrincipled")
+        p.inputs["Metallic"].default_value = 0.5
+        p.inputs["Transmission Weight"].default_value = 1.0
+        p.inputs["Thin Film Thickness"].default_value = 300.0 if on else 0.0
+        tree.links.new(p.outputs[0], out.inputs["Surface"])
+        return mat
+
+    exp = _export_two_quads(principled, "Filmed", "Clear")
+    assert any("Filmed" in w and "transmission is left out" in w for w in exp.warnings), exp.warnings
+    assert not any("Clear" in w for w in exp.warnings), exp.warnings

@@ -156,6 +156,12 @@ class ShaderReader:
             specular_tint=inp.color(find_input(node, ("Specular Tint",)), stack),
             distribution=self._distribution(node, label), transmission=self._transmission(node, stack, label),
             **self._thin_film(node, stack, label))
+        from restircl.materials.thin_film import has_film
+
+        metallic = closure.metallic if isinstance(closure.metallic, float) else 0.5
+        if has_film(closure) and closure.transmission > 0 and 0 < metallic < 1:
+            self.notes.note(f"{label}: a thin film on a part-metallic BSDF with transmission makes more lobes than "
+                            "a material holds; its transmission is left out")
         alpha = find_input(node, ("Alpha",))
         if alpha is not None:
             closure.alpha = inp.unit(alpha, stack, f"{label} Alpha")
