@@ -38,6 +38,16 @@ inline float principled_specular_eta(const ClosureInputs* c, float* f0)
     return eta;
 }
 
+/* The Principled BSDF's Transmission Weight: the glass's share (returned) of its dielectric part *wr, which keeps the
+ * rest */
+inline float principled_transmission_split(const ClosureInputs* c, float* wr)
+{
+    float transmission = clamp_f(c->transmission, 0.0f, 1.0f);
+    float wt = *wr * transmission;
+    *wr *= 1.0f - transmission;
+    return wt;
+}
+
 /* A closure's GGX distribution at view cosine mu: Roughness clamped to [0, 1], alpha = Roughness^2 (at least
  * GGX_ALPHA_MIN), and for multiscatter GGX the directional and average albedos E, E_avg (1 for plain GGX). */
 typedef struct {

@@ -48,9 +48,7 @@ inline float3 principled_resolve(const ClosureInputs* c, float w, float3 base, f
     }
     float wr = w * (1.0f - metallic);
 #ifdef HAS_TRANSMISSION  /* Transmission Weight: that share of the dielectric part is glass (bsdf/closures/glass.h) */
-    float transmission = clamp_f(c->transmission, 0.0f, 1.0f);
-    float wt = wr * transmission;
-    wr *= 1.0f - transmission;
+    float wt = principled_transmission_split(c, &wr);
 #endif
     float f0;
     float eta = principled_specular_eta(c, &f0);

@@ -50,9 +50,7 @@ inline float3 principled_thin_film_resolve(const ClosureInputs* c, float w, floa
     }
     float wr = w * (1.0f - metallic);
 #ifdef HAS_TRANSMISSION
-    float transmission = clamp_f(c->transmission, 0.0f, 1.0f);
-    float wt = wr * transmission;
-    wr *= 1.0f - transmission;
+    float wt = principled_transmission_split(c, &wr);
 #endif
     float f0;
     float eta = principled_specular_eta(c, &f0);
