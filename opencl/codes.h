@@ -37,6 +37,9 @@
 #define MATERIAL_MIX 1
 #define TEX_NONE     (-1)
 
+/* thin film (materials/thin_film.py) */
+#define THIN_FILM_CUTOFF 0.1f
+
 /* texture nodes (TexNode.op.x) (upload/textures.py NODE_KINDS) */
 #define TEXNODE_IMAGE          0
 #define TEXNODE_CHECKER        1

@@ -55,7 +55,7 @@ typedef struct {
                           closure of a Mix); w: unused */
     int4 tex;          /* texture node of x: base colour, y: metallic, z: roughness, w: specular level */
     int4 tex2;         /* x: specular tint, y: normal map, z: weight, w: unused */
-    float4 glass;      /* x: Transmission Weight (Principled); y: 1 = Thin Wall (Principled); zw: unused */
+    float4 glass;      /* x: Transmission Weight (Principled); y: Thin Film Thickness (nm); z: Thin Film IOR; w: 1 = Thin Wall (Principled) */
 } Closure;             /* 112 bytes */
 
 /* ---- surface attributes and textures (opencl/texture_*.h, python/restircl/upload/textures.py) ---------- */

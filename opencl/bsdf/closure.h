@@ -22,6 +22,32 @@ inline float3 multiscatter_factor(float3 f_ss, float e, float e_avg)
     return (float3)(1.0f) + f_ms * ((1.0f - e) / e);
 }
 
+/* The Principled BSDF's specular: its relative IOR (returned) and F0 (*f0) after the Specular IOR Level, which
+ * scales F0 by 2 x the level (0.5: the IOR's own) and takes the IOR of that F0 */
+inline float principled_specular_eta(const ClosureInputs* c, float* f0)
+{
+    float ior = fmax_f(c->ior, 1e-5f);
+    *f0 = f0_from_ior(ior);
+    float eta = ior;
+    float level = fmax_f(c->specular, 0.0f);
+    if (level != 0.5f) {
+        *f0 *= 2.0f * level;
+        eta = ior_from_f0(*f0);
+        if (ior < 1.0f) eta = 1.0f / eta;
+    }
+    return eta;
+}
+
+/* The Principled BSDF's Transmission Weight: the glass's share (returned) of its dielectric part *wr, which keeps the
+ * rest */
+inline float principled_transmission_split(const ClosureInputs* c, float* wr)
+{
+    float transmission = clamp_f(c->transmission, 0.0f, 1.0f);
+    float wt = *wr * transmission;
+    *wr *= 1.0f - transmission;
+    return wt;
+}
+
 /* A closure's GGX distribution at view cosine mu: Roughness clamped to [0, 1], alpha = Roughness^2 (at least
  * GGX_ALPHA_MIN), and for multiscatter GGX the directional and average albedos E, E_avg (1 for plain GGX). */
 typedef struct {

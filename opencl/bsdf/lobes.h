@@ -19,14 +19,28 @@
 #include "bsdf/microfacet_dielectric.h"
 #include "bsdf/thin_dielectric.h"
 #endif
+#ifdef HAS_THIN_FILM
+#include "bsdf/thin_film_reflection.h"
+#endif
 
 /* X(code, name) for every lobe kind; the dielectric (refracting) and thin dielectric lobes only in builds whose
- * scene transmits (HAS_TRANSMISSION), so that the others keep one kind and no test of it */
-#ifdef HAS_TRANSMISSION
+ * scene transmits (HAS_TRANSMISSION), the thin-film reflection only where some closure has a film (HAS_THIN_FILM),
+ * so that the others keep one kind and no test of it */
+#if defined(HAS_TRANSMISSION) && defined(HAS_THIN_FILM)
+#define BSDF_LOBE_KINDS(X) \
+    X(LOBE_MICROFACET_REFLECTION, microfacet_reflection) \
+    X(LOBE_MICROFACET_DIELECTRIC, microfacet_dielectric) \
+    X(LOBE_THIN_DIELECTRIC, thin_dielectric) \
+    X(LOBE_THIN_FILM_REFLECTION, thin_film_reflection)
+#elif defined(HAS_TRANSMISSION)
 #define BSDF_LOBE_KINDS(X) \
     X(LOBE_MICROFACET_REFLECTION, microfacet_reflection) \
     X(LOBE_MICROFACET_DIELECTRIC, microfacet_dielectric) \
     X(LOBE_THIN_DIELECTRIC, thin_dielectric)
+#elif defined(HAS_THIN_FILM)
+#define BSDF_LOBE_KINDS(X) \
+    X(LOBE_MICROFACET_REFLECTION, microfacet_reflection) \
+    X(LOBE_THIN_FILM_REFLECTION, thin_film_reflection)
 #else
 #define BSDF_LOBE_KINDS(X) \
     X(LOBE_MICROFACET_REFLECTION, microfacet_reflection)

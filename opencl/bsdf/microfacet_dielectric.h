@@ -26,6 +26,9 @@
 #include "bsdf/fresnel.h"
 #include "bsdf/ggx.h"
 #include "bsdf/lobe_record.h"
+#ifdef HAS_THIN_FILM
+#include "bsdf/thin_film.h"
+#endif
 
 #define LOBE_MICROFACET_DIELECTRIC 1
 /* |eta - 1| below this: no refraction modelled, the interface passes rays straight on */
@@ -38,15 +41,16 @@ typedef struct {
     float alpha;      /* a.w: roughness^2, clamped to GGX_ALPHA_MIN */
     float3 transmit;  /* b.xyz: tint of the refraction, times the closure's weight */
     float eta;        /* b.w: IOR beyond the interface over IOR on wo's side */
-    float3 f0;        /* c.xyz: reflectance at normal incidence: F0 of the IOR, times the Principled's Specular Tint
-                         (c.w unused) */
+    float3 f0;        /* c.xyz: reflectance at normal incidence: F0 of the IOR, times the Principled's Specular Tint */
     float smooth;     /* d.x: 1 where Cycles' Roughness makes the lobe a delta (no light sample can meet it) */
     float no_fresnel; /* d.y: 1 for the Refraction BSDF: it transmits all but what total internal reflection keeps */
+    float film_thickness; /* c.w: a thin film's thickness (nm; at most THIN_FILM_CUTOFF: none, bsdf/thin_film.h) */
+    float film_ior;   /* d.z: the film's IOR relative to the medium on wo's side */
 } MicrofacetDielectric;
 
 inline MicrofacetDielectric microfacet_dielectric(const Lobe* l)
 {
-    MicrofacetDielectric m = {l->a.xyz, l->a.w, l->b.xyz, l->b.w, l->c.xyz, l->d.x, l->d.y};
+    MicrofacetDielectric m = {l->a.xyz, l->a.w, l->b.xyz, l->b.w, l->c.xyz, l->d.x, l->d.y, l->c.w, l->d.z};
     return m;
 }
 
@@ -64,6 +68,9 @@ inline float3 dielectric_fresnel(const MicrofacetDielectric* m, float c, float3*
     float f0_eta = f0_from_ior(m->eta);
     float s = f0_eta < 1.0f ? clamp_f((F - f0_eta) / (1.0f - f0_eta), 0.0f, 1.0f) : 1.0f;
     float3 Fc = mix3(m->f0, (float3)(1.0f), s);
+#ifdef HAS_THIN_FILM  /* a film replaces the curve (per channel), its transmission is what it does not reflect */
+    if (m->film_thickness > THIN_FILM_CUTOFF) Fc = thin_film_specular(c, m->eta, m->f0, m->film_thickness, m->film_ior);
+#endif
 #ifdef DIELECTRIC_WITHOUT_FRESNEL_IN_REFRACTION  /* defined only by the negative control of the white furnace test */
     *transmittance = m->transmit;
 #else
@@ -97,8 +104,8 @@ inline Lobe microfacet_dielectric_lobe(const MicrofacetDielectric* m, float weig
     Lobe l = lobe_record(LOBE_MICROFACET_DIELECTRIC, m->alpha, weight);
     l.a.xyz = m->reflect;
     l.b = (float4)(m->transmit, m->eta);
-    l.c = (float4)(m->f0, 0.0f);
-    l.d.xy = (float2)(m->smooth, m->no_fresnel);
+    l.c = (float4)(m->f0, m->film_thickness);
+    l.d.xyz = (float3)(m->smooth, m->no_fresnel, m->film_ior);
     return l;
 }
 

@@ -14,14 +14,18 @@
 #ifdef HAS_TRANSMISSION
 #include "bsdf/closures/glass.h"
 #include "bsdf/closures/refraction.h"
-/* a Principled BSDF with transmission adds two lobes: room for every closure's, of which MAX_LAYERS are kept */
+#endif
+#if defined(HAS_TRANSMISSION) || defined(HAS_THIN_FILM)
+/* a Principled BSDF with transmission or a thin film adds up to two lobes: room for every closure's, of which
+ * MAX_LAYERS are kept */
 #define RESOLVE_SLOTS (2 * MAX_LAYERS)
 #else
 #define RESOLVE_SLOTS MAX_LAYERS
 #endif
 
 /* Closure c at view cosine mu: its diffuse albedo (returned) and the lobes it adds (lobes[0 .. *count)). Every kind
- * adds one at most, except a Principled BSDF with transmission (its reflection and its glass): the G-buffer keeps
+ * adds one at most, except a Principled BSDF with transmission (its reflection and its glass) or with a thin film
+ * (its metal's and its specular's, bsdf/closures/principled_thin_film.h): the G-buffer keeps
  * the first MAX_LAYERS lobes of a material (the host warns where a material makes more: materials/check.py). */
 inline float3 closure_resolve(const ClosureInputs* c, float mu, const __global float* tab, Lobe* lobes, int* count)
 {

@@ -22,6 +22,8 @@ typedef struct {
     int backfacing;     /* 1: the ray met the surface's back face (a refracting closure leaves its medium there); the
                            caller sets it, closure_constants leaves it 0 */
     int thin_wall;      /* 1: the Principled BSDF's Thin Wall (Blender 5.3): its transmission is a sheet */
+    float film_thickness; /* Thin Film Thickness (nm; at most THIN_FILM_CUTOFF: no film, bsdf/thin_film.h) */
+    float film_ior;       /* Thin Film IOR */
 } ClosureInputs;
 
 /* The constants of closure c (texture inputs not applied). */
@@ -42,7 +44,9 @@ inline ClosureInputs closure_constants(const __global Closure* c)
     in.normal = (float3)(0.0f);
     in.transmission = c->glass.x;
     in.backfacing = 0;
-    in.thin_wall = c->glass.y != 0.0f;
+    in.thin_wall = c->glass.w != 0.0f;
+    in.film_thickness = c->glass.y;
+    in.film_ior = c->glass.z;
     return in;
 }
 

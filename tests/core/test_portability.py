@@ -51,8 +51,9 @@ def _diagnostics(tu) -> list[str]:
 
 
 # ReSTIR GI reuses the paths' vertices (render/features.py sets both); a refracting closure is a lobe
-# (upload/device_scene.py sets HAS_GLOSSY with HAS_TRANSMISSION)
-REQUIRES = {"HAS_GI_REUSE": "HAS_PATHS", "HAS_TRANSMISSION": "HAS_GLOSSY"}
+# (upload/device_scene.py sets HAS_GLOSSY with HAS_TRANSMISSION), and so is a thin film (materials/closures:
+# a closure with one has a lobe)
+REQUIRES = {"HAS_GI_REUSE": "HAS_PATHS", "HAS_TRANSMISSION": "HAS_GLOSSY", "HAS_THIN_FILM": "HAS_GLOSSY"}
 
 
 @pytest.mark.parametrize("flag", sorted(ALL_FLAGS))

@@ -66,6 +66,8 @@ inline Surface test_surface(const __global float* p, int count, const __global f
         in[k].transmission = 0.0f;
         in[k].backfacing = 0;
         in[k].thin_wall = 0;
+        in[k].film_thickness = 0.0f;
+        in[k].film_ior = 1.33f;
     }
     return resolved_surface(in, count, tab, wo);
 }

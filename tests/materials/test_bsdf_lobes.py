@@ -35,12 +35,15 @@ def _code(name: str) -> int:
 
 
 def _material(name: str) -> Material:
-    """A closure whose kind declares lobe `name`, one that makes it first where there is one."""
+    """A closure whose kind declares lobe `name`, one that makes it first where there is one (with a thin film for
+    the lobe that only a film makes)."""
     kinds = sorted((k for k in CLOSURE_KINDS if name in k.lobes), key=lambda k: (k.lobes[0] != name, k.code))
     assert kinds, f"no closure kind makes lobe {name!r} (ClosureKind.lobes)"
     m = mid_material(kinds[0].name)
     if name == "thin_dielectric":  # the Principled's transmission on a thin wall
         m.transmission, m.thin_wall = 0.6, True
+    elif name == "thin_film_reflection":
+        m.thin_film_thickness = 300.0
     return m
 
 

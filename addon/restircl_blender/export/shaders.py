@@ -17,7 +17,6 @@ PRINCIPLED_LOBES = (
     (("Coat Weight", "Coat", "Clearcoat"), "coat", 0.0),
     (("Sheen Weight", "Sheen"), "sheen", 0.0),
     (("Anisotropic",), "anisotropy", 0.0),
-    (("Thin Film Thickness",), "thin film", 0.0),
     (("Diffuse Roughness",), "diffuse roughness", 0.0),
 )
 GLOSSY_NODES = ("ShaderNodeBsdfGlossy", "ShaderNodeBsdfAnisotropic")
@@ -155,7 +154,16 @@ class ShaderReader:
                               f"{label} Specular IOR Level"),
             specular_tint=inp.color(find_input(node, ("Specular Tint",)), stack),
             distribution=self._distribution(node, label), transmission=self._transmission(node, stack, label),
-            thin_wall=self._thin_wall(node, stack, label))
+            thin_wall=self._thin_wall(node, stack, label), **self._thin_film(node, stack, label))
+        from restircl.materials.thin_film import has_film
+
+        metallic = closure.metallic if isinstance(closure.metallic, float) else 0.5
+        if has_film(closure) and closure.transmission > 0 and 0 < metallic < 1:
+            self.notes.note(f"{label}: a thin film on a part-metallic BSDF with transmission makes more lobes than "
+                            "a material holds; its transmission is left out")
+        if has_film(closure) and closure.thin_wall and closure.transmission > 0:  # one resolve path has no sheet
+            self.notes.note(f"{label}: a thin film on a Thin Wall is left out (the sheet is rendered without it)")
+            closure.thin_film_thickness = 0.0
         alpha = find_input(node, ("Alpha",))
         if alpha is not None:
             closure.alpha = inp.unit(alpha, stack, f"{label} Alpha")
@@ -195,13 +203,26 @@ class ShaderReader:
             self.notes.note(f"{label}: a linked Thin Wall is taken as its default value")
             return bool(sock.default_value)
         return bool(src.socket.default_value)
+    def _thin_film(self, node, stack: tuple, label: str) -> dict:
+        """Thin Film Thickness (nm) and IOR as Material fields (none where the node has no film inputs), constants:
+        a texture on either is taken as its default value, with a note."""
+        sock = find_input(node, ("Thin Film Thickness",))
+        if sock is None:
+            return {}
+        thickness = self.inputs.constant(sock, stack, f"{label} Thin Film Thickness")
+        ior_in = find_input(node, ("Thin Film IOR",))
+        ior = self.inputs.constant(ior_in, stack, f"{label} Thin Film IOR") if ior_in is not None else 1.33
+        if not (math.isfinite(thickness) and math.isfinite(ior)):
+            self.notes.note(f"{label}: a thin film of thickness {thickness:g} and IOR {ior:g} is left out")
+            return {}
+        return {"thin_film_thickness": max(thickness, 0.0), "thin_film_ior": max(ior, 1e-5)}
 
     def _dielectric(self, node, stack: tuple, label: str, kind: str):
-        self._lobes_off(node, stack, label, ((("Thin Film Thickness",), "thin film", 0.0),))
         dist = self._distribution(node, label)
         return self._common(node, stack, label, kind=kind, albedo=self.inputs.color(find_input(node, ("Color",)),
                                                                                     stack),
-                            ior=self._ior(node, stack, label), distribution=dist)
+                            ior=self._ior(node, stack, label), distribution=dist,
+                            **(self._thin_film(node, stack, label) if kind == "glass" else {}))
 
     def _bsdf(self, node, stack: tuple, label: str):
         inp, kind = self.inputs, node.bl_idname
@@ -217,14 +238,13 @@ class ShaderReader:
                                 albedo=inp.color(find_input(node, ("Color",)), stack),
                                 distribution=self._distribution(node, label))
         if kind == "ShaderNodeBsdfMetallic":  # Blender 5's metal node: Principled's metal with F82 tint
-            self._lobes_off(node, stack, label, ((("Anisotropy",), "anisotropy", 0.0),
-                                                 (("Thin Film Thickness",), "thin film", 0.0)))
+            self._lobes_off(node, stack, label, ((("Anisotropy",), "anisotropy", 0.0),))
             if getattr(node, "fresnel_type", "F82") != "F82":
                 self.notes.note(f"{label}: the physical conductor Fresnel is not supported; F82 tint is used")
             return self._common(node, stack, label, kind="principled", metallic=1.0,
                                 albedo=inp.color(find_input(node, ("Base Color",)), stack),
                                 specular_tint=inp.color(find_input(node, ("Edge Tint",)), stack),
-                                distribution=self._distribution(node, label))
+                                distribution=self._distribution(node, label), **self._thin_film(node, stack, label))
         colour = find_input(node, ("Color", "Base Color"))
         if kind in AS_DIFFUSE and colour is not None:
             self.notes.note(f"{label} is not supported; rendered as a diffuse of its colour")

@@ -42,6 +42,16 @@ inline Lobe dielectric_closure_lobe(const ClosureInputs* c, float mu, float3 ref
     m.f0 = f0;
     m.smooth = (r * r) * (r * r) <= 2e-10f ? 1.0f : 0.0f;
     m.no_fresnel = no_fresnel ? 1.0f : 0.0f;
+    /* Thin Film: Cycles rescales the film's IOR by the glass's where the ray leaves through a back face (the stack
+     * glass | film | air seen as air | film / IOR | 1 / IOR) */
+    m.film_thickness = 0.0f;
+    m.film_ior = 0.0f;
+#ifdef HAS_THIN_FILM
+    if (!no_fresnel && c->film_thickness > THIN_FILM_CUTOFF) {
+        m.film_thickness = c->film_thickness;
+        m.film_ior = fmax_f(c->film_ior, 1e-5f) / (c->backfacing ? ior : 1.0f);
+    }
+#endif
     if (c->multiscatter && !no_fresnel && !dielectric_passes(&m)) {
         float e_avg, e = glass_albedo(tab, r, mu, m.eta, &e_avg);
         float3 k = multiscatter_factor(fss, e, e_avg);

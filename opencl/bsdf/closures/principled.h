@@ -18,12 +18,18 @@
 #include "bsdf/closures/glass.h"
 #include "bsdf/closures/thin_wall.h"
 #endif
+#ifdef HAS_THIN_FILM
+#include "bsdf/closures/principled_thin_film.h"
+#endif
 
 /* The closure's diffuse albedo (returned) at weight w > 0 and clamped Base Color base, and its lobe (lobes[0],
  * *count = 1) when it has a metallic or a specular part, for view cosine mu. */
 inline float3 principled_resolve(const ClosureInputs* c, float w, float3 base, float mu, const __global float* tab,
                                  Lobe* lobes, int* count)
 {
+#ifdef HAS_THIN_FILM  /* a Thin Film changes every Fresnel of the closure */
+    if (c->film_thickness > THIN_FILM_CUTOFF) return principled_thin_film_resolve(c, w, base, mu, tab, lobes, count);
+#endif
     ClosureGgx g = closure_ggx(c, mu, tab);
     MicrofacetReflection m = microfacet_reflection_none(g.alpha);
     bool has_lobe = false;
@@ -43,19 +49,10 @@ inline float3 principled_resolve(const ClosureInputs* c, float w, float3 base, f
     }
     float wr = w * (1.0f - metallic);
 #ifdef HAS_TRANSMISSION  /* Transmission Weight: that share of the dielectric part is glass (bsdf/closures/glass.h) */
-    float transmission = clamp_f(c->transmission, 0.0f, 1.0f);
-    float wt = wr * transmission;
-    wr *= 1.0f - transmission;
+    float wt = principled_transmission_split(c, &wr);
 #endif
-    float ior = fmax_f(c->ior, 1e-5f);
-    float f0 = f0_from_ior(ior);
-    float eta = ior;
-    float level = fmax_f(c->specular, 0.0f);
-    if (level != 0.5f) {
-        f0 *= 2.0f * level;
-        eta = ior_from_f0(f0);
-        if (ior < 1.0f) eta = 1.0f / eta;
-    }
+    float f0;
+    float eta = principled_specular_eta(c, &f0);
     float3 diffuse_w = (float3)(wr);
     if (wr > CLOSURE_WEIGHT_CUTOFF && eta > 1.0f) {  /* an IOR <= 1: no reflection modelled (no transmission) */
         float3 df0 = saturate3((float3)(f0) * tint);

@@ -91,6 +91,9 @@ def _unit_number(value: object, name: str) -> None:
 def _flag(value: object, name: str) -> None:
     if not isinstance(value, bool):
         raise MaterialError(f"{name} must be True or False, got {value!r}")
+def _thickness(value: object, name: str) -> None:
+    if not isinstance(value, int | float) or not math.isfinite(value) or value < 0:
+        raise MaterialError(f"{name} must be a finite number >= 0 (nm), got {value!r}")
 
 
 def _distribution(value: object, name: str) -> None:
@@ -110,6 +113,7 @@ FIELD_RULES: dict[str, Callable[[object, str], None]] = {
     "albedo": _colour, "metallic": _unit, "roughness": _unit, "ior": _ior, "specular": _unit,
     "specular_tint": _colour, "distribution": _distribution, "normal": _normal, "transmission": _unit_number,
     "thin_wall": _flag,
+    "thin_film_thickness": _thickness, "thin_film_ior": _ior,
 }
 
 

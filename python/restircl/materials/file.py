@@ -29,6 +29,9 @@ class MaterialWriter:
                    "emission_strength": float(m.emission_strength), "transmission": float(m.transmission)}
         if m.thin_wall:
             d["thin_wall"] = True
+        if m.thin_film_thickness > 0:  # only where there is a film: files of materials without one stay as they were
+            d["thin_film_thickness"] = float(m.thin_film_thickness)
+            d["thin_film_ior"] = float(m.thin_film_ior)
         for name in _VALUE_FIELDS:
             d[name] = self.value(getattr(m, name))
         d["layers"] = [self.material(layer) for layer in m.layers]
@@ -92,7 +95,7 @@ class MaterialReader:
 
     def material(self, d: dict) -> Material:
         m = Material(name=d["name"], emission_strength=d["emission_strength"])
-        for key in ("kind", "ior", "distribution", "transmission", "thin_wall"):
+        for key in ("kind", "ior", "distribution", "transmission", "thin_wall", "thin_film_thickness", "thin_film_ior"):
             if key in d:
                 setattr(m, key, d[key])
         for name in _VALUE_FIELDS:

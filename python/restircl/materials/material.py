@@ -7,7 +7,9 @@ each kind's module says which shader node it models and which of the fields it r
 others: "principled" (the Principled BSDF; `albedo` is its Base Color), "diffuse" (the Diffuse BSDF), "glossy" (the
 Glossy BSDF), "glass" (the Glass BSDF: `albedo` its Color, `roughness`, `ior`), "refraction" (the Refraction
 BSDF, the same fields); a Principled BSDF's `transmission` is its Transmission Weight, `thin_wall` its Thin Wall
-(Blender 5.3: the transmission is an infinitely thin sheet, opencl/bsdf/closures/thin_wall.h). The default is a
+(Blender 5.3: the transmission is an infinitely thin sheet, opencl/bsdf/closures/thin_wall.h); the Principled and
+Glass kinds read `thin_film_thickness` (nm) and `thin_film_ior`, Blender's Thin Film (materials/thin_film.py). The
+default is a
 Principled BSDF without a specular layer (`specular`, the Specular IOR Level, 0: Blender's default is 0.5 and the add-on
 exports it as it is), the plain diffuse albedo it always was.
 A Material with `layers` [a, b] (Materials without layers of their own; at most MAX_LAYERS) is their weighted sum:
@@ -54,6 +56,8 @@ class Material:
     pass_index: int = 0  # Material > Settings > Pass Index: the Material Index pass (render/index_passes.py)
     transmission: float = 0.0  # the Principled BSDF's Transmission Weight, in [0, 1]
     thin_wall: bool = False  # the Principled BSDF's Thin Wall (Blender 5.3): its transmission is a thin sheet
+    thin_film_thickness: float = 0.0  # Thin Film Thickness (nm; <= materials/thin_film.py CUTOFF: no film)
+    thin_film_ior: float = 1.33  # Thin Film IOR
 
     @property
     def radiance(self) -> np.ndarray:

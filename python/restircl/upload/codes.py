@@ -25,6 +25,7 @@ from ..core import layouts as L
 from ..core.program import opencl_dir
 from ..lights import area_sampling, camera_visible, linking, pick_table, record, registry, sphere, tree
 from ..lights import environment as environment_light
+from ..materials import thin_film
 from ..materials.material import MAX_LAYERS
 from ..materials.textures import (
     ATTRIBUTE_OUTPUTS,
@@ -81,6 +82,7 @@ def families() -> tuple[Family, ...]:
         Family("materials", "materials/material.py, upload/materials.py", (
             ("MAX_LAYERS", MAX_LAYERS), ("MATERIAL_MIX", material_pack.MATERIAL_MIX),
             ("TEX_NONE", material_pack.TEX_NONE)), kind="constants"),
+        Family("thin film", "materials/thin_film.py", (("THIN_FILM_CUTOFF", thin_film.CUTOFF),), kind="constants"),
         Family("texture nodes (TexNode.op.x)", "upload/textures.py NODE_KINDS",
                _enum("TEXNODE_", [name for name, _ in texture_pack.NODE_KINDS])),
         Family("image interpolation (TexNode.op.y)", "materials/textures.py INTERPOLATIONS",
@@ -176,11 +178,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m restircl.upload.codes", description=__doc__.split("\n\n")[0])
     ap.add_argument("--check", action="store_true", help="exit 1 if the header differs from the tables")
     a = ap.parse_args(argv)
-    path, text = header_path(), header()
+    return write_generated(header_path(), header(), a.check, "python -m restircl.upload.codes")
+
+
+def write_generated(path: Path, text: str, check: bool, command: str) -> int:
+    """Write a generated header where it differs from `text` (0), or with `check` only say whether it is current
+    (0) or not (1, naming the `command` that writes it)."""
     current = path.read_text() if path.exists() else None
-    if a.check:
+    if check:
         if current != text:
-            print(f"{path} is not current: run python -m restircl.upload.codes", file=sys.stderr)
+            print(f"{path} is not current: run {command}", file=sys.stderr)
             return 1
         return 0
     if current != text:

@@ -184,7 +184,7 @@ class DeviceScene:
         tex = packer.packed(texels=not same_images)
         self.nonfinite_texels = tex.nonfinite_texels
         self.material_flags = {"HAS_GLOSSY": packed.glossy or packed.transmission, "HAS_TEXTURES": packed.textured,
-                               "HAS_TRANSMISSION": packed.transmission,
+                               "HAS_TRANSMISSION": packed.transmission, "HAS_THIN_FILM": packed.thin_film,
                                "HAS_TRANSPARENCY": scene_is_transparent(self.scene)}
         self.materials_buf = upload(self.context, packed.materials)
         self.closures_buf = upload(self.context, packed.closures)

@@ -18,6 +18,7 @@ from ..core import layouts as L
 from ..materials.closures.registry import CLOSURE_KINDS, kind_of
 from ..materials.material import Material, material_inputs
 from ..materials.textures import Input, constant_float, constant_rgb, is_texture
+from ..materials.thin_film import has_film
 
 #: an input without a texture node (TEX_NONE in opencl/codes.h)
 TEX_NONE = -1
@@ -52,6 +53,11 @@ def uses_transmission(m: Material) -> bool:
     return any(kind_of(c.kind).transmits(c) for c in closures_of(m))
 
 
+def uses_thin_film(m: Material) -> bool:
+    """Whether any closure of m has a thin film (of a kind that reads it, thicker than the cutoff)."""
+    return any("thin_film_thickness" in kind_of(c.kind).fields and has_film(c) for c in closures_of(m))
+
+
 def uses_textures(m: Material) -> bool:
     return any(is_texture(v) for v in material_inputs(m))
 
@@ -76,6 +82,7 @@ class PackedMaterials:
     glossy: bool  # some material has a specular lobe: HAS_GLOSSY
     textured: bool  # some input is a texture: HAS_TEXTURES
     transmission: bool = False  # some closure refracts: HAS_TRANSMISSION
+    thin_film: bool = False  # some closure has a thin film: HAS_THIN_FILM
 
 
 def pack_materials(materials: Sequence[Material], texture_index: TextureIndex = _no_textures) -> PackedMaterials:
@@ -97,7 +104,7 @@ def pack_materials(materials: Sequence[Material], texture_index: TextureIndex = 
     for k, r in enumerate(rows):
         closures[k] = r
     return PackedMaterials(recs, closures, any(map(uses_glossy, materials)), any(map(uses_textures, materials)),
-                           any(map(uses_transmission, materials)))
+                           any(map(uses_transmission, materials)), any(map(uses_thin_film, materials)))
 
 
 # A Material field -> its lanes of the Closure record (opencl/types.h, read by textures/closure_inputs.h):
@@ -148,13 +155,20 @@ def _transmission(r: np.void, v: object, _node: Callable[[object], int]) -> None
 
 
 def _thin_wall(r: np.void, v: object, _node: Callable[[object], int]) -> None:
-    r["glass"][1] = 1.0 if v else 0.0  # type: ignore[index]
+    r["glass"][3] = 1.0 if v else 0.0  # type: ignore[index]
+def _thin_film_thickness(r: np.void, v: object, _node: Callable[[object], int]) -> None:
+    r["glass"][1] = float(v)  # type: ignore[arg-type]
+
+
+def _thin_film_ior(r: np.void, v: object, _node: Callable[[object], int]) -> None:
+    r["glass"][2] = float(v)  # type: ignore[arg-type]
 
 
 FIELD_LANES: dict[str, Lanes] = {
     "albedo": _albedo, "metallic": _metallic, "roughness": _roughness, "ior": _ior, "specular": _specular,
     "specular_tint": _specular_tint, "distribution": _distribution, "normal": _normal, "transmission": _transmission,
     "thin_wall": _thin_wall,
+    "thin_film_thickness": _thin_film_thickness, "thin_film_ior": _thin_film_ior,
 }
 
 

@@ -45,7 +45,15 @@ def _principled(tree, c: Material):
         if "Thin Wall" not in n.inputs:
             raise ValueError(f"{c.name}: this Blender's Principled BSDF has no Thin Wall input")
         n.inputs["Thin Wall"].default_value = True
+    _thin_film(n, c)
     return n
+
+
+def _thin_film(n, c: Material) -> None:
+    """The closure's Thin Film, where it has one (the node's inputs keep their defaults otherwise)."""
+    if float(c.thin_film_thickness) > 0:
+        n.inputs["Thin Film Thickness"].default_value = float(c.thin_film_thickness)
+        n.inputs["Thin Film IOR"].default_value = float(c.thin_film_ior)
 
 
 def _dielectric(node_type: str):
@@ -55,6 +63,8 @@ def _dielectric(node_type: str):
         n.inputs["Color"].default_value = _rgba(c.albedo)
         n.inputs["Roughness"].default_value = float(c.roughness)
         n.inputs["IOR"].default_value = float(c.ior)
+        if "thin_film_thickness" in kind_of(c.kind).fields:
+            _thin_film(n, c)
         return n
     return write
 

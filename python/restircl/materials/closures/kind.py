@@ -15,6 +15,7 @@ class ClosureInputs(Protocol):
     metallic: Input
     specular: Input
     transmission: float
+    thin_film_thickness: float
 
 
 def never(_c: ClosureInputs) -> bool:

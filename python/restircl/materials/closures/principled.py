@@ -7,6 +7,7 @@ Material is a plain diffuse albedo."""
 from __future__ import annotations
 
 from ..textures import constant_float, is_texture
+from ..thin_film import has_film
 from .kind import ClosureInputs, ClosureKind
 
 
@@ -16,15 +17,16 @@ def transmits(c: ClosureInputs) -> bool:
 
 
 def has_lobe(c: ClosureInputs) -> bool:
-    """A metallic part, a specular layer or glass (Metallic, Specular IOR Level or Transmission Weight > 0); a
-    textured one counts as one."""
-    if is_texture(c.metallic) or is_texture(c.specular) or transmits(c):
+    """A metallic part, a specular layer or glass (Metallic, Specular IOR Level or Transmission Weight > 0), or a
+    thin film (which reflects even without a specular layer, as in Cycles); a textured one counts as one."""
+    if is_texture(c.metallic) or is_texture(c.specular) or transmits(c) or has_film(c):
         return True
     return constant_float(c.metallic) > 0 or constant_float(c.specular) > 0
 
 
 KIND = ClosureKind("principled", code=0,
                    fields=("albedo", "metallic", "roughness", "ior", "specular", "specular_tint", "distribution",
-                           "normal", "transmission", "thin_wall"),
-                   lobes=("microfacet_reflection", "microfacet_dielectric", "thin_dielectric"), has_lobe=has_lobe,
+                           "normal", "transmission", "thin_wall", "thin_film_thickness", "thin_film_ior"),
+                   lobes=("microfacet_reflection", "microfacet_dielectric", "thin_dielectric", "thin_film_reflection"),
+                   has_lobe=has_lobe,
                    transmits=transmits)
