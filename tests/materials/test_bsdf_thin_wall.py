@@ -109,7 +109,7 @@ def test_rough_white_sheet_keeps_the_energy(kernels, theta):
 
 
 def test_thin_wall_survives_a_scene_file(tmp_path):
-    """The flag is saved and loaded with the scene (scene/file.py) and packed into Closure.glass.y for the device."""
+    """The flag is saved and loaded with the scene (scene/file.py) and packed into Closure.glass.w for the device."""
     from restircl.eval.scenes.thin_wall import thin_pane
     from restircl.scene.file import load_scene, save_scene
     from restircl.scene.scene import Scene
@@ -119,4 +119,4 @@ def test_thin_wall_survives_a_scene_file(tmp_path):
         save_scene(thin_pane(8, 6, 0.2, thin), tmp_path / "pane.json")
         back = load_scene(tmp_path / "pane.json", Scene)
         assert [m.thin_wall for m in back.materials] == [False, thin, False, False]
-        assert pack_materials(back.materials).closures["glass"][1, 1] == (1.0 if thin else 0.0)
+        assert pack_materials(back.materials).closures["glass"][1, 3] == (1.0 if thin else 0.0)
