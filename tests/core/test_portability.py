@@ -51,8 +51,9 @@ def _diagnostics(tu) -> list[str]:
 
 
 # ReSTIR GI reuses the paths' vertices (render/features.py sets both); a refracting closure is a lobe
-# (upload/device_scene.py sets HAS_GLOSSY with HAS_TRANSMISSION)
-REQUIRES = {"HAS_GI_REUSE": "HAS_PATHS", "HAS_TRANSMISSION": "HAS_GLOSSY"}
+# (upload/device_scene.py sets HAS_GLOSSY with HAS_TRANSMISSION); shadow rays through thin walls take the transparent
+# ones' loop (upload/device_scene.py sets HAS_TRANSPARENCY with HAS_THIN_SHADOW)
+REQUIRES = {"HAS_GI_REUSE": "HAS_PATHS", "HAS_TRANSMISSION": "HAS_GLOSSY", "HAS_THIN_SHADOW": "HAS_TRANSPARENCY"}
 
 
 @pytest.mark.parametrize("flag", sorted(ALL_FLAGS))
