@@ -28,7 +28,9 @@ a test that asserts it rejects one of these builds.
 - GLASS_KEEPS_HISTORY: TAA keeps a glass pixel's history (surface/view_dependence.h leaves dielectric lobes out), the
   rule before 2026-12-05 (render/test_taa_glass.py).
 - TEST_OPAQUE_SHADOWS: shadow rays stop at transparent and alpha-masked surfaces as at opaque ones
-  (bvh/transparent.h; render/test_transparency.py, blender/test_alpha_cycles.py)."""
+  (bvh/transparent.h; render/test_transparency.py, blender/test_alpha_cycles.py).
+- TEST_THIN_WALL_COUNTED_TWICE: a path going on through a smooth thin wall counts the emitters its ray meets, which
+  the vertex before it counted through the wall already (path/walk.h; render/test_thin_wall_furnace.py)."""
 
 from __future__ import annotations
 

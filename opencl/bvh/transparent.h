@@ -30,6 +30,8 @@
 #define film_coverage(g) 1.0f
 #endif
 
+#include "bvh/thin_wall_shadow.h"  /* Shadow: a shadow ray's transmittance, float or, past smooth thin walls, rgb */
+
 #ifdef HAS_TRANSPARENCY
 
 #include "surface/alpha.h"
@@ -133,7 +135,7 @@ inline bool trace_any_transparent(const __global BVHNode* nodes, const __global 
  * an opaque one or past the bound (Cycles' transparent shadows, deterministic: direct/visibility.h transmittance).
  * With light linking only the light's blockers (bvh/traverse.h bvh_blocks) shadow it: the others are passed as if
  * fully transparent. */
-inline float trace_transmittance(const __global BVHNode* nodes, const __global Tri* tris, float3 o, float3 d,
+inline Shadow trace_transmittance(const __global BVHNode* nodes, const __global Tri* tris, float3 o, float3 d,
                                  float tmax, uint2 blockers)
 {
 #ifdef TEST_OPAQUE_SHADOWS
@@ -141,7 +143,8 @@ inline float trace_transmittance(const __global BVHNode* nodes, const __global T
 #else
     if (!trace_any_of(nodes, tris, o, d, tmax, blockers)) return 1.0f;
     float3 oo = o;
-    float travelled = 0.0f, through = 1.0f;
+    float travelled = 0.0f;
+    Shadow through = 1.0f;
     for (int k = 0; k <= TRANSPARENT_MAX_BOUNCES; ++k) {
         Hit h = trace_closest(nodes, tris, oo, d, tmax - travelled);
         if (h.prim < 0) return through;
@@ -149,11 +152,11 @@ inline float trace_transmittance(const __global BVHNode* nodes, const __global T
         if (bvh_blocks(tris, h.prim, blockers)) {
 #endif
         if (k == TRANSPARENT_MAX_BOUNCES) return 0.0f;
-        through *= 1.0f - surface_coverage(tris, h.prim, h.u, h.v);
+        through *= shadow_pass(tris, h, d);  /* 1 - coverage; a smooth thin wall's colour (bvh/thin_wall_shadow.h) */
 #ifdef HAS_LIGHT_LINKING
         }
 #endif
-        if (!(through > 0.0f)) return 0.0f;
+        if (!shadow_any(through)) return 0.0f;
         travelled += h.t;
         if (!(travelled < tmax)) return through;
         oo = transparent_continue(tris, h, oo, d);

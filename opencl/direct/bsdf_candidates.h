@@ -23,6 +23,8 @@
 #ifndef RESTIRCL_BSDF_CANDIDATES_H
 #define RESTIRCL_BSDF_CANDIDATES_H
 
+#include "direct/thin_wall_rays.h"  /* HAS_THIN_SHADOW: BSDF rays find lights past smooth thin walls */
+
 #include "sampling/qmc.h"
 
 /* What the BSDF candidates of a frame look for (SamplerParams). */
@@ -86,6 +88,11 @@ inline int bsdf_ray_triangle_light(const Surface* s, const __global BVHNode* nod
     float err = RESTIRCL_OFFSET_ULPS * FLT_EPSILON * (max_abs3(s->x) + max_abs3(tri.e1.xyz) + max_abs3(tri.e2.xyz));
     float3 o = s->x + err * (dot3(s->ng, wi) >= 0.0f ? s->ng : -s->ng);
     Hit h = trace_closest(nodes, tris, o, wi, INFINITY);
+#ifdef HAS_THIN_SHADOW  /* past smooth thin walls: the candidate's shadow ray passes them (direct/thin_wall_rays.h) */
+    float3 pass;
+    h = thin_wall_next(nodes, tris, h, o, wi, &pass);
+    if (!shadow_any(pass)) h.prim = -1;
+#endif
     int l = h.prim >= 0 ? tri_light[h.prim] : -1;
     if (l >= 0) *uv = triangle_uv(h.u, h.v);
     return l;

@@ -38,8 +38,14 @@ inline float3 bsdf_mis_term(const Surface* s, const __global Light* lights, cons
     if (!(target_of_record(s, lights, rec, uv.x, uv.y, &e) > 0.0f)) return (float3)(0.0f);
     float p_b = bsdf_pdf_light_measure(s, &e);
     float p_l = light_pick_pdf(lp, index, s->x, light_pick_normal(s)) * light_point_pdf(rec, type, s->x, &e);
+#ifdef HAS_THIN_SHADOW  /* through a smooth thin wall the light keeps its colour T */
+    Shadow v;
+    if (!(p_b > 0.0f) || !shadow_any(v = transmittance(nodes, tris, s, &e))) return (float3)(0.0f);
+    return unshadowed_contrib(s, &e) * v / (p_l + p_b);
+#else
     if (!(p_b > 0.0f) || !visible(nodes, tris, s, &e)) return (float3)(0.0f);
     return unshadowed_contrib(s, &e) / (p_l + p_b);
+#endif
 }
 
 /* Draw one BSDF direction at s (*wi_out) and return its MIS-weighted, shadowed contribution (the lights it meets; each

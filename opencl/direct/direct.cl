@@ -11,9 +11,9 @@ inline void direct_add_light_sample(const Surface* s, const __global BVHNode* no
                                     float3* c, DirectSplit* pass, GroupLight* gl)
 {
     LightEval e;
-    float v = 0.0f;
+    Shadow v = 0.0f;
     if (pdf > 0.0f && surface_light_eval(s, &lights[l], uv.x, uv.y, &e)
-        && light_links(lights, &lights[l], s, &e) && (v = transmittance(nodes, tris, s, &e)) > 0.0f) {
+        && light_links(lights, &lights[l], s, &e) && shadow_any(v = transmittance(nodes, tris, s, &e))) {
         float3 x = direct_contribution(s, e.wi, unshadowed_contrib(s, &e) / pdf * v, clamp, pass);
         *c += x;
         GROUP_ADD(gl, lights, &lights[l], x);
@@ -58,8 +58,8 @@ __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySa
                            bsdf, &rng, &q, &r, &e);
             res_finalize(&r, r.M);
             /* W > 0: a candidate of target > 0 was picked, and e holds its evaluation */
-            float v = 0.0f;  /* the transmittance: 1 or 0 but through transparent surfaces */
-            if (r.W > 0.0f && (v = transmittance(nodes, tris, &s, &e)) > 0.0f) {
+            Shadow v = 0.0f;  /* the transmittance: 1 or 0 but through transparent surfaces and thin walls */
+            if (r.W > 0.0f && shadow_any(v = transmittance(nodes, tris, &s, &e))) {
                 float3 x = direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) * r.W * v, clamp, &pass);
                 c += x;
                 GROUP_ADD(&gl, lights, &lights[r.light], x);

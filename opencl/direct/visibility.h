@@ -40,6 +40,9 @@ inline bool visible(const __global BVHNode* nodes, const __global Tri* tris, con
     uint2 blockers;
     shadow_ray(tris, s, e, &o, &d, &tmax, &blockers);
     if (!(tmax > 0.0f)) return true;
+#ifdef HAS_THIN_SHADOW  /* smooth thin walls pass some light: the sample is in the support where any of it passes */
+    return shadow_any(trace_transmittance(nodes, tris, o, d, tmax, blockers));
+#endif
 #ifdef HAS_TRANSPARENCY  /* trace_any passes transparent surfaces by their coverage (bvh/transparent.h); the yes/no
                           * test of a light with linked shadows takes its blockers as opaque */
     if (blockers.x == 0xFFFFFFFFu && blockers.y == 0xFFFFFFFFu) return !trace_any(nodes, tris, o, d, tmax);
@@ -50,8 +53,8 @@ inline bool visible(const __global BVHNode* nodes, const __global Tri* tris, con
 /* The fraction of light sample e that reaches s: visible()'s 1 or 0; in transparent builds the product of the
  * transparencies of the surfaces on the way (bvh/transparent.h trace_transmittance), Cycles' transparent shadows,
  * for the estimators whose shadow ray is the last word on the sample (the direct samplers, NEE at path vertices):
- * no coin per surface to add noise. */
-inline float transmittance(const __global BVHNode* nodes, const __global Tri* tris, const Surface* s,
+ * no coin per surface to add noise. Past smooth thin walls it is a colour (Shadow: bvh/thin_wall_shadow.h). */
+inline Shadow transmittance(const __global BVHNode* nodes, const __global Tri* tris, const Surface* s,
                            const LightEval* e)
 {
 #ifdef HAS_TRANSPARENCY

@@ -30,6 +30,8 @@ inline float3 path_emitter_term(const Surface* s, const __global BVHNode* nodes,
     return c;
 }
 
+#include "path/thin_wall_emitters.h"  /* HAS_THIN_SHADOW: the emitters beyond a smooth thin wall */
+
 /* The emitters the ray from s in direction wi meets before its hit h (h.prim < 0: it escaped); each light's term
  * also to *groups (film/light_groups.h). */
 inline float3 path_emitters(const Surface* s, float3 wi, Hit h, const __global BVHNode* nodes,
@@ -39,12 +41,20 @@ inline float3 path_emitters(const Surface* s, float3 wi, Hit h, const __global B
     float3 c = (float3)(0.0f);
     bool escaped = h.prim < 0;
     float hit_t = escaped ? INFINITY : h.t;
+#ifdef HAS_THIN_SHADOW  /* the ray met a smooth thin wall: the emitters beyond it count too, through it */
+    const bool thin = !escaped && thin_wall_record(tris, h.prim) != 0;
+#endif
     for (int l = 0; l < hits.analytic; ++l) {
         const __global Light* rec = &lights[l];
         int type = light_type(rec);
         float2 uv;
         if (path_light_hittable(rec, type, l, hits) && light_hit(rec, type, s->x, wi, &uv)) {
             float3 t = path_emitter_term(s, nodes, tris, lights, rec, type, l, uv, lp, hits, hit_t, escaped);
+#ifdef HAS_THIN_SHADOW
+            float3 pass = thin ? thin_wall_emitter_pass(s, nodes, tris, rec, uv, h, wi) : (float3)(0.0f);
+            if (shadow_any(pass))
+                t += pass * path_emitter_term(s, nodes, tris, lights, rec, type, l, uv, lp, hits, INFINITY, true);
+#endif
             c += t;
             GROUP_ADD(groups, lights, rec, t);
         }
@@ -59,6 +69,13 @@ inline float3 path_emitters(const Surface* s, float3 wi, Hit h, const __global B
             c += t;
             GROUP_ADD(groups, lights, &lights[l], t);
         }
+#ifdef HAS_THIN_SHADOW
+        if (thin) {
+            float3 t = thin_wall_triangle_term(s, nodes, tris, lights, tri_light, lp, hits, h, wi, &l);
+            c += t;
+            if (l >= 0) GROUP_ADD(groups, lights, &lights[l], t);
+        }
+#endif
     }
 #else
     (void)tri_light;

@@ -51,8 +51,8 @@ inline float3 path_nee(const Surface* s, const __global Light* lights, const Lig
             c /= keep;
         }
     }
-    float v;
-    if (!(luminance(c) > 0.0f) || !((v = transmittance(nodes, tris, s, &e)) > 0.0f)) return (float3)(0.0f);
+    Shadow v;
+    if (!(luminance(c) > 0.0f) || !shadow_any(v = transmittance(nodes, tris, s, &e))) return (float3)(0.0f);
     return c * v;
 }
 

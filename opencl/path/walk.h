@@ -125,6 +125,13 @@ inline float3 path_walk(const PathScene* ps, PathState* st, uint* rng, const Qmc
 #endif
         if (!(pdf > 0.0f) || !(cos_n > 0.0f)) break;
         const float3 T_before = st->T;
+/* on through a smooth thin wall: the vertex before counted its light (path/thin_wall_emitters.h); the negative control
+ * TEST_THIN_WALL_COUNTED_TWICE (tests/bias_controls.py) counts it again */
+#if defined(HAS_THIN_SHADOW) && !defined(TEST_THIN_WALL_COUNTED_TWICE)
+        const bool counted = st->bounces > 0 && thin_wall_passed(ps->sc->tris, &st->s, part, wi);
+#else
+        const bool counted = false;
+#endif
 #ifdef HAS_LIGHT_PASSES
 #ifndef LIGHT_PASSES_BY_LAST_BOUNCE  /* defined only by the negative control of tests/render/test_light_passes.py */
         if (st->bounces == 0)
@@ -145,7 +152,7 @@ inline float3 path_walk(const PathScene* ps, PathState* st, uint* rng, const Qmc
         last = last || st->transmission > p->max_transmission;
 #endif
         Hit h = trace_closest(ps->nodes, ps->sc->tris, path_ray_origin(ps->sc->tris, &st->s, wi), wi, INFINITY);
-        if ((st->bounces > 1 || first_uncounted) && nee) {
+        if ((st->bounces > 1 || first_uncounted) && nee && !counted) {
             GroupLight eg;  /* each emitter's share, scaled as the sum is clamped */
             group_light_clear(&eg);
             float3 em = T_before * path_emitters(&st->s, wi, h, ps->nodes, ps->sc->tris, ps->lights, ps->tri_light,

@@ -20,9 +20,17 @@ __kernel void restir_shade(const __global GSample* gbuf, const __global GlossySa
     group_light_clear(&gl);
     Reservoir r = res[i];
     LightEval e;
+#ifdef HAS_THIN_SHADOW  /* a smooth thin wall passes a colour (bvh/thin_wall_shadow.h): always the shadow ray's */
+    Shadow v = 0.0f;
+    (void)visible_known;
+    if (s.valid && r.light >= 0 && r.W > 0.0f && target_of(&s, lights, r.light, r.u, r.v, &e) > 0.0f
+        && shadow_any(v = transmittance(nodes, tris, &s, &e))) {
+        float3 x = direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) * r.W * v, clamp, &pass);
+#else
     if (s.valid && r.light >= 0 && r.W > 0.0f && target_of(&s, lights, r.light, r.u, r.v, &e) > 0.0f
         && (visible_known || visible(nodes, tris, &s, &e))) {
         float3 x = direct_contribution(&s, e.wi, unshadowed_contrib(&s, &e) * r.W, clamp, &pass);
+#endif
         c += x;
         GROUP_ADD(&gl, lights, &lights[r.light], x);
     }

@@ -52,8 +52,10 @@ def _diagnostics(tu) -> list[str]:
 
 # ReSTIR GI reuses the paths' vertices (render/features.py sets both); a refracting closure is a lobe
 # (upload/device_scene.py sets HAS_GLOSSY with HAS_TRANSMISSION), and so is a thin film (materials/closures:
-# a closure with one has a lobe)
-REQUIRES = {"HAS_GI_REUSE": "HAS_PATHS", "HAS_TRANSMISSION": "HAS_GLOSSY", "HAS_THIN_FILM": "HAS_GLOSSY"}
+# a closure with one has a lobe); shadow rays through thin walls take the transparent ones' loop
+# (upload/device_scene.py sets HAS_TRANSPARENCY with HAS_THIN_SHADOW)
+REQUIRES = {"HAS_GI_REUSE": "HAS_PATHS", "HAS_TRANSMISSION": "HAS_GLOSSY", "HAS_THIN_FILM": "HAS_GLOSSY",
+            "HAS_THIN_SHADOW": "HAS_TRANSPARENCY"}
 
 
 @pytest.mark.parametrize("flag", sorted(ALL_FLAGS))

@@ -2,14 +2,19 @@
 sphere of white thin-walled sheet (Principled Transmission 1, Thin Wall) in a uniform white world (radiance 1): a
 white sheet reflects R and passes T = 1 - R (the slab's sums), so every pixel converges to 1 when smooth, and when
 rough to 1 within the energy compensation's accuracy (Cycles applies it to both parts, as here). A tinted sheet
-(Base Color 0.5) absorbs: its sphere is darker than the world, which tells the harness can see a loss."""
+(Base Color 0.5) absorbs: its sphere is darker than the world, which tells the harness can see a loss. Shadow rays
+pass the smooth sheet (bvh/thin_wall_shadow.h) and BSDF rays find the world through it from the vertex before
+(path/thin_wall_emitters.h): counted again where the path goes on through the sheet (the negative control
+TEST_THIN_WALL_COUNTED_TWICE), the sphere comes out brighter than the world."""
 
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from restircl import Camera, Environment, Material, Mesh, Renderer, Scene, Settings, look_at
 from restircl.scenes.shapes import icosphere
 
+from ..bias_controls import built_with
 from .test_glass import BOUNCES, SIZE
 
 BATCHES, FRAMES = 4, 32
@@ -46,3 +51,9 @@ def test_rough_white_thin_sphere_keeps_the_energy(device):
 def test_a_tinted_thin_sphere_is_darker(device):
     mean, se = sphere_mean(0.0, 0.5)
     assert mean < 0.8, (mean, se)
+
+
+def test_light_behind_a_smooth_sheet_counted_twice_is_seen(device, monkeypatch: pytest.MonkeyPatch):
+    built_with(monkeypatch, "TEST_THIN_WALL_COUNTED_TWICE")
+    mean, se = sphere_mean(0.0)
+    assert mean > 1.0 + 4 * se + 2e-3, (mean, se)

@@ -1,23 +1,19 @@
 /* The Principled BSDF's transmission in thin-walled mode (Blender 5.3's Thin Wall input), resolved for one view into
  * a thin dielectric lobe (bsdf/thin_dielectric.h), as Cycles 5.3 has it:
- *   - each face of the sheet has the Principled's dielectric Fresnel at the view cosine mu: the real curve of the
- *     IOR remapped onto [f0, 1], f0 = F0(IOR) x Specular Tint (r); it lets 1 - r through (t); the IOR is not
- *     inverted on a back face: both faces are an entry;
- *   - inside, the Base Color c0 is the sheet's transmittance at normal incidence, c = c0^(1 / cos_t) along the
- *     refracted cosine cos_t (Beer-Lambert; 0 under total internal reflection);
- *   - summing the internal reflections: T = c t^2 / (1 - (r c)^2), R = r + T r c;
+ *   - the slab's R and T at the view cosine mu (bsdf/thin_wall_slab.h: Fresnel per face, Beer-Lambert tint,
+ *     internal reflections summed);
  *   - the reflection keeps alpha = Roughness^2; the transmission, refracted twice, a roughened alpha_t = alpha
  *     sqrt(3.4 (IOR - 1) (IOR - 0.5)^2 / IOR^3) clamped to [0, 1] (Kulla and Conty 2017; 0 for an IOR <= 1);
  *   - each part is scaled by its GGX energy compensation 1 + F_ms (1 - E) / E (bsdf/closure.h; F_ss the Specular
  *     Tint for the reflection, 1 for the transmission), for GGX and Multiscatter GGX alike, as Cycles does;
  *   - a part whose alpha^2 is at most 2e-10 is Cycles' delta (smooth): kept at GGX_ALPHA_MIN.
- * Not modelled: Cycles passes shadow rays through a smooth thin wall as a transparent surface; here the shadow ray
- * is blocked and the light reaches what is behind the sheet through the paths' BSDF rays only (docs/blender.md). */
+ * Shadow rays pass a smooth thin wall as a transparent surface of colour T, as Cycles' do (bvh/thin_wall_shadow.h). */
 #ifndef RESTIRCL_BSDF_CLOSURES_THIN_WALL_H
 #define RESTIRCL_BSDF_CLOSURES_THIN_WALL_H
 
 #include "bsdf/closure.h"
 #include "bsdf/thin_dielectric.h"
+#include "bsdf/thin_wall_slab.h"
 
 /* alpha_t of the transmission for reflection alpha and IOR eta */
 inline float thin_wall_alpha_t(float alpha, float eta)
@@ -43,19 +39,8 @@ inline Lobe principled_thin_wall_lobe(const ClosureInputs* c, float wt, float3 b
     float r0 = clamp_f(c->roughness, 0.0f, 1.0f);
     float alpha = r0 * r0;
     float alpha_t = thin_wall_alpha_t(alpha, ior);
-    float f0_eta = f0_from_ior(ior);
-    float3 r = fresnel_principled(mu, ior, f0_eta, (float3)(f0_eta) * tint);
-    float3 t = (float3)(1.0f) - r;
-    float ct2 = 1.0f - (1.0f - mu * mu) / (ior * ior);
-    float3 c0 = saturate3(base);
-    float3 k = (float3)(0.0f);
-    if (ct2 > 0.0f) {
-        float e = 1.0f / sqrt(ct2);
-        k = (float3)(pow(c0.x, e), pow(c0.y, e), pow(c0.z, e));
-    }
-    float3 rc = r * k;
-    float3 T = k * t * t / ((float3)(1.0f) - rc * rc);
-    float3 R = r + T * rc;
+    float3 R;
+    float3 T = thin_wall_slab(mu, ior, tint, base, &R);
     ThinDielectric m;
     m.alpha_r = fmax_f(alpha, GGX_ALPHA_MIN);
     m.alpha_t = fmax_f(alpha_t, GGX_ALPHA_MIN);

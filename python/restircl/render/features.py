@@ -19,7 +19,10 @@ LIGHT_FLAGS = FEATURE_FLAGS  # light type code -> HAS_<TYPE>_LIGHTS, from each t
 # HAS_TRANSMISSION: some closure refracts (Glass, Refraction, Principled Transmission: bsdf/microfacet_dielectric.h)
 # HAS_TRANSPARENCY: some material's coverage is below 1 (materials/alpha.py: rays pass through, bvh/transparent.h)
 # HAS_THIN_FILM: some closure has a thin film (materials/thin_film.py, opencl/bsdf/thin_film.h)
-MATERIAL_FLAGS = ("HAS_GLOSSY", "HAS_TEXTURES", "HAS_TRANSMISSION", "HAS_TRANSPARENCY", "HAS_THIN_FILM")
+# HAS_THIN_SHADOW: shadow rays pass some smooth thin wall with its colour (upload/thin_wall_shadow.py; it turns
+# HAS_TRANSPARENCY on: bvh/thin_wall_shadow.h)
+MATERIAL_FLAGS = ("HAS_GLOSSY", "HAS_TEXTURES", "HAS_TRANSMISSION", "HAS_TRANSPARENCY", "HAS_THIN_FILM",
+                  "HAS_THIN_SHADOW")
 # HAS_LIGHT_TREE: RIS candidates (Settings.light_proposal) or NEE at path vertices (Settings.path_light_pick) come
 # from the light tree (lights/tree.py)
 # HAS_CAMERA_LIGHTS: camera rays test the lights visible to the camera that have a shape (lights/camera_visible.py)

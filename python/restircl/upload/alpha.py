@@ -5,9 +5,11 @@ triangles.
 The triangle's e1.w (int bits; the original triangle index the host keeps, which no kernel reads) holds -1 for an
 opaque triangle, else the float4 index of its record in the tail. The tail, in float4 units after the Tri
 records (3 float4 each, packets included):
-- per transparent material, ALPHA_MATERIAL float4s: (constant alpha, invert 0/1, has an image 0/1, unused);
-  (int bits: first float4 of its texels, width, height, interpolation | extension << 4); the Mapping node's rows
-  u' = (m00, m01, m03) . (u, v, 1) and v' = (m10, m11, m13) . (u, v, 1);
+- per transparent material, ALPHA_MATERIAL float4s: (constant alpha, invert 0/1, has an image 0/1, a smooth thin
+  wall 0/1); (int bits: first float4 of its texels, width, height, interpolation | extension << 4); the Mapping
+  node's rows u' = (m00, m01, m03) . (u, v, 1) and v' = (m10, m11, m13) . (u, v, 1); a smooth thin wall's record
+  (upload/thin_wall_shadow.py: shadow rays pass it), zeros for others; a thin wall that is not otherwise
+  transparent has a record here too, of coverage 1;
 - per triangle of such a material, ALPHA_TRIANGLE float4s: (u0, u1, u2, int bits: its material's record) and
   (v0, v1, v2, unused);
 - each image's scalar texels (alpha or grey, linear, bottom row first), four to a float4.
@@ -20,16 +22,23 @@ import numpy as np
 from ..core import layouts as L
 from ..io.image_load import read_image_file, to_linear_rgba
 from ..materials.alpha import AlphaSource, alpha_source, is_transparent
+from ..materials.material import Material
 from ..materials.textures import EXTENSIONS, INTERPOLATIONS
 from ..scene.scene import Scene
+from .thin_wall_shadow import THIN_RECORD, scene_has_thin_shadow, thin_wall_record
 
-ALPHA_MATERIAL = 4  # float4s per material record
+ALPHA_MATERIAL = 4 + THIN_RECORD  # float4s per material record
 ALPHA_TRIANGLE = 2  # float4s per triangle record
 GREY = np.array([0.2126, 0.7152, 0.0722])  # Blender's colour -> value conversion (textures/nodes.h tex_gray)
 
 
 def scene_is_transparent(scene: Scene) -> bool:
     return any(is_transparent(m) for m in scene.materials)
+
+
+def _has_record(m: Material) -> bool:
+    """Whether rays read a record of m: a coverage below 1 or a thin wall that shadow rays pass."""
+    return is_transparent(m) or thin_wall_record(m) is not None
 
 
 def _scalar_texels(source: AlphaSource) -> np.ndarray:
@@ -58,16 +67,19 @@ def transparency_tail(scene: Scene, material: np.ndarray, uvs: np.ndarray, base:
     records: list[np.ndarray] = []
     texel_blocks: list[np.ndarray] = []
     mat_at: dict[int, int] = {}
-    n_mat = sum(1 for m in scene.materials if is_transparent(m))
+    n_mat = sum(1 for m in scene.materials if _has_record(m))
     texel_base = base + n_mat * ALPHA_MATERIAL + int(np.isin(material, [
-        k for k, m in enumerate(scene.materials) if is_transparent(m)]).sum()) * ALPHA_TRIANGLE
+        k for k, m in enumerate(scene.materials) if _has_record(m)]).sum()) * ALPHA_TRIANGLE
     texel_at = texel_base
     for k, m in enumerate(scene.materials):
-        if not is_transparent(m):
+        if not _has_record(m):
             continue
         src = alpha_source(m.alpha)
         rec = np.zeros((ALPHA_MATERIAL, 4), np.float32)
-        rec[0] = (src.constant, float(src.invert), float(src.image is not None), 0.0)
+        thin = thin_wall_record(m)
+        rec[0] = (src.constant, float(src.invert), float(src.image is not None), float(thin is not None))
+        if thin is not None:
+            rec[4:] = thin
         info = np.zeros(4, np.int32)
         if src.image is not None:
             tex = _scalar_texels(src)
@@ -115,7 +127,7 @@ def with_transparency(scene: Scene, tris: np.ndarray, world, order: np.ndarray) 
     opaque."""
     out = tris.copy()
     n = len(order)
-    if not scene_is_transparent(scene):
+    if not (scene_is_transparent(scene) or scene_has_thin_shadow(scene)):
         out["e1"][:n, 3] = L.int_bits(np.full(n, -1, np.int32))
         return out
     obj, prim = world.object[order], world.prim[order]

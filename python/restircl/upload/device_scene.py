@@ -27,6 +27,7 @@ from .deform_motion import deform_motion
 from .glass_tables import device_tables
 from .materials import pack_materials
 from .textures import LoadedImage, PackedTextures, TexturePacker, warn_missing_uv_maps, warn_textured_emission
+from .thin_wall_shadow import scene_has_thin_shadow
 from .tri_attributes import needs_attributes, object_infos, tri_attributes
 
 
@@ -183,9 +184,11 @@ class DeviceScene:
         same_images = bool(self.textures) and packer.image_keys == list(self._images)
         tex = packer.packed(texels=not same_images)
         self.nonfinite_texels = tex.nonfinite_texels
+        thin_shadow = scene_has_thin_shadow(self.scene)  # its shadow rays take the transparent ones' loop
         self.material_flags = {"HAS_GLOSSY": packed.glossy or packed.transmission, "HAS_TEXTURES": packed.textured,
                                "HAS_TRANSMISSION": packed.transmission, "HAS_THIN_FILM": packed.thin_film,
-                               "HAS_TRANSPARENCY": scene_is_transparent(self.scene)}
+                               "HAS_TRANSPARENCY": scene_is_transparent(self.scene) or thin_shadow,
+                               "HAS_THIN_SHADOW": thin_shadow}
         self.materials_buf = upload(self.context, packed.materials)
         self.closures_buf = upload(self.context, packed.closures)
         if same_images:
