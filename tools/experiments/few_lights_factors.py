@@ -7,6 +7,8 @@ shared; relMSE x CPU seconds is the figure that compares at equal time (lower is
 reference (`restircl compare` makes it). docs/measurements/error-vs-time.md, "Few lights, one factor at a time".
 
     python -m tools.experiments.few_lights_factors --kinds studio,user --samples 64,256 --seeds 2
+    python -m tools.experiments.few_lights_factors --kinds user --methods cycles,auto --samples 1,4,16 --seeds 8 \\
+        --max-bounces 4 --reference-spp 256 --cache-dir out/cache
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ from restircl.eval.cycles.compare import (
     ours_settings,
     scene_pair,
 )
+from restircl.eval.cycles.paths import DIRECT, LightPaths
 from restircl.eval.metrics import rel_mse
 from restircl.eval.scenes.held_out import HEIGHT, WIDTH
 from restircl.render.pipeline import Renderer
@@ -35,25 +38,27 @@ from restircl.render.pipeline import Renderer
 METHODS = "cycles,cycles_no_tree,auto,auto_tree,auto_mis,auto_solid,auto_array"
 
 
-def measure(kind: str, methods: list[str], samples: list[int], seeds: int, cache_dir: Path | None) -> dict:
-    """{method: {samples: {"rel_mse": [per seed], "cpu_s": [per seed]}}} for one kind."""
+def measure(kind: str, methods: list[str], samples: list[int], seeds: int, cache_dir: Path | None,
+            paths: LightPaths = DIRECT, reference_spp: int = REFERENCE_SPP, first_seed: int = 7) -> dict:
+    """{method: {samples: {"rel_mse": [per seed], "cpu_s": [per seed]}}} for one kind, every render with the Light
+    Paths `paths` (the reference of reference_spp samples per half with them, as `restircl compare` caches it)."""
     scene, sc = scene_pair(kind, WIDTH, HEIGHT)
-    ref = cycles_reference(kind, scene, sc, REFERENCE_SPP, 2, cache_dir, lambda *a: None).image
+    ref = cycles_reference(kind, scene, sc, reference_spp, 2, cache_dir, lambda *a: None, paths).image
     out: dict = {m: {n: {"rel_mse": [], "cpu_s": []} for n in samples} for m in methods}
-    settings = {m: ours_settings(m, scene) for m in methods if m not in CYCLES}
+    settings = {m: ours_settings(m, scene, paths) for m in methods if m not in CYCLES}
     for s in settings.values():
         Renderer(scene, s).render_still(0, 2)  # program build
     for m in (m for m in methods if m in CYCLES):
         with cycles_variant(sc, m):
-            cycles.render(sc, samples=1, threads=2)  # Cycles' kernels loaded
-    for seed in range(seeds):
+            cycles.render(sc, samples=1, threads=2, paths=paths.cycles())  # Cycles' kernels loaded
+    for seed in range(first_seed, first_seed + seeds):
         for n in samples:
             for m in methods:
-                r = None if m in CYCLES else Renderer(scene, replace(settings[m], seed=7 + seed))  # upload
+                r = None if m in CYCLES else Renderer(scene, replace(settings[m], seed=seed))  # upload
                 c0 = time.process_time()
                 if r is None:
                     with cycles_variant(sc, m):
-                        img = cycles.render(sc, samples=n, seed=7 + seed, threads=2).image
+                        img = cycles.render(sc, samples=n, seed=seed, threads=2, paths=paths.cycles()).image
                 else:
                     img = r.render_still(0, n).color[..., :3]
                 cpu = time.process_time() - c0
@@ -81,6 +86,9 @@ def main() -> None:
     ap.add_argument("--methods", default=METHODS)
     ap.add_argument("--samples", default="64,256")
     ap.add_argument("--seeds", type=int, default=2)
+    ap.add_argument("--first-seed", type=int, default=7)
+    ap.add_argument("--max-bounces", type=int, default=0, help="Light Paths' Max Bounces (0: direct light only)")
+    ap.add_argument("--reference-spp", type=int, default=REFERENCE_SPP, help="the cached reference's spp per half")
     ap.add_argument("--cache-dir", default=None)
     ap.add_argument("--out", default=None, help="JSON file for the figures")
     a = ap.parse_args()
@@ -88,7 +96,8 @@ def main() -> None:
     record = {"load_before": load, "kinds": {}}
     for kind in a.kinds.split(","):
         got = measure(kind, a.methods.split(","), [int(n) for n in a.samples.split(",")], a.seeds,
-                      Path(a.cache_dir) if a.cache_dir else None)
+                      Path(a.cache_dir) if a.cache_dir else None, LightPaths.of(a.max_bounces), a.reference_spp,
+                      a.first_seed)
         record["kinds"][kind] = got
         print(table(kind, got), flush=True)
     record["load_after"] = os.getloadavg()
