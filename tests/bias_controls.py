@@ -28,7 +28,11 @@ a test that asserts it rejects one of these builds.
 - GLASS_KEEPS_HISTORY: TAA keeps a glass pixel's history (surface/view_dependence.h leaves dielectric lobes out), the
   rule before 2026-12-05 (render/test_taa_glass.py).
 - TEST_OPAQUE_SHADOWS: shadow rays stop at transparent and alpha-masked surfaces as at opaque ones
-  (bvh/transparent.h; render/test_transparency.py, blender/test_alpha_cycles.py)."""
+  (bvh/transparent.h; render/test_transparency.py, blender/test_alpha_cycles.py).
+- TEST_SHADOW_ALLOWANCE_WHOLE: every shadow ray may pass Transparent Max Bounces surfaces, whatever the camera ray
+  passed (direct/visibility.h shadow_allowance; blender/test_shadow_allowance_cycles.py).
+- TEST_LAYER_WEIGHT_WHOLE: a still's weighted layers shade a partly transparent surface whole instead of by its
+  coverage (camera/layers.h; render/test_camera_layers.py)."""
 
 from __future__ import annotations
 
