@@ -11,7 +11,8 @@
  * unblocked with probability prod(1 - a_i): the product of their transparencies, as Cycles multiplies them into
  * its shadow rays. The choice is a hash of the ray's origin and direction and the triangle, so it needs no random
  * stream: rays of other samples start elsewhere or point elsewhere (jitter, another light sample, another BSDF
- * direction), and each surface met along one ray draws its own number.
+ * direction), and each surface met along one ray draws its own number. A still's camera rays instead stop at every
+ * surface of coverage above 0 (LAYER_STOPS) and weight it (camera/layers.h).
  *
  * Cycles' Light Paths > Max Bounces > Transparent (TRANSPARENT_MAX_BOUNCES, Settings.transparent_max_bounces)
  * bounds how many surfaces a ray passes: a camera ray that has passed that many ends at the next surface it meets,
