@@ -60,7 +60,10 @@ inline bool transparent_stops(const __global Tri* tris, Hit h, float3 o, float3 
 {
     float a = surface_coverage(tris, h.prim, h.u, h.v);
     if (u0 == LAYER_STOPS) return a > 0.0f;
-    float u = k == 0 && u0 >= 0.0f ? u0 : transparent_uniform(o, d, h.prim, k);
+    /* a camera ray's surfaces behind the first salt their hash with its number: without pixel jitter the ray and
+     * its segments are the same in every frame, and an unsalted hash would make the same choice in all of them */
+    int salt = u0 >= 0.0f ? (int)(as_uint(u0) & 0x7fffffffu) : 0;
+    float u = k == 0 && u0 >= 0.0f ? u0 : transparent_uniform(o, d, h.prim, k ^ salt);
     return a >= 1.0f || u < a;
 }
 
