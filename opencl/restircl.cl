@@ -10,6 +10,7 @@
 #include "camera/lens.h"
 #include "camera/coverage_number.h"
 #include "camera/hidden.h"
+#include "camera/layers.h"
 #include "lights/lights.h"
 #include "lights/camera_visible.h"
 #include "lights/array.h"
@@ -57,6 +58,7 @@
 #endif
 
 #include "camera/primary.cl"
+#include "still/layers.cl"
 #include "lights/tiles.cl"
 #include "lights/pick_table.cl"
 #include "direct/direct.cl"

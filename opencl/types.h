@@ -165,7 +165,10 @@ typedef struct {
     float4 albedo;     /* rgb: diffuse albedo; w: object id (int bits) */
     float4 emission;   /* rgb: radiance emitted towards the camera (lights seen directly) */
     float4 motion;     /* xy: motion in pixels, previous minus current position (jitter removed); zw: 0 */
-} GSample;             /* 96 bytes */
+    float4 layer;      /* x: the transparent surfaces the camera ray passed to reach this one (int bits; 0 without
+                          HAS_TRANSPARENCY), whose count a shadow ray's allowance takes off (bvh/transparent.h);
+                          yzw: 0 */
+} GSample;             /* 112 bytes */
 
 /* One lobe of a pixel's BSDF beyond its Lambert part (HAS_GLOSSY), as the primary pass resolved it from the
  * material's closures for this pixel's view (bsdf/resolve.h). Every lobe kind keeps its roughness squared (alpha)

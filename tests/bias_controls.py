@@ -30,7 +30,11 @@ a test that asserts it rejects one of these builds.
 - TEST_OPAQUE_SHADOWS: shadow rays stop at transparent and alpha-masked surfaces as at opaque ones
   (bvh/transparent.h; render/test_transparency.py, blender/test_alpha_cycles.py).
 - TEST_THIN_WALL_COUNTED_TWICE: a path going on through a smooth thin wall counts the emitters its ray meets, which
-  the vertex before it counted through the wall already (path/walk.h; render/test_thin_wall_furnace.py)."""
+  the vertex before it counted through the wall already (path/walk.h; render/test_thin_wall_furnace.py).
+- TEST_SHADOW_ALLOWANCE_WHOLE: every shadow ray may pass Transparent Max Bounces surfaces, whatever the camera ray
+  passed (direct/visibility.h shadow_allowance; blender/test_shadow_allowance_cycles.py).
+- TEST_LAYER_WEIGHT_WHOLE: a still's weighted layers shade a partly transparent surface whole instead of by its
+  coverage (camera/layers.h; render/test_camera_layers.py)."""
 
 from __future__ import annotations
 

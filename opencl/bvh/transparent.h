@@ -11,12 +11,15 @@
  * unblocked with probability prod(1 - a_i): the product of their transparencies, as Cycles multiplies them into
  * its shadow rays. The choice is a hash of the ray's origin and direction and the triangle, so it needs no random
  * stream: rays of other samples start elsewhere or point elsewhere (jitter, another light sample, another BSDF
- * direction), and each surface met along one ray draws its own number.
+ * direction), and each surface met along one ray draws its own number. A still's camera rays instead stop at every
+ * surface of coverage above 0 (LAYER_STOPS) and weight it (camera/layers.h).
  *
  * Cycles' Light Paths > Max Bounces > Transparent (TRANSPARENT_MAX_BOUNCES, Settings.transparent_max_bounces)
- * bounds how many surfaces a ray passes: a shadow ray that would pass more is blocked; a camera ray that has passed
- * that many ends at the next surface it meets, black (trace_camera: Cycles ends the path there); a bounce ray
- * takes the next surface as opaque. */
+ * bounds how many surfaces a ray passes: a camera ray that has passed that many ends at the next surface it meets,
+ * black (trace_camera: Cycles ends the path there); a bounce ray takes the next surface as opaque. The bound is
+ * the path's: a shadow ray from a surface that the camera ray (or the path) reached by passing b surfaces may pass
+ * TRANSPARENT_MAX_BOUNCES - b more (its allowance, Surface.passed: direct/visibility.h shadow_allowance), and one
+ * that would pass more is blocked, as Cycles counts its shadow rays' transparent hits against the path's. */
 #ifndef RESTIRCL_BVH_TRANSPARENT_H
 #define RESTIRCL_BVH_TRANSPARENT_H
 
@@ -52,11 +55,17 @@ inline float transparent_uniform(float3 o, float3 d, int prim, int k)
 }
 
 /* Does the ray stop at hit h, the k-th surface it met? u0 in [0, 1): the number of the first surface (k = 0), or
- * negative to hash it as the others' */
+ * negative to hash it as the others'; LAYER_STOPS: every surface whose coverage is above 0 stops it (the weighted
+ * layers of a still, camera/layers.h) */
+#define LAYER_STOPS 2.0f
 inline bool transparent_stops(const __global Tri* tris, Hit h, float3 o, float3 d, int k, float u0)
 {
     float a = surface_coverage(tris, h.prim, h.u, h.v);
-    float u = k == 0 && u0 >= 0.0f ? u0 : transparent_uniform(o, d, h.prim, k);
+    if (u0 == LAYER_STOPS) return a > 0.0f;
+    /* a camera ray's surfaces behind the first salt their hash with its number: without pixel jitter the ray and
+     * its segments are the same in every frame, and an unsalted hash would make the same choice in all of them */
+    int salt = u0 >= 0.0f ? (int)(as_uint(u0) & 0x7fffffffu) : 0;
+    float u = k == 0 && u0 >= 0.0f ? u0 : transparent_uniform(o, d, h.prim, k ^ salt);
     return a >= 1.0f || u < a;
 }
 
@@ -69,22 +78,23 @@ inline float3 transparent_continue(const __global Tri* tris, Hit h, float3 o, fl
     return offset_ray_origin(o + h.t * d, norm3(ng));
 }
 
-/* The first surface the ray stops at (t in units of d from o), or a miss. A ray that has passed k surfaces meets
- * the next one: with k >= TRANSPARENT_MAX_BOUNCES (shadow: the pass would exceed the bound) or, for a camera ray,
- * k >= TRANSPARENT_MAX_BOUNCES and k > 0 (Cycles counts passes: it ends the path at the surface after the pass
- * that reached the bound), that surface is returned and *ended set. */
+/* The first surface the ray stops at (t in units of d from o), or a miss; h.passed: the surfaces it passed. A ray
+ * that has passed k surfaces meets the next one: with k >= bound (shadow: the pass would exceed the bound) or, for
+ * a camera ray, k >= bound and k > 0 (Cycles counts passes: it ends the path at the surface after the pass that
+ * reached the bound), that surface is returned and *ended set. */
 inline Hit trace_through(const __global BVHNode* nodes, const __global Tri* tris, float3 o, float3 d, float tmax,
-                         bool camera, float u0, bool* ended)
+                         bool camera, int bound, float u0, bool* ended)
 {
     float3 oo = o;
     float travelled = 0.0f;
     *ended = false;
     for (int k = 0;; ++k) {
         Hit h = trace_closest(nodes, tris, oo, d, tmax - travelled);
+        h.passed = k;
         if (h.prim < 0) return h;
-        bool bound = camera ? k > 0 && k >= TRANSPARENT_MAX_BOUNCES : k >= TRANSPARENT_MAX_BOUNCES;
-        if (bound || transparent_stops(tris, h, oo, d, k, u0)) {
-            *ended = bound;
+        bool at_bound = camera ? k > 0 && k >= bound : k >= bound;
+        if (at_bound || transparent_stops(tris, h, oo, d, k, u0)) {
+            *ended = at_bound;
             if (k > 0) h.t = dot3(oo + h.t * d - o, d) / dot3(d, d);
             return h;
         }
@@ -93,6 +103,7 @@ inline Hit trace_through(const __global BVHNode* nodes, const __global Tri* tris
         if (!(travelled < tmax)) {
             h.prim = -1;
             h.t = INFINITY;
+            h.passed = k + 1;
             return h;
         }
     }
@@ -104,7 +115,7 @@ inline Hit trace_closest_transparent(const __global BVHNode* nodes, const __glob
                                      float tmax)
 {
     bool ended;
-    return trace_through(nodes, tris, o, d, tmax, true, -1.0f, &ended);
+    return trace_through(nodes, tris, o, d, tmax, true, TRANSPARENT_MAX_BOUNCES, -1.0f, &ended);
 }
 
 /* A camera ray: as trace_closest_transparent, but a ray that reached the bound ends: prim TRANSPARENT_ENDED at the
@@ -116,42 +127,44 @@ inline Hit trace_camera(const __global BVHNode* nodes, const __global Tri* tris,
                         float u0)
 {
     bool ended;
-    Hit h = trace_through(nodes, tris, o, d, tmax, true, u0, &ended);
+    Hit h = trace_through(nodes, tris, o, d, tmax, true, TRANSPARENT_MAX_BOUNCES, u0, &ended);
     if (ended) h.prim = TRANSPARENT_ENDED;
     return h;
 }
 
-/* A shadow ray: blocked by a surface it stops at, or by more than TRANSPARENT_MAX_BOUNCES that it passes. */
+/* A shadow ray: blocked by a surface it stops at, or by more than `allowance` surfaces that it passes. */
 inline bool trace_any_transparent(const __global BVHNode* nodes, const __global Tri* tris, float3 o, float3 d,
-                                  float tmax)
+                                  float tmax, int allowance)
 {
     if (!trace_any(nodes, tris, o, d, tmax)) return false;  /* nothing on the way: the common case, cheaply */
     bool ended;
-    Hit h = trace_through(nodes, tris, o, d, tmax, false, -1.0f, &ended);
+    Hit h = trace_through(nodes, tris, o, d, tmax, false, allowance, -1.0f, &ended);
     return h.prim >= 0;
 }
 
 /* The fraction of the light along a shadow ray that passes: the product of 1 - a over the surfaces it meets, 0 at
- * an opaque one or past the bound (Cycles' transparent shadows, deterministic: direct/visibility.h transmittance).
+ * an opaque one or past `allowance` surfaces (Cycles' transparent shadows, deterministic: direct/visibility.h
+ * transmittance).
  * With light linking only the light's blockers (bvh/traverse.h bvh_blocks) shadow it: the others are passed as if
  * fully transparent. */
 inline Shadow trace_transmittance(const __global BVHNode* nodes, const __global Tri* tris, float3 o, float3 d,
-                                 float tmax, uint2 blockers)
+                                  float tmax, uint2 blockers, int allowance)
 {
 #ifdef TEST_OPAQUE_SHADOWS
+    (void)allowance;
     return trace_any_of(nodes, tris, o, d, tmax, blockers) ? 0.0f : 1.0f;
 #else
     if (!trace_any_of(nodes, tris, o, d, tmax, blockers)) return 1.0f;
     float3 oo = o;
     float travelled = 0.0f;
     Shadow through = 1.0f;
-    for (int k = 0; k <= TRANSPARENT_MAX_BOUNCES; ++k) {
+    for (int k = 0; k <= allowance; ++k) {
         Hit h = trace_closest(nodes, tris, oo, d, tmax - travelled);
         if (h.prim < 0) return through;
 #ifdef HAS_LIGHT_LINKING
         if (bvh_blocks(tris, h.prim, blockers)) {
 #endif
-        if (k == TRANSPARENT_MAX_BOUNCES) return 0.0f;
+        if (k == allowance) return 0.0f;
         through *= shadow_pass(tris, h, d);  /* 1 - coverage; a smooth thin wall's colour (bvh/thin_wall_shadow.h) */
 #ifdef HAS_LIGHT_LINKING
         }
@@ -167,7 +180,7 @@ inline Shadow trace_transmittance(const __global BVHNode* nodes, const __global 
 
 #define trace_closest(nodes, tris, o, d, tmax) trace_closest_transparent(nodes, tris, o, d, tmax)
 #ifndef TEST_OPAQUE_SHADOWS  /* negative control of the tests only (tests/bias_controls.py): shadows ignore alpha */
-#define trace_any(nodes, tris, o, d, tmax) trace_any_transparent(nodes, tris, o, d, tmax)
+#define trace_any(nodes, tris, o, d, tmax) trace_any_transparent(nodes, tris, o, d, tmax, TRANSPARENT_MAX_BOUNCES)
 #endif
 
 #endif

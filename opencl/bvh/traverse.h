@@ -24,6 +24,9 @@ typedef struct {
     int prim;    /* index into the leaf-ordered Tri array; -1: miss */
     float u;     /* barycentric weight of v1 (hit point = v0 + u * e1 + v * e2) */
     float v;     /* barycentric weight of v2 */
+#ifdef HAS_TRANSPARENCY
+    int passed;  /* the transparent surfaces the ray passed before this hit (bvh/transparent.h trace_through) */
+#endif
 } Hit;
 
 #ifndef BVH_STACK_SIZE

@@ -19,7 +19,8 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
                       const __global float* ggx_tables,
                       const __global Light* lights, const __global float4* camera_lights,
                       __global GSample* gbuf, __global GlossySample* glossy, __global float4* vector,
-                      __global float4* light_passes, FrameParams frame_params)
+                      __global float4* light_passes, FrameParams frame_params,
+                      __global float4* layers, volatile __global int* layers_continuing, int layer)
 {
     int x = get_global_id(0), y = get_global_id(1);
     int w = cam->width, h = cam->height;
@@ -36,9 +37,21 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
     (void)frame_params;
     camera_ray(cam, ray_px.x, ray_px.y, &o, &d);
 #endif
-#ifdef HAS_TRANSPARENCY  /* the first surface the ray does not pass (bvh/transparent.h) */
-    Hit hit = trace_camera(nodes, tris, o, d, INFINITY, camera_coverage_number(cam, &frame_params, (uint)i));
+#ifdef HAS_TRANSPARENCY
+    /* layer >= 0: the weighted layers of a still (camera/layers.h); else the first surface the ray does not pass
+     * (bvh/transparent.h) */
+    CameraLayer lay = camera_layer(layers, i, layer, o);
+    if (layer > 0 && !(lay.weight > 0.0f)) {
+        camera_layer_none(gbuf + i);
+        return;
+    }
+    o = lay.o;
+    Hit hit = layer >= 0 ? camera_layer_trace(nodes, tris, &lay, d)
+                         : trace_camera(nodes, tris, o, d, INFINITY, camera_coverage_number(cam, &frame_params, (uint)i));
 #else
+    (void)layers;
+    (void)layers_continuing;
+    (void)layer;
     Hit hit = trace_closest(nodes, tris, o, d, INFINITY);
 #endif
 #ifdef HAS_CAMERA_HIDDEN
@@ -48,6 +61,10 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
 #ifdef HAS_CAMERA_LIGHTS
     if (camera_light_pixel(lights, camera_lights, cam, prev_cam, next_cam, o, d, hit.t,
                            gbuf + i, glossy + i, vector + i, &sun_seen)) {
+#ifdef HAS_TRANSPARENCY  /* a light is opaque: the layer takes what reached it, and the pixel's layers end */
+        if (layer >= 0)
+            gbuf[i].layer.y = camera_layer_next(tris, layers, layers_continuing + (layer & 1), i, &lay, hit, d, 1.0f);
+#endif
 #ifdef HAS_LIGHT_PASSES  /* a light the camera sees is emission (Cycles' Emission pass) */
         light_pass_seen(light_passes, w * h, i, gbuf[i].emission.xyz, (float3)(0.0f), (float3)(0.0f),
                         (float3)(0.0f));
@@ -64,6 +81,13 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
 #endif
     GSample g;
     g.motion = (float4)(0.0f);
+    g.layer = (float4)(0.0f);
+#ifdef HAS_TRANSPARENCY  /* the surfaces passed, and the layer's weight (0 outside the weighted layers) */
+    if (layer >= 0)
+        g.layer.y = camera_layer_next(tris, layers, layers_continuing + (layer & 1), i, &lay, hit, d,
+                                      hit.prim >= 0 ? surface_coverage(tris, hit.prim, hit.u, hit.v) : 1.0f);
+    g.layer.x = as_float(max(hit.passed, 0));
+#endif
 #ifdef HAS_TRANSPARENCY
     if (hit.prim == TRANSPARENT_ENDED) {  /* past Transparent Max Bounces: the path ends here, black and opaque */
         float3 p = o + hit.t * d;
@@ -134,7 +158,13 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
     /* smooth shading and texture coordinates, textures filtered over the pixel's ray cone, or read at full
      * resolution (a footprint of 0: level 0) where the frame's samples are averaged (render/plan.py texture_full) */
     GlossySample gx;
+#ifdef HAS_TRANSPARENCY
+    const float layer_weight = g.layer.y;
+#endif
     hit_gsample(&sc, hit, d, cam->texture_full ? 0.0f : camera_footprint(cam, d, hit.t), &g, &gx);
+#ifdef HAS_TRANSPARENCY
+    g.layer.y = layer_weight;
+#endif
     float3 p = g.pos.xyz;
     int obj = as_int(g.albedo.w) & LINK_OBJECT_MASK;
     g.pos.w = camera_depth(cam, p);

@@ -43,7 +43,9 @@ inline float3 thin_wall_beyond(const __global BVHNode* nodes, const __global Tri
         d = v / len;
         tmax = len * 0.9999f;
     }
-    return pass * trace_transmittance(nodes, tris, o2, d, tmax, (uint2)(0xFFFFFFFFu));
+    /* the wall counts against Transparent Max Bounces; what the path passed before the vertex does not (the
+     * vertex's own allowance is not at hand here) */
+    return pass * trace_transmittance(nodes, tris, o2, d, tmax, (uint2)(0xFFFFFFFFu), TRANSPARENT_MAX_BOUNCES - 1);
 }
 
 #endif

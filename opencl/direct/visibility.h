@@ -32,6 +32,21 @@ inline void shadow_ray(const __global Tri* tris, const Surface* s, const LightEv
     *tmax = len * 0.9999f;
 }
 
+#ifdef HAS_TRANSPARENCY
+/* How many transparent surfaces a shadow ray from s may pass: Transparent Max Bounces less those the path passed to
+ * reach s, as Cycles counts them (bvh/transparent.h). TEST_SHADOW_ALLOWANCE_WHOLE, a negative control of the tests
+ * only (tests/bias_controls.py): the whole bound, whatever the path passed. */
+inline int shadow_allowance(const Surface* s)
+{
+#ifdef TEST_SHADOW_ALLOWANCE_WHOLE
+    (void)s;
+    return TRANSPARENT_MAX_BOUNCES;
+#else
+    return TRANSPARENT_MAX_BOUNCES - s->passed;
+#endif
+}
+#endif
+
 /* Is the light sample in e unblocked from surface s (the shadow ray of shadow_ray)? */
 inline bool visible(const __global BVHNode* nodes, const __global Tri* tris, const Surface* s, const LightEval* e)
 {
@@ -41,11 +56,16 @@ inline bool visible(const __global BVHNode* nodes, const __global Tri* tris, con
     shadow_ray(tris, s, e, &o, &d, &tmax, &blockers);
     if (!(tmax > 0.0f)) return true;
 #ifdef HAS_THIN_SHADOW  /* smooth thin walls pass some light: the sample is in the support where any of it passes */
-    return shadow_any(trace_transmittance(nodes, tris, o, d, tmax, blockers));
+    return shadow_any(trace_transmittance(nodes, tris, o, d, tmax, blockers, shadow_allowance(s)));
 #endif
 #ifdef HAS_TRANSPARENCY  /* trace_any passes transparent surfaces by their coverage (bvh/transparent.h); the yes/no
                           * test of a light with linked shadows takes its blockers as opaque */
+#ifdef TEST_OPAQUE_SHADOWS
     if (blockers.x == 0xFFFFFFFFu && blockers.y == 0xFFFFFFFFu) return !trace_any(nodes, tris, o, d, tmax);
+#else
+    if (blockers.x == 0xFFFFFFFFu && blockers.y == 0xFFFFFFFFu)
+        return !trace_any_transparent(nodes, tris, o, d, tmax, shadow_allowance(s));
+#endif
 #endif
     return !trace_any_of(nodes, tris, o, d, tmax, blockers);
 }
@@ -62,7 +82,7 @@ inline Shadow transmittance(const __global BVHNode* nodes, const __global Tri* t
     float tmax;
     uint2 blockers;
     shadow_ray(tris, s, e, &o, &d, &tmax, &blockers);
-    return tmax > 0.0f ? trace_transmittance(nodes, tris, o, d, tmax, blockers) : 1.0f;
+    return tmax > 0.0f ? trace_transmittance(nodes, tris, o, d, tmax, blockers, shadow_allowance(s)) : 1.0f;
 #else
     return visible(nodes, tris, s, e) ? 1.0f : 0.0f;
 #endif

@@ -90,6 +90,7 @@ inline bool camera_light_pixel(const __global Light* lights, const __global floa
     g.albedo = (float4)(0.0f, 0.0f, 0.0f, as_float(-1));
     g.emission = (float4)(Le, 0.0f);
     g.motion = (float4)(0.0f, 0.0f, 1.0f, g.pos.w);
+    g.layer = (float4)(0.0f);
     float4 vec = (float4)(0.0f);
 #ifdef HAS_MOTION
     float3 pp = camera_light_motion(entry + 1, p), pn = camera_light_motion(entry + 4, p);

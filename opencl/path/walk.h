@@ -163,7 +163,13 @@ inline float3 path_walk(const PathScene* ps, PathState* st, uint* rng, const Qmc
 #endif
         }
         if (last || h.prim < 0 || !(fmax_f(st->T.x, fmax_f(st->T.y, st->T.z)) > 0.0f)) break;
+#ifdef HAS_TRANSPARENCY  /* the path's count of transparent surfaces: those of the vertices before, and this ray's */
+        const int passed = st->s.passed;
         st->s = path_vertex(ps->sc, h, wi);
+        st->s.passed += passed;
+#else
+        st->s = path_vertex(ps->sc, h, wi);
+#endif
         L += path_vertex_light(ps, st, rng, q);
     }
     return L;

@@ -68,6 +68,11 @@ inline void hit_gsample(const SceneSurfaces* sc, Hit hit, float3 d, float footpr
     (void)gx;
 #endif
     g->emission = (float4)(emission, as_float(tp.bumped ? normal_pack(tp.nb) : 0));
+#ifdef HAS_TRANSPARENCY
+    g->layer = (float4)(as_float(hit.passed), 0.0f, 0.0f, 0.0f);
+#else
+    g->layer = (float4)(0.0f);
+#endif
 }
 
 #endif

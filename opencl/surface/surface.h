@@ -37,6 +37,10 @@ typedef struct {
 #ifdef HAS_LIGHT_LINKING
     int receiver;   /* the receiver light set of its object (lights/linking.h) */
 #endif
+#ifdef HAS_TRANSPARENCY
+    int passed;     /* the transparent surfaces the path passed to reach it (GSample.layer.x), off its shadow rays'
+                       allowance (direct/visibility.h shadow_allowance) */
+#endif
 } Surface;
 
 /* The material of pixel i of the G-buffer g and its extension gx (valid: the pixel shows a surface); the lobes
@@ -72,6 +76,9 @@ inline Surface surface_make(const GSample* gs, SurfaceMaterial m, float3 wo)
     s.ng = gs->gnormal.xyz;
 #ifdef HAS_LIGHT_LINKING
     s.receiver = (as_int(gs->albedo.w) >> LINK_RECEIVER_SHIFT) & LINK_SET_MASK;
+#endif
+#ifdef HAS_TRANSPARENCY
+    s.passed = as_int(gs->layer.x);
 #endif
 #ifdef HAS_TEXTURES
     int nb = as_int(gs->emission.w);

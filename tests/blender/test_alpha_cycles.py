@@ -6,8 +6,8 @@ Transparent BSDF by the coverage, the image on the UV map) with the same Light P
 relMSE = mean((ours - cycles)^2 / (cycles^2 + 0.01)) over RGB; bound 1 %. Measured when written at 48x36 (Cycles
 1024 spp, ours 512 samples of RIS, 2 CPU cores): direct light 0.028 %; Max Bounces 2 (slow: Cycles 2048, ours 1024)
 0.009 %; shadows that ignore alpha (the negative control TEST_OPAQUE_SHADOWS) are far off. Light Paths >
-Transparent against Cycles on stacks of cards where its rule and ours agree (docs/design.md, "Transparency": Cycles
-also takes the surfaces a camera ray passed off a shadow ray's allowance, which ours does not)."""
+Transparent against Cycles on stacks of cards (the shadow rays' allowance less the camera ray's passes:
+test_shadow_allowance_cycles.py). Our stills shade the cards in weighted layers, as Cycles (render/layers.py)."""
 
 from __future__ import annotations
 

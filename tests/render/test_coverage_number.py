@@ -6,14 +6,20 @@ The expected coverage is computed here independently: each pixel's footprint sam
 orthographic ray of each point met with the card's plane, and the 32 x 32 leaf image's alpha interpolated
 bilinearly (texel centres at half-integers, the image's bottom row at v = 0) at the UV found. The negative
 control is the frames' own sequence (the random sampler's path), which is one number per frame for all pixels:
-tied to the one Halton jitter point of the frame, its error at the rims stops falling."""
+tied to the one Halton jitter point of the frame, its error at the rims stops falling.
+
+Stills that shade in weighted layers (render/layers.py) draw no number: a sample's alpha is the coverage where its
+ray meets the card. The number serves the stills that keep one surface per sample (ReSTIR's reuse, denoising,
+Cryptomatte, ...) and the animation frames; its tests render with the layers off."""
 
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from restircl import Camera, Environment, Light, Renderer, Scene, Settings, look_at, translation
 from restircl.eval.scenes.alpha_cards import card, leaf_image, leaf_material
 from restircl.render.camera import camera_record
+from restircl.render.layers import CameraLayers
 
 W, H = 24, 18
 SAMPLES = 4096
@@ -60,24 +66,37 @@ def expected_coverage(scene: Scene) -> np.ndarray:
     return a.mean(axis=(2, 3))
 
 
-def coverage_error(sampler: str, seed: int) -> tuple[float, np.ndarray]:
+def coverage_error(sampler: str, seed: int, samples: int = SAMPLES) -> tuple[float, np.ndarray]:
     """Mean squared error of the film alpha at the pixels where the coverage is neither 0 nor 1."""
     scene = leaf_scene()
-    f = Renderer(scene, Settings(method="ris", sampler=sampler, seed=seed)).render_still(0, samples=SAMPLES)
+    f = Renderer(scene, Settings(method="ris", sampler=sampler, seed=seed)).render_still(0, samples=samples)
     assert f.coverage is not None
     exp = expected_coverage(scene)
     rim = (exp > 0.02) & (exp < 0.98)
     return float(np.mean((f.coverage[rim] - exp[rim]) ** 2)), exp[rim]
 
 
-def test_the_rims_film_alpha_converges_as_a_stratified_estimate(device):
+@pytest.fixture
+def one_surface(monkeypatch):
+    """Stills keep one surface per sample, chosen by the camera's number."""
+    monkeypatch.setattr(CameraLayers, "wanted", lambda *args: False)
+
+
+def test_the_layers_film_alpha_is_the_coverage_met(device):
+    """With the weighted layers, a sample's alpha is the coverage its ray met: only the jitter's error is left."""
+    samples = SAMPLES // 16
+    err, exp = coverage_error("auto", 3, samples)
+    assert err < 0.05 * float(np.mean(exp * (1 - exp))) / samples
+
+
+def test_the_rims_film_alpha_converges_as_a_stratified_estimate(device, one_surface):
     err, exp = coverage_error("auto", 3)
     assert exp.size >= 40  # the leaf's lobes put many pixels on its rim
     binomial = float(np.mean(exp * (1 - exp))) / SAMPLES  # what independent coins would leave
     assert err < 0.6 * binomial  # 0.31-0.34x at seeds 3 and 4; the frames' sequence 3-6x
 
 
-def test_the_frames_own_sequence_is_tied_to_the_jitter(device):
+def test_the_frames_own_sequence_is_tied_to_the_jitter(device, one_surface):
     """The negative control: one number per frame for all pixels leaves more than independent coins would."""
     err, exp = coverage_error("random", 3)
     binomial = float(np.mean(exp * (1 - exp))) / SAMPLES

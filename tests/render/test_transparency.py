@@ -134,10 +134,14 @@ def _stack(cards: int, bound: int, world: bool = False) -> object:
 
 
 def test_camera_rays_end_black_after_transparent_max_bounces(device):
-    """Four fully transparent cards: with the bound at 5 the camera sees the floor; at 4 its ray, having passed
-    four, ends at the floor, black and opaque (Cycles ends the path at the surface after the pass that reached the
-    bound); a bound of 0 still lets one pass, as in Cycles: the world behind one card is seen."""
-    assert _stack(4, 5).color[..., :3].mean() > 0.05
+    """Four fully transparent cards: with the bound at 8 the camera sees the floor lit (its shadow rays pass the
+    four cards again: 4 + 4 <= 8); at 5 it sees the floor but the floor's shadow rays may pass only 5 - 4 = 1
+    (Cycles counts the camera ray's passes off them): black, opaque; at 4 its ray, having passed four, ends at the
+    floor, black and opaque (Cycles ends the path at the surface after the pass that reached the bound); a bound
+    of 0 still lets one pass, as in Cycles: the world behind one card is seen."""
+    assert _stack(4, 8).color[..., :3].mean() > 0.05
+    unlit = _stack(4, 5)
+    assert unlit.color[..., :3].max() == 0.0 and np.all(unlit.coverage == 1.0)
     ended = _stack(4, 4)
     assert ended.color[..., :3].max() == 0.0
     assert np.all(ended.coverage == 1.0)

@@ -8,6 +8,9 @@ eval/cycles/compare.py times them. Prints one line per budget and method, and `u
 
     PYTHONPATH=python python tools/experiments/alpha_equal_time.py [width height [opaque]]
 
+ALPHA_REFERENCE=path.npy: the reference is read from that file, or rendered and written there (so that runs of two
+states of the code, each with PYTHONPATH at its own tree, compare with one reference).
+
 `opaque`: the same scene with every coverage 1 (the leaves' quads and the pane opaque), for the share of the gap
 that transparency makes.
 """
@@ -52,8 +55,14 @@ def main() -> None:
             m.alpha = 1.0
     bpy_scene = cycles.to_bpy(scene)
     print(f"alpha_cards {w}x{h} {' '.join(sys.argv[3:])}, load {os.getloadavg()}")
-    refs = [cycles.render(bpy_scene, samples=REFERENCE_SPP, seed=100 + k, threads=2, adjust=adjust).image[..., :3]
-            for k in range(2)]
+    cached = os.environ.get("ALPHA_REFERENCE")
+    if cached and os.path.exists(cached):
+        refs = list(np.load(cached))
+    else:
+        refs = [cycles.render(bpy_scene, samples=REFERENCE_SPP, seed=100 + k, threads=2,
+                              adjust=adjust).image[..., :3] for k in range(2)]
+        if cached:
+            np.save(cached, np.stack(refs))
     ref = 0.5 * (refs[0] + refs[1])
     print(f"reference: 2 x {REFERENCE_SPP} spp, its own relMSE ~ {rel_mse(refs[0], refs[1]) / 4:.2e}")
     cycles.render(bpy_scene, samples=1, threads=2, adjust=adjust)

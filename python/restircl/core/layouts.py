@@ -41,7 +41,7 @@ CAMERA = np.dtype(
     ]
 )
 GSAMPLE = np.dtype(
-    [("pos", F4), ("normal", F4), ("gnormal", F4), ("albedo", F4), ("emission", F4), ("motion", F4)]
+    [("pos", F4), ("normal", F4), ("gnormal", F4), ("albedo", F4), ("emission", F4), ("motion", F4), ("layer", F4)]
 )
 LOBE = np.dtype([("a", F4), ("b", F4), ("c", F4), ("d", F4), ("e", F4)])  # lanes per kind: opencl/bsdf/<kind>.h
 GLOSSY_SAMPLE = np.dtype([("wo", F4), ("lobe0", LOBE), ("lobe1", LOBE)])

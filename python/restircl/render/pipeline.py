@@ -44,6 +44,7 @@ from .denoise import denoise_by_gbuffer
 from .features import describe, renderer_flags
 from .frame import DeviceFrame, Frame, read_aovs, read_colour, read_gbuffer, read_guards, read_image
 from .history import History
+from .layers import CameraLayers
 from .light_passes import fill_planes, light_group_settings
 from .plan import FramePlan, FrameSituation, light_source, plan_frame
 from .restir_gi import RestirGI
@@ -61,6 +62,7 @@ from .stages import (
     StageTimer,
     Taa,
     Temporal,
+    Untimed,
     sampler_params,
 )
 from .still import StillAccumulation, render_still
@@ -116,6 +118,7 @@ class Renderer:
         self.paths = Paths(*stage)
         self.restir_gi = RestirGI(*stage, paths=self.paths)
         self.taa = Taa(*stage)
+        self.layers = CameraLayers(*stage)
         self.still = StillAccumulation(self.kernels, self.pixels, (self.height, self.width))
         if self.flags.get("HAS_LIGHT_PASSES"):  # the planes of the light passes (general builds write them too)
             self.buffers.light_passes = self.still.use_light_passes(int(self.flags.get("HAS_LIGHT_GROUPS", 0)))
@@ -181,9 +184,35 @@ class Renderer:
         state = self._begin_frame(frame, still, jitter_px)
         plan = state.plan
         timer.mark("upload")
-        self.primary.run(state, self.scene.camera, self._prev_view)  # 1 camera rays -> G-buffer
+        layered = self.layers.wanted(self.flags, plan, still)  # a still's weighted layers (render/layers.py)
+        for layer in range(self.layers.max_layers()) if layered else (-1,):
+            # the later layers of a still are timed together ("layers"), without waiting between their stages
+            self._shade_layer(state, timer if layer <= 0 else Untimed(), layer)
+            if layered and not self.layers.add(state, layer):
+                break
+        if layered:
+            self.layers.finish()
+            timer.mark("layers")
+        color_buf = self.buffers.sample
+        if plan.taa:  # 7 temporal accumulation (animation frames; a still render averages instead)
+            color_buf = self.taa.run(state, plan.taa_moving)
+            timer.mark("taa")
+            if plan.filter:  # 8 edge-aware a-trous filter of what is shown (the history stays as it is)
+                color_buf = self.realtime_filter.run(state, color_buf)
+                timer.mark("filter")
+        gbuf = h.gbuf(h.cur)
+        self._last_frame = frame
+        self._sample += 1
+        h.swap()
+        return DeviceFrame(timer.ms, color_buf, gbuf)
+
+    def _shade_layer(self, state: FrameState, timer: StageTimer | Untimed, layer: int) -> None:
+        """Stages 1-6b of a frame: the G-buffer and this frame's sample; of one weighted layer where layer >= 0."""
+        h, plan = self.history, state.plan
+        layer_args = self.layers.arguments(layer) if layer >= 0 else None
+        self.primary.run(state, self.scene.camera, self._prev_view, layer_args)  # 1 camera rays -> G-buffer
         timer.mark("primary")
-        if plan.tiles:  # presampled light tiles (many lights): this frame's RIS candidates
+        if plan.tiles and layer <= 0:  # presampled light tiles (many lights): this frame's RIS candidates
             self.light_tiles.run(state)
             timer.mark("tiles")
         tiles = self.light_tiles.arguments(state)
@@ -216,18 +245,6 @@ class Renderer:
             timer.mark("paths")
         if plan.gi:  # 6b ... as ReSTIR GI's samples, reused (beside the path pass where a scene refracts: plan.py)
             self.restir_gi.run(state, timer)
-        color_buf = self.buffers.sample
-        if plan.taa:  # 7 temporal accumulation (animation frames; a still render averages instead)
-            color_buf = self.taa.run(state, plan.taa_moving)
-            timer.mark("taa")
-            if plan.filter:  # 8 edge-aware a-trous filter of what is shown (the history stays as it is)
-                color_buf = self.realtime_filter.run(state, color_buf)
-                timer.mark("filter")
-        gbuf = h.gbuf(h.cur)
-        self._last_frame = frame
-        self._sample += 1
-        h.swap()
-        return DeviceFrame(timer.ms, color_buf, gbuf)
 
     def frame_params(self) -> np.void:
         """FrameParams of the next frame: the image and its random stream key."""

@@ -74,6 +74,13 @@ def image_size(state: FrameState) -> tuple[int, int]:
     return (int(state.frame_params["width"]), int(state.frame_params["height"]))
 
 
+class Untimed:
+    """A StageTimer that marks nothing (and waits for nothing)."""
+
+    def mark(self, name: str) -> None:
+        pass
+
+
 @dataclass
 class StageTimer:
     """Milliseconds per stage; each mark waits for the queue, so a stage's time is its own."""
@@ -110,21 +117,25 @@ class Stage:
 class Primary(Stage):
     """1: camera rays -> this frame's G-buffer and the Vector pass."""
 
-    def run(self, state: FrameState, camera: Camera, prev_camera: Camera | None = None) -> None:
-        """prev_camera: the previous frame's camera where it is another one (an interactive view)."""
+    def run(self, state: FrameState, camera: Camera, prev_camera: Camera | None = None,
+            layer_args: dict | None = None) -> None:
+        """prev_camera: the previous frame's camera where it is another one (an interactive view); layer_args: the
+        weighted layer of a still (render/layers.py CameraLayers.arguments), or none."""
         q, b, h = self.kernels.device.queue, self.buffers, self.history
-        cl.enqueue_copy(q, b.cameras[0], camera_record(camera, state.plan.frame, state.jitter,
-                                                         state.plan.texture_full,
-                                                         camera_sequence(int(state.frame_params["sample"]),
-                                                                         int(state.frame_params["seed"]))))
-        cl.enqueue_copy(q, b.cameras[1], camera_record(prev_camera or camera, state.plan.prev_frame))
-        cl.enqueue_copy(q, b.cameras[2], camera_record(camera, state.plan.next_frame))
+        if layer_args is None or layer_args["layer"] <= 0:  # a frame's later layers see through the same cameras
+            cl.enqueue_copy(q, b.cameras[0], camera_record(camera, state.plan.frame, state.jitter,
+                                                             state.plan.texture_full,
+                                                             camera_sequence(int(state.frame_params["sample"]),
+                                                                             int(state.frame_params["seed"]))))
+            cl.enqueue_copy(q, b.cameras[1], camera_record(prev_camera or camera, state.plan.prev_frame))
+            cl.enqueue_copy(q, b.cameras[2], camera_record(camera, state.plan.next_frame))
         self.kernels.launch("primary", image_size(state), cam=b.cameras[0],
                             prev_cam=b.cameras[1], next_cam=b.cameras[2], **self.scene.geometry,
                             **self.scene.surface, ggx_tables=self.scene.ggx_tables_buf or b.none,
                             object_motion=self.scene.motion_buf, lights=self.scene.lights_buf,
                             camera_lights=self.scene.camera_lights_buf, gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
-                            vector=b.vector, light_passes=b.light_passes, frame_params=state.frame_params)
+                            vector=b.vector, light_passes=b.light_passes, frame_params=state.frame_params,
+                            **(layer_args or {"layers": b.none, "layers_continuing": b.none, "layer": np.int32(-1)}))
 
 
 class LightTiles(Stage):
