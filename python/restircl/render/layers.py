@@ -13,13 +13,15 @@ and objects hidden from the camera (docs/design.md, "Transparency").
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 import pyopencl as cl
 
 from ..core import layouts as L
 from ..core.buffers import alloc
 from .plan import FramePlan
-from .stages import FrameState, Stage, pixel_count
+from .stages import FrameState, Stage, StageTimer, Untimed, pixel_count
 
 #: flags under which a still keeps one stochastic surface per pixel (the module's docstring says why)
 ONE_SURFACE_FLAGS = ("HAS_LIGHT_PASSES", "HAS_LIGHT_GROUPS", "HAS_HOLDOUT", "HAS_CAMERA_HIDDEN")
@@ -42,6 +44,19 @@ class CameraLayers(Stage):
         return (still and bool(flags.get("HAS_TRANSPARENCY")) and plan.method != "restir" and not plan.gi
                 and not plan.taa and not s.denoise and not s.cryptomatte_levels
                 and not any(flags.get(f) for f in ONE_SURFACE_FLAGS))
+
+    def run(self, state: FrameState, timer: StageTimer, shade: Callable[[FrameState, StageTimer, int], None],
+            layered: bool) -> None:
+        """shade(state, timer, layer) once (layer -1: one stochastic surface), or per weighted layer of a still
+        until no pixel goes on, summing them; the later layers are timed together ("layers"), without waiting
+        between their stages."""
+        for layer in range(self.max_layers()) if layered else (-1,):
+            shade(state, timer if layer <= 0 else Untimed(), layer)  # type: ignore[arg-type]
+            if layered and not self.add(state, layer):
+                break
+        if layered:
+            self.finish()
+            timer.mark("layers")
 
     def max_layers(self) -> int:
         return int(self.settings.transparent_max_bounces) + 1

@@ -39,16 +39,17 @@ from ..scene.scene import Scene
 from ..settings.table import BIAS_CORRECTIONS, SHADE_METHODS, TILE_INFO_BYTES, Settings
 from ..upload.device_scene import DeviceScene
 from . import qmc
-from .camera import camera_moved, jitter
+from .camera import jitter
 from .denoise import denoise_by_gbuffer
 from .features import describe, renderer_flags
 from .frame import DeviceFrame, Frame, read_aovs, read_colour, read_gbuffer, read_guards, read_image
 from .history import History
 from .layers import CameraLayers
 from .light_passes import fill_planes, light_group_settings
-from .plan import FramePlan, FrameSituation, light_source, plan_frame
+from .plan import FramePlan, light_source, plan_frame
 from .restir_gi import RestirGI
 from .shutter import at_phase, frame_phase, shifted, sweep
+from .situation import frame_situation
 from .stages import (
     BoilingFilter,
     FrameState,
@@ -62,7 +63,6 @@ from .stages import (
     StageTimer,
     Taa,
     Temporal,
-    Untimed,
     sampler_params,
 )
 from .still import StillAccumulation, render_still
@@ -184,15 +184,8 @@ class Renderer:
         state = self._begin_frame(frame, still, jitter_px)
         plan = state.plan
         timer.mark("upload")
-        layered = self.layers.wanted(self.flags, plan, still)  # a still's weighted layers (render/layers.py)
-        for layer in range(self.layers.max_layers()) if layered else (-1,):
-            # the later layers of a still are timed together ("layers"), without waiting between their stages
-            self._shade_layer(state, timer if layer <= 0 else Untimed(), layer)
-            if layered and not self.layers.add(state, layer):
-                break
-        if layered:
-            self.layers.finish()
-            timer.mark("layers")
+        # stages 1-6b once, or per weighted layer of a still (render/layers.py)
+        self.layers.run(state, timer, self._shade_layer, self.layers.wanted(self.flags, plan, still))
         color_buf = self.buffers.sample
         if plan.taa:  # 7 temporal accumulation (animation frames; a still render averages instead)
             color_buf = self.taa.run(state, plan.taa_moving)
@@ -206,7 +199,7 @@ class Renderer:
         h.swap()
         return DeviceFrame(timer.ms, color_buf, gbuf)
 
-    def _shade_layer(self, state: FrameState, timer: StageTimer | Untimed, layer: int) -> None:
+    def _shade_layer(self, state: FrameState, timer: StageTimer, layer: int) -> None:
         """Stages 1-6b of a frame: the G-buffer and this frame's sample; of one weighted layer where layer >= 0."""
         h, plan = self.history, state.plan
         layer_args = self.layers.arguments(layer) if layer >= 0 else None
@@ -260,26 +253,12 @@ class Renderer:
         phase = 0.0 if still else frame_phase(self.scene.camera, frame, self._sample, s.seed)  # motion blur
         ds.upload(shifted(frame, phase), shifted(self._last_frame, phase))
         params = self.frame_params()
-        self.last_plan = plan = at_phase(plan_frame(s, self._situation(frame, still, sobol=bool(params["qmc"]))), phase)
+        situation = frame_situation(self, frame, still, sobol=bool(params["qmc"]))
+        self.last_plan = plan = at_phase(plan_frame(s, situation), phase)
         if plan.drop_history:
             self.history.invalidate()
         jit = jitter_px if jitter_px is not None else jitter(self._sample) if s.jitter else (0.0, 0.0)
         return FrameState(plan, params, sampler_params(plan, ds, s), jit, sweep(self.scene.camera, phase, still))
-
-    def _situation(self, frame: int, still: bool, sobol: bool) -> FrameSituation:
-        """What plan_frame needs to know of frame `frame`, its scene as uploaded and the renderer's history."""
-        ds, cam, flags = self.device_scene, self.scene.camera, self.device_scene.material_flags
-        assert cam is not None
-        return FrameSituation(
-            frame=frame, last_frame=self._last_frame, frame_count=ds.frame_count, cut_at_frame=frame in cam.cuts,
-            history_valid=self.history.valid, lights_reindexed=ds.light_indices_changed,
-            lights_switched=ds.lights_switched, light_count=ds.sampled_light_count,
-            environment=ds.lights.environment is not None, glossy=flags.get("HAS_GLOSSY", False),
-            analytic_lights=ds.analytic_lights, triangle_lights=ds.triangle_lights, sobol=sobol,
-            light_tree=self.uses_light_tree, path_light_tree=self.path_light_tree, pick_table=self.pick_table.active,
-            still=still, camera_moved=camera_moved(cam, frame, self._last_frame, self._prev_view),
-            scene_moves=ds.moving_lights or ds.moving_objects or ds.edited, gi_history_valid=self.history.gi_valid,
-            transmission=flags.get("HAS_TRANSMISSION", False))
 
     @property
     def light_tiles_used(self) -> bool:
