@@ -1,15 +1,52 @@
-"""Test set-up: a per-run kernel cache directory (fast and clean), the OpenCL device, the session's cache of
-exhaustive reference renders, small helpers."""
+"""Test set-up: the kernel cache directory kept between runs, the OpenCL device, the session's cache of exhaustive
+reference renders, small helpers."""
 
 from __future__ import annotations
 
 import os
+import shutil
 import sys
 import tempfile
+import time
+from pathlib import Path
 
-_CACHE = tempfile.mkdtemp(prefix="restircl-test-cache-")
-os.environ.setdefault("POCL_CACHE_DIR", os.path.join(_CACHE, "pocl"))
-os.environ.setdefault("PYOPENCL_CACHE_DIR", os.path.join(_CACHE, "pyopencl"))
+CACHE_ENV = "RESTIRCL_TEST_KERNEL_CACHE"
+CACHE_KEEP_DAYS = 14
+
+
+def _prune(cache: Path, days: float) -> None:
+    """Remove the PoCL cache entries (cache/XX/HASH/, each with a last_accessed file PoCL touches on every use) not
+    used for `days`: every edit of a kernel source leaves the old programs' entries behind."""
+    cutoff = time.time() - days * 86400
+    for entry in cache.glob("*/*"):
+        stamp = entry / "last_accessed"
+        try:
+            if entry.is_dir() and stamp.is_file() and stamp.stat().st_mtime < cutoff:
+                shutil.rmtree(entry, ignore_errors=True)
+        except OSError:  # another run removed it first
+            pass
+
+
+def _kernel_cache() -> str:
+    """Most of a cold run's time is PoCL compiling the kernels' variants (some 270 programs, each built once and
+    shared by the xdist workers through this folder); their binaries are kept between runs. PoCL keys an entry by the
+    whole source (headers inlined, core/source_inline.py), the build options and the device and PoCL build, so an
+    edited kernel or another driver gets a new entry, never a stale binary. $RESTIRCL_TEST_KERNEL_CACHE names the
+    folder; "fresh" gives every run an empty one (a CI machine's first run: every variant compiled)."""
+    wanted = os.environ.get(CACHE_ENV, "")
+    if wanted == "fresh":
+        return tempfile.mkdtemp(prefix="restircl-test-cache-")
+    base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
+    folder = Path(wanted) if wanted else base / "restircl" / "test-kernels"
+    folder.mkdir(parents=True, exist_ok=True)
+    _prune(folder / "pocl", CACHE_KEEP_DAYS)
+    return str(folder)
+
+
+if "POCL_CACHE_DIR" not in os.environ:  # set by the user, or by the process that started this xdist worker
+    _CACHE = _kernel_cache()
+    os.environ.setdefault("POCL_CACHE_DIR", os.path.join(_CACHE, "pocl"))
+    os.environ.setdefault("PYOPENCL_CACHE_DIR", os.path.join(_CACHE, "pyopencl"))
 
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
