@@ -2,9 +2,8 @@
  * laid out). A pick descends from the root, at each node taking a child with probability
  *     p = (1 - F) (N_c / (N_0 + N_1) + R_c / (R_0 + R_1)) / 2 + F phi_c / (phi_0 + phi_1),
  * N and R the children's importances at the shading point (power x orientation bound / squared distance, as pbrt-v4's
- * LightBounds::Importance, at the distance of the box's nearest point and at its centre's: light_tree_importance;
- * a child whose box holds the point is judged by its children's: light_tree_open_importance), phi their power,
- * F = LIGHT_TREE_FLOOR. The power term is the floor: every
+ * LightBounds::Importance, but at the distance of the box's nearest point and of its farthest corner instead of its
+ * centre's: light_tree_importance), phi their power, F = LIGHT_TREE_FLOOR. The power term is the floor: every
  * light of power > 0 keeps a nonzero probability everywhere, so RIS over tree candidates stays unbiased even where
  * a bound is wrong (a shading normal, a normal map); no branch goes below LIGHT_TREE_MIN_BRANCH. The pick's pdf
  * is the product of the branch probabilities; light_pick_pdf recomputes it for a given light from its leaf index
@@ -21,7 +20,6 @@
 #include "lights/array.h"  /* light_pick_lights falls back to the array (and picks the distant lights by it) */
 #include "lights/pick_table.h"
 
-#define LIGHT_TREE_OPEN 8           /* levels light_tree_open_importance may open */
 #define LIGHT_TREE_MEMO 15          /* the top four levels' branches are computed once per pixel and batch */
 
 /* Where a light pick comes from, and what it needs to give the pick pdf of any light: the light array, or
@@ -76,13 +74,10 @@ inline float2 light_tree_cos_sub(float cos_a, float sin_a, float cos_b, float si
  * the orientation terms (incidence at x, emission by the lights' cone; 1 where x is inside the box's bounding sphere,
  * which every direction may reach, and no cone to test for lights that emit in every direction) over squared
  * distance, at two distances: .x at the box's nearest point (an upper bound; 0 when x is in the box, then kept
- * finite by a floor of 1e-12) and .y at its centre. The centre's distance alone judges a box with one light beside
- * x, its others metres away, as far as its centre; the nearest point's alone judges every box over x (a floor under
- * a grid of ceiling spots) as near as the ceiling, and the farthest corner's would even out what the centre's tells
- * apart there: which group of spots hangs over x (each spot's cone lights only the floor below it). A surface that
- * transmits (rough glass) takes light from behind its tangent plane too: its callers pass 2 n (direct/light_side.h
- * light_pick_normal), and the incidence bound is then that of the nearer of n and -n, as Cycles' light tree treats a
- * transmitting closure. */
+ * finite by a floor of 1e-12) and .y at its farthest corner. The centre's distance would judge a box with one light
+ * beside x, its others metres away, as far as its centre. A surface that transmits (rough glass) takes light from
+ * behind its tangent plane too: its callers pass 2 n (direct/light_side.h light_pick_normal), and the incidence
+ * bound is then that of the nearer of n and -n, as Cycles' light tree treats a transmitting closure. */
 inline float2 light_tree_importance(const __global LightTreeNode* nd, float3 x, float3 n)
 {
     float4 lo = nd->lo, hi = nd->hi, ax = nd->axis;
@@ -114,40 +109,12 @@ inline float2 light_tree_importance(const __global LightTreeNode* nd, float3 x, 
         }
         bound *= cos_ip * cos_p;
     }
-    /* per axis, x's distance from the box's near face (0 between the faces) */
-    float3 near = (float3)(fmax_f(abs_f(d.x) - half_ext.x, 0.0f), fmax_f(abs_f(d.y) - half_ext.y, 0.0f),
-                           fmax_f(abs_f(d.z) - half_ext.z, 0.0f));
-    return (float2)(bound / fmax_f(dot3(near, near), 1e-12f), bound / fmax_f(d2, 1e-12f));
-}
-
-/* light_tree_importance of node c, or, where x lies in the box of an inner node, the sum over its children's
- * (opened in turn, down to LIGHT_TREE_OPEN levels below c): a box that holds x says nothing of how far its lights
- * are (its nearest point is x, its centre may be anywhere between them), and a cut by count can give one box a lone
- * light on one side of x and a cluster on the other (a lamp in front of a glass pane and half of a row behind it). */
-inline float2 light_tree_open_importance(const __global LightTreeNode* nodes, int c, float3 x, float3 n)
-{
-    int todo[LIGHT_TREE_OPEN + 1], level[LIGHT_TREE_OPEN + 1];
-    int top = 1;
-    todo[0] = c;
-    level[0] = 0;
-    float2 sum = (float2)(0.0f);
-    while (top > 0) {
-        --top;
-        int j = todo[top], lv = level[top];
-        const __global LightTreeNode* nd = &nodes[j];
-        float3 lo = nd->lo.xyz, hi = nd->hi.xyz;
-        bool inside = x.x >= lo.x && x.x <= hi.x && x.y >= lo.y && x.y <= hi.y && x.z >= lo.z && x.z <= hi.z;
-        if (inside && nd->meta.x < 0 && lv < LIGHT_TREE_OPEN) {
-            todo[top] = 2 * j + 1;
-            level[top] = lv + 1;
-            todo[top + 1] = 2 * j + 2;
-            level[top + 1] = lv + 1;
-            top += 2;
-        } else {
-            sum += light_tree_importance(nd, x, n);
-        }
-    }
-    return sum;
+    /* per axis, x's distance from the box's near face (0 between the faces) and from its far face */
+    float3 ad = (float3)(abs_f(d.x), abs_f(d.y), abs_f(d.z));
+    float3 near = (float3)(fmax_f(ad.x - half_ext.x, 0.0f), fmax_f(ad.y - half_ext.y, 0.0f),
+                           fmax_f(ad.z - half_ext.z, 0.0f));
+    float3 far = ad + half_ext;
+    return (float2)(bound / fmax_f(dot3(near, near), 1e-12f), bound / fmax_f(dot3(far, far), 1e-12f));
 }
 
 /* The share a of a + b, or -1 where the sum is 0 or not finite. */
@@ -158,7 +125,7 @@ inline float light_tree_share(float a, float b)
 }
 
 /* The probability of taking the first of the children c, c + 1 at x: the mean of their importance shares at the
- * near and at the centre's distances (light_tree_open_importance; one of them alone where the other's sum is 0 or not
+ * near and at the far distances (light_tree_importance; one of them alone where the other's sum is 0 or not
  * finite, their power share where both are), mixed with the power share, and kept within [B, 1 - B] (B =
  * LIGHT_TREE_MIN_BRANCH): a float draw could not reach a branch of probability 1e-12 that the pmf would still count,
  * and 1 - p of the clamped p is what the descent takes the second child with, to float rounding. */
@@ -168,9 +135,9 @@ inline float light_tree_branch(const __global LightTreeNode* nodes, int c, float
     /* a child without power is never taken (the light array gives such lights no slot either) */
     if (!(phi0 > 0.0f) || !(phi1 > 0.0f)) return phi0 > 0.0f ? 1.0f : 0.0f;
     float pw = phi0 / (phi0 + phi1);
-    float2 i0 = light_tree_open_importance(nodes, c, x, n), i1 = light_tree_open_importance(nodes, c + 1, x, n);
-    float near = light_tree_share(i0.x, i1.x), centre = light_tree_share(i0.y, i1.y);
-    float pi = near >= 0.0f ? (centre >= 0.0f ? 0.5f * (near + centre) : near) : (centre >= 0.0f ? centre : pw);
+    float2 i0 = light_tree_importance(&nodes[c], x, n), i1 = light_tree_importance(&nodes[c + 1], x, n);
+    float near = light_tree_share(i0.x, i1.x), far = light_tree_share(i0.y, i1.y);
+    float pi = near >= 0.0f ? (far >= 0.0f ? 0.5f * (near + far) : near) : (far >= 0.0f ? far : pw);
     float p = (1.0f - LIGHT_TREE_FLOOR) * pi + LIGHT_TREE_FLOOR * pw;
     return clamp_f(p, LIGHT_TREE_MIN_BRANCH, 1.0f - LIGHT_TREE_MIN_BRANCH);
 }

@@ -67,8 +67,8 @@ def test_points_beside_lamps_pick_the_lamps_that_light_them(device, seed):
     others, facing them, the variance factor of the device's pick, sum over lights q^2 / p (q each light's share of
     the point's unshadowed irradiance, power cos / d^2; 1 for the ideal pick q, 1 / p the weight of a light sample
     whose share is 1), is below 4 on average and below 100 everywhere. Measured with the host's pmf over seeds 1-4:
-    means 2.4-2.7, worst 18-74 (on the faces); with the leaves in Morton order and the importance at the box centre's
-    distance, means 25-80, worst 790-7290."""
+    means 2.7-3.2, worst 18-69 (on the faces); before, with the leaves in Morton order and the importance at the
+    box centre's distance, means 25-80, worst 790-7290."""
     records, pos, power = _garden_lights(seed)
     tree = DeviceTree(device, build_light_tree(records, np.full(len(pos), 3), power))
     rng = np.random.default_rng(seed + 100)

@@ -227,8 +227,6 @@ def light_trees(settings: Settings, types: np.ndarray) -> tuple[bool, bool]:
 
 #: share of each branch probability given by the children's power (lights/tree.h LIGHT_TREE_FLOOR)
 FLOOR = 0.1
-#: levels below a child that its importance opens where its box holds the point (lights/tree.h LIGHT_TREE_OPEN)
-OPEN = 8
 #: no branch probability below this, nor above 1 minus it (lights/tree.h LIGHT_TREE_MIN_BRANCH)
 MIN_BRANCH = 1.0 / 4096.0
 
@@ -243,7 +241,7 @@ def _cos_sub(cos_a, sin_a, cos_b, sin_b):
 
 def importance(nodes: np.ndarray, x: np.ndarray, n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Each node's importance at point x with unit normal n at the distance of its box's nearest point and of its
-    centre (lights/tree.h light_tree_importance; float64, the device computes it in float)."""
+    farthest corner (lights/tree.h light_tree_importance; float64, the device computes it in float)."""
     lo, hi = nodes["lo"][:, :3].astype(np.float64), nodes["hi"][:, :3].astype(np.float64)
     phi, cos_o, cos_e = (nodes[k][:, 3].astype(np.float64) for k in ("lo", "hi", "axis"))
     sin_o = nodes["meta"][:, 2].copy().view(np.float32).astype(np.float64)
@@ -251,9 +249,10 @@ def importance(nodes: np.ndarray, x: np.ndarray, n: np.ndarray) -> tuple[np.ndar
     two = (nodes["meta"][:, 1] & NODE_TWO_SIDED) != 0
     d = x - 0.5 * (lo + hi)
     near = np.maximum(np.abs(d) - 0.5 * (hi - lo), 0.0)  # per axis, from the box's near face (0 between the faces)
+    far = np.abs(d) + 0.5 * (hi - lo)  # ... and from its far face
     inv_near = 1.0 / np.maximum(np.einsum("ij,ij->i", near, near), 1e-12)
+    inv_far = 1.0 / np.maximum(np.einsum("ij,ij->i", far, far), 1e-12)
     d2 = np.einsum("ij,ij->i", d, d)
-    inv_centre = 1.0 / np.maximum(d2, 1e-12)
     r2 = 0.25 * np.einsum("ij,ij->i", hi - lo, hi - lo)
     inside = d2 <= r2
     wo = d / np.sqrt(np.maximum(d2, 1e-300))[:, None]  # from the node towards x
@@ -267,7 +266,7 @@ def importance(nodes: np.ndarray, x: np.ndarray, n: np.ndarray) -> tuple[np.ndar
     cos_p, _ = _cos_sub(c1, s1, cos_b, sin_b)
     cos_p = np.where(cos_o > -1, cos_p, 1.0)
     bound = np.where(inside, phi, np.where((cos_p < cos_e) | (cos_ip <= 0), 0.0, phi * cos_ip * cos_p))
-    return bound * inv_near, bound * inv_centre
+    return bound * inv_near, bound * inv_far
 
 
 def pmf(tree: LightTree, x: np.ndarray, n: np.ndarray) -> np.ndarray:
@@ -277,22 +276,12 @@ def pmf(tree: LightTree, x: np.ndarray, n: np.ndarray) -> np.ndarray:
     out[far] = tree.light_info[far, 1].view(np.float32)
     if tree.leaves == 0:
         return out
-    x = np.asarray(x, np.float64)
-    imp = np.stack(importance(tree.nodes, x, np.asarray(n, np.float64)), axis=1)
-    x32 = x.astype(np.float32)  # in float as the device tests it: x on a face of a box is in it or not alike
-    opens = np.all((x32 >= tree.nodes["lo"][:, :3]) & (x32 <= tree.nodes["hi"][:, :3]), axis=1)
-    opens &= tree.nodes["meta"][:, 0] < 0
-
-    def opened(j: int, level: int) -> np.ndarray:  # lights/tree.h light_tree_open_importance
-        if opens[j] and level < OPEN:
-            return opened(2 * j + 1, level + 1) + opened(2 * j + 2, level + 1)
-        return imp[j]
-
+    near_imp, far_imp = importance(tree.nodes, np.asarray(x, np.float64), np.asarray(n, np.float64))
     phi = tree.nodes["lo"][:, 3].astype(np.float64)
     prob = np.ones(len(tree.nodes))
     for j in range(tree.leaves - 1):  # parents before children
         c0, c1 = 2 * j + 1, 2 * j + 2
-        p0 = branch(tuple(opened(c0, 0)), tuple(opened(c1, 0)), phi[c0], phi[c1])
+        p0 = branch((near_imp[c0], far_imp[c0]), (near_imp[c1], far_imp[c1]), phi[c0], phi[c1])
         prob[c0], prob[c1] = prob[j] * p0, prob[j] * (1 - p0)
     leaf = tree.light_info[~far, 0]
     out[~far] = tree.p_local * prob[leaf]
@@ -305,7 +294,7 @@ def _share(a: float, b: float) -> float | None:
 
 
 def branch(i0: tuple[float, float], i1: tuple[float, float], phi0: float, phi1: float) -> float:
-    """The probability of the first child (lights/tree.h light_tree_branch) of children of (near, centre) importances
+    """The probability of the first child (lights/tree.h light_tree_branch) of children of (near, far) importances
     i0, i1 and powers phi0, phi1."""
     if not (phi0 > 0 and phi1 > 0):
         return 1.0 if phi0 > 0 else 0.0
