@@ -155,9 +155,10 @@ class ShaderReader:
             specular_tint=inp.color(find_input(node, ("Specular Tint",)), stack),
             distribution=self._distribution(node, label), transmission=self._transmission(node, stack, label),
             thin_wall=self._thin_wall(node, stack, label), **self._thin_film(node, stack, label))
+        from restircl.materials.textures import constant_float, is_texture
         from restircl.materials.thin_film import has_film
 
-        metallic = closure.metallic if isinstance(closure.metallic, float) else 0.5
+        metallic = 0.5 if is_texture(closure.metallic) else constant_float(closure.metallic)
         if has_film(closure) and closure.transmission > 0 and 0 < metallic < 1:
             self.notes.note(f"{label}: a thin film on a part-metallic BSDF with transmission makes more lobes than "
                             "a material holds; its transmission is left out")
@@ -206,12 +207,14 @@ class ShaderReader:
     def _thin_film(self, node, stack: tuple, label: str) -> dict:
         """Thin Film Thickness (nm) and IOR as Material fields (none where the node has no film inputs), constants:
         a texture on either is taken as its default value, with a note."""
+        from restircl.materials.thin_film import DEFAULT_IOR
+
         sock = find_input(node, ("Thin Film Thickness",))
         if sock is None:
             return {}
         thickness = self.inputs.constant(sock, stack, f"{label} Thin Film Thickness")
         ior_in = find_input(node, ("Thin Film IOR",))
-        ior = self.inputs.constant(ior_in, stack, f"{label} Thin Film IOR") if ior_in is not None else 1.33
+        ior = self.inputs.constant(ior_in, stack, f"{label} Thin Film IOR") if ior_in is not None else DEFAULT_IOR
         if not (math.isfinite(thickness) and math.isfinite(ior)):
             self.notes.note(f"{label}: a thin film of thickness {thickness:g} and IOR {ior:g} is left out")
             return {}

@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import thin_film
 from .closures.registry import kind_of
 from .textures import Input
 
@@ -57,7 +58,7 @@ class Material:
     transmission: float = 0.0  # the Principled BSDF's Transmission Weight, in [0, 1]
     thin_wall: bool = False  # the Principled BSDF's Thin Wall (Blender 5.3): its transmission is a thin sheet
     thin_film_thickness: float = 0.0  # Thin Film Thickness (nm; <= materials/thin_film.py CUTOFF: no film)
-    thin_film_ior: float = 1.33  # Thin Film IOR
+    thin_film_ior: float = thin_film.DEFAULT_IOR  # Thin Film IOR
 
     @property
     def radiance(self) -> np.ndarray:

@@ -202,8 +202,8 @@ class Renderer:
     def _shade_layer(self, state: FrameState, timer: StageTimer, layer: int) -> None:
         """Stages 1-6b of a frame: the G-buffer and this frame's sample; of one weighted layer where layer >= 0."""
         h, plan = self.history, state.plan
-        layer_args = self.layers.arguments(layer) if layer >= 0 else None
-        self.primary.run(state, self.scene.camera, self._prev_view, layer_args)  # 1 camera rays -> G-buffer
+        # 1 camera rays -> G-buffer
+        self.primary.run(state, self.scene.camera, self._prev_view, self.layers.arguments(layer))
         timer.mark("primary")
         if plan.tiles and layer <= 0:  # presampled light tiles (many lights): this frame's RIS candidates
             self.light_tiles.run(state)

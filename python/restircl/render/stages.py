@@ -117,12 +117,11 @@ class Stage:
 class Primary(Stage):
     """1: camera rays -> this frame's G-buffer and the Vector pass."""
 
-    def run(self, state: FrameState, camera: Camera, prev_camera: Camera | None = None,
-            layer_args: dict | None = None) -> None:
+    def run(self, state: FrameState, camera: Camera, prev_camera: Camera | None, layer_args: dict) -> None:
         """prev_camera: the previous frame's camera where it is another one (an interactive view); layer_args: the
-        weighted layer of a still (render/layers.py CameraLayers.arguments), or none."""
+        layer arguments (render/layers.py CameraLayers.arguments: layer -1 where the frame has no weighted layers)."""
         q, b, h = self.kernels.device.queue, self.buffers, self.history
-        if layer_args is None or layer_args["layer"] <= 0:  # a frame's later layers see through the same cameras
+        if layer_args["layer"] <= 0:  # a frame's later layers see through the same cameras
             cl.enqueue_copy(q, b.cameras[0], camera_record(camera, state.plan.frame, state.jitter,
                                                              state.plan.texture_full,
                                                              camera_sequence(int(state.frame_params["sample"]),
@@ -135,7 +134,7 @@ class Primary(Stage):
                             object_motion=self.scene.motion_buf, lights=self.scene.lights_buf,
                             camera_lights=self.scene.camera_lights_buf, gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
                             vector=b.vector, light_passes=b.light_passes, frame_params=state.frame_params,
-                            **(layer_args or {"layers": b.none, "layers_continuing": b.none, "layer": np.int32(-1)}))
+                            **layer_args)
 
 
 class LightTiles(Stage):

@@ -25,7 +25,7 @@ from ..materials.alpha import AlphaSource, alpha_source, is_transparent
 from ..materials.material import Material
 from ..materials.textures import EXTENSIONS, INTERPOLATIONS
 from ..scene.scene import Scene
-from .thin_wall_shadow import THIN_RECORD, scene_has_thin_shadow, thin_wall_record
+from .thin_wall_shadow import THIN_RECORD, thin_wall_record
 
 ALPHA_MATERIAL = 4 + THIN_RECORD  # float4s per material record
 ALPHA_TRIANGLE = 2  # float4s per triangle record
@@ -39,6 +39,11 @@ def scene_is_transparent(scene: Scene) -> bool:
 def _has_record(m: Material) -> bool:
     """Whether rays read a record of m: a coverage below 1 or a thin wall that shadow rays pass."""
     return is_transparent(m) or thin_wall_record(m) is not None
+
+
+def scene_has_records(scene: Scene) -> bool:
+    """Whether some material of the scene has a record (rays pass it: the transparent shadow loop)."""
+    return any(_has_record(m) for m in scene.materials)
 
 
 def _scalar_texels(source: AlphaSource) -> np.ndarray:
@@ -127,7 +132,7 @@ def with_transparency(scene: Scene, tris: np.ndarray, world, order: np.ndarray) 
     opaque."""
     out = tris.copy()
     n = len(order)
-    if not (scene_is_transparent(scene) or scene_has_thin_shadow(scene)):
+    if not scene_has_records(scene):
         out["e1"][:n, 3] = L.int_bits(np.full(n, -1, np.int32))
         return out
     obj, prim = world.object[order], world.prim[order]

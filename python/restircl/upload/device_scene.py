@@ -21,7 +21,7 @@ from ..lights.hit import analytic_light_count, triangle_lights
 from ..lights.linking import object_bits
 from ..lights.tree import LightTree, build_light_tree
 from ..scene.scene import Scene
-from .alpha import scene_is_transparent, with_transparency
+from .alpha import scene_has_records, with_transparency
 from .attributes import attribute_rows
 from .deform_motion import deform_motion
 from .glass_tables import device_tables
@@ -187,7 +187,7 @@ class DeviceScene:
         thin_shadow = scene_has_thin_shadow(self.scene)  # its shadow rays take the transparent ones' loop
         self.material_flags = {"HAS_GLOSSY": packed.glossy or packed.transmission, "HAS_TEXTURES": packed.textured,
                                "HAS_TRANSMISSION": packed.transmission, "HAS_THIN_FILM": packed.thin_film,
-                               "HAS_TRANSPARENCY": scene_is_transparent(self.scene) or thin_shadow,
+                               "HAS_TRANSPARENCY": scene_has_records(self.scene),
                                "HAS_THIN_SHADOW": thin_shadow}
         self.materials_buf = upload(self.context, packed.materials)
         self.closures_buf = upload(self.context, packed.closures)
