@@ -90,7 +90,7 @@ inline int bsdf_ray_triangle_light(const Surface* s, const __global BVHNode* nod
     Hit h = trace_closest(nodes, tris, o, wi, INFINITY);
 #ifdef HAS_THIN_SHADOW  /* past smooth thin walls: the candidate's shadow ray passes them (direct/thin_wall_rays.h) */
     float3 pass;
-    h = thin_wall_next(nodes, tris, h, o, wi, &pass);
+    h = thin_wall_next(nodes, tris, h, o, wi, shadow_allowance(s), &pass);
     if (!shadow_any(pass)) h.prim = -1;
 #endif
     int l = h.prim >= 0 ? tri_light[h.prim] : -1;

@@ -9,13 +9,14 @@
 #ifdef HAS_THIN_SHADOW
 
 /* The first surface past the smooth thin walls from hit h on along the ray o + t d (unit d), and in *pass what of the
- * light gets through those walls (0 where more than Transparent max bounces of them stand in the way). */
+ * light gets through those walls (0 where more than `allowance` of them stand in the way: the allowance of the
+ * surface the ray left, direct/visibility.h shadow_allowance, as its light samples' shadow rays have it). */
 inline Hit thin_wall_next(const __global BVHNode* nodes, const __global Tri* tris, Hit h, float3 o, float3 d,
-                          float3* pass)
+                          int allowance, float3* pass)
 {
     *pass = (float3)(1.0f);
     for (int k = 0; h.prim >= 0 && thin_wall_record(tris, h.prim) != 0; ++k) {
-        if (k == TRANSPARENT_MAX_BOUNCES) {
+        if (k >= allowance) {
             *pass = (float3)(0.0f);
             return h;
         }
@@ -28,10 +29,12 @@ inline Hit thin_wall_next(const __global BVHNode* nodes, const __global Tri* tri
 
 /* What of light sample e, seen from the origin o of a ray in unit direction wi that met the smooth thin wall h,
  * passes that wall and whatever stands between it and the light (every object shadows it: a light with linked
- * shadows is met through its own blockers elsewhere, path/emitters.h) */
+ * shadows is met through its own blockers elsewhere, path/emitters.h); the wall and what follows count against
+ * `allowance`, the surface's (direct/visibility.h shadow_allowance), as for its light samples' shadow rays */
 inline float3 thin_wall_beyond(const __global BVHNode* nodes, const __global Tri* tris, Hit h, float3 o, float3 wi,
-                               const LightEval* e)
+                               const LightEval* e, int allowance)
 {
+    if (allowance < 1) return (float3)(0.0f);  /* no surface may be passed: not even the wall */
     float3 pass = thin_wall_pass(tris, h.prim, h.u, h.v, wi);
     float3 o2 = transparent_continue(tris, h, o, wi);
     float3 d = e->wi;
@@ -43,9 +46,7 @@ inline float3 thin_wall_beyond(const __global BVHNode* nodes, const __global Tri
         d = v / len;
         tmax = len * 0.9999f;
     }
-    /* the wall counts against Transparent Max Bounces; what the path passed before the vertex does not (the
-     * vertex's own allowance is not at hand here) */
-    return pass * trace_transmittance(nodes, tris, o2, d, tmax, (uint2)(0xFFFFFFFFu), TRANSPARENT_MAX_BOUNCES - 1);
+    return pass * trace_transmittance(nodes, tris, o2, d, tmax, (uint2)(0xFFFFFFFFu), allowance - 1);
 }
 
 #endif

@@ -16,7 +16,7 @@ inline float3 thin_wall_emitter_pass(const Surface* s, const __global BVHNode* n
     LightEval e;
     if (!light_ray_findable(rec) || !surface_light_eval(s, rec, uv.x, uv.y, &e)) return (float3)(0.0f);
     if (finite_f(e.dist) && e.dist < h.t) return (float3)(0.0f);
-    return thin_wall_beyond(nodes, tris, h, path_ray_origin(tris, s, wi), wi, &e);
+    return thin_wall_beyond(nodes, tris, h, path_ray_origin(tris, s, wi), wi, &e, shadow_allowance(s));
 }
 
 #ifdef HAS_TRIANGLE_LIGHTS
@@ -27,7 +27,7 @@ inline float3 thin_wall_triangle_term(const Surface* s, const __global BVHNode* 
                                       const LightPick* lp, BsdfSource hits, Hit h, float3 wi, int* light)
 {
     float3 pass;
-    Hit past = thin_wall_next(nodes, tris, h, path_ray_origin(tris, s, wi), wi, &pass);
+    Hit past = thin_wall_next(nodes, tris, h, path_ray_origin(tris, s, wi), wi, shadow_allowance(s), &pass);
     *light = past.prim >= 0 ? tri_light[past.prim] : -1;
     if (*light < 0 || !shadow_any(pass)) return (float3)(0.0f);
     return pass * path_emitter_term(s, nodes, tris, lights, &lights[*light], LIGHT_TRIANGLE, *light,
@@ -39,10 +39,15 @@ inline float3 thin_wall_triangle_term(const Surface* s, const __global BVHNode* 
  * before it counted? */
 inline bool thin_wall_passed(const __global Tri* tris, const Surface* s, int part, float3 wi)
 {
+#ifdef HAS_TRANSMISSION  /* a thin wall transmits (the upload sets both flags; without it there is no such lobe) */
     if (part < 0 || !(dot3(s->ng, wi) * dot3(s->ng, s->wo) < 0.0f)) return false;
     const Lobe* l = &s->mat.lobe[part];
     return lobe_kind(l) == LOBE_THIN_DIELECTRIC && thin_dielectric(l).smooth != 0.0f
            && thin_wall_record(tris, s->prim) != 0;
+#else
+    (void)tris; (void)s; (void)part; (void)wi;
+    return false;
+#endif
 }
 
 #endif

@@ -75,7 +75,9 @@ inline float3 principled_thin_film_resolve(const ClosureInputs* c, float w, floa
         diffuse_w *= clamp_f(1.0f - max3_f(comp * f_mu), 0.0f, 1.0f);
     }
 #ifdef HAS_TRANSMISSION
-    if (wt > CLOSURE_WEIGHT_CUTOFF && *count < MAX_LAYERS) lobes[(*count)++] = principled_glass_lobe(c, wt, base, mu, tab);
+    if (wt > CLOSURE_WEIGHT_CUTOFF && *count < MAX_LAYERS)  /* a Thin Wall stays a sheet (without the film) */
+        lobes[(*count)++] = c->thin_wall ? principled_thin_wall_lobe(c, wt, base, mu, tab)
+                                         : principled_glass_lobe(c, wt, base, mu, tab);
 #endif
     return base * diffuse_w;
 }
