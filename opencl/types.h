@@ -167,7 +167,8 @@ typedef struct {
     float4 motion;     /* xy: motion in pixels, previous minus current position (jitter removed); zw: 0 */
     float4 layer;      /* x: the transparent surfaces the camera ray passed to reach this one (int bits; 0 without
                           HAS_TRANSPARENCY), whose count a shadow ray's allowance takes off (bvh/transparent.h);
-                          yzw: 0 */
+                          y: the layer's weight in a still's weighted layers (camera/layers.h; 0 outside them);
+                          zw: 0 */
 } GSample;             /* 112 bytes */
 
 /* One lobe of a pixel's BSDF beyond its Lambert part (HAS_GLOSSY), as the primary pass resolved it from the
