@@ -1,6 +1,7 @@
 /* The isotropic GGX microfacet distribution: its normal distribution D, Smith's masking Lambda, and sampling of the
  * visible normals (Heitz, "Sampling the GGX Distribution of Visible Normals", JCGT 2018). The maths the microfacet
- * lobes share (bsdf/microfacet_reflection.h; a dielectric that also refracts would reuse it); a lobe's f, pdf and
+ * lobes share, and the f and pdf of reflection about a microfacet, which every reflection lobe reads
+ * (bsdf/microfacet_reflection.h, thin_film_reflection.h, thin_dielectric.h); a lobe's weights, its Fresnel and its
  * sampling live in its own file. Directions are unit vectors leaving the surface: wo towards the viewer. */
 #ifndef RESTIRCL_BSDF_GGX_H
 #define RESTIRCL_BSDF_GGX_H
@@ -33,6 +34,27 @@ inline float ggx_lambda(float alpha2, float cos_n)
 {
     float c2 = fmax_f(cos_n * cos_n, 1e-12f);
     return 0.5f * (sqrt(1.0f + alpha2 * fmax_f(1.0f / c2 - 1.0f, 0.0f)) - 1.0f);
+}
+
+/* GGX reflection without Fresnel of wo to wi about n, at their cosines co, ci >= GGX_COS_MIN with n (given: a lobe
+ * that mirrors wi through the surface passes the mirrored cosine as it has it): D G2 / (4 cos_o cos_i) (returned),
+ * the density of reflecting wo about a visible normal D G1(wo) / (4 cos_o) (*pdf) and the cosine of wo with the half
+ * vector (*c_h, where a Fresnel is read); 0 and *pdf = 0 where wo + wi is too short to give a half vector. The
+ * reflection lobes' f and pdf (bsdf/microfacet_reflection.h, thin_film_reflection.h, thin_dielectric.h). */
+inline float ggx_reflection(float alpha, float3 n, float3 wo, float3 wi, float co, float ci, float* pdf, float* c_h)
+{
+    float3 hv = wo + wi;
+    float hl = dot3(hv, hv);
+    *pdf = 0.0f;
+    *c_h = 0.0f;
+    if (!(hl > 1e-12f)) return 0.0f;
+    float alpha2 = alpha * alpha;
+    float D = ggx_d_half(alpha2, n, hv, hl);
+    float lo = ggx_lambda(alpha2, co);
+    *pdf = D / (4.0f * co * (1.0f + lo));
+    *c_h = clamp_f(dot3(hv, wo) / sqrt(hl), 0.0f, 1.0f);
+    float g2 = 1.0f / (1.0f + lo + ggx_lambda(alpha2, ci));
+    return D * g2 / (4.0f * co * ci);
 }
 
 /* A visible normal for the view wl (local frame, z the normal; wl.z > 0) from (u0, u1) in [0, 1)^2: the view is

@@ -50,22 +50,19 @@ inline Lobe microfacet_reflection_lobe(const MicrofacetReflection* m, float weig
     return l;
 }
 
-/* f(wo, wi) about normal n: D G2 / (4 cos_o cos_i) times the Fresnel-weighted colour, the F82-tint part and the
- * dielectric part sharing D and G2 (0 unless both directions are above the surface). */
+/* f(wo, wi) about normal n: D G2 / (4 cos_o cos_i) (bsdf/ggx.h ggx_reflection) times the Fresnel-weighted colour,
+ * the F82-tint part and the dielectric part sharing D and G2 (0 unless both directions are above the surface). */
 inline float3 microfacet_reflection_eval(const Lobe* l, float3 n, float3 wo, float3 wi)
 {
     float co = dot3(n, wo), ci = dot3(n, wi);
-    float3 hv = wo + wi;
-    float hl = dot3(hv, hv);
-    if (co < GGX_COS_MIN || ci < GGX_COS_MIN || !(hl > 1e-12f)) return (float3)(0.0f);
+    if (co < GGX_COS_MIN || ci < GGX_COS_MIN) return (float3)(0.0f);
     MicrofacetReflection m = microfacet_reflection(l);
-    float alpha = m.alpha, alpha2 = alpha * alpha;
-    float c_hi = clamp_f(dot3(hv, wo) / sqrt(hl), 0.0f, 1.0f);
+    float pdf, c_hi;
+    float f = ggx_reflection(m.alpha, n, wo, wi, co, ci, &pdf, &c_hi);
     float3 F = m.metal_w * fresnel_f82(c_hi, m.metal_f0, m.metal_b);
     if (m.eta > 1.0f)
         F += m.diel_w * fresnel_principled(c_hi, m.eta, m.f0_eta, m.diel_f0);
-    float g2 = 1.0f / (1.0f + ggx_lambda(alpha2, co) + ggx_lambda(alpha2, ci));
-    return F * (ggx_d_half(alpha2, n, hv, hl) * g2 / (4.0f * co * ci));
+    return F * f;
 }
 
 /* The solid-angle density of microfacet_reflection_sample's wi: D G1(wo) / (4 cos_o) at the half vector (0 below
@@ -73,11 +70,10 @@ inline float3 microfacet_reflection_eval(const Lobe* l, float3 n, float3 wo, flo
 inline float microfacet_reflection_pdf(const Lobe* l, float3 n, float3 wo, float3 wi)
 {
     float co = dot3(n, wo), ci = dot3(n, wi);
-    float3 hv = wo + wi;
-    float hl = dot3(hv, hv);
-    if (co < GGX_COS_MIN || ci < GGX_COS_MIN || !(hl > 1e-12f)) return 0.0f;
-    float alpha = lobe_alpha(l), alpha2 = alpha * alpha;
-    return ggx_d_half(alpha2, n, hv, hl) / (4.0f * co * (1.0f + ggx_lambda(alpha2, co)));
+    if (co < GGX_COS_MIN || ci < GGX_COS_MIN) return 0.0f;
+    float pdf, c_h;
+    (void)ggx_reflection(lobe_alpha(l), n, wo, wi, co, ci, &pdf, &c_h);
+    return pdf;
 }
 
 /* Reflect wo about a visible normal drawn from (u0, u1): wi (which may point below the surface: its pdf is then 0).

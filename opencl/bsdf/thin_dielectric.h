@@ -48,21 +48,6 @@ inline float thin_p_transmit(const ThinDielectric* m)
     return r + t > 0.0f ? t / (r + t) : 0.0f;
 }
 
-/* GGX reflection of roughness alpha without Fresnel, f (returned) and the visible-normal density (*pdf), for wo and
- * wi above n at cosines co, ci > 0 */
-inline float thin_ggx(float alpha, float3 n, float3 wo, float3 wi, float co, float ci, float* pdf)
-{
-    float3 hv = wo + wi;
-    float hl = dot3(hv, hv);
-    *pdf = 0.0f;
-    if (!(hl > 1e-12f)) return 0.0f;
-    float alpha2 = alpha * alpha;
-    float D = ggx_d_half(alpha2, n, hv, hl);
-    float lo = ggx_lambda(alpha2, co);
-    *pdf = D / (4.0f * co * (1.0f + lo));
-    return D / (4.0f * co * ci * (1.0f + lo + ggx_lambda(alpha2, ci)));
-}
-
 /* f (returned) and *pdf of (wo, wi) about n */
 inline float3 thin_dielectric_eval_pdf(const Lobe* l, float3 n, float3 wo, float3 wi, float* pdf)
 {
@@ -70,13 +55,13 @@ inline float3 thin_dielectric_eval_pdf(const Lobe* l, float3 n, float3 wo, float
     float co = dot3(n, wo), ci = dot3(n, wi);
     *pdf = 0.0f;
     if (co < GGX_COS_MIN || abs_f(ci) < GGX_COS_MIN) return (float3)(0.0f);
-    float pt = thin_p_transmit(&m), p;
+    float pt = thin_p_transmit(&m), p, c_h;  /* no Fresnel per microfacet: R and T hold it */
     if (ci > 0.0f) {
-        float f = thin_ggx(m.alpha_r, n, wo, wi, co, ci, &p);
+        float f = ggx_reflection(m.alpha_r, n, wo, wi, co, ci, &p, &c_h);
         *pdf = (1.0f - pt) * p;
         return m.reflect * f;
     }
-    float f = thin_ggx(m.alpha_t, n, wo, wi - 2.0f * ci * n, co, -ci, &p);  /* wi mirrored above the surface */
+    float f = ggx_reflection(m.alpha_t, n, wo, wi - 2.0f * ci * n, co, -ci, &p, &c_h);  /* wi mirrored above */
     *pdf = pt * p;
     return m.transmit * f;
 }

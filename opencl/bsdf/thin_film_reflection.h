@@ -1,7 +1,7 @@
 /* The GGX reflection lobe under a thin film (bsdf/thin_film.h): one part of a Principled BSDF with a Thin Film, its
  * metal (F82-tint, Cycles' Metallic BSDF too) or its dielectric specular, whose Fresnel the film replaces. The
  * distribution, its pdf and sampling are bsdf/microfacet_reflection.h's (they read only alpha); f is D G2 /
- * (4 cos_o cos_i) times the weight times the film's Fresnel at the half vector. A closure with both parts makes two
+ * (4 cos_o cos_i) (bsdf/ggx.h ggx_reflection) times the weight times the film's Fresnel at the half vector. A closure with both parts makes two
  * of these (bsdf/closures/principled.h): the film needs the record's lanes that microfacet_reflection.h gives the
  * other part. The weight includes the closure's weight and, for multiscatter GGX, the energy compensation of the
  * part without its film, as Cycles (no tables of the film's albedo). */
@@ -49,14 +49,11 @@ inline float3 thin_film_reflection_fresnel(const ThinFilmReflection* m, float c)
 inline float3 thin_film_reflection_eval(const Lobe* l, float3 n, float3 wo, float3 wi)
 {
     float co = dot3(n, wo), ci = dot3(n, wi);
-    float3 hv = wo + wi;
-    float hl = dot3(hv, hv);
-    if (co < GGX_COS_MIN || ci < GGX_COS_MIN || !(hl > 1e-12f)) return (float3)(0.0f);
+    if (co < GGX_COS_MIN || ci < GGX_COS_MIN) return (float3)(0.0f);
     ThinFilmReflection m = thin_film_reflection(l);
-    float alpha2 = m.alpha * m.alpha;
-    float3 F = m.w * thin_film_reflection_fresnel(&m, clamp_f(dot3(hv, wo) / sqrt(hl), 0.0f, 1.0f));
-    float g2 = 1.0f / (1.0f + ggx_lambda(alpha2, co) + ggx_lambda(alpha2, ci));
-    return F * (ggx_d_half(alpha2, n, hv, hl) * g2 / (4.0f * co * ci));
+    float pdf, c_h;
+    float f = ggx_reflection(m.alpha, n, wo, wi, co, ci, &pdf, &c_h);
+    return m.w * thin_film_reflection_fresnel(&m, c_h) * f;
 }
 
 inline float thin_film_reflection_pdf(const Lobe* l, float3 n, float3 wo, float3 wi)
