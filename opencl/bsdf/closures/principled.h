@@ -22,17 +22,21 @@
 #include "bsdf/closures/principled_thin_film.h"
 #endif
 
-/* The closure's diffuse albedo (returned) at weight w > 0 and clamped Base Color base, and its lobe (lobes[0],
- * *count = 1) when it has a metallic or a specular part, for view cosine mu. */
+/* The closure's diffuse albedo (returned) at weight w > 0 and clamped Base Color base, and its lobes (lobes[0 ..
+ * *count)) for view cosine mu: the reflection lobe when it has a metallic or a specular part (with a Thin Film,
+ * bsdf/closures/principled_thin_film.h, a thin-film lobe per part), the transmission's. */
 inline float3 principled_resolve(const ClosureInputs* c, float w, float3 base, float mu, const __global float* tab,
                                  Lobe* lobes, int* count)
 {
-#ifdef HAS_THIN_FILM  /* a Thin Film changes every Fresnel of the closure */
-    if (c->film_thickness > THIN_FILM_CUTOFF) return principled_thin_film_resolve(c, w, base, mu, tab, lobes, count);
+#ifdef HAS_THIN_FILM  /* a Thin Film replaces the Fresnel of both parts, their weights stay */
+    bool film = principled_has_film(c);
+    float3 spec_mu = (float3)(0.0f);  /* the filmed specular's Fresnel at mu */
+#else
+    const bool film = false;
 #endif
     ClosureGgx g = closure_ggx(c, mu, tab);
     MicrofacetReflection m = microfacet_reflection_none(g.alpha);
-    bool has_lobe = false;
+    bool metal = false, specular = false;
     float metallic = clamp_f(c->metallic, 0.0f, 1.0f);
     float3 tint = max0_3(c->tint);
     float sample_w = 0.0f;
@@ -45,7 +49,7 @@ inline float3 principled_resolve(const ClosureInputs* c, float w, float3 base, f
         m.metal_w = (float3)(w * metallic) * (g.ms ? multiscatter_factor(fresnel_f82_avg(f0, b), g.e, g.e_avg)
                                                    : (float3)(1.0f));
         sample_w += avg3(m.metal_w * fresnel_f82(mu, f0, b));
-        has_lobe = true;
+        metal = true;
     }
     float wr = w * (1.0f - metallic);
 #ifdef HAS_TRANSMISSION  /* Transmission Weight: that share of the dielectric part is glass (bsdf/closures/glass.h) */
@@ -54,31 +58,42 @@ inline float3 principled_resolve(const ClosureInputs* c, float w, float3 base, f
     float f0;
     float eta = principled_specular_eta(c, &f0);
     float3 diffuse_w = (float3)(wr);
-    if (wr > CLOSURE_WEIGHT_CUTOFF && eta > 1.0f) {  /* an IOR <= 1: no reflection modelled (no transmission) */
+    /* an IOR below 1 (without a film, of 1 too): no reflection modelled (no transmission) */
+    if (wr > CLOSURE_WEIGHT_CUTOFF && (eta > 1.0f || (film && eta == 1.0f))) {
         float3 df0 = saturate3((float3)(f0) * tint);
         float f0_eta = f0_from_ior(eta);
         float s_avg = clamp_f((fresnel_dielectric_avg(eta) - f0_eta) / (1.0f - f0_eta), 0.0f, 1.0f);
-        float3 darkening = (float3)(1.0f);
-        float3 comp = (float3)(1.0f);
-        if (g.ms) {
-            comp = multiscatter_factor(mix3(df0, (float3)(1.0f), s_avg), g.e, g.e_avg);
-            darkening = comp * g.e;
-        }
+        float3 comp = g.ms ? multiscatter_factor(mix3(df0, (float3)(1.0f), s_avg), g.e, g.e_avg) : (float3)(1.0f);
         m.eta = eta;
         m.f0_eta = f0_eta;
         m.diel_f0 = df0;
         m.diel_w = (float3)(wr) * comp;
-        sample_w += avg3(m.diel_w * fresnel_principled(mu, eta, f0_eta, df0));
+        specular = true;
         /* layering: the diffuse gets what the specular's estimated albedo at this view leaves */
-        float3 albedo = darkening * mix3(df0, (float3)(1.0f), ggx_fresnel_blend(tab, g.r, mu, eta));
+        float3 albedo;
+#ifdef HAS_THIN_FILM
+        if (film) {
+            spec_mu = principled_film_specular(c, &m, mu);
+            albedo = comp * spec_mu;
+        } else
+#endif
+        {
+            sample_w += avg3(m.diel_w * fresnel_principled(mu, eta, f0_eta, df0));
+            float3 darkening = g.ms ? comp * g.e : (float3)(1.0f);
+            albedo = darkening * mix3(df0, (float3)(1.0f), ggx_fresnel_blend(tab, g.r, mu, eta));
+        }
         diffuse_w *= clamp_f(1.0f - max3_f(albedo), 0.0f, 1.0f);
-        has_lobe = true;
     }
+    *count = 0;
+#ifdef HAS_THIN_FILM
+    if (film) principled_film_lobes(c, &m, metal, specular, spec_mu, mu, lobes, count);
+#endif
     /* a lobe that reflects only at grazing half vectors still needs a chance to be sampled */
-    lobes[0] = microfacet_reflection_lobe(&m, fmax_f(sample_w, 1e-3f * (avg3(m.metal_w) + avg3(m.diel_w))));
-    *count = has_lobe ? 1 : 0;
+    if (!film && (metal || specular))
+        lobes[(*count)++] = microfacet_reflection_lobe(&m, fmax_f(sample_w, 1e-3f * (avg3(m.metal_w) +
+                                                                                        avg3(m.diel_w))));
 #ifdef HAS_TRANSMISSION
-    if (wt > CLOSURE_WEIGHT_CUTOFF)  /* Thin Wall: a sheet, not an interface (bsdf/closures/thin_wall.h) */
+    if (wt > CLOSURE_WEIGHT_CUTOFF && *count < MAX_LAYERS)  /* Thin Wall: a sheet (bsdf/closures/thin_wall.h) */
         lobes[(*count)++] = c->thin_wall ? principled_thin_wall_lobe(c, wt, base, mu, tab)
                                          : principled_glass_lobe(c, wt, base, mu, tab);
 #endif
