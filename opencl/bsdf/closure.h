@@ -48,6 +48,13 @@ inline float principled_transmission_split(const ClosureInputs* c, float* wr)
     return wt;
 }
 
+/* The albedos of GGX of roughness r at view cosine mu that its energy compensation reads: E(r, mu) (x) and E_avg(r)
+ * (y), floored at 1e-3 (the factor divides by E) */
+inline float2 ggx_compensation_albedos(const __global float* tab, float r, float mu)
+{
+    return (float2)(fmax_f(ggx_albedo(tab, r, mu), 1e-3f), fmax_f(ggx_albedo_avg(tab, r), 1e-3f));
+}
+
 /* A closure's GGX distribution at view cosine mu: Roughness clamped to [0, 1], alpha = Roughness^2 (at least
  * GGX_ALPHA_MIN), and for multiscatter GGX the directional and average albedos E, E_avg (1 for plain GGX). */
 typedef struct {
@@ -67,8 +74,9 @@ inline ClosureGgx closure_ggx(const ClosureInputs* c, float mu, const __global f
     g.e_avg = 1.0f;
     g.ms = c->multiscatter != 0;
     if (g.ms) {
-        g.e = fmax_f(ggx_albedo(tab, g.r, mu), 1e-3f);
-        g.e_avg = fmax_f(ggx_albedo_avg(tab, g.r), 1e-3f);
+        float2 e = ggx_compensation_albedos(tab, g.r, mu);
+        g.e = e.x;
+        g.e_avg = e.y;
     }
     return g;
 }

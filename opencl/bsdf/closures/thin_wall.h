@@ -22,12 +22,12 @@ inline float thin_wall_alpha_t(float alpha, float eta)
     return k > 0.0f ? clamp_f(alpha * sqrt(k), 0.0f, 1.0f) : 0.0f;
 }
 
-/* The energy compensation of a GGX part of alpha at view cosine mu whose single-scattering Fresnel averages fss */
+/* The energy compensation of a GGX part of alpha at view cosine mu whose single-scattering Fresnel averages fss
+ * (closure_ggx's albedos at the part's own roughness: the transmission's is not the closure's) */
 inline float3 thin_wall_compensation(float alpha, float mu, float3 fss, const __global float* tab)
 {
-    float r = sqrt(alpha);
-    float e = fmax_f(ggx_albedo(tab, r, mu), 1e-3f);
-    return multiscatter_factor(fss, e, fmax_f(ggx_albedo_avg(tab, r), 1e-3f));
+    float2 e = ggx_compensation_albedos(tab, sqrt(alpha), mu);
+    return multiscatter_factor(fss, e.x, e.y);
 }
 
 /* The Principled BSDF's transmission at weight wt (its closure weight x (1 - Metallic) x Transmission Weight) on a
