@@ -117,22 +117,28 @@ inline float3 thin_film_f82_b(float3 f0, float3 g)
     return (mix3(f0, (float3)(1.0f), m5) - g) * (7.0f / (m5 * m));
 }
 
-/* Reflectance (rgb) at cosine ci of Cycles' F82-tint metal of f0 (clamped Base Color) and 82-degree value g under a
- * film of thickness d and IOR n_f */
-inline float3 thin_film_metal(float ci, float3 f0, float3 g, float d, float n_f)
+/* The complex IOR n + ik (per channel) of Cycles' F82-tint metal of f0 (clamped Base Color) and 82-degree value g
+ * (Gulbrandsen: f0 = F0 of n + ik; g blends n between its two extremes): n returned, k in *k. It depends on the
+ * metal only, so a lobe computes it once, when it is resolved (bsdf/thin_film_reflection.h). */
+inline float3 thin_film_metal_ior(float3 f0, float3 g, float3* k)
+{
+    float3 r = fmin(f0, (float3)(0.999f));
+    float3 sr = sqrt(r);
+    float3 n_max = ((float3)(1.0f) + sr) / ((float3)(1.0f) - sr);
+    float3 n = n_max + (((float3)(1.0f) - r) / ((float3)(1.0f) + r) - n_max) * g;
+    *k = sqrt(fmax((r * (n + 1.0f) * (n + 1.0f) - (n - 1.0f) * (n - 1.0f)) / ((float3)(1.0f) - r), (float3)(0.0f)));
+    return n;
+}
+
+/* Reflectance (rgb) at cosine ci of that metal, of complex IOR n + ik and 82-degree value g, under a film of
+ * thickness d and IOR n_f */
+inline float3 thin_film_metal_nk(float ci, float3 n, float3 k, float3 g, float d, float n_f)
 {
     n_f = thin_film_ior(d, n_f);
     float2 sign12;
     float c2;
     float2 r12 = thin_film_interface(clamp_f(ci, 0.0f, 1.0f), n_f, &sign12, &c2);
     if (r12.x >= 1.0f && r12.y >= 1.0f) return (float3)(1.0f);
-    /* the metal's complex IOR n + ik (Gulbrandsen: f0 = F0 of n + ik; g blends n between its two extremes) */
-    float3 r = fmin(f0, (float3)(0.999f));
-    float3 sr = sqrt(r);
-    float3 n_max = ((float3)(1.0f) + sr) / ((float3)(1.0f) - sr);
-    float3 n = n_max + (((float3)(1.0f) - r) / ((float3)(1.0f) + r) - n_max) * g;
-    float3 k = sqrt(fmax((r * (n + 1.0f) * (n + 1.0f) - (n - 1.0f) * (n - 1.0f)) / ((float3)(1.0f) - r),
-                         (float3)(0.0f)));
     /* light in the film (IOR n_f) meeting the metal at c2: sqrt(N^2 - n_f^2 sin^2) = u + iv */
     float e = n_f, ec = e * c2;
     float3 nk2 = 2.0f * n * k, n2k2 = n * n - k * k;
@@ -158,6 +164,15 @@ inline float3 thin_film_metal(float ci, float3 f0, float3 g, float d, float n_f)
     float3 rs = thin_film_airy(r12.x, r23, -sign12.x * s_re, -sign12.x * s_im, o_re, o_im);
     float3 rp = thin_film_airy(r12.y, r23, -sign12.y * p_re, -sign12.y * p_im, o_re, o_im);
     return saturate3(0.5f * (rs + rp));
+}
+
+/* Reflectance (rgb) at cosine ci of Cycles' F82-tint metal of f0 (clamped Base Color) and 82-degree value g under a
+ * film of thickness d and IOR n_f */
+inline float3 thin_film_metal(float ci, float3 f0, float3 g, float d, float n_f)
+{
+    float3 k;
+    float3 n = thin_film_metal_ior(f0, g, &k);
+    return thin_film_metal_nk(ci, n, k, g, d, n_f);
 }
 
 /* The Principled and Glass BSDFs' specular with a film: the film's reflectance over a dielectric of relative IOR

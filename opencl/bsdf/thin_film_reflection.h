@@ -14,36 +14,63 @@
 #define LOBE_THIN_FILM_REFLECTION 3
 
 typedef struct {
-    float3 f0;        /* a.xyz: metal: the clamped Base Color; dielectric: F0 x Specular IOR Level x Specular Tint */
+    float3 f0_n;      /* a.xyz: dielectric: F0 x Specular IOR Level x Specular Tint; metal: n of its complex IOR */
     float alpha;      /* a.w: roughness^2, clamped to GGX_ALPHA_MIN */
     float3 g;         /* b.xyz: metal: the F82-tint curve's value at cos = 1/7; dielectric: unused */
     float eta;        /* b.w: dielectric: the relative IOR under the film; 0: a metal */
     float3 w;         /* c.xyz: weight */
     float thickness;  /* c.w: the film's thickness (nm) */
     float film_ior;   /* d.x: the film's IOR */
+    float3 k;         /* e.xyz: metal: k of its complex IOR n + ik (thin_film_metal_ior, once per lobe); dielectric:
+                       * unused */
 } ThinFilmReflection;
 
 inline ThinFilmReflection thin_film_reflection(const Lobe* l)
 {
-    ThinFilmReflection m = {l->a.xyz, l->a.w, l->b.xyz, l->b.w, l->c.xyz, l->c.w, l->d.x};
+    ThinFilmReflection m = {l->a.xyz, l->a.w, l->b.xyz, l->b.w, l->c.xyz, l->c.w, l->d.x, l->e.xyz};
+    return m;
+}
+
+/* A metal's part: the F82-tint metal of f0 (the clamped Base Color) and 82-degree value g, of weight w, under a film
+ * of thickness d and IOR n_f, and GGX alpha */
+inline ThinFilmReflection thin_film_reflection_metal(float3 f0, float3 g, float3 w, float d, float n_f, float alpha)
+{
+    ThinFilmReflection m;
+    m.f0_n = thin_film_metal_ior(f0, g, &m.k);
+    m.alpha = alpha;
+    m.g = g;
+    m.eta = 0.0f;
+    m.w = w;
+    m.thickness = d;
+    m.film_ior = n_f;
+    return m;
+}
+
+/* A dielectric specular's part: the dielectric of relative IOR eta and f0 (F0 x Specular IOR Level x Specular Tint),
+ * of weight w, under a film of thickness d and IOR n_f, and GGX alpha */
+inline ThinFilmReflection thin_film_reflection_specular(float3 f0, float eta, float3 w, float d, float n_f,
+                                                        float alpha)
+{
+    ThinFilmReflection m = {f0, alpha, (float3)(0.0f), eta, w, d, n_f, (float3)(0.0f)};
     return m;
 }
 
 inline Lobe thin_film_reflection_lobe(const ThinFilmReflection* m, float weight)
 {
     Lobe l = lobe_record(LOBE_THIN_FILM_REFLECTION, m->alpha, weight);
-    l.a.xyz = m->f0;
+    l.a.xyz = m->f0_n;
     l.b = (float4)(m->g, m->eta);
     l.c = (float4)(m->w, m->thickness);
     l.d.x = m->film_ior;
+    l.e.xyz = m->k;
     return l;
 }
 
 /* the film's Fresnel at cosine c (without the weight) */
 inline float3 thin_film_reflection_fresnel(const ThinFilmReflection* m, float c)
 {
-    return m->eta > 0.0f ? thin_film_specular(c, m->eta, m->f0, m->thickness, m->film_ior)
-                         : thin_film_metal(c, m->f0, m->g, m->thickness, m->film_ior);
+    return m->eta > 0.0f ? thin_film_specular(c, m->eta, m->f0_n, m->thickness, m->film_ior)
+                         : thin_film_metal_nk(c, m->f0_n, m->k, m->g, m->thickness, m->film_ior);
 }
 
 inline float3 thin_film_reflection_eval(const Lobe* l, float3 n, float3 wo, float3 wi)

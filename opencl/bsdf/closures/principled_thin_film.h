@@ -37,22 +37,14 @@ inline Lobe principled_film_lobe(const ThinFilmReflection* m, float3 f_mu)
 inline void principled_film_lobes(const ClosureInputs* c, const MicrofacetReflection* r, bool metal, bool specular,
                                   float3 spec_mu, float mu, Lobe* lobes, int* count)
 {
-    ThinFilmReflection m;
-    m.alpha = r->alpha;
-    m.thickness = c->film_thickness;
-    m.film_ior = fmax_f(c->film_ior, 1e-5f);
+    float d = c->film_thickness, n_f = fmax_f(c->film_ior, 1e-5f);
     if (metal) {
-        m.f0 = r->metal_f0;
-        m.g = fresnel_f82(1.0f / 7.0f, r->metal_f0, r->metal_b);
-        m.eta = 0.0f;
-        m.w = r->metal_w;
-        lobes[(*count)++] = principled_film_lobe(&m, thin_film_metal(mu, m.f0, m.g, m.thickness, m.film_ior));
+        float3 g = fresnel_f82(1.0f / 7.0f, r->metal_f0, r->metal_b);
+        ThinFilmReflection m = thin_film_reflection_metal(r->metal_f0, g, r->metal_w, d, n_f, r->alpha);
+        lobes[(*count)++] = principled_film_lobe(&m, thin_film_reflection_fresnel(&m, mu));
     }
     if (specular && *count < MAX_LAYERS) {
-        m.f0 = r->diel_f0;
-        m.g = (float3)(0.0f);
-        m.eta = r->eta;
-        m.w = r->diel_w;
+        ThinFilmReflection m = thin_film_reflection_specular(r->diel_f0, r->eta, r->diel_w, d, n_f, r->alpha);
         lobes[(*count)++] = principled_film_lobe(&m, spec_mu);
     }
 }
