@@ -158,13 +158,7 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
     /* smooth shading and texture coordinates, textures filtered over the pixel's ray cone, or read at full
      * resolution (a footprint of 0: level 0) where the frame's samples are averaged (render/plan.py texture_full) */
     GlossySample gx;
-#ifdef HAS_TRANSPARENCY
-    const float layer_weight = g.layer.y;
-#endif
     hit_gsample(&sc, hit, d, cam->texture_full ? 0.0f : camera_footprint(cam, d, hit.t), &g, &gx);
-#ifdef HAS_TRANSPARENCY
-    g.layer.y = layer_weight;
-#endif
     float3 p = g.pos.xyz;
     int obj = as_int(g.albedo.w) & LINK_OBJECT_MASK;
     g.pos.w = camera_depth(cam, p);

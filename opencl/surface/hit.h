@@ -18,7 +18,8 @@ typedef struct {
     const __global float* ggx_tables;
 } SceneSurfaces;
 
-/* The G-sample (all but pos.w, the view depth, and motion) and the glossy record of the surface that the ray in unit
+/* The G-sample (all but pos.w, the view depth, motion, and the layer's lanes but x, the surfaces passed: the
+ * primary pass keeps a still's layer weight in layer.y) and the glossy record of the surface that the ray in unit
  * direction d hit (hit.prim >= 0), textures filtered over `footprint` (texture_point). *gx is filled in glossy
  * builds: its wo always, its lobes where the material has closures. */
 inline void hit_gsample(const SceneSurfaces* sc, Hit hit, float3 d, float footprint, GSample* g, GlossySample* gx)
@@ -69,9 +70,9 @@ inline void hit_gsample(const SceneSurfaces* sc, Hit hit, float3 d, float footpr
 #endif
     g->emission = (float4)(emission, as_float(tp.bumped ? normal_pack(tp.nb) : 0));
 #ifdef HAS_TRANSPARENCY
-    g->layer = (float4)(as_float(hit.passed), 0.0f, 0.0f, 0.0f);
+    g->layer.x = as_float(hit.passed);
 #else
-    g->layer = (float4)(0.0f);
+    g->layer.x = 0.0f;
 #endif
 }
 
