@@ -253,7 +253,7 @@ class Renderer:
         phase = 0.0 if still else frame_phase(self.scene.camera, frame, self._sample, s.seed)  # motion blur
         ds.upload(shifted(frame, phase), shifted(self._last_frame, phase))
         params = self.frame_params()
-        situation = frame_situation(self, frame, still, sobol=bool(params["qmc"]))
+        situation = frame_situation(self, frame, still, bool(params["qmc"]), self._last_frame, self._prev_view)
         self.last_plan = plan = at_phase(plan_frame(s, situation), phase)
         if plan.drop_history:
             self.history.invalidate()
