@@ -31,6 +31,8 @@ a test that asserts it rejects one of these builds.
   (bvh/transparent.h; render/test_transparency.py, blender/test_alpha_cycles.py).
 - TEST_THIN_WALL_COUNTED_TWICE: a path going on through a smooth thin wall counts the emitters its ray meets, which
   the vertex before it counted through the wall already (path/walk.h; render/test_thin_wall_furnace.py).
+- TEST_THIN_TRANSMISSION_PDF_SCALE=s: the thin dielectric lobe's transmission pdf times s, its sampling unchanged
+  (bsdf/thin_dielectric.h): a rough thin wall passes too much light (render/test_thin_wall_furnace.py).
 - TEST_SHADOW_ALLOWANCE_WHOLE: every shadow ray may pass Transparent Max Bounces surfaces, whatever the camera ray
   passed (direct/visibility.h shadow_allowance; blender/test_shadow_allowance_cycles.py).
 - TEST_LAYER_WEIGHT_WHOLE: a still's weighted layers shade a partly transparent surface whole instead of by its

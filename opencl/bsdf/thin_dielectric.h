@@ -63,6 +63,9 @@ inline float3 thin_dielectric_eval_pdf(const Lobe* l, float3 n, float3 wo, float
     }
     float f = ggx_reflection(m.alpha_t, n, wo, wi - 2.0f * ci * n, co, -ci, &p, &c_h);  /* wi mirrored above */
     *pdf = pt * p;
+#ifdef TEST_THIN_TRANSMISSION_PDF_SCALE  /* negative control of tests/render/test_thin_wall_furnace.py only */
+    *pdf *= TEST_THIN_TRANSMISSION_PDF_SCALE;
+#endif
     return m.transmit * f;
 }
 
