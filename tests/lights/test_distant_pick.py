@@ -62,6 +62,7 @@ def test_the_picks_follow_the_recomputed_pdf(device):
     tree = _tree(dl)
     dt = DeviceTree(device, tree)
     for x, n in SLANTED:
+        np.testing.assert_allclose(dt.pmf(x, n), pmf(tree, np.array(x), np.array(n)), rtol=2e-3, atol=1e-12)
         counts, err = dt.picks(x, n)
         assert err < 1e-5, err  # the pdf the pick reports is the one light_pick_pdf recomputes
         stat, p, dof = pooled_chi2(counts, dt.pmf(x, n))
