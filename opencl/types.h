@@ -244,8 +244,8 @@ typedef struct {
     int bsdf_glossy_only;  /* 1: BSDF candidates only where the material has a specular lobe */
     int light_tree;        /* 1: light candidates come from the light tree (lights/tree.h), not the array */
     int tree_leaves;       /* lights in the tree */
-    int tree_distant;      /* lights outside it (no position: suns), picked as often as the light array does */
-    float tree_p_local;    /* probability of a descent of the tree rather than a distant light */
+    int tree_distant;      /* lights outside it (no position: suns, the world; lights/distant_pick.h) */
+    float tree_p_local;    /* the tree's share of the light array: the floor of a point's local share */
     int pick_table;        /* 1: RIS picks lights by the pixel's row of the per-pixel table (lights/pick_table.h) */
     int pad0;
     int pad1;

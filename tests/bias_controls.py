@@ -35,6 +35,9 @@ a test that asserts it rejects one of these builds.
   (bsdf/thin_dielectric.h): a rough thin wall passes too much light (render/test_thin_wall_furnace.py).
 - TEST_SHADOW_ALLOWANCE_WHOLE: every shadow ray may pass Transparent Max Bounces surfaces, whatever the camera ray
   passed (direct/visibility.h shadow_allowance; blender/test_shadow_allowance_cycles.py).
+- TEST_DISTANT_PICK_FIXED_PDF: light_pick_pdf gives the distant lights and the tree their fixed shares of the light
+  array while the pick takes them by importance at the point (lights/tree.h, lights/distant_pick.h): the MIS weights'
+  pdf is not the pick's (lights/test_distant_pick.py).
 - TEST_LAYER_WEIGHT_WHOLE: a still's weighted layers shade a partly transparent surface whole instead of by its
   coverage (camera/layers.h; render/test_camera_layers.py)."""
 

@@ -23,7 +23,7 @@ inline void direct_add_light_sample(const Surface* s, const __global BVHNode* no
 __kernel void shade_direct(const __global GSample* gbuf, const __global GlossySample* glossy, const __global BVHNode* nodes, const __global Tri* tris,
                            const __global Light* lights, const __global int* slots, const __global float* light_pdf,
                            const __global LightTreeNode* tree_nodes, const __global int2* tree_info,
-                           const __global int2* tree_distant,
+                           const __global int8* tree_distant,
                            const __global Light* tile_rec, const __global int2* tile_info,
                            const __global int* tri_light, const __global ushort* pick_table,
                            volatile __global int* guards, __global float4* out, __global float4* light_passes,

@@ -8,8 +8,8 @@
  * a bound is wrong (a shading normal, a normal map); no branch goes below LIGHT_TREE_MIN_BRANCH. The pick's pdf
  * is the product of the branch probabilities; light_pick_pdf recomputes it for a given light from its leaf index
  * (its trail: the binary digits of leaf + 1), with the same arithmetic, for the MIS weights of BSDF candidates.
- * Lights without a position (suns) are outside the tree: with probability 1 - p_local one of them is picked
- * instead, as often as the light array would pick it.
+ * Lights without a position (suns, the world) are outside the tree: a pick takes one of them instead by their
+ * fixed shares and the tree's weighed at the point by what can reach it (lights/distant_pick.h).
  *
  * Presampled light tiles do not apply: a tile is drawn without a shading point, the tree's proposal needs one. */
 #ifndef RESTIRCL_LIGHT_TREE_H
@@ -23,25 +23,25 @@
 #define LIGHT_TREE_MEMO 15          /* the top four levels' branches are computed once per pixel and batch */
 
 /* Where a light pick comes from, and what it needs to give the pick pdf of any light: the light array, or
- * the tree's nodes, per-light info (leaf node, or -1 with the pick pdf's bits for lights outside the tree) and the
- * distant lights (light index, cumulative probability bits). */
+ * the tree's nodes, per-light info (leaf node, or -1 with the light's row of the distant lights' table) and that
+ * table (lights/distant_pick.py). */
 typedef struct {
     const __global int* slots;
     const __global float* light_pdf;
     const __global LightTreeNode* nodes;
     const __global int2* info;
-    const __global int2* distant;
+    const __global int8* distant;
     int tree;
     int leaves;
     int distant_count;
-    float p_local;
+    float p_local;                 /* the tree's fixed share (of the light array): the local share's floor */
     const __global ushort* table;  /* the pixel's row of the per-pixel pick (lights/pick_table.h), or 0 */
     int table_n;                   /* its lights; 0: no table */
 } LightPick;
 
 inline LightPick light_pick_source(const __global int* slots, const __global float* light_pdf,
                                    const __global LightTreeNode* nodes, const __global int2* info,
-                                   const __global int2* distant, SamplerParams sp)
+                                   const __global int8* distant, SamplerParams sp)
 {
     LightPick p = {slots, light_pdf, nodes, info, distant, sp.light_tree, sp.tree_leaves, sp.tree_distant,
                    sp.tree_p_local, 0, 0};
@@ -142,6 +142,8 @@ inline float light_tree_branch(const __global LightTreeNode* nodes, int c, float
     return clamp_f(p, LIGHT_TREE_MIN_BRANCH, 1.0f - LIGHT_TREE_MIN_BRANCH);
 }
 
+#include "lights/distant_pick.h"  /* the distant lights against the tree (light_tree_local_share) */
+
 /* light_tree_branch of node j's children at x, from memo[j] where j < LIGHT_TREE_MEMO (computed there the first
  * time: the top levels are the same for every candidate of a pixel; negative: not yet computed). */
 inline float light_tree_branch_at(const LightPick* lp, int j, float3 x, float3 n, float* memo)
@@ -195,26 +197,27 @@ inline float light_tree_leaf_pdf(const LightPick* lp, int leaf, float3 x, float3
     return p;
 }
 
-/* A light for the random word `bits` at x: from the tree with probability p_local, else a distant one (by its
- * light-array pdf). The word seeds the descent's stream or, `stratified` (a Sobol word), is the one uniform of
- * the stratified descent, its share below p_local the tree's, the rest the distant lights'. */
+/* A light for the random word `bits` at x: from the tree with probability local_share (light_tree_local_share at
+ * x), else a distant one (light_distant_pick; total: the distant lights' weighed shares at n). The word seeds the
+ * descent's stream or, `stratified` (a Sobol word), is the one uniform of the stratified descent, its share below
+ * local_share the tree's, the rest the distant lights'. */
 inline int light_tree_pick(const LightPick* lp, float3 x, float3 n, uint bits, int stratified, float* memo,
-                           float* pdf)
+                           float local_share, float total, float* pdf)
 {
     uint state = bits;
     float u = stratified ? (float)(bits >> 8) * (1.0f / 16777216.0f) : rng_next(&state);
-    if (lp->distant_count == 0 || u < lp->p_local) {
+    if (lp->distant_count == 0 || u < local_share) {
         float p;
-        int light = light_tree_descend(lp, x, n, state, fmin_f(u / lp->p_local, 0x1.fffffep-1f), stratified, memo, &p);
-        *pdf = p * lp->p_local;
+        float v = fmin_f(u / local_share, 0x1.fffffep-1f);
+        int light = light_tree_descend(lp, x, n, state, v, stratified, memo, &p);
+        *pdf = p * local_share;
         return light;
     }
-    u = stratified ? (u - lp->p_local) / (1.0f - lp->p_local) : rng_next(&state);
-    int k = 0;
-    while (k < lp->distant_count - 1 && !(u < as_float(lp->distant[k].y))) ++k;
-    int light = lp->distant[k].x;
-    *pdf = as_float(lp->info[light].y);
-    return light;
+    u = stratified ? fmin_f((u - local_share) / (1.0f - local_share), 0x1.fffffep-1f) : rng_next(&state);
+    float share;
+    int k = light_distant_pick(lp, n, total, u, &share);
+    *pdf = (1.0f - local_share) * share;
+    return lp->distant[k].s0;
 }
 
 /* The candidates' lights and pick pdfs for n random words (direct/ris.h, as light_array_lights does for slots). */
@@ -223,7 +226,9 @@ inline void light_tree_lights(const LightPick* lp, float3 x, float3 n, const uin
 {
     float memo[LIGHT_TREE_MEMO];
     for (int j = 0; j < LIGHT_TREE_MEMO; ++j) memo[j] = -1.0f;
-    for (int k = 0; k < count; ++k) light[k] = light_tree_pick(lp, x, n, bits[k], stratified, memo, &pdf[k]);
+    float total = light_distant_total(lp, n), local_share = light_tree_local_share(lp, x, n, total);
+    for (int k = 0; k < count; ++k)
+        light[k] = light_tree_pick(lp, x, n, bits[k], stratified, memo, local_share, total, &pdf[k]);
 }
 #endif
 
@@ -256,7 +261,13 @@ inline float light_pick_pdf(const LightPick* lp, int light, float3 x, float3 n)
 #ifdef HAS_LIGHT_TREE
     if (lp->tree) {
         int2 info = lp->info[light];
-        return info.x >= 0 ? lp->p_local * light_tree_leaf_pdf(lp, info.x, x, n) : as_float(info.y);
+#ifdef TEST_DISTANT_PICK_FIXED_PDF  /* negative control of the tests only (tests/bias_controls.py): the fixed shares */
+        if (info.x < 0) return (1.0f - lp->p_local) * as_float(lp->distant[info.y].s1);
+        return lp->p_local * light_tree_leaf_pdf(lp, info.x, x, n);
+#endif
+        float total = light_distant_total(lp, n), local_share = light_tree_local_share(lp, x, n, total);
+        if (info.x < 0) return (1.0f - local_share) * light_distant_share(lp, info.y, n, total);
+        return local_share * light_tree_leaf_pdf(lp, info.x, x, n);
     }
 #endif
     return lp->light_pdf[light];

@@ -13,7 +13,7 @@ __kernel void path_trace(const __global GSample* gbuf, const __global GlossySamp
                          const __global TexImage* tex_images, const __global float4* texels,
                          const __global float* ggx_tables, const __global Light* lights, const __global int* slots,
                          const __global float* light_pdf, const __global LightTreeNode* tree_nodes,
-                         const __global int2* tree_info, const __global int2* tree_distant,
+                         const __global int2* tree_info, const __global int8* tree_distant,
                          const __global int* tri_light, volatile __global int* guards, __global float4* sample,
                          __global float4* indirect, __global float4* light_passes, FrameParams frame_params,
                          PathParams params)

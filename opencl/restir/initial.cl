@@ -5,7 +5,7 @@
 __kernel void restir_initial(const __global GSample* gbuf, const __global GlossySample* glossy, const __global BVHNode* nodes, const __global Tri* tris,
                              const __global Light* lights, const __global int* slots, const __global float* light_pdf,
                              const __global LightTreeNode* tree_nodes, const __global int2* tree_info,
-                             const __global int2* tree_distant,
+                             const __global int8* tree_distant,
                              const __global Light* tile_rec, const __global int2* tile_info,
                              const __global int* tri_light, __global Reservoir* out, FrameParams frame_params, InitialParams params)
 {

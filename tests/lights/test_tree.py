@@ -25,7 +25,7 @@ SRC = """
 #include "lights/array.h"
 #include "lights/tree.h"
 __kernel void tree_picks(const __global LightTreeNode* nodes, const __global int2* info,
-                         const __global int2* distant, SamplerParams sp, float4 x, float4 n, int per_item,
+                         const __global int8* distant, SamplerParams sp, float4 x, float4 n, int per_item,
                          volatile __global int* counts, __global float* pdf_err)
 {
     int i = get_global_id(0);
@@ -44,7 +44,7 @@ __kernel void tree_picks(const __global LightTreeNode* nodes, const __global int
     pdf_err[i] = worst;
 }
 __kernel void tree_pmf(const __global LightTreeNode* nodes, const __global int2* info,
-                       const __global int2* distant, SamplerParams sp, float4 x, float4 n, __global float* out)
+                       const __global int8* distant, SamplerParams sp, float4 x, float4 n, __global float* out)
 {
     int l = get_global_id(0);
     LightPick lp = light_pick_source(0, 0, nodes, info, distant, sp);
@@ -61,9 +61,9 @@ def _sampler(tree):
 
 
 class DeviceTree:
-    def __init__(self, device, tree):
+    def __init__(self, device, tree, options: tuple[str, ...] = ()):
         self.device, self.tree = device, tree
-        self.prog = build_program(device, general_flags(), source=SRC)
+        self.prog = build_program(device, general_flags(), source=SRC, extra_options=options)
         mf, ctx = cl.mem_flags, device.context
 
         def buf(a):

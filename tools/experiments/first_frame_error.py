@@ -7,6 +7,9 @@ pixels of the worst seed with their image, path light and reference values, and 
 
     python -m tools.experiments.first_frame_error --kind user --reference REF.npy --max-bounces 4 --frames 1 \\
         --seeds 1000-1015
+
+--light-proposal tree: the first hit's RIS candidates from the light tree too (docs/measurements/error-vs-time.md,
+"Distant lights picked at the point").
 """
 
 from __future__ import annotations
@@ -50,11 +53,14 @@ def main() -> None:
     ap.add_argument("--max-bounces", type=int, default=4)
     ap.add_argument("--frames", type=int, default=1)
     ap.add_argument("--seeds", default="1000-1007")
+    ap.add_argument("--light-proposal", default=None, help="Settings.light_proposal in place of F12's (e.g. tree)")
     a = ap.parse_args()
     ref = np.load(a.reference)[..., :3].astype(np.float64)
     h, w = ref.shape[:2]
     scene, _ = scene_pair(a.kind, w, h)
     base = still_settings(Settings(**LightPaths.of(a.max_bounces).overrides()).validate(), scene)
+    if a.light_proposal:
+        base.light_proposal = a.light_proposal
     Renderer(scene, base).render_still(0, 1)  # the kernels' build, outside the timed frames
     worst_seed: tuple[float, int, np.ndarray, np.ndarray] | None = None
     cpu, frames_done = 0.0, 0

@@ -13,8 +13,8 @@ point is the product of the branch probabilities along it.
 
 Each light's box and cone come from its type (LightType.bounds, lights/<type>.py, through the registry); the lights
 of a type without a position (bounds DISTANT: the sun, the environment) stay outside the tree, as Cycles keeps distant
-lights: one of them is picked with the probability the light array gives it. A record of a code no type has is an
-error, not a distant light."""
+lights; a pick goes to them or to the tree by their fixed shares weighed at the shading point by what can reach it
+(lights/distant_pick.py). A record of a code no type has is an error, not a distant light."""
 
 from __future__ import annotations
 
@@ -25,6 +25,7 @@ import numpy as np
 from ..core import layouts as L
 from ..settings.table import Settings
 from .bounds import DISTANT
+from .distant_pick import distant_importance, distant_shares, distant_table, local_share
 from .registry import groups
 from .tree_leaves import leaf_lights
 
@@ -49,10 +50,10 @@ class LightBounds:
 @dataclass
 class LightTree:
     nodes: np.ndarray  # layouts.LIGHT_TREE_NODE, 2 * leaves - 1 (one placeholder when there are no leaves)
-    light_info: np.ndarray  # (N, 2) int32 per light: leaf node index (-1: not in the tree), pick pdf bits if not
-    distant: np.ndarray  # (D, 2) int32: distant light index, cumulative pick probability bits (within distant ones)
+    light_info: np.ndarray  # (N, 2) int32 per light: leaf node index (-1: not in the tree), its row of `distant` if not
+    distant: np.ndarray  # (D, distant_pick.LANES) int32: the distant lights' table (lights/distant_pick.py)
     leaves: int
-    p_local: float  # probability of a descent of the tree (the rest goes to the distant lights)
+    p_local: float  # the tree's share of the light array: the floor of the local share at a point (distant_pick.py)
 
     @property
     def distant_count(self) -> int:
@@ -107,9 +108,10 @@ def merge_cones(wa: np.ndarray, ta: np.ndarray, wb: np.ndarray, tb: np.ndarray) 
 def build_light_tree(records: np.ndarray, types: np.ndarray, power: np.ndarray,
                      array_pdf: np.ndarray | None = None) -> LightTree:
     """The tree over the lights (layouts.LIGHT records with their LIGHT_* types and light-array power). The
-    lights outside it are picked as often as the light array picks them (array_pdf: its pdf per light; without
-    it, by their power share): a sun's power is not comparable with a lamp's, and by power alone a sun lighting a
-    wall head-on could get a share of 1e-5."""
+    lights outside it and the tree have fixed shares, those the light array gives them (array_pdf: its pdf per
+    light; without it, their power share), weighed at a point by what can reach it (lights/distant_pick.py): a
+    sun's power is not comparable with a lamp's, and by power alone a sun lighting a wall head-on could get a share
+    of 1e-5."""
     bnd = light_bounds(records, types, power)
     n = len(bnd.phi)
     local = np.flatnonzero(bnd.local)
@@ -147,14 +149,9 @@ def build_light_tree(records: np.ndarray, types: np.ndarray, power: np.ndarray,
     p_local = float(1.0 - weight[far].sum() / total_weight) if len(far) and total_weight > 0 else 1.0
     if leaves == 0:
         p_local = 0.0
-    cdf = np.cumsum(weight[far]) / max(weight[far].sum(), 1e-300)
-    cdf32 = cdf.astype(np.float32)
-    if len(cdf32):
-        cdf32[-1] = 1.0
-    pdf_far = (np.diff(np.concatenate([[0.0], cdf32.astype(np.float64)])) * (1.0 - p_local)).astype(np.float32)
-    info[far, 1] = pdf_far.view(np.int32)
-    distant = np.zeros((len(far), 2), np.int32)
-    distant[:, 0], distant[:, 1] = far, cdf32.view(np.int32)
+    fixed = weight[far] / max(weight[far].sum(), 1e-300)
+    info[far, 1] = np.arange(len(far))
+    distant = distant_table(far, records, types, fixed, (1.0 - p_local) * fixed)
     return LightTree(nodes, info, distant, leaves, p_local)
 
 
@@ -273,10 +270,13 @@ def pmf(tree: LightTree, x: np.ndarray, n: np.ndarray) -> np.ndarray:
     """The probability with which the device's pick chooses each light at (x, n), every light (float64)."""
     out = np.zeros(len(tree.light_info))
     far = tree.light_info[:, 0] < 0
-    out[far] = tree.light_info[far, 1].view(np.float32)
+    x, n = np.asarray(x, np.float64), np.asarray(n, np.float64)
+    near_imp, far_imp = importance(tree.nodes, x, n)
+    p_local = local_pick_share(tree, n, near_imp[0])
+    if tree.distant_count:
+        out[tree.distant[:, 0]] = (1.0 - p_local) * distant_shares(tree.distant, n)
     if tree.leaves == 0:
         return out
-    near_imp, far_imp = importance(tree.nodes, np.asarray(x, np.float64), np.asarray(n, np.float64))
     phi = tree.nodes["lo"][:, 3].astype(np.float64)
     prob = np.ones(len(tree.nodes))
     for j in range(tree.leaves - 1):  # parents before children
@@ -284,8 +284,18 @@ def pmf(tree: LightTree, x: np.ndarray, n: np.ndarray) -> np.ndarray:
         p0 = branch((near_imp[c0], far_imp[c0]), (near_imp[c1], far_imp[c1]), phi[c0], phi[c1])
         prob[c0], prob[c1] = prob[j] * p0, prob[j] * (1 - p0)
     leaf = tree.light_info[~far, 0]
-    out[~far] = tree.p_local * prob[leaf]
+    out[~far] = p_local * prob[leaf]
     return out
+
+
+def local_pick_share(tree: LightTree, n: np.ndarray, root: float) -> float:
+    """The probability that a pick at a point of normal n descends the tree (lights/distant_pick.py), root: the
+    root's importance there at its box's nearest point."""
+    if tree.distant_count == 0:
+        return 1.0
+    if tree.leaves == 0:
+        return 0.0
+    return local_share(root, float(distant_importance(tree.distant, n).sum()), tree.p_local)
 
 
 def _share(a: float, b: float) -> float | None:
