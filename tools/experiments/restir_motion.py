@@ -26,9 +26,16 @@ import time
 from pathlib import Path
 
 import numpy as np
+from restircl.core import program
 from restircl.eval.report.moving import MovingReport, _taa_rows, frame_time_ms
 from restircl.eval.report.reference import get_reference
 from restircl.eval.scenes.motion_validation import MOTION_SCENES, motion_scene
+
+
+def add_defines(extra: dict[str, str]) -> None:
+    """Build every kernel of this process with the probe defines `extra` besides the settings' own."""
+    base = program.kernel_defines
+    program.kernel_defines = lambda: {**base(), **extra}  # type: ignore[assignment]
 
 
 def cpu_times(scene, methods: list[str], repeats: int) -> dict[str, float]:
@@ -72,13 +79,18 @@ def equal_time_ris(rows: list[dict], key: str = "mean_rel_mse_after_0") -> dict[
     return out
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+def orbit_arguments(ap: argparse.ArgumentParser) -> None:
+    """The orbit and its evaluated frames, as the tools of these measurements take them."""
     ap.add_argument("--scene", default="garden_orbit", choices=sorted(MOTION_SCENES))
     ap.add_argument("--width", type=int, default=192)
     ap.add_argument("--height", type=int, default=108)
     ap.add_argument("--frames", type=int, default=24)
     ap.add_argument("--every", type=int, default=4)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    orbit_arguments(ap)
     ap.add_argument("--methods", default="ris,restir")
     ap.add_argument("--budget-method", default="restir")
     ap.add_argument("--seeds", type=int, default=3)
@@ -88,7 +100,11 @@ def main() -> None:
     ap.add_argument("--ref-seconds", type=float, default=10.0)
     ap.add_argument("--cache-dir", default="out/refs")
     ap.add_argument("--out", default=None, help="JSON file for the figures")
+    ap.add_argument("--define", action="append", default=[], metavar="NAME=VALUE",
+                    help="a kernel -D of a probe, for every method of the run (e.g. TAA_FRESH_FILL=1)")
     a = ap.parse_args()
+    if a.define:
+        add_defines(dict(d.partition("=")[::2] for d in a.define))
     methods = a.methods.split(",")
     scene = motion_scene(a.scene, a.width, a.height, a.frames)
     evaluated = sorted({*range(0, scene.frames, a.every), scene.frames - 1})
@@ -152,7 +168,7 @@ def main() -> None:
         Path(a.out).write_text(json.dumps({
             "scene": scene.name, "width": a.width, "height": a.height, "frames": scene.frames,
             "evaluated": evaluated, "budget_method": a.budget_method, "budget_cpu_ms": budget,
-            "load": [load0, load1], "seeds": a.seeds, "rows": rows}, indent=1))
+            "load": [load0, load1], "seeds": a.seeds, "defines": a.define, "rows": rows}, indent=1))
 
 
 if __name__ == "__main__":
