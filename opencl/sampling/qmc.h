@@ -106,17 +106,18 @@ inline float2 qmc_pair(const Qmc* q, uint d)
     return (float2)(qmc_float(b.x), qmc_float(b.y));
 }
 
-/* Sobol dimensions 2 .. 5 come from nibble tables (sampling/sobol_table.h, generated): eight lookups a point
- * instead of a loop over 32 bits with a branch on each. */
-inline uint sobol_matrix(uint i, __constant const uint* t)
+/* Sobol dimensions 2 .. 5 with their bits reversed, from nibble tables (sampling/sobol_table.h, generated): eight
+ * lookups a point instead of a loop over 32 bits with a branch on each. */
+inline uint sobol_reversed(uint i, __constant const uint* t)
 {
     return t[i & 15u] ^ t[16u + ((i >> 4) & 15u)] ^ t[32u + ((i >> 8) & 15u)] ^ t[48u + ((i >> 12) & 15u)]
            ^ t[64u + ((i >> 16) & 15u)] ^ t[80u + ((i >> 20) & 15u)] ^ t[96u + ((i >> 24) & 15u)]
            ^ t[112u + (i >> 28)];
 }
 
-/* Owen scramble of a fraction f (most significant bit first) by seed */
-inline uint qmc_owen(uint f, uint seed) { return qmc_reverse_bits(qmc_lk_hash(qmc_reverse_bits(f), seed)); }
+/* Owen scramble by seed of a fraction given with its bits reversed (sobol_reversed), as a fraction (most
+ * significant bit first): one reversal, as dimensions 0 and 1 take. */
+inline uint qmc_owen_reversed(uint r, uint seed) { return qmc_reverse_bits(qmc_lk_hash(r, seed)); }
 
 /* Point q->index of the 4D group d: Sobol dimensions 0 .. 3 under one index shuffle, each Owen-scrambled on its
  * own. Unlike pairs, whose index shuffles differ, the four coordinates of one point stay one Sobol point: a light
@@ -127,8 +128,8 @@ inline uint4 qmc_quad_bits(const Qmc* q, uint d)
     uint s = qmc_group_seed(q, d);
     uint i = qmc_shuffled_index(q, s);
     uint2 p = qmc_dims01(i, s);  /* the point on the light: the same (0,2)-sequence as a pair's */
-    return (uint4)(qmc_owen(sobol_matrix(i, SOBOL_DIM2), pcg_hash(s ^ 0x6a09e667u)), p.x, p.y,
-                   qmc_owen(sobol_matrix(i, SOBOL_DIM3), pcg_hash(s ^ 0xbb67ae85u)));
+    return (uint4)(qmc_owen_reversed(sobol_reversed(i, SOBOL_DIM2), pcg_hash(s ^ 0x6a09e667u)), p.x, p.y,
+                   qmc_owen_reversed(sobol_reversed(i, SOBOL_DIM3), pcg_hash(s ^ 0xbb67ae85u)));
 }
 
 /* Dimension groups of a RIS sample: light candidate k >= 1 uses the 4D group QMC_LIGHT(k) (x: the pick, y and z:
@@ -157,8 +158,8 @@ inline uint2 qmc_camera_jitter_bits(const Qmc* q)
 {
     uint s = qmc_group_seed(q, QMC_CAMERA);
     uint i = qmc_shuffled_index(q, s);
-    return (uint2)(qmc_owen(sobol_matrix(i, SOBOL_DIM2), pcg_hash(s ^ 0x6a09e667u)),
-                   qmc_owen(sobol_matrix(i, SOBOL_DIM3), pcg_hash(s ^ 0xbb67ae85u)));
+    return (uint2)(qmc_owen_reversed(sobol_reversed(i, SOBOL_DIM2), pcg_hash(s ^ 0x6a09e667u)),
+                   qmc_owen_reversed(sobol_reversed(i, SOBOL_DIM3), pcg_hash(s ^ 0xbb67ae85u)));
 }
 
 /* The first light candidate's dimensions of QMC_CAMERA, laid out as qmc_quad_bits' (x: the pick, y and z: the
@@ -168,8 +169,8 @@ inline uint4 qmc_camera_light_bits(const Qmc* q)
     uint s = qmc_group_seed(q, QMC_CAMERA);
     uint i = qmc_shuffled_index(q, s);
     uint2 p = qmc_dims01(i, s);
-    return (uint4)(qmc_owen(sobol_matrix(i, SOBOL_DIM4), pcg_hash(s ^ 0x3c6ef372u)), p.x, p.y,
-                   qmc_owen(sobol_matrix(i, SOBOL_DIM5), pcg_hash(s ^ 0xa54ff53au)));
+    return (uint4)(qmc_owen_reversed(sobol_reversed(i, SOBOL_DIM4), pcg_hash(s ^ 0x3c6ef372u)), p.x, p.y,
+                   qmc_owen_reversed(sobol_reversed(i, SOBOL_DIM5), pcg_hash(s ^ 0xa54ff53au)));
 }
 
 #endif

@@ -57,12 +57,12 @@ __kernel void camera_across_pixels(uint key, uint index, __global uint* out)
     __global uint* o = out + 6u * i;
     o[0] = j.x; o[1] = j.y; o[2] = a.y; o[3] = a.z; o[4] = a.x; o[5] = a.w;
 }
-/* unscrambled Sobol dimensions 2 .. 5 at the given indices */
+/* unscrambled Sobol dimensions 2 .. 5 at the given indices (the tables hold them bit-reversed) */
 __kernel void sobol2345(const __global uint* index, __global uint4* out)
 {
     uint k = get_global_id(0), i = index[k];
-    out[k] = (uint4)(sobol_matrix(i, SOBOL_DIM2), sobol_matrix(i, SOBOL_DIM3), sobol_matrix(i, SOBOL_DIM4),
-                     sobol_matrix(i, SOBOL_DIM5));
+    out[k] = (uint4)(qmc_reverse_bits(sobol_reversed(i, SOBOL_DIM2)), qmc_reverse_bits(sobol_reversed(i, SOBOL_DIM3)),
+                     qmc_reverse_bits(sobol_reversed(i, SOBOL_DIM4)), qmc_reverse_bits(sobol_reversed(i, SOBOL_DIM5)));
 }
 """
 JITTER, POINT, PICK, CHOICE = (0, 1), (2, 3), 4, 5
