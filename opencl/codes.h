@@ -244,4 +244,8 @@
 #define GLASS_E_AVG_OFFSET     13344
 #define GLASS_E_INV_AVG_OFFSET 13600
 
+/* the Sobol sampler's bits of FrameParams.qmc (render/qmc.py) */
+#define QMC_ON           1
+#define QMC_PIXEL_JITTER 2
+
 #endif

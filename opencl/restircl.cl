@@ -7,6 +7,7 @@
 #include "bvh/traverse.h"
 #include "bvh/transparent.h"
 #include "camera/camera.h"
+#include "camera/jitter.h"
 #include "camera/lens.h"
 #include "camera/coverage_number.h"
 #include "camera/hidden.h"

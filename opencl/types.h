@@ -144,8 +144,9 @@ typedef struct {
     float4 forward;   /* xyz: unit view direction */
     float4 lens;      /* x, y: half the view plane (tan of the half field of view, or world units when orthographic);
                        * z, w: shift in the same units */
-    float4 jitter;    /* xy: sub-pixel jitter in pixels applied to this frame's rays; z: this frame's point of a
-                         stratified sequence in [0, 1) (camera/coverage_number.h); w: unused */
+    float4 jitter;    /* xy: sub-pixel jitter in pixels applied to this frame's rays (unless the pixel's own:
+                         camera/jitter.h); z: this frame's point of a stratified sequence in [0, 1)
+                         (camera/coverage_number.h); w: unused */
     int width;
     int height;
     int kind;         /* CAMERA_PERSP or CAMERA_ORTHO */
@@ -227,7 +228,8 @@ typedef struct {
     int pixels;            /* width * height */
     uint sample;           /* frames rendered so far by this renderer */
     uint seed;             /* Settings.seed */
-    int qmc;               /* 1: RIS draws from the pixel's scrambled Sobol sequence (sampling/qmc.h, setting sampler) */
+    int qmc;               /* QMC_ON (1): RIS draws from the pixel's scrambled Sobol sequence (sampling/qmc.h, setting
+                            * sampler); QMC_PIXEL_JITTER (2): so does the camera ray's place in its pixel (camera/jitter.h) */
     uint qmc_index;        /* the sample's index in that sequence */
     uint qmc_key;          /* its scramble key (one per half buffer of a still render) */
 } FrameParams;             /* 32 bytes */

@@ -26,7 +26,7 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
     int w = cam->width, h = cam->height;
     if (x >= w || y >= h) return;
     int i = y * w + x;
-    float2 ray_px = (float2)((float)x + 0.5f + cam->jitter.x, (float)y + 0.5f + cam->jitter.y);
+    float2 ray_px = camera_ray_position(cam, &frame_params, x, y, i);
     float3 o, d;
 #ifdef HAS_DOF
     if (cam->aperture.x > 0.0f)  /* the ray's own lens point; its hit is reprojected as a pinhole sees it */
@@ -34,7 +34,6 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
     else
         camera_ray(cam, ray_px.x, ray_px.y, &o, &d);
 #else
-    (void)frame_params;
     camera_ray(cam, ray_px.x, ray_px.y, &o, &d);
 #endif
 #ifdef HAS_TRANSPARENCY

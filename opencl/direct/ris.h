@@ -14,8 +14,8 @@
  * density, and the BSDF's candidates follow the light candidates; without them the weights are target / pdf exactly
  * as before. With a BSDF sample outside the reservoir (direct/bsdf_mis.h) every light candidate's target is scaled
  * by its MIS weight. With QMC (q->on, sampling/qmc.h) the pick, the point on the light and the BSDF direction of
- * every candidate come from the pixel's scrambled Sobol pairs, and all resampling choices from one uniform
- * (res_update_remap). */
+ * every candidate come from the pixel's scrambled Sobol groups (the first candidate's from the camera vertex's,
+ * which also places the camera ray in its pixel), and all resampling choices from one uniform (res_update_remap). */
 #ifndef RESTIRCL_RIS_H
 #define RESTIRCL_RIS_H
 
@@ -61,7 +61,8 @@ inline void ris_candidates(const Surface* s, const __global Light* lights, const
         float r0[RIS_BATCH], r1[RIS_BATCH], rnd[RIS_BATCH], pick_pdf[RIS_BATCH];
         for (int k = 0; k < n; ++k) {
             if (q->on) {
-                uint4 a = qmc_quad_bits(q, QMC_LIGHT(k0 + k));
+                /* the first candidate shares the camera vertex's group with the pixel jitter (sampling/qmc.h) */
+                uint4 a = k0 + k == 0 ? qmc_camera_light_bits(q) : qmc_quad_bits(q, QMC_LIGHT(k0 + k));
                 pick[k] = light_pick_takes_word(lp) ? a.x : (uint)(((ulong)a.x * (ulong)draw_range) >> 32);
                 if (k0 + k == 0) sel = qmc_float(a.w);
                 r0[k] = qmc_float(a.y);

@@ -8,7 +8,8 @@
  * 2^k indices onto one aligned block of 2^k Sobol points (still a (0,k,2)-net) and decorrelates the pairs from
  * each other and the pixels from their neighbours, so no pair repeats another pair's pattern. A light candidate
  * takes a 4D group instead (qmc_quad_bits): four Sobol dimensions under one index shuffle, so that its pick and its
- * point on the light are stratified together.
+ * point on the light are stratified together; the first candidate shares a 6D group with the camera ray's place in
+ * its pixel (qmc_camera_light_bits, qmc_camera_jitter_bits).
  *
  * The index is the sample's number within its half buffer of a still render (render/still.py), the key differs between
  * the halves: each half is its own randomised QMC estimate, and their difference stays an honest error estimate. */
@@ -16,6 +17,7 @@
 #define RESTIRCL_QMC_H
 
 #include "sampling/rng.h"
+#include "sampling/sobol_table.h"
 
 typedef struct {
     int on;     /* 0: the callers draw from their random stream as without QMC */
@@ -104,56 +106,18 @@ inline float2 qmc_pair(const Qmc* q, uint d)
     return (float2)(qmc_float(b.x), qmc_float(b.y));
 }
 
-/* Sobol dimensions 2 and 3 (primitive polynomials x^2 + x + 1 and x^3 + x + 1, Joe and Kuo's initial numbers 1, 3
- * and 1, 3, 1) as nibble tables: entry 16 n + v is the fraction (most significant bit first) that the value v of
- * index bits 4n .. 4n + 3 adds, the XOR of those bits' direction numbers. Eight lookups a point instead of a loop
- * over 32 bits with a branch on each. Checked against scipy's Sobol by tests/render/test_qmc.py. */
-__constant uint SOBOL_DIM2[128] = {
-    0x00000000u, 0x80000000u, 0xc0000000u, 0x40000000u, 0x60000000u, 0xe0000000u, 0xa0000000u, 0x20000000u,
-    0x90000000u, 0x10000000u, 0x50000000u, 0xd0000000u, 0xf0000000u, 0x70000000u, 0x30000000u, 0xb0000000u,
-    0x00000000u, 0xe8000000u, 0x5c000000u, 0xb4000000u, 0x8e000000u, 0x66000000u, 0xd2000000u, 0x3a000000u,
-    0xc5000000u, 0x2d000000u, 0x99000000u, 0x71000000u, 0x4b000000u, 0xa3000000u, 0x17000000u, 0xff000000u,
-    0x00000000u, 0x68800000u, 0x9cc00000u, 0xf4400000u, 0xee600000u, 0x86e00000u, 0x72a00000u, 0x1a200000u,
-    0x55900000u, 0x3d100000u, 0xc9500000u, 0xa1d00000u, 0xbbf00000u, 0xd3700000u, 0x27300000u, 0x4fb00000u,
-    0x00000000u, 0x80680000u, 0xc09c0000u, 0x40f40000u, 0x60ee0000u, 0xe0860000u, 0xa0720000u, 0x201a0000u,
-    0x90550000u, 0x103d0000u, 0x50c90000u, 0xd0a10000u, 0xf0bb0000u, 0x70d30000u, 0x30270000u, 0xb04f0000u,
-    0x00000000u, 0xe8808000u, 0x5cc0c000u, 0xb4404000u, 0x8e606000u, 0x66e0e000u, 0xd2a0a000u, 0x3a202000u,
-    0xc5909000u, 0x2d101000u, 0x99505000u, 0x71d0d000u, 0x4bf0f000u, 0xa3707000u, 0x17303000u, 0xffb0b000u,
-    0x00000000u, 0x6868e800u, 0x9c9c5c00u, 0xf4f4b400u, 0xeeee8e00u, 0x86866600u, 0x7272d200u, 0x1a1a3a00u,
-    0x5555c500u, 0x3d3d2d00u, 0xc9c99900u, 0xa1a17100u, 0xbbbb4b00u, 0xd3d3a300u, 0x27271700u, 0x4f4fff00u,
-    0x00000000u, 0x8000e880u, 0xc0005cc0u, 0x4000b440u, 0x60008e60u, 0xe00066e0u, 0xa000d2a0u, 0x20003a20u,
-    0x9000c590u, 0x10002d10u, 0x50009950u, 0xd00071d0u, 0xf0004bf0u, 0x7000a370u, 0x30001730u, 0xb000ffb0u,
-    0x00000000u, 0xe8006868u, 0x5c009c9cu, 0xb400f4f4u, 0x8e00eeeeu, 0x66008686u, 0xd2007272u, 0x3a001a1au,
-    0xc5005555u, 0x2d003d3du, 0x9900c9c9u, 0x7100a1a1u, 0x4b00bbbbu, 0xa300d3d3u, 0x17002727u, 0xff004f4fu
-};
-__constant uint SOBOL_DIM3[128] = {
-    0x00000000u, 0x80000000u, 0xc0000000u, 0x40000000u, 0x20000000u, 0xa0000000u, 0xe0000000u, 0x60000000u,
-    0x50000000u, 0xd0000000u, 0x90000000u, 0x10000000u, 0x70000000u, 0xf0000000u, 0xb0000000u, 0x30000000u,
-    0x00000000u, 0xf8000000u, 0x74000000u, 0x8c000000u, 0xa2000000u, 0x5a000000u, 0xd6000000u, 0x2e000000u,
-    0x93000000u, 0x6b000000u, 0xe7000000u, 0x1f000000u, 0x31000000u, 0xc9000000u, 0x45000000u, 0xbd000000u,
-    0x00000000u, 0xd8800000u, 0x25400000u, 0xfdc00000u, 0x59e00000u, 0x81600000u, 0x7ca00000u, 0xa4200000u,
-    0xe6d00000u, 0x3e500000u, 0xc3900000u, 0x1b100000u, 0xbf300000u, 0x67b00000u, 0x9a700000u, 0x42f00000u,
-    0x00000000u, 0x78080000u, 0xb40c0000u, 0xcc040000u, 0x82020000u, 0xfa0a0000u, 0x360e0000u, 0x4e060000u,
-    0xc3050000u, 0xbb0d0000u, 0x77090000u, 0x0f010000u, 0x41070000u, 0x390f0000u, 0xf50b0000u, 0x8d030000u,
-    0x00000000u, 0x208f8000u, 0x51474000u, 0x71c8c000u, 0xfbea2000u, 0xdb65a000u, 0xaaad6000u, 0x8a22e000u,
-    0x75d93000u, 0x5556b000u, 0x249e7000u, 0x0411f000u, 0x8e331000u, 0xaebc9000u, 0xdf745000u, 0xfffbd000u,
-    0x00000000u, 0xa0858800u, 0x914e5400u, 0x31cbdc00u, 0xdbe79e00u, 0x7b621600u, 0x4aa9ca00u, 0xea2c4200u,
-    0x25db6d00u, 0x855ee500u, 0xb4953900u, 0x1410b100u, 0xfe3cf300u, 0x5eb97b00u, 0x6f72a700u, 0xcff72f00u,
-    0x00000000u, 0x58800080u, 0xe54000c0u, 0xbdc00040u, 0x79e00020u, 0x216000a0u, 0x9ca000e0u, 0xc4200060u,
-    0xb6d00050u, 0xee5000d0u, 0x53900090u, 0x0b100010u, 0xcf300070u, 0x97b000f0u, 0x2a7000b0u, 0x72f00030u,
-    0x00000000u, 0x800800f8u, 0xc00c0074u, 0x4004008cu, 0x200200a2u, 0xa00a005au, 0xe00e00d6u, 0x6006002eu,
-    0x50050093u, 0xd00d006bu, 0x900900e7u, 0x1001001fu, 0x70070031u, 0xf00f00c9u, 0xb00b0045u, 0x300300bdu
-};
-
-inline uint sobol_matrix(uint i, __constant const uint* t)
+/* Sobol dimensions 2 .. 5 with their bits reversed, from nibble tables (sampling/sobol_table.h, generated): eight
+ * lookups a point instead of a loop over 32 bits with a branch on each. */
+inline uint sobol_reversed(uint i, __constant const uint* t)
 {
     return t[i & 15u] ^ t[16u + ((i >> 4) & 15u)] ^ t[32u + ((i >> 8) & 15u)] ^ t[48u + ((i >> 12) & 15u)]
            ^ t[64u + ((i >> 16) & 15u)] ^ t[80u + ((i >> 20) & 15u)] ^ t[96u + ((i >> 24) & 15u)]
            ^ t[112u + (i >> 28)];
 }
 
-/* Owen scramble of a fraction f (most significant bit first) by seed */
-inline uint qmc_owen(uint f, uint seed) { return qmc_reverse_bits(qmc_lk_hash(qmc_reverse_bits(f), seed)); }
+/* Owen scramble by seed of a fraction given with its bits reversed (sobol_reversed), as a fraction (most
+ * significant bit first): one reversal, as dimensions 0 and 1 take. */
+inline uint qmc_owen_reversed(uint r, uint seed) { return qmc_reverse_bits(qmc_lk_hash(r, seed)); }
 
 /* Point q->index of the 4D group d: Sobol dimensions 0 .. 3 under one index shuffle, each Owen-scrambled on its
  * own. Unlike pairs, whose index shuffles differ, the four coordinates of one point stay one Sobol point: a light
@@ -164,19 +128,49 @@ inline uint4 qmc_quad_bits(const Qmc* q, uint d)
     uint s = qmc_group_seed(q, d);
     uint i = qmc_shuffled_index(q, s);
     uint2 p = qmc_dims01(i, s);  /* the point on the light: the same (0,2)-sequence as a pair's */
-    return (uint4)(qmc_owen(sobol_matrix(i, SOBOL_DIM2), pcg_hash(s ^ 0x6a09e667u)), p.x, p.y,
-                   qmc_owen(sobol_matrix(i, SOBOL_DIM3), pcg_hash(s ^ 0xbb67ae85u)));
+    return (uint4)(qmc_owen_reversed(sobol_reversed(i, SOBOL_DIM2), pcg_hash(s ^ 0x6a09e667u)), p.x, p.y,
+                   qmc_owen_reversed(sobol_reversed(i, SOBOL_DIM3), pcg_hash(s ^ 0xbb67ae85u)));
 }
 
-/* Dimension groups of a RIS sample: light candidate k uses the 4D group QMC_LIGHT(k) (x: the pick, y and z: the
- * point on the light, w: for k = 0 the resampling choice); BSDF candidate k the pair QMC_BSDF(k); the BSDF MIS
- * sample's direction (direct/bsdf_mis.h) the pair QMC_BSDF_MIS. */
+/* Dimension groups of a RIS sample: light candidate k >= 1 uses the 4D group QMC_LIGHT(k) (x: the pick, y and z:
+ * the point on the light), candidate 0 the camera vertex's 6D group QMC_CAMERA (below); BSDF candidate k the pair
+ * QMC_BSDF(k); the BSDF MIS sample's direction (direct/bsdf_mis.h) the pair QMC_BSDF_MIS. */
 #define QMC_LIGHT(k) (2u * (uint)(k))
+#define QMC_CAMERA QMC_LIGHT(0) /* the first candidate's group, grown to six dimensions */
 #define QMC_BSDF(k) (0x10000u + (uint)(k))
 #define QMC_BSDF_MIS 0x20000u
 /* A path's dimensions (path/path.cl): the BSDF direction of its k-th scatter the pair QMC_PATH_BSDF(k), the NEE at
  * its k-th bounce vertex the 4D group QMC_PATH_LIGHT(k) (x: the pick, y and z: the point on the light). */
 #define QMC_PATH_BSDF(k) (0x30000u + (uint)(k))
 #define QMC_PATH_LIGHT(k) (0x40000u + 2u * (uint)(k))
+
+/* The camera vertex's group QMC_CAMERA: Sobol dimensions 0 .. 5 at one shuffled index, each Owen-scrambled on its
+ * own, shared by the camera ray's place in its pixel (dimensions 2, 3) and the first light candidate at the surface
+ * it meets (0, 1: the point on the light; 4: the pick; 5: the resampling choice of the whole stream). Drawn from
+ * independent groups, the pixel position and the light sample are each stratified alone but not together: in a pixel
+ * that an edge cuts, the samples that meet the surface are a random subset of the light's strata, and its error falls
+ * as 1/N. As one Sobol point, the 4D projection (jitter, point on the light) is a (t, 4)-net with t <= 3 over any
+ * aligned block of 2^k samples (Sobol's t for these four dimensions): the samples in each part of the pixel still
+ * spread over the light. The point on the light keeps its (0, 2)-net, the pick and the point form a 3D net with
+ * t <= 2, the jitter a 2D one with t <= 2 (checked for k = 4, 8, 10 by tests/render/test_qmc_camera.py). Candidates
+ * k >= 1 keep their own groups. */
+inline uint2 qmc_camera_jitter_bits(const Qmc* q)
+{
+    uint s = qmc_group_seed(q, QMC_CAMERA);
+    uint i = qmc_shuffled_index(q, s);
+    return (uint2)(qmc_owen_reversed(sobol_reversed(i, SOBOL_DIM2), pcg_hash(s ^ 0x6a09e667u)),
+                   qmc_owen_reversed(sobol_reversed(i, SOBOL_DIM3), pcg_hash(s ^ 0xbb67ae85u)));
+}
+
+/* The first light candidate's dimensions of QMC_CAMERA, laid out as qmc_quad_bits' (x: the pick, y and z: the
+ * point on the light, w: the resampling choice). */
+inline uint4 qmc_camera_light_bits(const Qmc* q)
+{
+    uint s = qmc_group_seed(q, QMC_CAMERA);
+    uint i = qmc_shuffled_index(q, s);
+    uint2 p = qmc_dims01(i, s);
+    return (uint4)(qmc_owen_reversed(sobol_reversed(i, SOBOL_DIM4), pcg_hash(s ^ 0x3c6ef372u)), p.x, p.y,
+                   qmc_owen_reversed(sobol_reversed(i, SOBOL_DIM5), pcg_hash(s ^ 0xa54ff53au)));
+}
 
 #endif

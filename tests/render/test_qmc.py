@@ -46,12 +46,6 @@ __kernel void quads(uint pixel, uint key, uint dim, uint index0, __global uint4*
     Qmc q = qmc_stream(1, index0 + k, key, pixel);
     out[k] = qmc_quad_bits(&q, dim);
 }
-/* unscrambled Sobol dimensions 2 and 3 at the given indices */
-__kernel void sobol23(const __global uint* index, __global uint2* out)
-{
-    uint k = get_global_id(0);
-    out[k] = (uint2)(sobol_matrix(index[k], SOBOL_DIM2), sobol_matrix(index[k], SOBOL_DIM3));
-}
 /* point `index` of the 4D group `dim` for pixels 0 .. n - 1 */
 __kernel void quads_across_pixels(uint key, uint dim, uint index, __global uint4* out)
 {
@@ -124,30 +118,6 @@ def test_aligned_blocks_after_the_first_stratify_too(device, prog):
     assert elementary_intervals_hit_once(p[:32], 5) and elementary_intervals_hit_once(p[:64], 6)
 
 
-def sobol23(device, prog, index: np.ndarray) -> np.ndarray:
-    idx = cl.Buffer(device.context, cl.mem_flags.READ_ONLY | cl.mem_flags.COPY_HOST_PTR,
-                    hostbuf=index.astype(np.uint32))
-    out = np.empty((len(index), 2), np.uint32)
-    buf = cl.Buffer(device.context, cl.mem_flags.WRITE_ONLY, out.nbytes)
-    cl.Kernel(prog, "sobol23")(device.queue, (len(index),), None, idx, buf)
-    cl.enqueue_copy(device.queue, out, buf)
-    return out.astype(np.uint64)
-
-
-def test_sobol_dimensions_2_and_3_are_scipys(device, prog):
-    # scipy's unscrambled Sobol points come in Gray-code order: its point k is the matrix product at gray(k); the
-    # first 4096 points, and 8 points from 2^31 - 3 on (scipy's fast_forward), so every nibble table is read
-    from scipy.stats import qmc
-
-    for start, n in ((0, 1 << 12), ((1 << 31) - 3, 8)):
-        sob = qmc.Sobol(d=4, scramble=False, bits=32)
-        if start:
-            sob.fast_forward(start)
-        ref = np.floor(sob.random(n)[:, 2:] * 2.0**32).astype(np.uint64)
-        k = np.arange(start, start + n, dtype=np.uint64)
-        assert np.array_equal(sobol23(device, prog, k ^ (k >> np.uint64(1))), ref), start
-
-
 def boxes_hold(p: np.ndarray, k: int, t: int) -> bool:
     """2^k points of 3 coordinates, 2^t in every elementary box of volume 2^-(k - t)."""
     m = k - t
@@ -185,13 +155,17 @@ def test_light_group_coordinates_are_uniform_over_pixels(device, prog, index):
     cl.Kernel(prog, "quads_across_pixels")(device.queue, (n,), None, np.uint32(1), np.uint32(2), np.uint32(index),
                                            buf)
     cl.enqueue_copy(device.queue, out, buf)
-    u = out.astype(np.float64) / 2.0**32
-    for c in range(4):
+    assert_uniform_and_uncorrelated(out.astype(np.float64) / 2.0**32)
+
+
+def assert_uniform_and_uncorrelated(u: np.ndarray) -> None:
+    """Every column of the (n, s) points in [0, 1) uniform (chi-square over 32 bins) and no two correlated."""
+    for c in range(u.shape[1]):
         counts = np.bincount(np.floor(u[:, c] * 32).astype(int), minlength=32)
         chi2, p, _ = pooled_chi2(counts, np.full(32, 1 / 32))
         assert p > 1e-4, (c, chi2, p)
-    corr = np.corrcoef(u.T)[np.triu_indices(4, 1)]
-    assert np.all(np.abs(corr) < 4 / math.sqrt(n)), corr
+    corr = np.corrcoef(u.T)[np.triu_indices(u.shape[1], 1)]
+    assert np.all(np.abs(corr) < 4 / math.sqrt(len(u))), corr
 
 
 def test_scrambles_differ_by_pixel_key_and_pair(device, prog):

@@ -14,6 +14,11 @@ from ..settings.table import Settings
 
 #: FrameParams (qmc, qmc_index, qmc_key) of a frame that draws random numbers
 OFF = (0, 0, 0)
+#: bits of FrameParams.qmc (opencl/codes.h QMC_*): the RIS sample draws from the pixel's sequence; so does the camera
+#: ray's place in its pixel (opencl/camera/jitter.h: still renders with pixel jitter, jointly with the first light
+#: candidate, sampling/qmc.h QMC_CAMERA)
+ON = 1
+PIXEL_JITTER = 2
 
 
 def still_uses_sobol(settings: Settings) -> bool:
@@ -33,6 +38,12 @@ def environment_table(settings: Settings) -> str | None:
 def frames_use_sobol(settings: Settings) -> bool:
     """Whether animation and viewport frames draw from it: only with `sobol` and RIS (index: the frame count)."""
     return settings.sampler == "sobol" and settings.method == "ris"
+
+
+def still_flags(settings: Settings) -> int:
+    """FrameParams.qmc of a still render's frames with `settings` (where still_uses_sobol): the pixel jitter too
+    where Settings.jitter is on."""
+    return ON | (PIXEL_JITTER if settings.jitter else 0)
 
 
 def still_key(seed: int, half: int) -> int:

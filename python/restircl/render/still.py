@@ -33,7 +33,7 @@ from .frame import DeviceFrame, Frame, read_image
 from .history import History
 from .light_passes import fill_planes, planes_buffer
 from .passes import LIGHT_PLANES
-from .qmc import still_key, still_uses_sobol
+from .qmc import still_flags, still_key, still_uses_sobol
 from .shutter import ShutterTimes
 
 HALF_BLOCK = 8  # frames per block of a still render's two half buffers (error_estimate)
@@ -209,7 +209,9 @@ class HalfStreams:
 
     Pixel jitter: one Halton sequence shared by the halves would put them in different strata, and their difference
     would see antialiasing error as noise (stratified, the mean's error falls faster than 1/n); two independently
-    shifted Halton sequences (randomised QMC) are independent estimates of the pixel. ReSTIR's temporal reuse
+    shifted Halton sequences (randomised QMC) are independent estimates of the pixel. From the Sobol sampler each
+    pixel's jitter is a part of its own sequence instead (opencl/camera/jitter.h), which each half's key scrambles
+    on its own. ReSTIR's temporal reuse
     correlates consecutive frames: each half continues its own chain (the renderer's own for the first sample's
     half, a second one for the other), so the two halves stay independent."""
 
@@ -231,12 +233,15 @@ class HalfStreams:
             return None
         index = self.qmc_counts[half]
         self.qmc_counts[half] += 1
-        return (1, index, still_key(self.settings.seed, half))
+        return (still_flags(self.settings), index, still_key(self.settings.seed, half))
 
     def jitter(self, half: int) -> tuple[float, float] | None:
-        """The pixel jitter of the next frame of `half` (None: the renderer's own, i.e. none without jitter)."""
+        """The pixel jitter of the next frame of `half` (None: the renderer's own, i.e. none without jitter). From
+        the Sobol sampler each pixel takes its own (FrameParams.qmc's PIXEL_JITTER): the frame's offset is 0."""
         if not self.settings.jitter:
             return None
+        if self.sobol:
+            return (0.0, 0.0)
         i = self.jitter_counts[half] = self.jitter_counts[half] + 1
         shift = self.shifts[half]
         return ((halton(i, 2) + shift[0]) % 1.0 - 0.5, (halton(i, 3) + shift[1]) % 1.0 - 0.5)

@@ -8,16 +8,17 @@ A family is a prefix and (name, value) pairs: light types (`LIGHT_<TYPE>`, from 
 lights/registry.py), the flags of the light records, closure kinds, texture nodes and their options, the reuse
 modes (bias correction), the one-sample methods of the direct pass, the boiling filter's modes, TAA's history
 filters, camera kinds, the guard counters, and the sizes and constants that host packing and device reading share.
-Light proposals and the sampler setting reach the device as on/off fields of SamplerParams and FrameParams
-(light_tree, pick_table, qmc), not as codes. No kernel source defines any of these names itself: tests/upload/
-test_codes.py checks that, that the header is current, and that a kernel reads every value as the host has it.
+Light proposals reach the device as on/off fields of SamplerParams (light_tree, pick_table), not as codes; the
+sampler setting as the bits of FrameParams.qmc (QMC_*). No kernel source defines any of these names itself:
+tests/upload/test_codes.py checks that, that the header is current, and that a kernel reads every value as the host
+has it.
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -38,6 +39,7 @@ from ..materials.textures import (
     RAMP_INTERPOLATIONS,
     VECTOR_OPS,
 )
+from ..render import qmc
 from ..render.passes import LIGHT_PLANES
 from ..scene.camera import CAMERA_TYPES
 from ..settings.table import BIAS_CORRECTIONS, BOILING_MODES, SHADE_METHODS, TAA_FILTERS
@@ -140,6 +142,8 @@ def families() -> tuple[Family, ...]:
             ("GLASS_SIZE", glass_tables.SIZE), ("GLASS_E_OFFSET", glass_tables.E_OFFSET),
             ("GLASS_E_INV_OFFSET", glass_tables.E_INV_OFFSET), ("GLASS_E_AVG_OFFSET", glass_tables.E_AVG_OFFSET),
             ("GLASS_E_INV_AVG_OFFSET", glass_tables.E_INV_AVG_OFFSET)), kind="constants"),
+        Family("the Sobol sampler's bits of FrameParams.qmc", "render/qmc.py", (
+            ("QMC_ON", qmc.ON), ("QMC_PIXEL_JITTER", qmc.PIXEL_JITTER)), kind="flags"),
     )
 
 
@@ -194,6 +198,16 @@ def write_generated(path: Path, text: str, check: bool, command: str) -> int:
         path.write_text(text)
         print(f"wrote {path}")
     return 0
+
+
+def generated_main(argv: Sequence[str] | None, module: str, doc: str, header: str, text: Callable[[], str]) -> int:
+    """The command line of the module `module` (docstring `doc`) that generates opencl/`header` from `text`:
+    rewrite it, or with --check say whether it is current."""
+    command = f"python -m {module}"
+    ap = argparse.ArgumentParser(prog=command, description=doc.split("\n")[0])
+    ap.add_argument("--check", action="store_true", help="exit 1 if the header differs from what the module gives")
+    a = ap.parse_args(argv)
+    return write_generated(opencl_dir() / header, text(), a.check, command)
 
 
 if __name__ == "__main__":
