@@ -195,7 +195,8 @@ class Settings:
                                         "changes by more than this factor (0: never)", flag="--light-change-ratio",
                                         range=Range(float, 1, min_open=True, off=0.0), panel="reuse",
                                         applies_when=_RESTIR, soft_max=10.0)
-    jitter: bool = setting(True, "Jitter", "Sub-pixel camera jitter (Halton 2, 3)", flag="--no-jitter",
+    jitter: bool = setting(True, "Jitter", "Sub-pixel camera jitter (Halton 2, 3 per frame; Sobol stills: "
+                           "one Sobol point with the first light sample)", flag="--no-jitter",
                            panel="sampling")
     seed: int = setting(0, "Seed", "Random seed", flag="--seed", range=Range(int, 0, UINT32_MAX), panel="sampling")
     specialise: bool = setting(True, "Specialised Kernels", "Compile only the features the scene needs (off: every "
