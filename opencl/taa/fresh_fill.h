@@ -4,7 +4,8 @@
  * has nothing else: its one sample's noise is many times a history pixel's, and a one-frame 3x3 blur within one
  * surface is of the kind the bilinear history fetch and the clip box apply to every moving pixel. The history
  * starts from the filled value with n = 1, so the next frames weigh it as a single sample (1/n) and clip it to their
- * neighbourhood like any history. Misses and lights the camera sees are not filled (their one sample is exact up to the jitter). */
+ * neighbourhood like any history. Misses and lights the camera sees are not filled (their one sample is exact up
+ * to the jitter). */
 #ifndef RESTIRCL_TAA_FRESH_FILL_H
 #define RESTIRCL_TAA_FRESH_FILL_H
 
