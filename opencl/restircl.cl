@@ -79,6 +79,7 @@
 #include "restir_gi/shade.cl"
 #endif
 #include "taa/sweep.h"
+#include "taa/fresh_fill.h"
 #include "taa/taa.cl"
 #include "filter/atrous.cl"
 #include "still/accumulate.cl"

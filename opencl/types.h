@@ -358,7 +358,7 @@ typedef struct {
     int reset;             /* 1: no history (first frame, camera cut): start from this frame's sample */
     int filter;            /* history fetch: TAA_BILINEAR or TAA_CATMULL_ROM */
     int dilate;            /* 1: take the motion of the nearest surface in the 3x3 neighbourhood */
-    int pad0;
+    int fresh_fill;        /* 1: a moving pixel without history shows its surface's 3x3 mean (taa/fresh_fill.h) */
     float sweep_open;      /* motion blur: the shutter from this frame's time, in frames (taa/sweep.h); */
     float sweep_close;     /* open == close: a sharp frame */
     int pad1, pad2;

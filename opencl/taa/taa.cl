@@ -3,7 +3,8 @@
  * same surface and clipped to the current 3x3 neighbourhood's YCoCg variance box (mean +- gamma * sigma); in a
  * still scene every frame's sample belongs to the pixel (the jitter moves the sample, not the scene) and the
  * history is kept whole. On view-dependent (glossy) surfaces a moving scene's history is shortened and clipped
- * harder (surface/view_dependence.h). A NaN/Inf never enters the history: it is counted and the pixel restarts. */
+ * harder (surface/view_dependence.h), and a pixel without history shows its surface's 3x3 mean (taa/fresh_fill.h).
+ * A NaN/Inf never enters the history: it is counted and the pixel restarts. */
 
 inline float3 rgb_to_ycocg(float3 c)
 {
@@ -162,32 +163,9 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
             n_prev = 0.0f;
         }
     }
-#ifdef TAA_FRESH_FILL
-    /* probe (tools/experiments/restir_motion.py --define): a pixel without history on a moving camera shows the
-     * mean of the samples of its (2 TAA_FRESH_FILL + 1)^2 neighbourhood that see its surface, not its one sample */
-    if (!(n_prev > 0.0f) && p.moving && !p.reset) {
-        GSample c = gbuf[i];
-        if (as_int(c.normal.w) >= 0) {
-            float3 acc = s;
-            float wsum = 1.0f;
-            for (int dy = -TAA_FRESH_FILL; dy <= TAA_FRESH_FILL; ++dy)
-                for (int dx = -TAA_FRESH_FILL; dx <= TAA_FRESH_FILL; ++dx) {
-                    int nx = x + dx, ny = y + dy;
-                    if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
-                    int j = ny * width + nx;
-                    GSample g = gbuf[j];
-                    if (as_int(g.normal.w) < 0) continue;
-                    if (!(abs_f(g.pos.w - c.pos.w) <= p.similar.depth_tolerance * abs_f(c.pos.w))) continue;
-                    if (dot3(g.normal.xyz, c.normal.xyz) < p.similar.normal_cos) continue;
-                    float3 v = sample[j].xyz;
-                    if (!finite3_f(v)) continue;
-                    acc += v;
-                    wsum += 1.0f;
-                }
-            s = acc / wsum;
-        }
-    }
-#endif
+    if (p.fresh_fill && p.moving && !p.reset && !(n_prev > 0.0f))
+        s = taa_fresh_fill(sample, gbuf, glossy, x, y, width, height, p.similar.depth_tolerance,
+                           p.similar.normal_cos, s);
     if (n_prev > 0.0f && p.moving) {
         float3 m1 = (float3)(0.0f), m2 = (float3)(0.0f);
         float cnt = 0.0f;

@@ -101,7 +101,7 @@ def main() -> None:
     ap.add_argument("--cache-dir", default="out/refs")
     ap.add_argument("--out", default=None, help="JSON file for the figures")
     ap.add_argument("--define", action="append", default=[], metavar="NAME=VALUE",
-                    help="a kernel -D of a probe, for every method of the run (e.g. TAA_FRESH_FILL=1)")
+                    help="a kernel -D of a probe, for every method of the run (e.g. TAA_CLIP_RADIUS=2)")
     a = ap.parse_args()
     if a.define:
         add_defines(dict(d.partition("=")[::2] for d in a.define))

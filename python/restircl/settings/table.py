@@ -358,6 +358,10 @@ class Settings:
                                       "(object, material, asset; 0: none); the add-on sets it from the view "
                                       "layer's Cryptomatte toggles and Levels", flag="--cryptomatte-levels",
                                       range=Range(int, 0, 16))
+    taa_fresh_fill: bool = setting(True, "Fresh-Pixel Fill", "Animation and viewport frames: a pixel without TAA "
+                                   "history (uncovered, or new at the border) shows the mean of its 3x3 neighbours "
+                                   "on the same surface instead of its one noisy sample (a one-frame blur within "
+                                   "the surface)", flag="--no-taa-fresh-fill", panel="taa", applies_when=_TAA)
 
     def validate(self) -> Settings:
         check(self)
