@@ -43,8 +43,11 @@ def _kernel_cache() -> str:
     return str(folder)
 
 
+_FRESH_CACHE: str | None = None  # the empty folder this process made for a "fresh" run, removed at its end
 if "POCL_CACHE_DIR" not in os.environ:  # set by the user, or by the process that started this xdist worker
     _CACHE = _kernel_cache()
+    if os.environ.get(CACHE_ENV, "") == "fresh":
+        _FRESH_CACHE = _CACHE
     os.environ.setdefault("POCL_CACHE_DIR", os.path.join(_CACHE, "pocl"))
     os.environ.setdefault("PYOPENCL_CACHE_DIR", os.path.join(_CACHE, "pyopencl"))
 
@@ -87,7 +90,11 @@ _EXIT: dict[str, int] = {}
 
 
 def pytest_sessionfinish(session, exitstatus):
+    """Keep the exit status for pytest_unconfigure; a "fresh" run's kernel cache (a few hundred MiB in the temporary
+    folder) goes with the process that made it (the xdist workers inherit its path and make none of their own)."""
     _EXIT["status"] = int(exitstatus)
+    if _FRESH_CACHE is not None:
+        shutil.rmtree(_FRESH_CACHE, ignore_errors=True)
 
 
 @pytest.hookimpl(trylast=True)
