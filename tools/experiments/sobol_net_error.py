@@ -4,9 +4,12 @@ the pixels' mean over every render (relMSE of one render, as eval/metrics.rel_ms
 on the whole image, on its body (without its TRIM worst pixels) and on its edge pixels (those whose luminance
 differs from a 4-neighbour's by more than half of the larger, in the mean image); and the CPU seconds per sample
 (process_time, PoCL's threads included). For comparing two trees at equal samples, run it with PYTHONPATH at each
-tree; the renders' mean image of the first run is written to MEAN_OUT (default
-/tmp/sobol_net_mean_<kind>_<bounces>.npy) and read back by later runs when it is there, so every tree is weighed by
-the same mean and edge mask.
+tree; the mean image that weighs them and picks the edges is rendered by the first run from seeds of its own
+(MEAN_SEED0 + 1 ..., at the largest count), written to MEAN_OUT (default /tmp/sobol_net_mean_<kind>_<bounces>.npy)
+and read back by later runs when it is there, so every tree is weighed by the same mean and edge mask. Not from the
+measured renders: a tree's outliers would raise its own mean where they fall, which lowers their weight and moves
+the edge mask, and the tree that made the mean would look better than it is (on `user` at 64 samples its edges by
+1.3x on average over 8 groups of 8 seeds, 1.6x in one: docs/measurements/error-vs-time.md).
 
     PYTHONPATH=python python tools/experiments/sobol_net_error.py KIND [bounces [seeds [counts]]]
 
@@ -26,6 +29,7 @@ from restircl.eval.cycles.paths import LightPaths
 from restircl.eval.scenes.kinds import scene_of_kind
 
 TRIM = 20  # pixels left out of the body figure
+MEAN_SEED0 = 1000  # the mean image's renders take seeds MEAN_SEED0 + 1 ..., none of the measured ones
 
 
 def edges(mean: np.ndarray) -> np.ndarray:
@@ -48,15 +52,18 @@ def main() -> None:
     scene = scene_of_kind(kind, 192, 108)
     paths = LightPaths.of(bounces)
     imgs, cpu = {}, {}
+
+    def render(seed: int, n: int) -> np.ndarray:
+        settings = still_settings(Settings(seed=seed, **paths.overrides()), scene)
+        return Renderer(scene, settings).render_still(0, samples=n).color[..., :3].astype(np.float64)
+
     for n in counts:
         t0 = time.process_time()
-        imgs[n] = np.stack([Renderer(scene, still_settings(Settings(seed=s, **paths.overrides()), scene))
-                            .render_still(0, samples=n).color[..., :3].astype(np.float64)
-                            for s in range(1, seeds + 1)])
+        imgs[n] = np.stack([render(s, n) for s in range(1, seeds + 1)])
         cpu[n] = (time.process_time() - t0) / (n * seeds)
     path = os.environ.get("MEAN_OUT", f"/tmp/sobol_net_mean_{kind}_{bounces}.npy")
     if not os.path.exists(path):
-        np.save(path, np.mean([imgs[n].mean(axis=0) for n in counts], axis=0))
+        np.save(path, np.mean([render(MEAN_SEED0 + s, max(counts)) for s in range(1, seeds + 1)], axis=0))
     mean = np.load(path)
     edge = edges(mean)
     weight = 1.0 / (mean**2 + 0.01)
