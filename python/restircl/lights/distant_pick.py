@@ -21,16 +21,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from .pick_floor import FLOOR, floored
 from .sun import TYPE as SUN
 
 #: lanes of a row of the distant lights' table (int32; float lanes as their bits)
 LANES = 8
 #: lane 3 of a light that lights every direction (the world): no cone to test
 NO_CONE = -2.0
-#: the share of the fixed shares in the mix, as lights/tree.h LIGHT_TREE_FLOOR's in a branch
-FLOOR = 0.1
-#: no local share below this nor above 1 minus it (lights/tree.h LIGHT_TREE_MIN_BRANCH)
-MIN_SHARE = 1.0 / 4096.0
 
 
 def distant_table(far: np.ndarray, records: np.ndarray, types: np.ndarray, fixed: np.ndarray,
@@ -85,5 +82,4 @@ def local_share(root: float, distant: float, fixed: float) -> float:
     point); distant, the distant lights' summed distant_importance; fixed, the tree's share of the light array."""
     local = fixed if root > 0 else 0.0
     total = local + distant
-    p = (1.0 - FLOOR) * (local / total if total > 0 and np.isfinite(total) else fixed) + FLOOR * fixed
-    return min(max(p, MIN_SHARE), 1.0 - MIN_SHARE)
+    return floored(local / total if total > 0 and np.isfinite(total) else fixed, fixed)

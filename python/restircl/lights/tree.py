@@ -26,6 +26,7 @@ from ..core import layouts as L
 from ..settings.table import Settings
 from .bounds import DISTANT
 from .distant_pick import distant_importance, distant_shares, distant_table, local_share
+from .pick_floor import floored
 from .registry import groups
 from .tree_leaves import leaf_lights
 
@@ -222,10 +223,6 @@ def light_trees(settings: Settings, types: np.ndarray) -> tuple[bool, bool]:
 
 # ---- the host's reference of the device's branch probabilities (tests; opencl/lights/tree.h) ----------------
 
-#: share of each branch probability given by the children's power (lights/tree.h LIGHT_TREE_FLOOR)
-FLOOR = 0.1
-#: no branch probability below this, nor above 1 minus it (lights/tree.h LIGHT_TREE_MIN_BRANCH)
-MIN_BRANCH = 1.0 / 4096.0
 
 
 def _cos_sub(cos_a, sin_a, cos_b, sin_b):
@@ -310,5 +307,4 @@ def branch(i0: tuple[float, float], i1: tuple[float, float], phi0: float, phi1: 
         return 1.0 if phi0 > 0 else 0.0
     pw = phi0 / (phi0 + phi1)
     shares = [v for v in (_share(i0[0], i1[0]), _share(i0[1], i1[1])) if v is not None]
-    p = (1 - FLOOR) * (sum(shares) / len(shares) if shares else pw) + FLOOR * pw
-    return min(max(p, MIN_BRANCH), 1 - MIN_BRANCH)
+    return floored(sum(shares) / len(shares) if shares else pw, pw)

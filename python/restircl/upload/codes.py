@@ -24,7 +24,7 @@ from pathlib import Path
 
 from ..core import layouts as L
 from ..core.program import opencl_dir
-from ..lights import area_sampling, camera_visible, linking, pick_table, record, registry, sphere, tree
+from ..lights import area_sampling, camera_visible, linking, pick_floor, pick_table, record, registry, sphere, tree
 from ..lights import environment as environment_light
 from ..materials import thin_film
 from ..materials.material import MAX_LAYERS
@@ -127,7 +127,7 @@ def families() -> tuple[Family, ...]:
         Family("the per-pixel light pick", "lights/pick_table.py", (
             ("PICK_TABLE_MAX", pick_table.MAX_LIGHTS), ("PICK_TABLE_FLOOR", pick_table.FLOOR)), kind="constants"),
         Family("the light tree", "lights/tree.py", (
-            ("LIGHT_TREE_FLOOR", tree.FLOOR), ("LIGHT_TREE_MIN_BRANCH", tree.MIN_BRANCH),
+            ("LIGHT_TREE_FLOOR", pick_floor.FLOOR), ("LIGHT_TREE_MIN_BRANCH", pick_floor.MIN_BRANCH),
             ("LIGHT_TREE_TWO_SIDED", tree.NODE_TWO_SIDED)), kind="constants"),
         Family("GGX energy tables", "upload/ggx_tables.py", (
             ("GGX_E_SIZE", ggx_tables.E_SIZE), ("GGX_S_SIZE", ggx_tables.S_SIZE),
