@@ -83,11 +83,15 @@ inline uint qmc_shuffled_index(const Qmc* q, uint s)
     return qmc_reverse_bits(qmc_lk_hash(qmc_reverse_bits(q->index), s));
 }
 
+/* Owen scramble by seed of a fraction given with its bits reversed (dimension 0: the index itself; dimension 1:
+ * sobol_dim1_reversed; 2 .. 5: sobol_reversed), as a fraction (most significant bit first): one reversal. */
+inline uint qmc_owen_reversed(uint r, uint seed) { return qmc_reverse_bits(qmc_lk_hash(r, seed)); }
+
 /* Sobol dimensions 0 and 1 at shuffled index i, each Owen-scrambled, for a group with seed s */
 inline uint2 qmc_dims01(uint i, uint s)
 {
-    return (uint2)(qmc_reverse_bits(qmc_lk_hash(i, pcg_hash(s ^ 0x2c1b3c6du))),
-                   qmc_reverse_bits(qmc_lk_hash(sobol_dim1_reversed(i), pcg_hash(s ^ 0x297a2d39u))));
+    return (uint2)(qmc_owen_reversed(i, pcg_hash(s ^ 0x2c1b3c6du)),
+                   qmc_owen_reversed(sobol_dim1_reversed(i), pcg_hash(s ^ 0x297a2d39u)));
 }
 
 /* Point q->index of dimension pair d, as two 32-bit fractions. The Owen scramble of a fraction f is
@@ -115,9 +119,17 @@ inline uint sobol_reversed(uint i, __constant const uint* t)
            ^ t[112u + (i >> 28)];
 }
 
-/* Owen scramble by seed of a fraction given with its bits reversed (sobol_reversed), as a fraction (most
- * significant bit first): one reversal, as dimensions 0 and 1 take. */
-inline uint qmc_owen_reversed(uint r, uint seed) { return qmc_reverse_bits(qmc_lk_hash(r, seed)); }
+/* Point q->index of group d: Sobol dimensions 0 and 1 (y, z) and two more from the tables tx, tw (x, w), each
+ * scrambled with its own key (kx, kw), all at one shuffled index. */
+inline uint4 qmc_group_bits(const Qmc* q, uint d, __constant const uint* tx, uint kx, __constant const uint* tw,
+                            uint kw)
+{
+    uint s = qmc_group_seed(q, d);
+    uint i = qmc_shuffled_index(q, s);
+    uint2 p = qmc_dims01(i, s);  /* the point on the light: the same (0,2)-sequence as a pair's */
+    return (uint4)(qmc_owen_reversed(sobol_reversed(i, tx), pcg_hash(s ^ kx)), p.x, p.y,
+                   qmc_owen_reversed(sobol_reversed(i, tw), pcg_hash(s ^ kw)));
+}
 
 /* Point q->index of the 4D group d: Sobol dimensions 0 .. 3 under one index shuffle, each Owen-scrambled on its
  * own. Unlike pairs, whose index shuffles differ, the four coordinates of one point stay one Sobol point: a light
@@ -125,11 +137,7 @@ inline uint qmc_owen_reversed(uint r, uint seed) { return qmc_reverse_bits(qmc_l
  * still spread their points over it (in 3D the first 2^k points put 2 in every elementary box of volume 2^(1-k)). */
 inline uint4 qmc_quad_bits(const Qmc* q, uint d)
 {
-    uint s = qmc_group_seed(q, d);
-    uint i = qmc_shuffled_index(q, s);
-    uint2 p = qmc_dims01(i, s);  /* the point on the light: the same (0,2)-sequence as a pair's */
-    return (uint4)(qmc_owen_reversed(sobol_reversed(i, SOBOL_DIM2), pcg_hash(s ^ 0x6a09e667u)), p.x, p.y,
-                   qmc_owen_reversed(sobol_reversed(i, SOBOL_DIM3), pcg_hash(s ^ 0xbb67ae85u)));
+    return qmc_group_bits(q, d, SOBOL_DIM2, 0x6a09e667u, SOBOL_DIM3, 0xbb67ae85u);
 }
 
 /* Dimension groups of a RIS sample: light candidate k >= 1 uses the 4D group QMC_LIGHT(k) (x: the pick, y and z:
@@ -154,23 +162,13 @@ inline uint4 qmc_quad_bits(const Qmc* q, uint d)
  * spread over the light. The point on the light keeps its (0, 2)-net, the pick and the point form a 3D net with
  * t <= 2, the jitter a 2D one with t <= 2 (checked for k = 4, 8, 10 by tests/render/test_qmc_camera.py). Candidates
  * k >= 1 keep their own groups. */
-inline uint2 qmc_camera_jitter_bits(const Qmc* q)
-{
-    uint s = qmc_group_seed(q, QMC_CAMERA);
-    uint i = qmc_shuffled_index(q, s);
-    return (uint2)(qmc_owen_reversed(sobol_reversed(i, SOBOL_DIM2), pcg_hash(s ^ 0x6a09e667u)),
-                   qmc_owen_reversed(sobol_reversed(i, SOBOL_DIM3), pcg_hash(s ^ 0xbb67ae85u)));
-}
+inline uint2 qmc_camera_jitter_bits(const Qmc* q) { return qmc_quad_bits(q, QMC_CAMERA).xw; }
 
 /* The first light candidate's dimensions of QMC_CAMERA, laid out as qmc_quad_bits' (x: the pick, y and z: the
  * point on the light, w: the resampling choice). */
 inline uint4 qmc_camera_light_bits(const Qmc* q)
 {
-    uint s = qmc_group_seed(q, QMC_CAMERA);
-    uint i = qmc_shuffled_index(q, s);
-    uint2 p = qmc_dims01(i, s);
-    return (uint4)(qmc_owen_reversed(sobol_reversed(i, SOBOL_DIM4), pcg_hash(s ^ 0x3c6ef372u)), p.x, p.y,
-                   qmc_owen_reversed(sobol_reversed(i, SOBOL_DIM5), pcg_hash(s ^ 0xa54ff53au)));
+    return qmc_group_bits(q, QMC_CAMERA, SOBOL_DIM4, 0x3c6ef372u, SOBOL_DIM5, 0xa54ff53au);
 }
 
 #endif
