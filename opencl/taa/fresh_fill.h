@@ -9,14 +9,15 @@
 #ifndef RESTIRCL_TAA_FRESH_FILL_H
 #define RESTIRCL_TAA_FRESH_FILL_H
 
+/* key: the material key of pixel (x, y)'s surface (taa.cl has loaded it); a neighbour's material is read only
+ * where its depth and normal already pass */
 inline float3 taa_fresh_fill(const __global float4* sample, const __global GSample* gbuf,
                              const __global GlossySample* glossy, int x, int y, int width, int height,
-                             float depth_tol, float normal_cos, float3 s)
+                             float depth_tol, float normal_cos, const MaterialKey* key, float3 s)
 {
     int i = y * width + x;
     GSample c = gbuf[i];
     if (as_int(c.normal.w) < 0) return s;
-    Surface sc = surface_load(gbuf, glossy, i);
     float3 acc = s;
     float cnt = 1.0f;
     for (int dy = -1; dy <= 1; ++dy)
@@ -28,8 +29,9 @@ inline float3 taa_fresh_fill(const __global float4* sample, const __global GSamp
             if (as_int(g.normal.w) < 0) continue;
             if (!(abs_f(g.pos.w - c.pos.w) <= depth_tol * abs_f(c.pos.w))) continue;
             if (dot3(g.normal.xyz, c.normal.xyz) < normal_cos) continue;
-            Surface sn = surface_load(gbuf, glossy, j);
-            if (!surface_material_similar(&sc, &sn)) continue;
+            SurfaceMaterial m = surface_material_load(gbuf, glossy, j, 1);
+            MaterialKey kn = material_key(&m);
+            if (!material_keys_similar(key, &kn)) continue;
             float3 v = sample[j].xyz;
             if (!finite3_f(v)) continue;
             acc += v;

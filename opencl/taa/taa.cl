@@ -127,10 +127,12 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
     if (!finite3_f(s)) { guard_count(guards, GUARD_NONFINITE_SAMPLE); s = (float3)(0.0f); }
     /* a view-dependent (glossy) surface's history does not follow its motion: shorter, clipped harder */
     float alpha_min = p.alpha_min, gamma = p.gamma;
+    MaterialKey key;  /* the surface's material key, for the fresh-pixel fill (moving frames only) */
     if (p.moving) {
         Surface sf = surface_load(gbuf, glossy, i);
         alpha_min = view_dependent_alpha_min(&sf, alpha_min);
         gamma = view_dependent_gamma(&sf, gamma);
+        key = material_key(&sf.mat);
     }
     float3 h = (float3)(0.0f);
     float n_prev = 0.0f;
@@ -165,7 +167,7 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
     }
     if (p.fresh_fill && p.moving && !p.reset && !(n_prev > 0.0f))
         s = taa_fresh_fill(sample, gbuf, glossy, x, y, width, height, p.similar.depth_tolerance,
-                           p.similar.normal_cos, s);
+                           p.similar.normal_cos, &key, s);
     if (n_prev > 0.0f && p.moving) {
         float3 m1 = (float3)(0.0f), m2 = (float3)(0.0f);
         float cnt = 0.0f;
