@@ -41,9 +41,11 @@ def _scene_buffers() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return g, sample, history
 
 
-def _taa(fill: bool, moving: bool, glossy: np.ndarray | None = None, sample: np.ndarray | None = None) -> np.ndarray:
+def _taa(fill: bool, moving: bool, glossy: np.ndarray | None = None, sample: np.ndarray | None = None,
+         keep_history: bool = True) -> np.ndarray:
     """One TAA step over the hand-made buffers: the colour it shows (rgb) and the history length (w). With
-    `glossy`, a glossy build (material_balls) and that G-buffer extension."""
+    `glossy`, a glossy build (material_balls) and that G-buffer extension; keep_history False: a reset (a first
+    frame, a cut)."""
     scene = scenes.cornell_box(W, H) if glossy is None else scenes.material_balls(W, H)
     r = Renderer(scene, Settings(taa_fresh_fill=fill))
     q, h = r.device.queue, r.history
@@ -56,7 +58,7 @@ def _taa(fill: bool, moving: bool, glossy: np.ndarray | None = None, sample: np.
             cl.enqueue_copy(q, h.glossy(slot), glossy)
     cl.enqueue_copy(q, h.taa[h.prev], history)
     cl.enqueue_copy(q, r.buffers.sample, np.concatenate([sample, np.ones((H, W, 1), np.float32)], axis=2))
-    state = SimpleNamespace(frame_params=r.frame_params(), plan=SimpleNamespace(history=True), sweep=(0.0, 0.0))
+    state = SimpleNamespace(frame_params=r.frame_params(), plan=SimpleNamespace(history=keep_history), sweep=(0.0, 0.0))
     out = np.empty((H, W, 4), np.float32)
     cl.enqueue_copy(q, out, r.taa.run(state, moving))  # type: ignore[arg-type]
     return out
@@ -115,3 +117,13 @@ def test_a_neighbour_of_another_material_is_left_out():
     same = [(1, 2), (1, 3), (2, 1), (2, 2), (2, 3), (3, 1), (3, 3)]  # (2, 2)'s without (1, 1) and (3, 2)
     np.testing.assert_allclose(on[2, 2, :3], _mean(sample, same), rtol=1e-5)
     assert np.all(_mean(sample, [*same, (3, 2)]) > 7.0)  # the negative control: with (3, 2) the fill is far off
+
+
+def test_a_reset_frame_is_not_filled():
+    """A first frame or a camera cut (the plan keeps no history) shows every pixel's own sample, moving or not: the
+    fill is for pixels that lost their history to motion, not for a frame that has none."""
+    _, sample, _ = _scene_buffers()
+    out = _taa(True, True, keep_history=False)
+    np.testing.assert_allclose(out[..., :3], sample, rtol=1e-6)
+    # the same pixel on a moving frame with history elsewhere is filled (the case above): the reset is what differs
+    assert not np.allclose(_taa(True, True)[2, 2, :3], sample[2, 2], rtol=1e-3)
