@@ -61,5 +61,5 @@ def test_converged_both_blends_the_oracle_history_with_the_frame():
 def test_add_defines_reaches_the_kernel_build(monkeypatch):
     from restircl.core import program
     monkeypatch.setattr(program, "kernel_defines", lambda: {"A": 1})
-    restir_motion.add_defines({"TAA_FRESH_FILL": "1"})
-    assert program.kernel_defines() == {"A": 1, "TAA_FRESH_FILL": "1"}
+    restir_motion.add_defines({"TAA_CLIP_RADIUS": "2"})
+    assert program.kernel_defines() == {"A": 1, "TAA_CLIP_RADIUS": "2"}

@@ -19,7 +19,8 @@ from __future__ import annotations
 import sys
 
 import numpy as np
-from sobol_net_error import edges
+
+from tools.experiments.sobol_net_error import edges
 
 LUM = np.array([0.2126, 0.7152, 0.0722])
 SIZE = (192, 108)

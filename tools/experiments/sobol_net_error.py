@@ -5,7 +5,8 @@ on the whole image, on its body (without its TRIM worst pixels) and on its edge 
 differs from a 4-neighbour's by more than half of the larger, in the mean image); and the CPU seconds per sample
 (process_time, PoCL's threads included). For comparing two trees at equal samples, run it with PYTHONPATH at each
 tree; the mean image that weighs them and picks the edges is rendered by the first run from seeds of its own
-(MEAN_SEED0 + 1 ..., at the largest count), written to MEAN_OUT (default /tmp/sobol_net_mean_<kind>_<bounces>.npy)
+(MEAN_SEED0 + 1 ..., at the largest count), written to MEAN_OUT (default
+/tmp/sobol_net_mean_<kind>_<bounces>_<seeds>x<largest count>.npy)
 and read back by later runs when it is there, so every tree is weighed by the same mean and edge mask. Not from the
 measured renders: a tree's outliers would raise its own mean where they fall, which lowers their weight and moves
 the edge mask, and the tree that made the mean would look better than it is (on `user` at 64 samples its edges by
@@ -61,7 +62,7 @@ def main() -> None:
         t0 = time.process_time()
         imgs[n] = np.stack([render(s, n) for s in range(1, seeds + 1)])
         cpu[n] = (time.process_time() - t0) / (n * seeds)
-    path = os.environ.get("MEAN_OUT", f"/tmp/sobol_net_mean_{kind}_{bounces}.npy")
+    path = os.environ.get("MEAN_OUT", f"/tmp/sobol_net_mean_{kind}_{bounces}_{seeds}x{max(counts)}.npy")
     if not os.path.exists(path):
         np.save(path, np.mean([render(MEAN_SEED0 + s, max(counts)) for s in range(1, seeds + 1)], axis=0))
     mean = np.load(path)

@@ -179,10 +179,7 @@ def header_path() -> Path:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m restircl.upload.codes", description=__doc__.split("\n\n")[0])
-    ap.add_argument("--check", action="store_true", help="exit 1 if the header differs from the tables")
-    a = ap.parse_args(argv)
-    return write_generated(header_path(), header(), a.check, "python -m restircl.upload.codes")
+    return generated_main(argv, "restircl.upload.codes", __doc__ or "", HEADER, header)
 
 
 def write_generated(path: Path, text: str, check: bool, command: str) -> int:

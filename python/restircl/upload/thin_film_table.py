@@ -20,14 +20,12 @@ clamps to the last point."""
 
 from __future__ import annotations
 
-import argparse
 import functools
 from collections.abc import Sequence
 
 import numpy as np
 
-from ..core.program import opencl_dir
-from .codes import write_generated
+from .codes import generated_main
 
 SIZE = 512
 OPD_MAX = 9600.0  # nm
@@ -98,10 +96,8 @@ def header() -> str:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m restircl.upload.thin_film_table", description=__doc__.split("\n")[0])
-    ap.add_argument("--check", action="store_true", help="exit 1 if the header differs from this module's table")
-    a = ap.parse_args(argv)
-    return write_generated(opencl_dir() / HEADER, header(), a.check, "python -m restircl.upload.thin_film_table")
+    return generated_main(argv, "restircl.upload.thin_film_table", __doc__ or "", HEADER, header)
+
 
 if __name__ == "__main__":
     raise SystemExit(main())
