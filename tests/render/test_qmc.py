@@ -13,6 +13,7 @@ import pyopencl as cl
 import pytest
 from restircl import Camera, Light, Material, Mesh, Renderer, Scene, Settings, look_at, scenes, translation
 from restircl.core.program import build_program
+from restircl.eval.nets import net_holds
 from restircl.render.qmc import still_key, still_uses_sobol
 from scipy import stats
 
@@ -92,45 +93,20 @@ def quads(device, prog, pixel: int, key: int, dim: int, n: int, index0: int = 0)
     return _sequence(device, prog, "quads", 4, pixel, key, dim, n, index0)
 
 
-def elementary_intervals_hit_once(p: np.ndarray, k: int) -> bool:
-    """2^k points, one in each elementary interval of every shape 2^-a x 2^-(k-a)."""
-    for a in range(k + 1):
-        cell = (p[:, 0].astype(np.uint64) >> np.uint64(32 - a)) * np.uint64(1 << (k - a)) \
-            + (p[:, 1].astype(np.uint64) >> np.uint64(32 - (k - a)))
-        if len(np.unique(cell)) != 1 << k:
-            return False
-    return True
-
-
 @pytest.mark.parametrize("k", [4, 8, 10])
 def test_first_points_stratify_every_elementary_interval(device, prog, k):
     for pixel, key, dim in [(0, 0, 0), (17, 5, 1), (4095, 123456, 7), (77, 1, 65536)]:
         p = points(device, prog, pixel, key, dim, 1 << k)
-        assert elementary_intervals_hit_once(p, k), (pixel, key, dim)
+        assert net_holds(p, k, 0), (pixel, key, dim)
 
 
 def test_aligned_blocks_after_the_first_stratify_too(device, prog):
     # a still render's half buffer continues the sequence: samples 2^k .. 2^(k+1) - 1 are a net of their own
     for index0 in (64, 192, 1 << 20):
         p = points(device, prog, 9, 3, 2, 64, index0)
-        assert elementary_intervals_hit_once(p, 6), index0
+        assert net_holds(p, 6, 0), index0
     p = points(device, prog, 9, 3, 2, 96)  # and any 2^k-aligned prefix of a longer run
-    assert elementary_intervals_hit_once(p[:32], 5) and elementary_intervals_hit_once(p[:64], 6)
-
-
-def boxes_hold(p: np.ndarray, k: int, t: int) -> bool:
-    """2^k points of 3 coordinates, 2^t in every elementary box of volume 2^-(k - t)."""
-    m = k - t
-    for a in range(m + 1):
-        for b in range(m + 1 - a):
-            c = m - a - b
-            cell = np.zeros(len(p), np.uint64)
-            for bits, col in ((a, 0), (b, 1), (c, 2)):
-                part = p[:, col].astype(np.uint64) >> np.uint64(32 - bits) if bits else np.zeros(len(p), np.uint64)
-                cell = cell * np.uint64(1 << bits) + part
-            if np.bincount(cell.astype(np.int64), minlength=1 << m).max() != 1 << t:
-                return False
-    return True
+    assert net_holds(p[:32], 5, 0) and net_holds(p[:64], 6, 0)
 
 
 @pytest.mark.parametrize("k", [4, 8, 10])
@@ -139,12 +115,12 @@ def test_light_group_stratifies_the_pick_and_the_point_together(device, prog, k)
     # the point alone one in every elementary interval; a later aligned block too
     for pixel, key, dim, index0 in [(0, 0, 0, 0), (17, 5, 2, 0), (4095, 123456, 14, 0), (9, 3, 0, 1 << k)]:
         p = quads(device, prog, pixel, key, dim, 1 << k, index0)
-        assert boxes_hold(p[:, :3], k, 1), (pixel, key, dim, index0)
-        assert elementary_intervals_hit_once(p[:, 1:3], k), (pixel, key, dim, index0)
+        assert net_holds(p[:, :3], k, 1), (pixel, key, dim, index0)
+        assert net_holds(p[:, 1:3], k, 0), (pixel, key, dim, index0)
     # the pick's and the point's pairs of the old layout were shuffled apart: two points per box fails for them
     pair = points(device, prog, 0, 0, 0, 1 << k)
     other = points(device, prog, 0, 0, 1, 1 << k)
-    assert not boxes_hold(np.column_stack([pair[:, 0], other]), k, 1)
+    assert not net_holds(np.column_stack([pair[:, 0], other]), k, 1)
 
 
 @pytest.mark.parametrize("index", [0, 37])

@@ -7,13 +7,12 @@ switches the pixel's jitter on only with Settings.jitter."""
 
 from __future__ import annotations
 
-from itertools import combinations
-
 import numpy as np
 import pyopencl as cl
 import pytest
 from restircl import Renderer, Settings
 from restircl.core.program import build_program
+from restircl.eval.nets import net_holds
 from restircl.render.camera import halton
 from restircl.render.qmc import ON, PIXEL_JITTER, still_flags
 from restircl.upload import sobol_table
@@ -85,21 +84,6 @@ def camera_points(device, prog, pixel: int, key: int, n: int, index0: int = 0) -
     return _run(device, prog, "camera_points", 6, n, pixel, key, index0)
 
 
-def net_holds(p: np.ndarray, k: int, t: int) -> bool:
-    """2^k points of s coordinates (32-bit fractions): 2^t in every elementary box of volume 2^-(k - t), of every
-    shape (the (t, k, s)-net property)."""
-    m, s = k - t, p.shape[1]
-    for cuts in combinations(range(m + s - 1), s - 1):  # the compositions of m into s parts (stars and bars)
-        bits = np.diff((-1, *cuts, m + s - 1)) - 1
-        cell = np.zeros(len(p), np.int64)
-        for col, b in enumerate(bits):
-            if b:
-                cell = (cell << int(b)) + (p[:, col] >> np.uint32(32 - b)).astype(np.int64)
-        if np.bincount(cell, minlength=1 << m).max() != 1 << t:
-            return False
-    return True
-
-
 def test_tables_are_current_and_scipys_sobol(device, prog):
     # the header is what the generator writes, and its dimensions 2 .. 5 are scipy's (Joe and Kuo's), whose
     # unscrambled point k is the matrix product at gray(k); 4096 points and 8 from 2^31 - 3 on read every nibble table
@@ -119,16 +103,6 @@ def test_tables_are_current_and_scipys_sobol(device, prog):
         cl.Kernel(prog, "sobol2345")(device.queue, (n,), None, idx, buf)
         cl.enqueue_copy(device.queue, out, buf)
         assert np.array_equal(out.astype(np.uint64), ref), start
-
-
-def test_net_check_counts_boxes():
-    # the checker itself: a 2^4 grid's cell centres in 2D hold (t = 0); the same points with one coordinate shared
-    # by two of them do not
-    g = (np.arange(16) + 0.5) / 16 * 2.0**32
-    grid = np.column_stack([np.repeat(g[::4], 4), np.tile(g[::4], 4)]).astype(np.uint32)
-    assert net_holds(grid, 4, 2) and not net_holds(grid, 4, 1)
-    hammersley = np.column_stack([g, [int(f"{i:04b}"[::-1], 2) * 2**28 + 2**27 for i in range(16)]]).astype(np.uint32)
-    assert net_holds(hammersley, 4, 0)
 
 
 @pytest.mark.parametrize("k", [4, 8, 10])

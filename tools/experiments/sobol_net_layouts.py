@@ -19,6 +19,7 @@ from __future__ import annotations
 import sys
 
 import numpy as np
+from restircl.eval.nets import t_value
 from restircl.upload.sobol_table import direction_numbers
 
 M32 = np.uint64(0xFFFFFFFF)
@@ -88,26 +89,9 @@ INTEGRANDS = {
 }
 
 
-def t_value(dims: tuple[int, ...], k: int) -> int:
-    """The smallest t for which the first 2^k unscrambled points of `dims` are a (t, k, s)-net."""
-    from itertools import combinations
-
-    p = np.column_stack([sobol(np.arange(1 << k, dtype=np.uint64), d) for d in dims])
-    s = len(dims)
-    for t in range(k + 1):
-        m, ok = k - t, True
-        for cuts in combinations(range(m + s - 1), s - 1):
-            bits = np.diff((-1, *cuts, m + s - 1)) - 1
-            cell = np.zeros(len(p), np.int64)
-            for col, b in enumerate(bits):
-                if b:
-                    cell = (cell << int(b)) + (p[:, col] >> np.uint64(32 - b)).astype(np.int64)
-            if np.bincount(cell, minlength=1 << m).max() != 1 << t:
-                ok = False
-                break
-        if ok:
-            return t
-    return k
+def layout_t(dims: tuple[int, ...], k: int) -> int:
+    """The t-value of the first 2^k unscrambled points of Sobol dimensions `dims`."""
+    return t_value(np.column_stack([sobol(np.arange(1 << k, dtype=np.uint64), d) for d in dims]), k)
 
 
 def main() -> None:
@@ -126,10 +110,10 @@ def main() -> None:
                 jx, jy, p, u, v = points(n, lay, s[0:6])
             for key, f in INTEGRANDS.items():
                 err[key].append(float(np.mean(f(jx, jy, p, u, v))) - refs[key])
-        tv = "" if lay is None else (f"; t (k = 4..10): jitter {max(t_value(lay[:2], k) for k in range(4, 11))}, "
-                                     f"point {max(t_value(lay[3:], k) for k in range(4, 11))}, (pick, point) "
-                                     f"{max(t_value(lay[2:], k) for k in range(4, 11))}, (jitter, point) "
-                                     f"{max(t_value(lay[:2] + lay[3:], k) for k in range(4, 11))}")
+        tv = "" if lay is None else (f"; t (k = 4..10): jitter {max(layout_t(lay[:2], k) for k in range(4, 11))}, "
+                                     f"point {max(layout_t(lay[3:], k) for k in range(4, 11))}, (pick, point) "
+                                     f"{max(layout_t(lay[2:], k) for k in range(4, 11))}, (jitter, point) "
+                                     f"{max(layout_t(lay[:2] + lay[3:], k) for k in range(4, 11))}")
         print(f"N={n} {name:12s} " + " ".join(f"{k} {np.mean(np.square(e)):.3e}" for k, e in err.items()) + tv,
               flush=True)
 
