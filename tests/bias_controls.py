@@ -44,7 +44,7 @@ a test that asserts it rejects one of these builds.
 from __future__ import annotations
 
 import pytest
-from restircl.render import pipeline
+from restircl.eval.probe_defines import add_probe_defines
 
 # A pdf 2 % too small: the direct light 2.04 % too bright, the size of the biased ReSTIR mode's darkening
 # (render/test_restir.py) that the quick sizes must be able to see.
@@ -52,11 +52,8 @@ PDF_SCALE = 0.98
 
 
 def built_with(monkeypatch: pytest.MonkeyPatch, *defines: str) -> None:
-    """Every renderer made after this call builds its kernels with `defines` (-D options) added."""
-    build = pipeline.build_program
-    options = tuple(f"-D{d}" for d in defines)
-    monkeypatch.setattr(pipeline, "build_program", lambda device, flags=None, **kw: build(
-        device, flags, extra_options=options, **kw))
+    """Every program built after this call, in this test, has `defines` (NAME or NAME=VALUE) added."""
+    add_probe_defines(defines, monkeypatch.setattr)
 
 
 def wrong_pdf(monkeypatch: pytest.MonkeyPatch, scale: float = PDF_SCALE) -> None:

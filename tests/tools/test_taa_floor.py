@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 from restircl.eval.scenes.motion_validation import garden_orbit, motion_scene
 
-from tools.experiments import restir_motion
 from tools.experiments import taa_floor as tool
 
 
@@ -57,9 +56,3 @@ def test_converged_both_blends_the_oracle_history_with_the_frame():
     assert n.min() == 5.0 and n.max() == 5.0  # frames 0-4 of an unbroken history
     np.testing.assert_allclose(img, 0.2, rtol=1e-6)
 
-
-def test_add_defines_reaches_the_kernel_build(monkeypatch):
-    from restircl.core import program
-    monkeypatch.setattr(program, "kernel_defines", lambda: {"A": 1})
-    restir_motion.add_defines({"TAA_CLIP_RADIUS": "2"})
-    assert program.kernel_defines() == {"A": 1, "TAA_CLIP_RADIUS": "2"}

@@ -12,9 +12,9 @@ import argparse
 
 import numpy as np
 from restircl import Renderer, Settings, scenes
+from restircl.eval.probe_defines import add_probe_defines
 from restircl.eval.report import flicker as fl
 from restircl.eval.report.reference import get_reference
-from restircl.render import pipeline
 
 VARIANTS = {
     "restir": Settings(),
@@ -40,8 +40,7 @@ def main() -> None:
     a = ap.parse_args()
     w, h = (int(v) for v in a.size.split("x"))
     if a.define:
-        build = pipeline.build_program
-        pipeline.build_program = lambda dev, flags, **kw: build(dev, flags, extra_options=(f"-D{a.define}",))
+        add_probe_defines([a.define])
     base = scenes.many_lights(w, h, frames=8)
     warmup, frames = 16, 16
     print("| camera | variant | seed | level | noisy level | taa / noisy | deficit top 1 % | deficit rest | flicker "

@@ -26,16 +26,10 @@ import time
 from pathlib import Path
 
 import numpy as np
-from restircl.core import program
+from restircl.eval.probe_defines import add_probe_defines
 from restircl.eval.report.moving import MovingReport, _taa_rows, frame_time_ms
 from restircl.eval.report.reference import get_reference
 from restircl.eval.scenes.motion_validation import MOTION_SCENES, motion_scene
-
-
-def add_defines(extra: dict[str, str]) -> None:
-    """Build every kernel of this process with the probe defines `extra` besides the settings' own."""
-    base = program.kernel_defines
-    program.kernel_defines = lambda: {**base(), **extra}  # type: ignore[assignment]
 
 
 def cpu_times(scene, methods: list[str], repeats: int) -> dict[str, float]:
@@ -104,7 +98,7 @@ def main() -> None:
                     help="a kernel -D of a probe, for every method of the run (e.g. TAA_CLIP_RADIUS=2)")
     a = ap.parse_args()
     if a.define:
-        add_defines(dict(d.partition("=")[::2] for d in a.define))
+        add_probe_defines(a.define)
     methods = a.methods.split(",")
     scene = motion_scene(a.scene, a.width, a.height, a.frames)
     evaluated = sorted({*range(0, scene.frames, a.every), scene.frames - 1})
