@@ -1,6 +1,6 @@
-"""tools/experiments/taa_floor.py: its per-pixel error against values worked out by hand, and its TAA stage with the
-input or the history replaced, on a small orbit whose replacements are flat colours (TAA of flat colours is known
-without the renderer)."""
+"""tools/experiments/taa_floor.py: its TAA stage with the input or the history replaced, on a small orbit whose
+replacements are flat colours (TAA of flat colours is known without the renderer). Its per-pixel error is
+eval/metrics.py rel_mse_map (tests/eval/test_metrics.py)."""
 
 from __future__ import annotations
 
@@ -9,22 +9,6 @@ import pytest
 from restircl.eval.scenes.motion_validation import garden_orbit, motion_scene
 
 from tools.experiments import taa_floor as tool
-
-
-def test_pixel_error_is_the_rel_mse_term_per_pixel():
-    # reference 1 everywhere (weight 1 / 1.01); pixel (0, 0) off by 2 in one channel of three: 4 / 1.01 / 3
-    ref = np.ones((2, 3, 3))
-    img = ref.copy()
-    img[0, 0, 1] += 2.0
-    got = tool.pixel_error(img, ref)
-    assert got.shape == (2, 3)
-    assert got[0, 0] == pytest.approx(4.0 / 1.01 / 3.0, rel=1e-12)
-    assert got.sum() == pytest.approx(got[0, 0], rel=1e-12)
-
-
-def test_pixel_error_weighs_dark_pixels_by_the_offset():
-    # reference 0: the weight is 1 / 0.01, so an error of 0.1 gives 1
-    assert tool.pixel_error(np.full((1, 1, 3), 0.1), np.zeros((1, 1, 3)))[0, 0] == pytest.approx(1.0, rel=1e-12)
 
 
 @pytest.fixture(scope="module")

@@ -22,6 +22,7 @@ import numpy as np
 from restircl import Renderer, Settings
 from restircl.eval.cycles.compare import scene_pair
 from restircl.eval.cycles.paths import LightPaths
+from restircl.eval.metrics import rel_mse_map
 from restircl.render.frame import read_image
 from restircl.render.still_method import still_settings
 
@@ -37,7 +38,7 @@ def seeds_of(text: str) -> list[int]:
 def error_split(img: np.ndarray, ref: np.ndarray, path: np.ndarray) -> dict:
     """relMSE of img (H, W, 3) against ref, the shares of it on its 5 and 50 worst pixels, and the share on the
     pixels whose path-pass light (path, H x W x 3) has a channel mean above the reference's, with their count."""
-    err = ((img - ref) ** 2 / (ref * ref + 0.01)).mean(-1)
+    err = rel_mse_map(img, ref)
     total = float(err.sum())
     worst = np.sort(err.ravel())[::-1]
     heavy = path.mean(-1) > ref.mean(-1)
@@ -91,7 +92,7 @@ def main() -> None:
             worst_seed = (float(total), seed, img, path)
     assert worst_seed is not None
     _, seed, img, path = worst_seed
-    err = ((img - ref) ** 2 / (ref * ref + 0.01)).mean(-1)
+    err = rel_mse_map(img, ref)
     for k in np.argsort(err.ravel())[::-1][:8]:
         y, x = divmod(int(k), w)
         print(f"  seed {seed} pixel ({x}, {y}): share {err[y, x] / err.sum():.3f}, image {img[y, x].mean():.4g}, path "

@@ -21,7 +21,7 @@ from restircl import Renderer, Settings
 from restircl.eval.cycles import bridge as cycles
 from restircl.eval.cycles.compare import cycles_reference
 from restircl.eval.cycles.paths import LightPaths
-from restircl.eval.metrics import rel_mse
+from restircl.eval.metrics import rel_mse, rel_mse_map
 from restircl.eval.report.reference import get_reference
 from restircl.eval.scenes.kinds import scene_of_kind
 from restircl.io.images import to_srgb8
@@ -55,12 +55,6 @@ def material_map(scene, device=None) -> np.ndarray:
     return np.where(np.abs(g["normal"][..., :3]).sum(axis=-1) > 0, out, -1)
 
 
-def terms(img: np.ndarray, ref: np.ndarray) -> np.ndarray:
-    """(H, W) per-pixel relMSE terms, the channels' mean: their mean over the pixels is rel_mse."""
-    a, r = np.asarray(img, np.float64)[..., :3], np.asarray(ref, np.float64)[..., :3]
-    return ((a - r) ** 2 / (r * r + 0.01)).mean(axis=-1)
-
-
 def blocks(img: np.ndarray, k: int) -> np.ndarray:
     h, w = (img.shape[0] // k) * k, (img.shape[1] // k) * k
     return img[:h, :w, :3].reshape(h // k, k, w // k, k, 3).mean(axis=(1, 3))
@@ -70,7 +64,7 @@ def analyse(kind: str, paths: LightPaths, spp: int, seconds: float, cache: Path,
     scene = scene_of_kind(kind)
     ref = cycles_reference(kind, scene, cycles.to_bpy(scene), spp, 2, cache, print, paths)
     ours = get_reference(scene, 0, seconds, device=device, cache_dir=cache, overrides=paths.overrides())
-    t = terms(ours.image, ref.image)
+    t = rel_mse_map(ours.image, ref.image)
     order = np.sort(t.ravel())[::-1]
     n = order.size
     mats = material_map(scene, device)

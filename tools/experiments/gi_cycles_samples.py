@@ -14,10 +14,10 @@ from pathlib import Path
 import numpy as np
 from restircl.eval.cycles import bridge as cycles
 from restircl.eval.cycles.paths import LightPaths
-from restircl.eval.metrics import rel_mse
+from restircl.eval.metrics import rel_mse, rel_mse_map
 from restircl.eval.scenes.kinds import scene_of_kind
 
-from .gi_agreement import material_map, terms
+from .gi_agreement import material_map
 from .gi_variance import reference
 
 
@@ -41,7 +41,7 @@ def main() -> None:
         res = cycles.render(sc, samples=a.samples, seed=200 + seed, threads=2, paths=paths.cycles())
         errs.append(rel_mse(res.image, ref))
         secs.append(res.render_seconds / a.samples)
-        maps.append(terms(res.image, ref))
+        maps.append(rel_mse_map(res.image, ref))
     mats, mean_map = material_map(scene), np.mean(maps, axis=0)
     print(f"cycles {a.samples} spp relMSE {np.mean(errs):.3e} ({', '.join(f'{e:.2e}' for e in errs)}) "
           f"{np.median(secs) * 1e3:6.1f} ms/spp (render only)  load {os.getloadavg()[0]:.1f}")

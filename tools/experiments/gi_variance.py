@@ -21,12 +21,12 @@ from pathlib import Path
 import numpy as np
 from restircl import Renderer, Settings
 from restircl.eval.cycles.paths import LightPaths
-from restircl.eval.metrics import rel_mse
+from restircl.eval.metrics import rel_mse, rel_mse_map
 from restircl.eval.scenes.kinds import scene_of_kind
 from restircl.render import pipeline
 from restircl.render.still_method import still_settings
 
-from .gi_agreement import material_map, terms
+from .gi_agreement import material_map
 
 
 def reference(kind: str, paths: LightPaths, cache: Path) -> np.ndarray:
@@ -63,7 +63,7 @@ def run_variant(kind: str, paths: LightPaths, overrides: dict, defines: tuple[st
             img = r.render_still(0, samples).color[..., :3]
             secs.append((time.perf_counter() - t0) / samples)
             errs.append(rel_mse(img, ref))
-            maps.append(terms(img, ref))
+            maps.append(rel_mse_map(img, ref))
             t = np.sort(maps[-1].ravel())[::-1]
             tops.append(float(t[: max(t.size // 1000, 1)].sum() / t.sum()))
         mats = material_map(scene)

@@ -19,6 +19,7 @@ import tempfile
 from pathlib import Path
 
 import numpy as np
+from restircl.eval.metrics import rel_mse_map
 from restircl.eval.report.reference import get_reference
 from restircl.render.pipeline import Renderer
 from restircl.scene.scene import Scene
@@ -31,16 +32,10 @@ TRIM = 5  # worst pixels left out per frame
 LAMP = 2.0  # a reference pixel above this (mean of RGB) is a lamp's
 
 
-def pixel_errors(image: np.ndarray, ref: np.ndarray) -> np.ndarray:
-    """Each pixel's relMSE term, (x - r)^2 / (r^2 + 0.01) averaged over RGB (eval/metrics.py rel_mse per pixel)."""
-    x, r = image.astype(np.float64)[..., :3], ref.astype(np.float64)[..., :3]
-    return np.mean((x - r) ** 2 / (r * r + 0.01), axis=-1).ravel()
-
-
 def figures(images: dict[int, np.ndarray], refs: dict[int, np.ndarray]) -> dict:
     full, trimmed, top, lamps = [], [], [], []
     for k in EVALUATED:
-        e = np.sort(pixel_errors(images[k], refs[k]))[::-1]
+        e = np.sort(rel_mse_map(images[k], refs[k]).ravel())[::-1]
         full.append(e.mean())
         trimmed.append(e[TRIM:].sum() / e.size)
         top.append(e[:20].sum() / max(e.sum(), 1e-30))

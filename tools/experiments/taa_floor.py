@@ -30,6 +30,7 @@ from pathlib import Path
 
 import numpy as np
 import pyopencl as cl
+from restircl.eval.metrics import rel_mse_map
 from restircl.eval.report.methods import method_settings
 from restircl.eval.report.reference import get_reference
 from restircl.eval.scenes.motion_validation import motion_scene
@@ -40,14 +41,6 @@ from .restir_motion import orbit_arguments
 
 TAA_MODES = ("taa", "oracle_history", "converged_input", "converged_both")
 AVERAGE_KS = (1, 2, 4, 8)
-
-
-def pixel_error(img: np.ndarray, ref: np.ndarray) -> np.ndarray:
-    """(H, W) relMSE term per pixel: the mean over channels of (x - r)^2 / (r^2 + 0.01) (eval/metrics.py rel_mse
-    is the mean of this map)."""
-    x = np.asarray(img, np.float64)[..., :3]
-    r = np.asarray(ref, np.float64)[..., :3]
-    return np.mean((x - r) ** 2 / (r * r + 0.01), axis=-1)
 
 
 def renderer(scene, method: str, seed: int) -> Renderer:
@@ -139,8 +132,8 @@ def main() -> None:
             per_seed, disocc, young, disocc_px, young_px, frames, raw = [], [], [], [], [], [], []
             for seed in range(1, a.seeds + 1):
                 got = taa_run(scene, method, seed, mode, refs, evaluated)
-                maps = {f: pixel_error(img, refs[f]) for f, (img, _, _) in got.items()}
-                raw.append(float(np.mean([pixel_error(got[f][2], refs[f]).mean() for f in evaluated])))
+                maps = {f: rel_mse_map(img, refs[f]) for f, (img, _, _) in got.items()}
+                raw.append(float(np.mean([rel_mse_map(got[f][2], refs[f]).mean() for f in evaluated])))
                 frames.append([float(maps[f].mean()) for f in evaluated])
                 per_seed.append(float(np.mean(frames[-1])))
                 total = sum(float(m.sum()) for m in maps.values())
@@ -164,7 +157,7 @@ def main() -> None:
         for seed in range(1, a.seeds + 1):
             got = sample_images(scene, method, seed, evaluated, a.average)
             for k in by_k:
-                by_k[k].append(float(np.mean([pixel_error(np.mean(got[f][:k], axis=0), refs[f]).mean()
+                by_k[k].append(float(np.mean([rel_mse_map(np.mean(got[f][:k], axis=0), refs[f]).mean()
                                               for f in evaluated])))
         for k, per_seed in by_k.items():
             row = {"method": method, "mode": f"average{k}", "rel_mse_per_seed": per_seed,

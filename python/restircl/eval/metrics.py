@@ -7,11 +7,22 @@ import warnings
 import numpy as np
 
 
-def rel_mse(x: np.ndarray, ref: np.ndarray) -> float:
-    """mean over pixels and channels of (x - r)^2 / (r^2 + 0.01)."""
+def _rel_se(x: np.ndarray, ref: np.ndarray) -> np.ndarray:
+    """(x - r)^2 / (r^2 + 0.01) per pixel and colour channel (alpha left out), in float64."""
     x = np.asarray(x, dtype=np.float64)[..., :3]
     ref = np.asarray(ref, dtype=np.float64)[..., :3]
-    return float(np.mean((x - ref) ** 2 / (ref * ref + 0.01)))
+    return (x - ref) ** 2 / (ref * ref + 0.01)
+
+
+def rel_mse(x: np.ndarray, ref: np.ndarray) -> float:
+    """mean over pixels and channels of (x - r)^2 / (r^2 + 0.01)."""
+    return float(np.mean(_rel_se(x, ref)))
+
+
+def rel_mse_map(x: np.ndarray, ref: np.ndarray) -> np.ndarray:
+    """(H, W) relMSE term of each pixel: (x - r)^2 / (r^2 + 0.01) averaged over the colour channels; rel_mse is the
+    mean of this map, which says where an image's error lies."""
+    return np.mean(_rel_se(x, ref), axis=-1)
 
 
 def rmse(x: np.ndarray, ref: np.ndarray) -> float:
