@@ -2,7 +2,8 @@
 history shows the mean of the samples of its 3x3 neighbours on its surface (view depth, normal and material within
 the reuse's tolerances), itself included; a pixel with history, a miss, and every pixel of a still scene are
 untouched. In glossy builds a neighbour of another material (another lobe count, roughness or metallic share:
-surface_material_similar) is left out too.
+surface_material_similar) is left out too. The brightest sample counts for no more than the others together, and a
+non-finite sample is left out of the mean.
 
 The TAA stage runs once on a hand-made G-buffer (8x6): the left half a surface at depth 2, the right half another at
 depth 5; pixel (1, 1) faces another way. Pixels with motion.z = 0 have no reprojection (no history); the others
@@ -68,6 +69,10 @@ def _mean(sample: np.ndarray, pixels: list[tuple[int, int]]) -> np.ndarray:
     return np.mean([sample[y, x] for x, y in pixels], axis=0)
 
 
+def _luminance(rgb: np.ndarray) -> np.ndarray:
+    return rgb @ np.array([0.2126, 0.7152, 0.0722])
+
+
 def test_fresh_pixels_show_their_surfaces_mean():
     _, sample, _ = _scene_buffers()
     on, off = _taa(True, True), _taa(False, True)
@@ -127,3 +132,33 @@ def test_a_reset_frame_is_not_filled():
     np.testing.assert_allclose(out[..., :3], sample, rtol=1e-6)
     # the same pixel on a moving frame with history elsewhere is filled (the case above): the reset is what differs
     assert not np.allclose(_taa(True, True)[2, 2, :3], sample[2, 2], rtol=1e-3)
+
+
+def test_a_firefly_neighbour_is_bounded():
+    """One neighbour's sample 10^4 times its surface's: the fresh pixels it reaches show at most twice their other
+    samples' mean (the brightest sample counts for no more than all the others together), not a ninth of it."""
+    _, sample, _ = _scene_buffers()
+    sample[3, 2] = 1e4  # (2, 3): a history pixel in the 3x3 of the fresh (2, 2) and (3, 3)
+    on = _taa(True, True, sample=sample)
+    for (x, y), same in (((2, 2), [(1, 2), (1, 3), (2, 1), (2, 2), (3, 1), (3, 2), (3, 3)]),
+                         ((3, 3), [(2, 2), (2, 4), (3, 2), (3, 3), (3, 4)])):
+        others = np.array([sample[v, u] for u, v in same], np.float64)
+        rest = _luminance(others).sum()
+        # the firefly (grey, so its luminance is 10^4) scaled down to the others' summed luminance, then the mean
+        want = (others.sum(axis=0) + rest) / (len(same) + 1)
+        np.testing.assert_allclose(on[y, x, :3], want, rtol=1e-5)
+        assert _luminance(on[y, x, :3]) <= 2.0 * rest / (len(same) + 1) * (1 + 1e-5)
+        assert np.all(_mean(sample, [*same, (2, 3)]) > 1000.0)  # the negative control: the plain mean
+
+
+def test_a_non_finite_sample_is_left_out_of_the_mean():
+    """A NaN sample (the pixel's own, zeroed where it is shown, or a neighbour's) is not counted in the fill's mean,
+    as a 0 would darken the pixel; nothing non-finite is written."""
+    _, sample, _ = _scene_buffers()
+    sample[2, 2] = np.nan  # (2, 2)'s own sample
+    sample[4, 3] = np.inf  # (3, 4): a neighbour of (3, 3)
+    on = _taa(True, True, sample=sample)
+    assert np.all(np.isfinite(on))
+    np.testing.assert_allclose(on[2, 2, :3], _mean(sample, [(1, 2), (1, 3), (2, 1), (2, 3), (3, 1), (3, 2), (3, 3)]),
+                               rtol=1e-5)
+    np.testing.assert_allclose(on[3, 3, :3], _mean(sample, [(2, 3), (2, 4), (3, 2), (3, 3)]), rtol=1e-5)
