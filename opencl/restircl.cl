@@ -80,6 +80,7 @@
 #endif
 #include "taa/sweep.h"
 #include "taa/fresh_fill.h"
+#include "taa/blend_weight.h"
 #include "taa/taa.cl"
 #include "filter/atrous.cl"
 #include "still/accumulate.cl"

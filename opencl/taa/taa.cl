@@ -4,6 +4,8 @@
  * still scene every frame's sample belongs to the pixel (the jitter moves the sample, not the scene) and the
  * history is kept whole. On view-dependent (glossy) surfaces a moving scene's history is shortened and clipped
  * harder (surface/view_dependence.h), and a pixel without history shows its surface's 3x3 mean (taa/fresh_fill.h).
+ * With the noise-aware blend (taa/blend_weight.h) a moving pixel's a rises above max(1 / n, alpha_min) where its
+ * sample is quiet against what its history has drifted by.
  * A NaN/Inf never enters the history: it is counted and the pixel restarts. */
 
 inline float3 rgb_to_ycocg(float3 c)
@@ -43,16 +45,19 @@ inline float4 catmull_rom_weights(float f)
 /* History at continuous previous-frame position `prev` from the taps that show the pixel's surface: bilinear (2x2),
  * or Catmull-Rom (4x4: sharper under motion, where bilinear blurs a little every frame). Catmull-Rom needs every
  * tap: where one is another surface or off-screen it falls back to bilinear over the valid ones, and its negative
- * lobes are clamped (the result never goes below 0). n (history length) is always taken bilinearly. */
+ * lobes are clamped (the result never goes below 0). n (history length) is always taken bilinearly, and so is, with
+ * the noise-aware blend (moments_in not 0), its moments history (mom; w2: the sum of the squared tap weights). */
 inline bool taa_fetch(const GSample* cur, float2 prev, const __global GSample* prev_gbuf,
-                      const __global float4* history_in, int width, int height, int moving, int filter,
-                      float depth_tol, float normal_cos, float3* h, float* n_prev)
+                      const __global float4* history_in, const __global float4* moments_in, int width, int height,
+                      int moving, int filter, float depth_tol, float normal_cos, float3* h, float* n_prev,
+                      float4* mom, float* w2)
 {
     float2 f = prev - 0.5f;
     int x0 = (int)floor(f.x), y0 = (int)floor(f.y);
     float fx = f.x - (float)x0, fy = f.y - (float)y0;
-    float wsum = 0.0f, nsum = 0.0f;
+    float wsum = 0.0f, nsum = 0.0f, w2sum = 0.0f;
     float3 hsum = (float3)(0.0f);
+    float4 msum = (float4)(0.0f);
     bool all_valid = true;
     for (int t = 0; t < 4; ++t) {
         int tx = x0 + (t & 1), ty = y0 + (t >> 1);
@@ -66,10 +71,18 @@ inline bool taa_fetch(const GSample* cur, float2 prev, const __global GSample* p
         wsum += wt;
         hsum += wt * hv.xyz;
         nsum += wt * hv.w;
+        if (moments_in) {
+            msum += wt * moments_in[j];
+            w2sum += wt * wt;
+        }
     }
     if (!(wsum > 1e-3f)) return false;
     *h = hsum / wsum;
     *n_prev = nsum / wsum;
+    if (moments_in) {
+        *mom = msum / wsum;
+        *w2 = w2sum / (wsum * wsum);
+    }
     if (filter != TAA_CATMULL_ROM || !all_valid || x0 < 1 || y0 < 1 || x0 + 2 >= width || y0 + 2 >= height)
         return true;
     float4 wx = catmull_rom_weights(fx), wy = catmull_rom_weights(fy);
@@ -115,7 +128,8 @@ inline bool taa_dilated_position(const __global GSample* gbuf, int x, int y, int
 
 __kernel void taa(const __global float4* sample, const __global GSample* gbuf, const __global GlossySample* glossy,
                   const __global GSample* prev_gbuf,
-                  const __global float4* history_in, __global float4* history_out, volatile __global int* guards,
+                  const __global float4* history_in, __global float4* history_out,
+                  const __global float4* moments_in, __global float4* moments_out, volatile __global int* guards,
                   FrameParams frame_params, TaaParams params)
 {
     const TaaParams p = params;
@@ -136,6 +150,10 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
     }
     float3 h = (float3)(0.0f);
     float n_prev = 0.0f;
+    /* the noise-aware blend's moments history (taa/blend_weight.h): 0 without it */
+    const __global float4* mom_in = p.noise_blend ? moments_in : 0;
+    float4 mom = (float4)(0.0f);
+    float spatial_var = 0.0f, w2 = 1.0f;
     float2 prev, sweep = (float2)(0.0f);
     const bool blurred = p.moving && p.sweep_close > p.sweep_open;
     bool swept = false;
@@ -150,20 +168,22 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
         if (swept) {
             prev = (float2)((float)x + 0.5f, (float)y + 0.5f) + sweep;
             fetched = finite_f(prev.x) && finite_f(prev.y)
-                && taa_fetch(&cur, prev, prev_gbuf, history_in, width, height, 0, p.filter,
-                             p.similar.depth_tolerance, p.similar.normal_cos, &h, &n_prev);
+                && taa_fetch(&cur, prev, prev_gbuf, history_in, mom_in, width, height, 0, p.filter,
+                             p.similar.depth_tolerance, p.similar.normal_cos, &h, &n_prev, &mom, &w2);
         }
         if (!fetched && p.dilate && p.moving && taa_dilated_position(gbuf, x, y, width, height, &prev))
-            fetched = taa_fetch(&cur, prev, prev_gbuf, history_in, width, height, p.moving, p.filter,
-                                p.similar.depth_tolerance, p.similar.normal_cos, &h, &n_prev);
+            fetched = taa_fetch(&cur, prev, prev_gbuf, history_in, mom_in, width, height, p.moving, p.filter,
+                                p.similar.depth_tolerance, p.similar.normal_cos, &h, &n_prev, &mom, &w2);
         if (!fetched && reproject_position(gbuf, x, y, width, &prev))
-            fetched = taa_fetch(&cur, prev, prev_gbuf, history_in, width, height, p.moving, p.filter,
-                                p.similar.depth_tolerance, p.similar.normal_cos, &h, &n_prev);
+            fetched = taa_fetch(&cur, prev, prev_gbuf, history_in, mom_in, width, height, p.moving, p.filter,
+                                p.similar.depth_tolerance, p.similar.normal_cos, &h, &n_prev, &mom, &w2);
         if (fetched && (!finite3_f(h) || !finite_f(n_prev))) {
             guard_count(guards, GUARD_NONFINITE_HISTORY);
             h = (float3)(0.0f);
             n_prev = 0.0f;
         }
+        if (mom_in && !(finite_f(mom.x) && finite_f(mom.y) && finite_f(mom.z)))
+            n_prev = 0.0f;  /* moments never written (the blend just turned on) or broken: start again */
     }
     if (p.fresh_fill && p.moving && !p.reset && !(n_prev > 0.0f))
         s = taa_fresh_fill(sample, gbuf, glossy, x, y, width, height, p.similar.depth_tolerance,
@@ -198,12 +218,30 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
             mean = 0.5f * (lo + hi);
             extent = 0.5f * (hi - lo);
         }
+        spatial_var = sigma.x * sigma.x;
         h = ycocg_to_rgb(clip_to_box(rgb_to_ycocg(h), mean, extent));
     }
     float n = fmin_f(n_prev + 1.0f, (float)p.max_history);
     /* a still scene keeps converging (1/n up to max_history); motion brings back the floor alpha_min */
     float a = n_prev > 0.0f ? fmax_f(1.0f / n, p.moving ? alpha_min : 0.0f) : 1.0f;
+    if (p.noise_blend) {
+        float y = taa_luma(s);
+        const bool kept = n_prev > 0.0f;
+        if (kept) {
+            float v_s = taa_sample_variance(mom, y, w2, n, p.moving, spatial_var);
+            if (p.moving) a = taa_blend_weight(v_s, mom.z, a);
+            mom = taa_moments_leave(mom, y, v_s, y - taa_luma(h), n, p.moving, a);
+        } else {
+            mom = taa_moments_start(y);
+        }
+    }
     float3 o = a * s + (1.0f - a) * h;
-    if (!finite3_f(o)) { guard_count(guards, GUARD_NONFINITE_HISTORY); o = s; n = 1.0f; }
+    if (!finite3_f(o)) {
+        guard_count(guards, GUARD_NONFINITE_HISTORY);
+        o = s;
+        n = 1.0f;
+        mom = taa_moments_start(taa_luma(s));
+    }
     history_out[i] = (float4)(o, n);
+    if (p.noise_blend) moments_out[i] = mom;
 }

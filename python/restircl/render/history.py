@@ -10,7 +10,8 @@ reservoirs of the frame before this one.
 
 A still ReSTIR render runs two chains of history, one per half buffer (render/still.py), so that the halves stay
 independent: a Chain is one pair of G-buffers and reservoirs with its own slot index and validity. The TAA colour
-follows the slot index of the active chain.
+follows the slot index of the active chain, and so does the TAA moments pair of the noise-aware blend (allocated by
+the first frame that uses it).
 """
 
 from __future__ import annotations
@@ -40,6 +41,8 @@ class History:
         self.chains = [self._new_chain()]
         self.active = 0
         self.taa = [alloc(pixels * 16) for _ in range(2)]  # rgb: colour; w: history length n
+        self._taa_moments: list[cl.Buffer] = []
+        self._placeholder: cl.Buffer | None = None
         self._gi: list[cl.Buffer] = []
         self.gi_valid = False  # slot prev holds ReSTIR GI reservoirs of the last frame
         self._gi_kept = False  # this frame kept its ReSTIR GI reservoirs
@@ -85,6 +88,18 @@ class History:
         pass wrote it there already)."""
         if res is not self.reservoirs(self.cur):
             cl.enqueue_copy(queue, self.reservoirs(self.cur), res)
+
+    def taa_moments(self, slot: int, used: bool) -> cl.Buffer:
+        """TAA's moments history of slot `slot` (taa/blend_weight.h: float4 per pixel, allocated by the first frame
+        that uses it, in step with the TAA colour), or, when not `used`, a 16-byte placeholder the kernel never
+        reads."""
+        if not used:
+            if self._placeholder is None:
+                self._placeholder = self._alloc(16)
+            return self._placeholder
+        if not self._taa_moments:
+            self._taa_moments = [self._alloc(self.pixels * 16) for _ in range(2)]
+        return self._taa_moments[slot]
 
     def gi_reservoirs(self, slot: int) -> cl.Buffer:
         """ReSTIR GI's reservoirs of slot `slot`."""

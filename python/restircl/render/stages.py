@@ -379,11 +379,13 @@ class Taa(Stage):
         params = L.pack(L.TAA_PARAMS, alpha_min=s.alpha_min, gamma=s.gamma, similar=self._similarity(),
                         moving=int(moving), max_history=s.max_history, reset=int(not state.plan.history),
                         filter=TAA_FILTERS.index(s.taa_filter), dilate=int(s.taa_dilation),
-                        fresh_fill=int(s.taa_fresh_fill),
+                        fresh_fill=int(s.taa_fresh_fill), noise_blend=int(s.taa_noise_blend),
                         sweep_open=state.sweep[0], sweep_close=state.sweep[1])
         self.kernels.launch("taa", image_size(state), sample=self.buffers.sample, gbuf=h.gbuf(h.cur),
                             glossy=h.glossy(h.cur),
                             prev_gbuf=h.gbuf(h.prev), history_in=h.taa[h.prev], history_out=h.taa[h.cur],
+                            moments_in=h.taa_moments(h.prev, s.taa_noise_blend),
+                            moments_out=h.taa_moments(h.cur, s.taa_noise_blend),
                             guards=self.buffers.guards, frame_params=state.frame_params, params=params)
         return h.taa[h.cur]
 

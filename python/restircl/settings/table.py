@@ -362,6 +362,11 @@ class Settings:
                                    "history (uncovered, or new at the border) shows the mean of its 3x3 neighbours "
                                    "on the same surface instead of its one noisy sample (a one-frame blur within "
                                    "the surface)", flag="--no-taa-fresh-fill", panel="taa", applies_when=_TAA)
+    taa_noise_blend: bool = setting(False, "Noise-Aware Blend", "Animation and viewport frames: on a moving camera "
+                                    "TAA weighs each pixel's new sample by its noise (estimated from successive "
+                                    "samples) against its history's drift, so a quiet input is blurred and lags less; "
+                                    "never below Minimum Blend", flag="--taa-noise-blend", panel="taa",
+                                    applies_when=_TAA)
 
     def validate(self) -> Settings:
         check(self)
