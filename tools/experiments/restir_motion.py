@@ -88,6 +88,7 @@ def main() -> None:
     ap.add_argument("--methods", default="ris,restir")
     ap.add_argument("--budget-method", default="restir")
     ap.add_argument("--seeds", type=int, default=3)
+    ap.add_argument("--first-seed", type=int, default=1, help="seeds first-seed .. first-seed + seeds - 1")
     ap.add_argument("--equal-frames", action="store_true", help="k = 1 for every method (error per frame)")
     ap.add_argument("--ceil", action="store_true", help="k rounded up (every method gets at least the budget)")
     ap.add_argument("--repeats", type=int, default=2, help="interleaved CPU-time measurements per method")
@@ -118,7 +119,7 @@ def main() -> None:
     ks = {m: k_of(m) for m in methods}
     errs: dict[str, list[float]] = {m: [] for m in methods}
     per_frame: dict[str, list[list[float]]] = {m: [] for m in methods}
-    for seed in range(1, a.seeds + 1):
+    for seed in range(a.first_seed, a.first_seed + a.seeds):
         for m in methods:
             rep = MovingReport(scene.name, "", a.width, a.height, budget)
             _taa_rows(rep, scene, m, ks[m], refs, None, None, seed)
@@ -162,7 +163,8 @@ def main() -> None:
         Path(a.out).write_text(json.dumps({
             "scene": scene.name, "width": a.width, "height": a.height, "frames": scene.frames,
             "evaluated": evaluated, "budget_method": a.budget_method, "budget_cpu_ms": budget,
-            "load": [load0, load1], "seeds": a.seeds, "defines": a.define, "rows": rows}, indent=1))
+            "load": [load0, load1], "seeds": a.seeds, "first_seed": a.first_seed, "defines": a.define,
+            "rows": rows}, indent=1))
 
 
 if __name__ == "__main__":
