@@ -221,6 +221,7 @@
 #define LIGHT_TREE_FLOOR      0.1f
 #define LIGHT_TREE_MIN_BRANCH 0.000244140625f
 #define LIGHT_TREE_TWO_SIDED  1
+#define LIGHT_TREE_EXACT      32
 
 /* GGX energy tables (upload/ggx_tables.py) */
 #define GGX_E_SIZE       32

@@ -129,7 +129,7 @@ typedef struct {
     float4 hi;   /* xyz: box max;  w: cos theta_o, the half angle of the cone of emission normals */
     float4 axis; /* xyz: unit axis of that cone;  w: cos theta_e, how far beyond the normals they emit */
     int4 meta;   /* x: the light of a leaf (-1: inner node);  y: flags (LIGHT_TREE_TWO_SIDED);  z: sin theta_o
-                    (float bits);  w: 0 */
+                    (float bits);  w: the number of leaves below it (1 for a leaf) */
 } LightTreeNode; /* 64 bytes */
 
 /* ---- camera ----------------------------------------------------------------------------------- */

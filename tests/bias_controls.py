@@ -38,6 +38,11 @@ a test that asserts it rejects one of these builds.
 - TEST_DISTANT_PICK_FIXED_PDF: light_pick_pdf gives the distant lights and the tree their fixed shares of the light
   array while the pick takes them by importance at the point (lights/tree.h, lights/distant_pick.h): the MIS weights'
   pdf is not the pick's (lights/test_distant_pick.py).
+- TEST_TREE_EXACT_BRANCH_PDF: light_pick_pdf follows the light tree's branches all the way down to the leaf while the
+  pick takes a light below a node of few lights by its own importance (lights/tree.h, lights/tree_exact.h): the MIS
+  weights' pdf is not the pick's (lights/test_tree_exact.py). Not a bias but a test hook beside it:
+  TEST_LIGHT_TREE_EXACT=k builds the tree's exact pick for nodes of at most k lights instead of LIGHT_TREE_EXACT (1:
+  every pick branches down to its leaf), so that a small scene still has branches (render/test_path_descent.py).
 - TEST_LAYER_WEIGHT_WHOLE: a still's weighted layers shade a partly transparent surface whole instead of by its
   coverage (camera/layers.h; render/test_camera_layers.py)."""
 

@@ -8,6 +8,8 @@
  * a bound is wrong (a shading normal, a normal map); no branch goes below LIGHT_TREE_MIN_BRANCH. The pick's pdf
  * is the product of the branch probabilities; light_pick_pdf recomputes it for a given light from its leaf index
  * (its trail: the binary digits of leaf + 1), with the same arithmetic, for the MIS weights of BSDF candidates.
+ * Below a node of at most LIGHT_TREE_EXACT lights the descent stops branching and picks one of them by each
+ * light's own importance (lights/tree_exact.h): there the pdf's last factor is that light's share.
  * Lights without a position (suns, the world) are outside the tree: a pick takes one of them instead by their
  * fixed shares and the tree's weighed at the point by what can reach it (lights/distant_pick.h).
  *
@@ -143,6 +145,7 @@ inline float light_tree_branch(const __global LightTreeNode* nodes, int c, float
 }
 
 #include "lights/distant_pick.h"  /* the distant lights against the tree (light_tree_local_share) */
+#include "lights/tree_exact.h"    /* below a node of few lights, each by its own importance */
 
 /* light_tree_branch of node j's children at x, from memo[j] where j < LIGHT_TREE_MEMO (computed there the first
  * time: the top levels are the same for every candidate of a pixel; negative: not yet computed). */
@@ -163,7 +166,7 @@ inline int light_tree_descend(const LightPick* lp, float3 x, float3 n, uint stat
 {
     int j = 0;
     float p = 1.0f;
-    while (j < lp->leaves - 1) {
+    while (j < lp->leaves - 1 && lp->nodes[j].meta.w > LIGHT_TREE_EXACT_AT) {
         int c = 2 * j + 1;
         float p0 = light_tree_branch_at(lp, j, x, n, memo);
         bool first = (stratified ? u : rng_next(&state)) < p0;
@@ -172,6 +175,11 @@ inline int light_tree_descend(const LightPick* lp, float3 x, float3 n, uint stat
 #ifndef TEST_DESCENT_WITHOUT_REMAP  /* negative control of the tests only (tests/bias_controls.py): u not remapped */
         if (stratified) u = fmin_f(first ? u / p0 : (u - p0) / (1.0f - p0), 0x1.fffffep-1f);  /* rounding may reach 1 */
 #endif
+    }
+    if (j < lp->leaves - 1) {  /* a node of few lights: one of them by its own importance (lights/tree_exact.h) */
+        float q;
+        j = light_tree_exact_pick(lp, j, x, n, stratified ? u : rng_next(&state), &q);
+        p *= q;
     }
     *pdf = p;
     return lp->nodes[j].meta.x;
@@ -184,6 +192,9 @@ inline float light_tree_leaf_pdf(const LightPick* lp, int leaf, float3 x, float3
     float p = 1.0f;
     int j = 0;
     for (int d = 30 - (int)clz(path); d >= 0; --d) {
+#ifndef TEST_TREE_EXACT_BRANCH_PDF  /* negative control of the tests only (tests/bias_controls.py): branches down */
+        if (lp->nodes[j].meta.w <= LIGHT_TREE_EXACT_AT) return p * light_tree_exact_pdf(lp, j, leaf, x, n);
+#endif
         int c = 2 * j + 1;
         float p0 = light_tree_branch(lp->nodes, c, x, n);
         if ((path >> d) & 1u) {

@@ -178,7 +178,8 @@ def test_picks_follow_the_pmf(device, which):
         # the pick's own pdf is the evaluated one (the same arithmetic, up to float rounding)
         assert err < 1e-5, err
         stat, p, dof = pooled_chi2(counts, dt.pmf(x, n))
-        assert dof >= 5 and p > 1e-4, (x, stat, p, dof)
+        # (at the point below the floor two lights hold all but 3e-4 of the pmf: 4 pooled bins)
+        assert dof >= 3 and p > 1e-4, (x, stat, p, dof)
 
 
 def test_the_tree_prefers_near_lights(device):

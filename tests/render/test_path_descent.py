@@ -5,14 +5,18 @@ the independent numpy path tracer in test_paths.py) within the standard errors o
 six point lights of equal power, bright beside the panel so that light picked at path vertices is most of the
 bounced light, at their own distances from each vertex, so that the tree has three levels and its branches unequal
 probabilities (the light tree's k-d leaves and near/far importance leave a descent without its remap only 0.3 % off
-with lights of powers over two decades, too little to be seen). The same check rejects a descent that forgets to
-remap its uniform (TEST_DESCENT_WITHOUT_REMAP), which shows it sees a wrong pick probability at the lower levels."""
+with lights of powers over two decades, too little to be seen). Its 7 lights are fewer than LIGHT_TREE_EXACT, so the
+descent picks one of them by its own importance from the root (lights/tree_exact.h), taking the uniform as it is;
+the check is also run with the kernels built to branch down to every leaf (TEST_LIGHT_TREE_EXACT=1), where the
+branches remap it. Built so, the same check rejects a descent that forgets to remap its uniform
+(TEST_DESCENT_WITHOUT_REMAP), which shows it sees a wrong pick probability at the lower levels."""
 
 from __future__ import annotations
 
 import math
 
 import numpy as np
+import pytest
 from restircl import Light, Renderer, Settings, translation
 
 from ..bias_controls import built_with
@@ -50,12 +54,15 @@ def _problems() -> list[str]:
     return disagreement(ours, np.sqrt(ours_se**2 + ref_se**2), ref, batches=BATCHES, exact_rtol=1e-5)
 
 
-def test_stratified_path_descent_mean_equals_the_reference(device):
+@pytest.mark.parametrize("branches", [False, True])
+def test_stratified_path_descent_mean_equals_the_reference(device, monkeypatch, branches):
+    if branches:
+        built_with(monkeypatch, "TEST_LIGHT_TREE_EXACT=1")
     problems = _problems()
     assert not problems, problems
 
 
 def test_the_check_rejects_a_descent_without_its_remap(device, monkeypatch):
-    built_with(monkeypatch, "TEST_DESCENT_WITHOUT_REMAP=1")
+    built_with(monkeypatch, "TEST_LIGHT_TREE_EXACT=1", "TEST_DESCENT_WITHOUT_REMAP=1")
     problems = _problems()
     assert any("image means" in p or "values beyond" in p for p in problems), problems

@@ -7,9 +7,11 @@ space (lights/tree_leaves.py), so that every node's lights are neighbours. A nod
 a box, a cone of emission normals (axis, theta_o, plus theta_e: how far beyond the normals they still emit), their
 summed power and whether any is two-sided. The device descends from the root choosing each child with probability
 proportional to an importance bound at the shading point, mixed with the children's power share (a floor: every
-emitting light keeps a nonzero probability whatever the bound says). A light's leaf index is also its trail: the
-binary digits of leaf + 1 below the leading one are the branches taken, so the pmf of a given light at a given
-point is the product of the branch probabilities along it.
+emitting light keeps a nonzero probability whatever the bound says), down to a node of at most tree_exact.EXACT
+lights, where it picks one of them by each light's own importance (lights/tree_exact.py). A light's leaf index is
+also its trail: the binary digits of leaf + 1 below the leading one are the branches taken, so the pmf of a given
+light at a given point is the product of the branch probabilities along it down to the first node of few lights,
+times the light's share there.
 
 Each light's box and cone come from its type (LightType.bounds, lights/<type>.py, through the registry); the lights
 of a type without a position (bounds DISTANT: the sun, the environment) stay outside the tree, as Cycles keeps distant
@@ -28,7 +30,8 @@ from .bounds import DISTANT
 from .distant_pick import distant_importance, distant_shares, distant_table, local_share
 from .pick_floor import floored
 from .registry import groups
-from .tree_leaves import leaf_lights
+from .tree_exact import EXACT, exact_shares, subtree_leaf_nodes
+from .tree_leaves import leaf_lights, subtree_leaves
 
 NODE_TWO_SIDED = 1  # lights/tree.h LIGHT_TREE_TWO_SIDED: a light below the node emits on both sides
 
@@ -142,6 +145,7 @@ def build_light_tree(records: np.ndarray, types: np.ndarray, power: np.ndarray,
     nodes["axis"][:, :3], nodes["axis"][:, 3] = axis, np.cos(theta_e)
     nodes["meta"][:, 0], nodes["meta"][:, 1] = light, np.where(two_sided, NODE_TWO_SIDED, 0)
     nodes["meta"][:, 2] = np.sin(theta_o).astype(np.float32).view(np.int32)
+    nodes["meta"][:, 3] = subtree_leaves(leaves) if leaves else 0  # below a node of few, the exact pick
     # distant lights (nothing else outside the tree emits), in order
     emits = bnd.phi > 0
     far = np.flatnonzero(emits & ~bnd.local)
@@ -275,11 +279,21 @@ def pmf(tree: LightTree, x: np.ndarray, n: np.ndarray) -> np.ndarray:
     if tree.leaves == 0:
         return out
     phi = tree.nodes["lo"][:, 3].astype(np.float64)
+    count = tree.nodes["meta"][:, 3]
     prob = np.ones(len(tree.nodes))
-    for j in range(tree.leaves - 1):  # parents before children
+    stack = [0]  # parents before children
+    while stack:
+        j = stack.pop()
+        if j >= tree.leaves - 1:
+            continue
+        if count[j] <= EXACT:  # the lights below picked by their own importance (lights/tree_exact.py)
+            below = subtree_leaf_nodes(j, tree.leaves)
+            prob[below] = prob[j] * exact_shares(near_imp[below], far_imp[below], phi[below])
+            continue
         c0, c1 = 2 * j + 1, 2 * j + 2
         p0 = branch((near_imp[c0], far_imp[c0]), (near_imp[c1], far_imp[c1]), phi[c0], phi[c1])
         prob[c0], prob[c1] = prob[j] * p0, prob[j] * (1 - p0)
+        stack += [c0, c1]
     leaf = tree.light_info[~far, 0]
     out[~far] = p_local * prob[leaf]
     return out

@@ -24,7 +24,18 @@ from pathlib import Path
 
 from ..core import layouts as L
 from ..core.program import opencl_dir
-from ..lights import area_sampling, camera_visible, linking, pick_floor, pick_table, record, registry, sphere, tree
+from ..lights import (
+    area_sampling,
+    camera_visible,
+    linking,
+    pick_floor,
+    pick_table,
+    record,
+    registry,
+    sphere,
+    tree,
+    tree_exact,
+)
 from ..lights import environment as environment_light
 from ..materials import thin_film
 from ..materials.material import MAX_LAYERS
@@ -128,7 +139,8 @@ def families() -> tuple[Family, ...]:
             ("PICK_TABLE_MAX", pick_table.MAX_LIGHTS), ("PICK_TABLE_FLOOR", pick_table.FLOOR)), kind="constants"),
         Family("the light tree", "lights/tree.py", (
             ("LIGHT_TREE_FLOOR", pick_floor.FLOOR), ("LIGHT_TREE_MIN_BRANCH", pick_floor.MIN_BRANCH),
-            ("LIGHT_TREE_TWO_SIDED", tree.NODE_TWO_SIDED)), kind="constants"),
+            ("LIGHT_TREE_TWO_SIDED", tree.NODE_TWO_SIDED), ("LIGHT_TREE_EXACT", tree_exact.EXACT)),
+               kind="constants"),
         Family("GGX energy tables", "upload/ggx_tables.py", (
             ("GGX_E_SIZE", ggx_tables.E_SIZE), ("GGX_S_SIZE", ggx_tables.S_SIZE),
             ("GGX_E_OFFSET", ggx_tables.E_OFFSET), ("GGX_E_AVG_OFFSET", ggx_tables.E_AVG_OFFSET),

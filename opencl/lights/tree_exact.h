@@ -1,0 +1,77 @@
+/* The light tree's small subtrees (the host's mirror and why: lights/tree_exact.py): a descent that reaches a node
+ * with at most LIGHT_TREE_EXACT lights below it (meta.w) picks one of them directly, light l with probability
+ *     p(l | j) = (1 - F) (N_l / sum N + R_l / sum R) / 2 + F phi_l / phi_j,
+ * N and R the importance of l's leaf at its box's nearest point and farthest corner (light_tree_importance; one share
+ * alone where the other sum is 0 or not finite, the power share where both are), phi the power, F LIGHT_TREE_FLOOR.
+ * A node's bound cannot say where in its box its lights are; a light's own bound can. The leaves below j are walked
+ * level by level, left to right (lights/tree_exact.py subtree_leaf_nodes); the pick and light_tree_exact_pdf
+ * compute p(l | j) with the same arithmetic. */
+#ifndef RESTIRCL_LIGHT_TREE_EXACT_H
+#define RESTIRCL_LIGHT_TREE_EXACT_H
+
+/* The largest node picked exactly; tests may build another (TEST_LIGHT_TREE_EXACT, at most LIGHT_TREE_EXACT: 1 makes
+ * every pick descend by branches to its leaf, as before this pick existed: tests/render/test_path_descent.py). */
+#ifdef TEST_LIGHT_TREE_EXACT
+#define LIGHT_TREE_EXACT_AT TEST_LIGHT_TREE_EXACT
+#else
+#define LIGHT_TREE_EXACT_AT LIGHT_TREE_EXACT
+#endif
+
+/* The sums over the leaves below node j of their importances at x: .x at the nearest point, .y at the farthest
+ * corner. */
+inline float2 light_tree_exact_sums(const LightPick* lp, int j, float3 x, float3 n)
+{
+    float2 sum = (float2)(0.0f);
+    int last = 2 * lp->leaves - 2, inner = lp->leaves - 1;
+    for (int first = j, width = 1; first <= last; first = 2 * first + 1, width *= 2)
+        for (int m = max(first, inner); m < first + width && m <= last; ++m)
+            sum += light_tree_importance(&lp->nodes[m], x, n);
+    return sum;
+}
+
+/* p(l | j) of the light of leaf node m below j, of importance imp at x, given the sums (light_tree_exact_sums) and
+ * j's power. */
+inline float light_tree_exact_share(const LightPick* lp, int m, float2 imp, float2 sum, float phi_j)
+{
+    float pw = lp->nodes[m].lo.w / phi_j;
+    bool near_ok = sum.x > 0.0f && finite_f(sum.x), far_ok = sum.y > 0.0f && finite_f(sum.y);
+    float near = near_ok ? imp.x / sum.x : 0.0f, far = far_ok ? imp.y / sum.y : 0.0f;
+    float share = near_ok ? (far_ok ? 0.5f * (near + far) : near) : (far_ok ? far : pw);
+    return (1.0f - LIGHT_TREE_FLOOR) * share + LIGHT_TREE_FLOOR * pw;
+}
+
+/* The leaf node below j for the uniform u in [0, 1) (*p: its p(l | j)): the first whose running sum of p(l | j)
+ * passes u, the last leaf where rounding leaves u beyond them all. The leaves' importances are kept from the pass
+ * that sums them (at most LIGHT_TREE_EXACT of them). */
+inline int light_tree_exact_pick(const LightPick* lp, int j, float3 x, float3 n, float u, float* p)
+{
+    float2 imp[LIGHT_TREE_EXACT];
+    float2 sum = (float2)(0.0f);
+    int last = 2 * lp->leaves - 2, inner = lp->leaves - 1, k = 0;
+    for (int first = j, width = 1; first <= last; first = 2 * first + 1, width *= 2)
+        for (int m = max(first, inner); m < first + width && m <= last; ++m) {
+            imp[k] = light_tree_importance(&lp->nodes[m], x, n);
+            sum += imp[k++];
+        }
+    float phi_j = lp->nodes[j].lo.w, run = 0.0f;
+    int chosen = -1;
+    k = 0;
+    for (int first = j, width = 1; first <= last; first = 2 * first + 1, width *= 2)
+        for (int m = max(first, inner); m < first + width && m <= last; ++m) {
+            float q = light_tree_exact_share(lp, m, imp[k++], sum, phi_j);
+            run += q;
+            *p = q;
+            chosen = m;
+            if (u < run) return m;
+        }
+    return chosen;
+}
+
+/* p(l | j) of leaf node `leaf` below node j at x. */
+inline float light_tree_exact_pdf(const LightPick* lp, int j, int leaf, float3 x, float3 n)
+{
+    return light_tree_exact_share(lp, leaf, light_tree_importance(&lp->nodes[leaf], x, n),
+                                  light_tree_exact_sums(lp, j, x, n), lp->nodes[j].lo.w);
+}
+
+#endif
