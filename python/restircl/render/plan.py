@@ -133,8 +133,10 @@ def light_source(settings: Settings, method: str, light_count: int, light_tree: 
 
 
 def stills_use_pick_table(settings: Settings, light_count: int, light_tree: bool) -> bool:
-    """Whether still renders with these settings pick lights from the per-pixel table (compiled in: HAS_PICK_TABLE)."""
-    return light_source(settings, settings.method, light_count, light_tree, pick_table=True)[2]
+    """Whether still RIS renders of this scene with these settings pick lights from the per-pixel table (compiled in:
+    HAS_PICK_TABLE). Asked for RIS whatever settings.method is: the other methods' frames leave the table out at run
+    time (light_source), so a scene's build is the same for every method and switching methods builds nothing."""
+    return light_source(settings, "ris", light_count, light_tree, pick_table=True)[2]
 
 
 def plan_frame(settings: Settings, situation: FrameSituation) -> FramePlan:
