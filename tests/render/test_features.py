@@ -136,10 +136,13 @@ def test_passes_run_only_when_needed(device):
 
 def test_the_methods_of_a_scene_share_one_build(device):
     """Whether RIS stills pick from the per-pixel table is the scene's (its light count), not the method's: every
-    method of a scene of four lights gets the same program, and only the RIS still makes a table with it."""
+    method of a scene of four lights gets the same program, light tiles on too, and only the RIS still makes a table
+    with it."""
     scene = area_sun_spot()
     rs = {m: Renderer(scene, Settings(method=m, seed=2), device)
           for m in ("uniform", "light_array", "ris", "restir", "reference")}
+    for m in ("ris", "restir"):
+        rs[f"{m}, tiles"] = Renderer(scene, Settings(method=m, light_tiles="on", seed=2), device)
     assert rs["ris"].flags["HAS_PICK_TABLE"]
     for m, r in rs.items():
         assert r.flags == rs["ris"].flags and r.program is rs["ris"].program, m
