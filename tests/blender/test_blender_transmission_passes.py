@@ -38,6 +38,10 @@ PATHS = Settings(method="ris", max_bounces=B, diffuse_bounces=B, glossy_bounces=
 SEEDS = (1, 2)
 SPP = 2048  # the heavy-tailed pixels at the pane's foot need it (above)
 MEAN_TOL = 0.05  # the image means' relative difference (two renders a side: a z-score of two is no measure)
+# The control is judged by its mean alone, which 512 spp measure well (above): the right classification's Indirect
+# mean 1.7 % from Cycles', the control's 26 % (25 % at 2048 spp, where its relMSE with the noise taken out was
+# -0.025: no help)
+CONTROL_SPP = 512
 TRANS = ("transmission_direct", "transmission_indirect", "transmission_color")
 
 
@@ -47,10 +51,10 @@ def cycles_passes():
     return [render_passes(sc, TRANS, SPP, s, PATHS) for s in SEEDS]
 
 
-def _ours() -> list[dict[str, np.ndarray]]:
+def _ours(spp: int = SPP) -> list[dict[str, np.ndarray]]:
     out = []
     for s in SEEDS:
-        f = Renderer(glass_pane(64, 48), Settings(**{**PATHS.__dict__, "seed": s})).render_still(0, SPP)
+        f = Renderer(glass_pane(64, 48), Settings(**{**PATHS.__dict__, "seed": s})).render_still(0, spp)
         out.append({name: getattr(f, name).astype(np.float64) for name in TRANS})
     return out
 
@@ -80,6 +84,6 @@ def test_transmission_passes_agree_with_cycles(cycles_passes, record_property):
 
 def test_classifying_by_the_last_bounce_misses_transmission_indirect(cycles_passes, monkeypatch, record_property):
     built_with(monkeypatch, "LIGHT_PASSES_BY_LAST_BOUNCE=1")
-    rel, dm = _agreement(_ours(), cycles_passes, "transmission_indirect")
+    rel, dm = _agreement(_ours(CONTROL_SPP), cycles_passes, "transmission_indirect")
     record_property("control", f"transmission_indirect by the last bounce: relMSE {rel:.4f}, mean {100 * dm:.0f} % off")
-    assert rel > 1e-2 or dm > 4 * MEAN_TOL
+    assert dm > 4 * MEAN_TOL

@@ -66,9 +66,12 @@ def lights_seen() -> Scene:
     return scene
 
 
-AREA_SUN_SPOT = {"HAS_QUAD_LIGHTS", "HAS_DISK_LIGHTS", "HAS_SUN_LIGHTS", "HAS_SPOT_LIGHTS"}
+# 2..64 lights (40 points, the four of area_sun_spot): RIS stills pick from the per-pixel table, compiled in for
+# every method (the tests render light_array), so that the methods of a scene share one build; 800 emissive
+# triangles are too many for the table
+AREA_SUN_SPOT = {"HAS_QUAD_LIGHTS", "HAS_DISK_LIGHTS", "HAS_SUN_LIGHTS", "HAS_SPOT_LIGHTS", "HAS_PICK_TABLE"}
 SCENES = {
-    "points_only": (points_only, {"HAS_SPHERE_LIGHTS"}),
+    "points_only": (points_only, {"HAS_SPHERE_LIGHTS", "HAS_PICK_TABLE"}),
     "meshes_only": (meshes_only, {"HAS_TRIANGLE_LIGHTS", "HAS_GLOSSY"}),  # many_lights has glossy objects
     "area_sun_spot": (area_sun_spot, AREA_SUN_SPOT),
     "lights_seen": (lights_seen, AREA_SUN_SPOT | {"HAS_CAMERA_LIGHTS"}),
@@ -129,6 +132,23 @@ def test_passes_run_only_when_needed(device):
     # a still render averages: no TAA pass even with taa on
     still = Renderer(scene, Settings(method="light_array"), device).render_still(0, 3)
     assert "taa" not in still.stage_ms
+
+
+def test_the_methods_of_a_scene_share_one_build(device):
+    """Whether RIS stills pick from the per-pixel table is the scene's (its light count), not the method's: every
+    method of a scene of four lights gets the same program, light tiles on too, and only the RIS still makes a table
+    with it."""
+    scene = area_sun_spot()
+    rs = {m: Renderer(scene, Settings(method=m, seed=2), device)
+          for m in ("uniform", "light_array", "ris", "restir", "reference")}
+    for m in ("ris", "restir"):
+        rs[f"{m}, tiles"] = Renderer(scene, Settings(method=m, light_tiles="on", seed=2), device)
+    assert rs["ris"].flags["HAS_PICK_TABLE"]
+    for m, r in rs.items():
+        assert r.flags == rs["ris"].flags and r.program is rs["ris"].program, m
+        still = r.render_still(0, 2)
+        assert np.isfinite(still.color).all() and still.color[..., :3].max() > 0, m
+        assert (r.pick_table.buf is not None) == (m == "ris"), m  # the table's buffer is made at its first build
 
 
 def test_ris_with_one_light_runs_the_single_pick(device):

@@ -9,6 +9,7 @@ import numpy as np
 from ..lights.light_groups import light_group_count
 from ..lights.linking import uses_linking
 from ..lights.registry import FEATURE_FLAGS
+from ..lights.tree import tree_proposal
 from ..scene.scene import Scene
 from ..settings.table import Settings
 from ..upload.device_scene import DeviceScene
@@ -26,7 +27,8 @@ MATERIAL_FLAGS = ("HAS_GLOSSY", "HAS_TEXTURES", "HAS_TRANSMISSION", "HAS_TRANSPA
 # HAS_LIGHT_TREE: RIS candidates (Settings.light_proposal) or NEE at path vertices (Settings.path_light_pick) come
 # from the light tree (lights/tree.py)
 # HAS_CAMERA_LIGHTS: camera rays test the lights visible to the camera that have a shape (lights/camera_visible.py)
-# HAS_PICK_TABLE: still RIS renders pick lights from a per-pixel table (lights/pick_table.py)
+# HAS_PICK_TABLE: still RIS renders pick lights from a per-pixel table (lights/pick_table.py); compiled in for the
+# scene's RIS stills whatever the method, so that every method of a scene shares one build
 # HAS_PATHS: light bounces after the primary hit (Settings.max_bounces > 0: the path pass, opencl/path/)
 # HAS_GI_REUSE: ... and ReSTIR GI reuses them in animation and viewport frames (Settings.gi_reuse, opencl/restir_gi/)
 # HAS_LIGHT_PASSES: the shading kernels also write Cycles' light passes (Settings.light_passes, opencl/film/)
@@ -95,8 +97,9 @@ def renderer_flags(scene: Scene, ds: DeviceScene, settings: Settings, *, interac
     return with_transparent_bound(derive_flags(ds.lights.type_set, moving, ds.moving_objects or interactive,
                                                ds.material_flags, light_tree or path_light_tree,
                                                camera_lights=bool(ds.camera_lights),
-                                               pick_table=stills_use_pick_table(settings, ds.sampled_light_count,
-                                                                                light_tree),
+                                               pick_table=stills_use_pick_table(
+                                                   settings, ds.sampled_light_count,
+                                                   tree_proposal("ris", settings.light_proposal, ds.lights.types)),
                                                paths=settings.max_bounces > 0, gi_reuse=settings.gi_reuse,
                                                light_passes=settings.light_passes, light_linking=uses_linking(scene),
                                                light_groups=light_group_count(scene),

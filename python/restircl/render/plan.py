@@ -133,8 +133,11 @@ def light_source(settings: Settings, method: str, light_count: int, light_tree: 
 
 
 def stills_use_pick_table(settings: Settings, light_count: int, light_tree: bool) -> bool:
-    """Whether still renders with these settings pick lights from the per-pixel table (compiled in: HAS_PICK_TABLE)."""
-    return light_source(settings, settings.method, light_count, light_tree, pick_table=True)[2]
+    """Whether still RIS renders of this scene may pick lights from the per-pixel table (compiled in: HAS_PICK_TABLE):
+    `light_tree`, whether its RIS candidates come from the tree. Asked for RIS whatever settings.method is and
+    whatever light tiles are set to: the frames of the other methods, and those of tiles, leave the table out at run
+    time (light_source), so a scene's build is the same for every method and switching builds nothing."""
+    return not light_tree and uses_table(settings.light_proposal, "ris", light_count, still=True)
 
 
 def plan_frame(settings: Settings, situation: FrameSituation) -> FramePlan:
