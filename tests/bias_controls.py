@@ -39,7 +39,9 @@ a test that asserts it rejects one of these builds.
   array while the pick takes them by importance at the point (lights/tree.h, lights/distant_pick.h): the MIS weights'
   pdf is not the pick's (lights/test_distant_pick.py).
 - TEST_LAYER_WEIGHT_WHOLE: a still's weighted layers shade a partly transparent surface whole instead of by its
-  coverage (camera/layers.h; render/test_camera_layers.py)."""
+  coverage (camera/layers.h; render/test_camera_layers.py).
+- TEST_LONELY_FRESH_M_KEPT: a lonely fresh pixel's extra candidates (restir/lonely_fresh.h) are merged but its M
+  stays its own candidates' count: the merged W too large by (M_c + M_e) / M_c (render/test_restir.py)."""
 
 from __future__ import annotations
 
