@@ -45,6 +45,8 @@
 #include "restir/pairwise.h"
 #include "restir/reuse.h"
 #include "restir/neighbours.h"
+#include "restir/candidates.h"
+#include "restir/lonely_fresh.h"
 #ifdef HAS_PATHS
 #include "path/vertex.h"
 #include "path/mis.h"

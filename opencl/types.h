@@ -294,8 +294,9 @@ typedef struct {
     int pass_index;        /* index of this spatial pass: its own random numbers */
     int boost_neighbours;  /* neighbours of a pixel whose reservoir has no history (M <= fresh_m); 0: no boost */
     float fresh_m;         /* the M of a reservoir of this frame's candidates alone */
-    int pad0;
-} SpatialParams;           /* 48 bytes */
+    int fresh_candidates;  /* first pass: extra light candidates for a fresh pixel no neighbour is similar to; 0: off */
+    SamplerParams sampler; /* ... drawn as restir/initial.cl draws its candidates */
+} SpatialParams;           /* 112 bytes */
 
 /* The path pass (path/path.cl): the bounces after the primary hit, by Blender's Light Paths. */
 typedef struct {

@@ -44,7 +44,9 @@ a test that asserts it rejects one of these builds.
   TEST_LIGHT_TREE_EXACT=k builds the tree's exact pick for nodes of at most k lights instead of LIGHT_TREE_EXACT (1:
   every pick branches down to its leaf), so that a small scene still has branches (render/test_path_descent.py).
 - TEST_LAYER_WEIGHT_WHOLE: a still's weighted layers shade a partly transparent surface whole instead of by its
-  coverage (camera/layers.h; render/test_camera_layers.py)."""
+  coverage (camera/layers.h; render/test_camera_layers.py).
+- TEST_LONELY_FRESH_M_KEPT: a lonely fresh pixel's extra candidates (restir/lonely_fresh.h) are merged but its M
+  stays its own candidates' count: the merged W too large by (M_c + M_e) / M_c (render/test_restir.py)."""
 
 from __future__ import annotations
 

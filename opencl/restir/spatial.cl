@@ -1,9 +1,14 @@
 /* ReSTIR pass 5: merge up to `spatial_neighbours` (or `boost_neighbours`) reservoirs of random pixels within
  * `spatial_radius` whose surface is similar (view depth, normal and material: surface_material_similar) with the
- * pixel's own (restir/reuse.h); the pixels are picked by restir/neighbours.h. */
+ * pixel's own (restir/reuse.h); the pixels are picked by restir/neighbours.h. A fresh pixel none of them is similar to
+ * takes `fresh_candidates` more candidates of its own instead (restir/lonely_fresh.h). */
 
 __kernel void restir_spatial(const __global GSample* gbuf, const __global GlossySample* glossy, const __global BVHNode* nodes, const __global Tri* tris,
-                             const __global Light* lights, const __global Reservoir* input, __global Reservoir* out,
+                             const __global Light* lights, const __global int* slots, const __global float* light_pdf,
+                             const __global LightTreeNode* tree_nodes, const __global int2* tree_info,
+                             const __global int8* tree_distant,
+                             const __global Light* tile_rec, const __global int2* tile_info,
+                             const __global int* tri_light, const __global Reservoir* input, __global Reservoir* out,
                              FrameParams frame_params, SpatialParams params)
 {
     const SpatialParams p = params;
@@ -21,7 +26,8 @@ __kernel void restir_spatial(const __global GSample* gbuf, const __global Glossy
     int used[MAX_NEIGHBOURS];
     /* disocclusion boost (first pass): a pixel the temporal pass found no history for takes more neighbours. The
      * count depends on the history's presence, not on any sample, so every bias correction stays as it was. */
-    int k_want = (pass == 0 && p.boost_neighbours > p.spatial_neighbours && c.M <= p.fresh_m)
+    const bool fresh = pass == 0 && c.M <= p.fresh_m;
+    int k_want = (fresh && p.boost_neighbours > p.spatial_neighbours)
                  ? p.boost_neighbours : p.spatial_neighbours;
     int k_max = min(k_want, MAX_NEIGHBOURS);
     float radius = p.spatial_radius;
@@ -61,7 +67,13 @@ __kernel void restir_spatial(const __global GSample* gbuf, const __global Glossy
             qs[n_used++] = qs[k];
         }
     }
-    if (n_used == 0) { out[i] = c; return; }
+    if (n_used == 0) {
+        if (fresh && p.fresh_candidates > 0 && p.sampler.light_count > 0) c = lonely_fresh(&s, i, &c, lights, slots,
+            light_pdf, tree_nodes, tree_info, tree_distant, tile_rec, tile_info, nodes, tris, tri_light, &p,
+            frame_params, &rng);
+        out[i] = c;
+        return;
+    }
 
     VisKnown known = vis_known_none();  /* a neighbour's point is not this pixel's */
     Reservoir r;

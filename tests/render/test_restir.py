@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from restircl import Light, Renderer, Scene, Settings, look_at, scenes, translation
 
-from ..bias_controls import wrong_pdf
+from ..bias_controls import built_with, wrong_pdf
 from ..helpers import (
     allowed_outliers,
     batch_stats,
@@ -287,3 +287,25 @@ def test_static_lights_reuse_the_stored_target(device, monkeypatch):
         outs.append(np.stack([r.render_frame(0, still=False).noisy for _ in range(4)]))
     assert outs[0].max() > 0
     np.testing.assert_array_equal(outs[0], outs[1])
+
+
+@pytest.mark.parametrize("size", SIZE_PARAMS)
+def test_fresh_candidates_stay_unbiased(device, references, size):
+    """Spatial only with one neighbour and no boost: every pixel is fresh and about half are lonely (no similar
+    neighbour: render/test_lonely_fresh.py), and those merge 8 more candidates (restir/lonely_fresh.h)."""
+    s = Settings(method="restir", jitter=False, taa=False, seed=15, temporal=False, spatial_neighbours=1,
+                 disocclusion_boost=0, fresh_candidates=8)
+    runs = run_means(occluder_scene(W, H), s, SIZES[size][0], SIZES[size][1], device)
+    assert np.all(np.isfinite(runs))
+    assert_matches(runs, references["occluders", size], "occluders fresh candidates")
+
+
+def test_the_harness_rejects_fresh_candidates_left_out_of_m(device, references, monkeypatch):
+    """Negative control: the same with the extra candidates merged but not counted in M
+    (TEST_LONELY_FRESH_M_KEPT, tests/bias_controls.py) makes the lonely pixels too bright."""
+    built_with(monkeypatch, "TEST_LONELY_FRESH_M_KEPT")
+    s = Settings(method="restir", jitter=False, taa=False, seed=15, temporal=False, spatial_neighbours=1,
+                 disocclusion_boost=0, fresh_candidates=8)
+    runs = run_means(occluder_scene(W, H), s, SIZES["quick"][0], SIZES["quick"][1], device)
+    with pytest.raises(AssertionError, match="outliers|image means"):
+        assert_matches(runs, references["occluders", "quick"], "occluders fresh candidates, M kept")

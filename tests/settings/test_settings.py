@@ -31,7 +31,7 @@ BEFORE = (
     ("bsdf_sampling", "auto"), ("bsdf_candidates", 1), ("warmup_frames", 0),
     ("boiling_filter", 0.0), ("temporal_permutation", False),
     ("taa_filter", "bilinear"), ("taa_dilation", False),
-    ("realtime_filter", False), ("filter_iterations", 4), ("disocclusion_boost", 8),
+    ("realtime_filter", False), ("filter_iterations", 4), ("disocclusion_boost", 8), ("fresh_candidates", 64),
     ("denoise", False), ("light_passes", False),
     ("still_method", "auto"),
     ("area_sampling", "area"),

@@ -86,7 +86,7 @@ TEMPORAL_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), ("m_cap", np.float32
 SPATIAL_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), ("spatial_neighbours", np.int32),
                            ("spatial_radius", np.float32),
                            *_ints("bias_correction", "visibility_reuse", "pass_index", "boost_neighbours"),
-                           ("fresh_m", np.float32), ("pad0", np.int32)])
+                           ("fresh_m", np.float32), ("fresh_candidates", np.int32), ("sampler", SAMPLER_PARAMS)])
 SHADE_PARAMS = np.dtype([("sampler", SAMPLER_PARAMS), *_ints("method", "candidates", "visible_known",
                                                               "bsdf_mis_sample"), ("clamp_direct", np.float32),
                          *_ints("pad0", "pad1", "pad2")])

@@ -224,7 +224,7 @@ class Renderer:
                 self.boiling.run(state, res)
                 timer.mark("boiling")
             if plan.spatial:  # 5 merge the neighbours'
-                res = self.spatial.run(state, res)
+                res = self.spatial.run(state, res, tiles)
                 timer.mark("spatial")
             h.keep_reservoirs(self.device.queue, res)
             self.shade.restir(state)  # 6 one shadow ray to the final sample

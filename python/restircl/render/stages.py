@@ -245,7 +245,7 @@ class Spatial(Stage):
         super().__init__(*args)
         self.bias_code = bias_code
 
-    def run(self, state: FrameState, res: cl.Buffer) -> cl.Buffer:
+    def run(self, state: FrameState, res: cl.Buffer, tiles: dict[str, cl.Buffer]) -> cl.Buffer:
         s, h, b = self.settings, self.history, self.buffers
         bufs = [h.reservoirs(h.cur), b.res_temp if res is not b.res_temp else b.res_initial]
         for p in range(s.spatial_passes):
@@ -254,10 +254,11 @@ class Spatial(Stage):
                             spatial_radius=s.spatial_radius, similar=self._similarity(), bias_correction=self.bias_code,
                             visibility_reuse=int(s.visibility_reuse), pass_index=p,
                             boost_neighbours=s.disocclusion_boost,
-                            fresh_m=s.candidates + int(state.sampler["bsdf_candidates"]))
+                            fresh_m=s.candidates + int(state.sampler["bsdf_candidates"]),
+                            fresh_candidates=s.fresh_candidates, sampler=state.sampler)
             self.kernels.launch("restir_spatial", image_size(state), gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
-                                **self.scene.geometry,
-                                lights=self.scene.lights_buf, input=res, out=dst,
+                                **self.scene.geometry, **self.scene.light_sampling, **self.scene.light_tree_args,
+                                **tiles, tri_light=self.scene.tri_light_buf, input=res, out=dst,
                                 frame_params=state.frame_params, params=params)
             res = dst
         return res

@@ -242,6 +242,10 @@ class Settings:
                                       "temporal pass found no history (disocclusion, off-screen), in place of "
                                       "Neighbours when larger (0: off)", flag="--disocclusion-boost",
                                       range=Range(int, 0, 16), panel="reuse", applies_when=_SPATIAL)
+    fresh_candidates: int = setting(64, "Fresh Candidates", "ReSTIR: extra light candidates for a pixel without "
+                                    "history that no spatial neighbour is similar to, merged into its own reservoir "
+                                    "(0: off)", flag="--fresh-candidates", range=Range(int, 0, 256), panel="reuse",
+                                    applies_when=_SPATIAL)
     denoise: bool = setting(False, "Denoise", "Filter each finished image with Intel Open Image Denoise (pyoidn), "
                             "guided by the albedo and normal of the same pixels; the image before it is kept as the "
                             "Noisy Image pass", flag="--denoise", panel="sampling")
