@@ -8,7 +8,7 @@
  * a bound is wrong (a shading normal, a normal map); no branch goes below LIGHT_TREE_MIN_BRANCH. The pick's pdf
  * is the product of the branch probabilities; light_pick_pdf recomputes it for a given light from its leaf index
  * (its trail: the binary digits of leaf + 1), with the same arithmetic, for the MIS weights of BSDF candidates.
- * Below a node of at most LIGHT_TREE_EXACT lights the descent stops branching and picks one of them by each
+ * At a node of at most LIGHT_TREE_EXACT lights near x the descent stops branching and picks one of them by each
  * light's own importance (lights/tree_exact.h): there the pdf's last factor is that light's share.
  * Lights without a position (suns, the world) are outside the tree: a pick takes one of them instead by their
  * fixed shares and the tree's weighed at the point by what can reach it (lights/distant_pick.h).
@@ -166,7 +166,13 @@ inline int light_tree_descend(const LightPick* lp, float3 x, float3 n, uint stat
 {
     int j = 0;
     float p = 1.0f;
-    while (j < lp->leaves - 1 && lp->nodes[j].meta.w > LIGHT_TREE_EXACT_AT) {
+    while (j < lp->leaves - 1) {
+        if (lp->nodes[j].meta.w <= LIGHT_TREE_EXACT_AT && light_tree_exact_here(lp, j, x)) {
+            float q;  /* a node of few lights near x: one of them by its own importance (lights/tree_exact.h) */
+            j = light_tree_exact_pick(lp, j, x, n, stratified ? u : rng_next(&state), &q);
+            p *= q;
+            break;
+        }
         int c = 2 * j + 1;
         float p0 = light_tree_branch_at(lp, j, x, n, memo);
         bool first = (stratified ? u : rng_next(&state)) < p0;
@@ -175,11 +181,6 @@ inline int light_tree_descend(const LightPick* lp, float3 x, float3 n, uint stat
 #ifndef TEST_DESCENT_WITHOUT_REMAP  /* negative control of the tests only (tests/bias_controls.py): u not remapped */
         if (stratified) u = fmin_f(first ? u / p0 : (u - p0) / (1.0f - p0), 0x1.fffffep-1f);  /* rounding may reach 1 */
 #endif
-    }
-    if (j < lp->leaves - 1) {  /* a node of few lights: one of them by its own importance (lights/tree_exact.h) */
-        float q;
-        j = light_tree_exact_pick(lp, j, x, n, stratified ? u : rng_next(&state), &q);
-        p *= q;
     }
     *pdf = p;
     return lp->nodes[j].meta.x;
@@ -193,7 +194,8 @@ inline float light_tree_leaf_pdf(const LightPick* lp, int leaf, float3 x, float3
     int j = 0;
     for (int d = 30 - (int)clz(path); d >= 0; --d) {
 #ifndef TEST_TREE_EXACT_BRANCH_PDF  /* negative control of the tests only (tests/bias_controls.py): branches down */
-        if (lp->nodes[j].meta.w <= LIGHT_TREE_EXACT_AT) return p * light_tree_exact_pdf(lp, j, leaf, x, n);
+        if (lp->nodes[j].meta.w <= LIGHT_TREE_EXACT_AT && light_tree_exact_here(lp, j, x))
+            return p * light_tree_exact_pdf(lp, j, leaf, x, n);
 #endif
         int c = 2 * j + 1;
         float p0 = light_tree_branch(lp->nodes, c, x, n);

@@ -17,6 +17,25 @@
 #define LIGHT_TREE_EXACT_AT LIGHT_TREE_EXACT
 #endif
 
+/* The exact pick is taken only where x is near the node: its distance to the node's box at most LIGHT_TREE_NEAR
+ * times the box's diagonal (lights/tree_exact.py NEAR, why and its value). Farther, the children's bounds already
+ * follow their lights' shares and the descent goes on branching (and tests the next small node again). */
+#ifdef TEST_LIGHT_TREE_NEAR
+#define LIGHT_TREE_NEAR_AT TEST_LIGHT_TREE_NEAR
+#else
+#define LIGHT_TREE_NEAR_AT LIGHT_TREE_NEAR
+#endif
+#define LIGHT_TREE_NEAR 0.25f
+
+/* Whether node j (of at most LIGHT_TREE_EXACT_AT lights) picks exactly at x: x near its box (above). */
+inline bool light_tree_exact_here(const LightPick* lp, int j, float3 x)
+{
+    float3 lo = lp->nodes[j].lo.xyz, hi = lp->nodes[j].hi.xyz, diag = hi - lo;
+    float3 d = (float3)(fmax_f(fmax_f(lo.x - x.x, x.x - hi.x), 0.0f), fmax_f(fmax_f(lo.y - x.y, x.y - hi.y), 0.0f),
+                        fmax_f(fmax_f(lo.z - x.z, x.z - hi.z), 0.0f));
+    return dot3(d, d) <= LIGHT_TREE_NEAR_AT * LIGHT_TREE_NEAR_AT * dot3(diag, diag);
+}
+
 /* The sums over the leaves below node j of their importances at x: .x at the nearest point, .y at the farthest
  * corner. */
 inline float2 light_tree_exact_sums(const LightPick* lp, int j, float3 x, float3 n)

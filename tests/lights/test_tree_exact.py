@@ -2,16 +2,21 @@
 walks are those below the node, the device's pick and its light_pick_pdf agree with each other and with the host's
 pmf (the picks follow it, a recomputation by the branches alone is rejected), and at a point 0.2 m from a light that
 brings it most of its light the pick comes near that light's share of the point's light, for point, spot and area
-lights."""
+lights. The pick is taken only near the node's box (NEAR): far from every small node the pmf is the branches' alone,
+and at a point near one small node and far from the other both rules meet in one pmf, device and host alike."""
+
+import re
 
 import numpy as np
 import pytest
 from restircl import Camera, Light, Material, Mesh, Scene, look_at, scenes, translation
+from restircl.core.program import opencl_dir
+from restircl.lights import tree as light_tree
 from restircl.lights.device_lights import scene_lights
 from restircl.lights.record import LUMINANCE
 from restircl.lights.registry import type_with_code
 from restircl.lights.tree import build_light_tree, pmf
-from restircl.lights.tree_exact import EXACT, exact_shares, subtree_leaf_nodes
+from restircl.lights.tree_exact import EXACT, NEAR, exact_shares, near_nodes, subtree_leaf_nodes
 
 from ..stats import pooled_chi2
 from .test_tree import DeviceTree
@@ -140,3 +145,74 @@ def test_a_point_beside_a_light_picks_it_by_its_share(device, seed):
     r = np.array([r for r, _ in ratios])
     assert r.min() > 0.1 and np.median(r) > 0.6, sorted(ratios)[:5]
     assert np.mean(factors) < 2.2, (np.mean(factors), max(factors))
+
+
+def test_near_nodes_by_the_box_diagonal():
+    """A unit cube (diagonal sqrt 3): a point 1 m from its face is within 1 x the diagonal (1 <= 3 in squares), 2 m
+    is not (4 > 3), inside is near at any factor >= 0; at factor 0.5 (0.75 in squares) the point at 1 m is far."""
+    lo, hi = np.zeros((1, 3)), np.ones((1, 3))
+    at = {(2.0, 0.5, 0.5): (True, False), (3.0, 0.5, 0.5): (False, False), (0.5, 0.5, 0.5): (True, True),
+          (1.6, 1.6, 0.5): (True, True)}  # the last 0.6 x sqrt 2 = 0.85 m from the edge: 0.72 <= 0.75
+    for x, (at1, at_half) in at.items():
+        assert near_nodes(lo, hi, np.array(x), 1.0)[0] == at1, x
+        assert near_nodes(lo, hi, np.array(x), 0.5)[0] == at_half, x
+
+
+def test_device_near_factor_is_the_hosts():
+    src = (opencl_dir() / "lights" / "tree_exact.h").read_text()
+    value = re.search(r"#define LIGHT_TREE_NEAR ([0-9.e+-]+)f", src)
+    assert value is not None and float(value.group(1)) == NEAR
+
+
+def _small_nodes_near(tree, x) -> np.ndarray:
+    """Whether each inner node of at most EXACT lights is near x (the nodes where the pick may stop)."""
+    inner = np.arange(tree.leaves - 1)
+    small = inner[tree.nodes["meta"][inner, 3] <= EXACT]
+    return near_nodes(tree.nodes["lo"][small, :3], tree.nodes["hi"][small, :3], x, NEAR)
+
+
+def test_a_point_far_from_small_nodes_branches(monkeypatch):
+    """30 m above the 10 x 5 m room every small node is far: the pmf is that of the branches down to each leaf
+    (the tree with EXACT = 0), while 0.2 m below a light it is not."""
+    dl, tree = _room_tree(2)
+    n = np.array([0.0, 0.0, -1.0])
+    far_x = np.array([0.0, 0.0, 30.0])
+    lanes = dl.records.view(np.float32).reshape(-1, 16).astype(np.float64)
+    near_x = _points_below(lanes, dl.types)[0]
+    assert not _small_nodes_near(tree, far_x).any() and _small_nodes_near(tree, near_x).any()
+    adaptive_far, adaptive_near = pmf(tree, far_x, n), pmf(tree, near_x, -n)
+    monkeypatch.setattr(light_tree, "EXACT", 0)
+    np.testing.assert_allclose(adaptive_far, pmf(tree, far_x, n), rtol=1e-12)
+    assert np.abs(adaptive_near - pmf(tree, near_x, -n)).max() > 1e-3
+
+
+@pytest.mark.parametrize("x", [(0.0, 0.0, 30.0), (5.5, 0.0, 1.0)])
+def test_device_follows_the_host_far_and_half_near(device, x):
+    """Device pmf = host pmf and the picks follow it at a point far from every small node and at one beside the
+    room, near one side's small nodes and far from the other's (both rules in one descent)."""
+    dl, tree = _room_tree(2)
+    x, n = np.array(x), _unit_towards(np.array(x), np.zeros(3))
+    near = _small_nodes_near(tree, x)
+    assert not near.any() if x[2] > 10 else (near.any() and not near.all())
+    dt = DeviceTree(device, tree)
+    dev, host = dt.pmf(x, n), pmf(tree, x, n)
+    assert abs(dev.sum() - 1) < 1e-4 and np.all(dev > 0)
+    np.testing.assert_allclose(dev, host, rtol=2e-3, atol=1e-9)
+    counts, err = dt.picks(x, n, items=1024, per_item=128)
+    assert err < 1e-5, err
+    stat, p, dof = pooled_chi2(counts, dev)
+    assert dof >= 5 and p > 1e-4, (x, stat, p, dof)
+
+
+def _unit_towards(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    d = y - x
+    return d / np.linalg.norm(d)
+
+
+def test_device_exact_at_every_small_node_is_not_the_hosts(device):
+    """Negative control: kernels built to pick exactly at every small node, near or not (TEST_LIGHT_TREE_NEAR
+    1e15, the rule before NEAR), give another pmf than the host's at the point 30 m above the room."""
+    _, tree = _room_tree(2)
+    x, n = np.array([0.0, 0.0, 30.0]), np.array([0.0, 0.0, -1.0])
+    dt = DeviceTree(device, tree, options=("-DTEST_LIGHT_TREE_NEAR=1e15f",))
+    assert np.abs(dt.pmf(x, n) - pmf(tree, x, n)).max() > 1e-3

@@ -105,9 +105,13 @@ def main() -> None:
     ap.add_argument("--show", type=int, default=0, help="print the N worst near points")
     ap.add_argument("--exact", type=int, default=None,
                     help="lights/tree_exact.py EXACT in place of its value (0: every node by its bound, as before)")
+    ap.add_argument("--tree-near", type=float, default=None,
+                    help="lights/tree_exact.py NEAR in place of its value (1e30: every small node picks exactly)")
     a = ap.parse_args()
     if a.exact is not None:
         light_tree.EXACT = a.exact
+    if a.tree_near is not None:
+        light_tree.NEAR = a.tree_near
     scene, _ = scene_pair(a.kind, 96, 54)
     dl = scene_lights(scene, 0)
     tree = build_light_tree(dl.records, dl.types, dl.power)

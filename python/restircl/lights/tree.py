@@ -30,7 +30,7 @@ from .bounds import DISTANT
 from .distant_pick import distant_importance, distant_shares, distant_table, local_share
 from .pick_floor import floored
 from .registry import groups
-from .tree_exact import EXACT, exact_shares, subtree_leaf_nodes
+from .tree_exact import EXACT, NEAR, exact_shares, near_nodes, subtree_leaf_nodes
 from .tree_leaves import leaf_lights, subtree_leaves
 
 NODE_TWO_SIDED = 1  # lights/tree.h LIGHT_TREE_TWO_SIDED: a light below the node emits on both sides
@@ -281,12 +281,13 @@ def pmf(tree: LightTree, x: np.ndarray, n: np.ndarray) -> np.ndarray:
     phi = tree.nodes["lo"][:, 3].astype(np.float64)
     count = tree.nodes["meta"][:, 3]
     prob = np.ones(len(tree.nodes))
+    near = near_nodes(tree.nodes["lo"][:, :3], tree.nodes["hi"][:, :3], x, NEAR)
     stack = [0]  # parents before children
     while stack:
         j = stack.pop()
         if j >= tree.leaves - 1:
             continue
-        if count[j] <= EXACT:  # the lights below picked by their own importance (lights/tree_exact.py)
+        if count[j] <= EXACT and near[j]:  # the lights below picked by their own importance (lights/tree_exact.py)
             below = subtree_leaf_nodes(j, tree.leaves)
             prob[below] = prob[j] * exact_shares(near_imp[below], far_imp[below], phi[below])
             continue

@@ -27,6 +27,22 @@ from .pick_floor import FLOOR
 #: LIGHT_TREE_EXACT)
 EXACT = 32
 
+#: ... where the point is near it: its distance to the node's box at most NEAR times the box's diagonal
+#: (opencl/lights/tree_exact.h LIGHT_TREE_NEAR). Near or inside a box its bound cannot tell its lights apart; far from
+#: it the descent's branches already follow the lights' shares, and summing up to EXACT leaves there costs CPU for
+#: little (600 lights of the `interior` kind: docs/measurements/error-vs-time.md, the adaptive exact pick).
+NEAR = 0.25
+
+
+def near_nodes(lo: np.ndarray, hi: np.ndarray, x: np.ndarray, near: float) -> np.ndarray:
+    """Per node (boxes lo..hi, (M, 3)), whether x is within `near` times the box's diagonal of the box (float32, the
+    device's arithmetic, so that both take the same decision)."""
+    lo, hi, x = lo.astype(np.float32), hi.astype(np.float32), np.asarray(x, np.float32)
+    d = np.maximum(np.maximum(lo - x, x - hi), np.float32(0))
+    diag = hi - lo
+    f = np.float32(near)
+    return np.einsum("ij,ij->i", d, d) <= f * f * np.einsum("ij,ij->i", diag, diag)
+
 
 def subtree_leaf_nodes(j: int, leaves: int) -> np.ndarray:
     """The leaf nodes below node j (j itself if a leaf) of the complete tree of `leaves` leaves in heap order, level
