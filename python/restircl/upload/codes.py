@@ -76,6 +76,31 @@ def _enum(prefix: str, names: Sequence[str]) -> tuple[tuple[str, int], ...]:
     return tuple((prefix + n.upper(), i) for i, n in enumerate(names))
 
 
+def _texture_families() -> tuple[Family, ...]:
+    """The texture programs' families (TexNode's op codes and the program's size), in the header's order."""
+    return (
+        Family("texture nodes (TexNode.op.x)", "upload/textures.py NODE_KINDS",
+               _enum("TEXNODE_", [name for name, _ in texture_pack.NODE_KINDS])),
+        Family("image interpolation (TexNode.op.y)", "materials/textures.py INTERPOLATIONS",
+               _enum("TEXINTERP_", INTERPOLATIONS)),
+        Family("image extension (TexNode.op.z)", "materials/textures.py EXTENSIONS", _enum("TEXEXT_", EXTENSIONS)),
+        Family("texture coordinates (TexNode.op.w)", "materials/textures.py COORDS", _enum("TEXCOORD_", COORDS)),
+        Family("Mix Color blend modes (TexNode.op.y)", "materials/textures.py MIX_BLENDS",
+               _enum("TEXMIX_", MIX_BLENDS)),
+        Family("Separate / Combine Color modes (TexNode.op.y)", "materials/textures.py COLOR_MODES",
+               _enum("TEXCOLOR_", COLOR_MODES)),
+        Family("Math operations (TexNode.op.y)", "materials/textures.py MATH_OPS", _enum("TEXMATH_", MATH_OPS)),
+        Family("Vector Math operations (TexNode.op.y)", "materials/textures.py VECTOR_OPS",
+               _enum("TEXVEC_", VECTOR_OPS)),
+        Family("Color Ramp interpolations (TexNode.op.y)", "materials/textures.py RAMP_INTERPOLATIONS",
+               _enum("TEXRAMP_", RAMP_INTERPOLATIONS)),
+        Family("Attribute outputs (TexNode.op.z)", "materials/textures.py ATTRIBUTE_OUTPUTS",
+               _enum("TEXATTR_", ATTRIBUTE_OUTPUTS)),
+        Family("texture programs", "upload/textures.py", (("MAX_TEX_PROGRAM", texture_pack.MAX_TEX_PROGRAM),),
+               kind="constants"),
+    )
+
+
 def families() -> tuple[Family, ...]:
     """Every family, in the header's order."""
     light_types = tuple((f"LIGHT_{t.name.upper()}", t.code) for t in registry.TYPES)
@@ -96,25 +121,7 @@ def families() -> tuple[Family, ...]:
             ("MAX_LAYERS", MAX_LAYERS), ("MATERIAL_MIX", material_pack.MATERIAL_MIX),
             ("TEX_NONE", material_pack.TEX_NONE)), kind="constants"),
         Family("thin film", "materials/thin_film.py", (("THIN_FILM_CUTOFF", thin_film.CUTOFF),), kind="constants"),
-        Family("texture nodes (TexNode.op.x)", "upload/textures.py NODE_KINDS",
-               _enum("TEXNODE_", [name for name, _ in texture_pack.NODE_KINDS])),
-        Family("image interpolation (TexNode.op.y)", "materials/textures.py INTERPOLATIONS",
-               _enum("TEXINTERP_", INTERPOLATIONS)),
-        Family("image extension (TexNode.op.z)", "materials/textures.py EXTENSIONS", _enum("TEXEXT_", EXTENSIONS)),
-        Family("texture coordinates (TexNode.op.w)", "materials/textures.py COORDS", _enum("TEXCOORD_", COORDS)),
-        Family("Mix Color blend modes (TexNode.op.y)", "materials/textures.py MIX_BLENDS",
-               _enum("TEXMIX_", MIX_BLENDS)),
-        Family("Separate / Combine Color modes (TexNode.op.y)", "materials/textures.py COLOR_MODES",
-               _enum("TEXCOLOR_", COLOR_MODES)),
-        Family("Math operations (TexNode.op.y)", "materials/textures.py MATH_OPS", _enum("TEXMATH_", MATH_OPS)),
-        Family("Vector Math operations (TexNode.op.y)", "materials/textures.py VECTOR_OPS",
-               _enum("TEXVEC_", VECTOR_OPS)),
-        Family("Color Ramp interpolations (TexNode.op.y)", "materials/textures.py RAMP_INTERPOLATIONS",
-               _enum("TEXRAMP_", RAMP_INTERPOLATIONS)),
-        Family("Attribute outputs (TexNode.op.z)", "materials/textures.py ATTRIBUTE_OUTPUTS",
-               _enum("TEXATTR_", ATTRIBUTE_OUTPUTS)),
-        Family("texture programs", "upload/textures.py", (("MAX_TEX_PROGRAM", texture_pack.MAX_TEX_PROGRAM),),
-               kind="constants"),
+        *_texture_families(),
         Family("per-object attribute flags (ObjectInfo)", "upload/tri_attributes.py", (
             ("OBJECT_ATTRIBUTES", tri_attributes.OBJECT_ATTRIBUTES), ("OBJECT_NORMALS", tri_attributes.OBJECT_NORMALS),
             ("OBJECT_UVS", tri_attributes.OBJECT_UVS), ("OBJECT_HOLDOUT", tri_attributes.OBJECT_HOLDOUT),
