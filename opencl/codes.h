@@ -217,11 +217,12 @@
 #define PICK_TABLE_MAX   64
 #define PICK_TABLE_FLOOR 0.25f
 
-/* the light tree (lights/tree.py) */
+/* the light tree (lights/tree.py, lights/pick_floor.py, lights/tree_exact.py) */
 #define LIGHT_TREE_FLOOR      0.1f
 #define LIGHT_TREE_MIN_BRANCH 0.000244140625f
 #define LIGHT_TREE_TWO_SIDED  1
 #define LIGHT_TREE_EXACT      32
+#define LIGHT_TREE_NEAR       0.25f
 
 /* GGX energy tables (upload/ggx_tables.py) */
 #define GGX_E_SIZE       32

@@ -9,23 +9,25 @@
 #ifndef RESTIRCL_LIGHT_TREE_EXACT_H
 #define RESTIRCL_LIGHT_TREE_EXACT_H
 
-/* The largest node picked exactly; tests may build another (TEST_LIGHT_TREE_EXACT, at most LIGHT_TREE_EXACT: 1 makes
- * every pick descend by branches to its leaf, as before this pick existed: tests/render/test_path_descent.py). */
+/* The largest node picked exactly; tests may build another (TEST_LIGHT_TREE_EXACT, at most LIGHT_TREE_EXACT, the size
+ * of the pick's array below: 1 makes every pick descend by branches to its leaf, tests/render/test_path_descent.py). */
 #ifdef TEST_LIGHT_TREE_EXACT
+#if TEST_LIGHT_TREE_EXACT > LIGHT_TREE_EXACT
+#error "TEST_LIGHT_TREE_EXACT above LIGHT_TREE_EXACT overflows light_tree_exact_pick's array"
+#endif
 #define LIGHT_TREE_EXACT_AT TEST_LIGHT_TREE_EXACT
 #else
 #define LIGHT_TREE_EXACT_AT LIGHT_TREE_EXACT
 #endif
 
 /* The exact pick is taken only where x is near the node: its distance to the node's box at most LIGHT_TREE_NEAR
- * times the box's diagonal (lights/tree_exact.py NEAR, why and its value). Farther, the children's bounds already
+ * times the box's diagonal (codes.h, from lights/tree_exact.py NEAR: why and its value). Farther, the children's bounds already
  * follow their lights' shares and the descent goes on branching (and tests the next small node again). */
 #ifdef TEST_LIGHT_TREE_NEAR
 #define LIGHT_TREE_NEAR_AT TEST_LIGHT_TREE_NEAR
 #else
-#define LIGHT_TREE_NEAR_AT LIGHT_TREE_NEAR
+#define LIGHT_TREE_NEAR_AT LIGHT_TREE_NEAR  /* codes.h, from lights/tree_exact.py NEAR */
 #endif
-#define LIGHT_TREE_NEAR 0.25f
 
 /* Whether node j (of at most LIGHT_TREE_EXACT_AT lights) picks exactly at x: x near its box (above). */
 inline bool light_tree_exact_here(const LightPick* lp, int j, float3 x)

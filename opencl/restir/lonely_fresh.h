@@ -5,7 +5,8 @@
  * candidates) from the same proposal (restir/candidates.h) and merges it with its own by their M: the two share the
  * pixel's target and proposal, so the constant weights M_c / (M_c + M_e) and M_e / (M_c + M_e) sum to 1 wherever
  * either reaches (unbiased), and M grows by e's M so that later reuse weighs the reservoir by all its candidates.
- * Whether a pixel is lonely depends on its history and its neighbours' surfaces, never on a sample. With visibility
+ * Whether a pixel is lonely depends on its history and its neighbours' surfaces, not on a sample (except with the
+ * boiling filter on, which empties or forgets an outlier's reservoir so that it reads as fresh). With visibility
  * reuse, e's sample is shadow-tested when the merge picks it; c's is known visible where its W > 0. */
 #ifndef RESTIRCL_RESTIR_LONELY_FRESH_H
 #define RESTIRCL_RESTIR_LONELY_FRESH_H

@@ -8,7 +8,7 @@ reference's at them (1 is unbiased; a robust mean that darkens bright sparse lig
 of the frame's relMSE (the sum of their per-pixel relMSE terms over all pixels) beside the other pixels' part.
 
     python -m tools.experiments.fill_bias --scene garden_orbit --methods ris+candidates=20,restir --seeds 4 \
-        --cache-dir /tmp/fill/refs [--define TAA_FRESH_FILL_MEAN=0]
+        --cache-dir /tmp/fill/refs [--define TAA_FRESH_FILL_ROBUST=0]
 """
 
 from __future__ import annotations
@@ -18,11 +18,12 @@ from pathlib import Path
 
 import numpy as np
 import pyopencl as cl
+from restircl.eval.probe_defines import add_probe_defines
 from restircl.eval.report.moving import _warm_renderer
 from restircl.eval.report.reference import get_reference
 from restircl.eval.scenes.motion_validation import motion_scene
 
-from .restir_motion import add_defines, orbit_arguments
+from .restir_motion import orbit_arguments
 
 
 def luminance(rgb: np.ndarray) -> np.ndarray:
@@ -39,7 +40,7 @@ def main() -> None:
     ap.add_argument("--define", action="append", default=[], metavar="NAME=VALUE")
     a = ap.parse_args()
     if a.define:
-        add_defines(dict(d.partition("=")[::2] for d in a.define))
+        add_probe_defines(a.define)
     scene = motion_scene(a.scene, a.width, a.height, a.frames)
     evaluated = sorted({*range(0, scene.frames, a.every), scene.frames - 1})
     refs = {f: get_reference(scene, f, a.ref_seconds, cache_dir=Path(a.cache_dir), log=lambda s: None).image

@@ -3,9 +3,9 @@ them directly, each by its own importance at the shading point (lights/tree.py i
 going on by the bounds of boxes. Mirrors opencl/lights/tree_exact.h.
 
 Why: a node's bound cannot tell where in its box its lights are. At a point inside a box (a bounce vertex 0.2 m from
-a small lamp that brings it 0.97 of its light, in the `user` kind's room of 42 lamps), the nearest point's share
-says 1 and the farthest corner's about the power share, so every level of the descent gave the lamp's side 0.73-0.88
-and the lamp got 0.45 of the picks: NEE's fireflies of the first frames (issue 37). A light's own bound is tight
+a small lamp that brings it 0.82 of its unshadowed light, in the `user` kind's room of 42 lamps), the nearest point's
+share says 1 and the farthest corner's about the power share, so every level of the descent gave the lamp's side
+0.73-0.88 and the lamp got 0.49 of the local picks: bright NEE samples of the first frames. A light's own bound is tight
 (a point light's box is its sphere), and below a node of a few dozen lights summing them all is cheap beside the
 vertex's rays. The probability of light l below such a node j is
 
@@ -27,16 +27,16 @@ from .pick_floor import FLOOR
 #: LIGHT_TREE_EXACT)
 EXACT = 32
 
-#: ... where the point is near it: its distance to the node's box at most NEAR times the box's diagonal
-#: (opencl/lights/tree_exact.h LIGHT_TREE_NEAR). Near or inside a box its bound cannot tell its lights apart; far from
-#: it the descent's branches already follow the lights' shares, and summing up to EXACT leaves there costs CPU for
-#: little (600 lights of the `interior` kind: docs/measurements/error-vs-time.md, the adaptive exact pick).
+#: ... where the point is near it: its distance to the node's box at most NEAR times the box's diagonal (opencl/codes.h
+#: LIGHT_TREE_NEAR, used by opencl/lights/tree_exact.h). Near or inside a box its bound cannot tell its lights apart;
+#: far from it the descent's branches already follow the lights' shares, and summing up to EXACT leaves there costs
+#: CPU for little (600 lights of the `interior` kind: docs/measurements/error-vs-time.md, the adaptive exact pick).
 NEAR = 0.25
 
 
 def near_nodes(lo: np.ndarray, hi: np.ndarray, x: np.ndarray, near: float) -> np.ndarray:
-    """Per node (boxes lo..hi, (M, 3)), whether x is within `near` times the box's diagonal of the box (float32, the
-    device's arithmetic, so that both take the same decision)."""
+    """Per node (boxes lo..hi, (M, 3)), whether x is within `near` times the box's diagonal of the box (float32 as on
+    the device, so both take the same decision to float rounding: a point within an ulp of the bound may differ)."""
     lo, hi, x = lo.astype(np.float32), hi.astype(np.float32), np.asarray(x, np.float32)
     d = np.maximum(np.maximum(lo - x, x - hi), np.float32(0))
     diag = hi - lo

@@ -144,9 +144,10 @@ def families() -> tuple[Family, ...]:
             ("CAMERA_LIGHT_ROWS", camera_visible.ROWS),), kind="constants"),
         Family("the per-pixel light pick", "lights/pick_table.py", (
             ("PICK_TABLE_MAX", pick_table.MAX_LIGHTS), ("PICK_TABLE_FLOOR", pick_table.FLOOR)), kind="constants"),
-        Family("the light tree", "lights/tree.py", (
+        Family("the light tree", "lights/tree.py, lights/pick_floor.py, lights/tree_exact.py", (
             ("LIGHT_TREE_FLOOR", pick_floor.FLOOR), ("LIGHT_TREE_MIN_BRANCH", pick_floor.MIN_BRANCH),
-            ("LIGHT_TREE_TWO_SIDED", tree.NODE_TWO_SIDED), ("LIGHT_TREE_EXACT", tree_exact.EXACT)),
+            ("LIGHT_TREE_TWO_SIDED", tree.NODE_TWO_SIDED), ("LIGHT_TREE_EXACT", tree_exact.EXACT),
+            ("LIGHT_TREE_NEAR", tree_exact.NEAR)),
                kind="constants"),
         Family("GGX energy tables", "upload/ggx_tables.py", (
             ("GGX_E_SIZE", ggx_tables.E_SIZE), ("GGX_S_SIZE", ggx_tables.S_SIZE),
