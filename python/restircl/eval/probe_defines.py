@@ -4,7 +4,9 @@ of tests/bias_controls.py, `--define` of tools/experiments/restir_motion.py and 
 
 The defines join the settings table's own (core/program.py reads `kernel_defines` at every build), so they reach
 every program of the process, the renderer's and a test's own kernels alike, and a program built with them is cached
-apart from one built without."""
+apart from one built without. With the builtin setattr this is process-wide state, the one exception to the house's
+"no global state beyond the cached OpenCL context": it is for a probe's own process (a CLI run), never for the
+renderer, the add-on or a library user; tests pass their monkeypatch's setattr so it goes with the test."""
 
 from __future__ import annotations
 
