@@ -24,20 +24,14 @@ inline Reservoir lonely_fresh(const Surface* s, int i, const Reservoir* c, const
     Reservoir e = restir_candidates(s, i, lights, slots, light_pdf, tree_nodes, tree_info, tree_distant, tile_rec,
                                     tile_info, nodes, tris, tri_light, p->sampler, p->fresh_candidates,
                                     frame_params.sample, frame_params.seed, &q, rng, &chosen);
-#ifndef LONELY_FRESH_TREE_WEIGHT  /* probe: e's candidates count this many times c's where they come from the tree */
-#define LONELY_FRESH_TREE_WEIGHT 1.0f
-#endif
-    const float a = p->sampler.light_tree ? LONELY_FRESH_TREE_WEIGHT : 1.0f;
     Reservoir r;
     res_init(&r);
     res_update(&r, c->light, c->u, c->v, c->target * c->W * c->M, c->target, rng_next(rng), c->M);
-    bool picked = res_update(&r, e.light, e.u, e.v, e.target * e.W * e.M * a, e.target, rng_next(rng), e.M);
-    float norm = c->M + a * e.M;
+    bool picked = res_update(&r, e.light, e.u, e.v, e.target * e.W * e.M, e.target, rng_next(rng), e.M);
 #ifdef TEST_LONELY_FRESH_M_KEPT  /* negative control (tests/bias_controls.py): e's candidates not counted in M */
     r.M = c->M;
-    norm = c->M;
 #endif
-    res_finalize(&r, norm);
+    res_finalize(&r, r.M);
     r.vis_age = picked ? 0 : c->vis_age;
     if (picked && p->visibility_reuse && r.W > 0.0f && !visible(nodes, tris, s, &chosen)) r.W = 0.0f;
     return r;

@@ -309,24 +309,3 @@ def test_the_harness_rejects_fresh_candidates_left_out_of_m(device, references, 
     runs = run_means(occluder_scene(W, H), s, SIZES["quick"][0], SIZES["quick"][1], device)
     with pytest.raises(AssertionError, match="outliers|image means"):
         assert_matches(runs, references["occluders", "quick"], "occluders fresh candidates, M kept")
-
-
-def test_fresh_candidates_from_the_tree_stay_unbiased(device, references):
-    """Scratch (the fresh_tree probe): the lonely pixels' extras from the light tree, the same check."""
-    s = Settings(method="restir", jitter=False, taa=False, seed=15, temporal=False, spatial_neighbours=1,
-                 disocclusion_boost=0, fresh_candidates=8, fresh_tree=True)
-    r = Renderer(occluder_scene(W, H), s, device)
-    assert r.device_scene.light_tree is not None and not r.uses_light_tree
-    runs = run_means(occluder_scene(W, H), s, SIZES["quick"][0], SIZES["quick"][1], device)
-    assert np.all(np.isfinite(runs))
-    assert_matches(runs, references["occluders", "quick"], "occluders fresh candidates from the tree")
-
-
-def test_the_harness_rejects_tree_fresh_candidates_left_out_of_m(device, references, monkeypatch):
-    """Scratch control of the above: TEST_LONELY_FRESH_M_KEPT with the tree's extras."""
-    built_with(monkeypatch, "TEST_LONELY_FRESH_M_KEPT")
-    s = Settings(method="restir", jitter=False, taa=False, seed=15, temporal=False, spatial_neighbours=1,
-                 disocclusion_boost=0, fresh_candidates=8, fresh_tree=True)
-    runs = run_means(occluder_scene(W, H), s, SIZES["quick"][0], SIZES["quick"][1], device)
-    with pytest.raises(AssertionError, match="outliers|image means"):
-        assert_matches(runs, references["occluders", "quick"], "occluders tree fresh candidates, M kept")

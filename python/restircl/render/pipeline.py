@@ -128,14 +128,10 @@ class Renderer:
         """Compile the program with the features this scene and settings need (render/features.py)."""
         s, ds = self.settings, self.device_scene
         self.uses_light_tree, self.path_light_tree = light_trees(s, ds.lights.types)
-        # a lonely fresh pixel's extra candidates (restir/lonely_fresh.h) may come from the tree alone
-        fresh_tree = (s.fresh_tree and s.method == "restir" and s.fresh_candidates > 0
-                      and len(ds.lights.types) >= 2)
-        if self.uses_light_tree or self.path_light_tree or fresh_tree:
+        if self.uses_light_tree or self.path_light_tree:
             ds.use_light_tree()
         self.flags = flags = renderer_flags(self.scene, ds, s, interactive=self.interactive,
-                                            light_tree=self.uses_light_tree or fresh_tree,
-                                            path_light_tree=self.path_light_tree)
+                                            light_tree=self.uses_light_tree, path_light_tree=self.path_light_tree)
         self.features = describe(flags)
         t0 = time.perf_counter()
         self.program = build_program(self.device, flags)

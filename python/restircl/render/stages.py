@@ -255,25 +255,13 @@ class Spatial(Stage):
                             visibility_reuse=int(s.visibility_reuse), pass_index=p,
                             boost_neighbours=s.disocclusion_boost,
                             fresh_m=s.candidates + int(state.sampler["bsdf_candidates"]),
-                            fresh_candidates=s.fresh_candidates, sampler=self._fresh_sampler(state))
+                            fresh_candidates=s.fresh_candidates, sampler=state.sampler)
             self.kernels.launch("restir_spatial", image_size(state), gbuf=h.gbuf(h.cur), glossy=h.glossy(h.cur),
                                 **self.scene.geometry, **self.scene.light_sampling, **self.scene.light_tree_args,
                                 **tiles, tri_light=self.scene.tri_light_buf, input=res, out=dst,
                                 frame_params=state.frame_params, params=params)
             res = dst
         return res
-
-    def _fresh_sampler(self, state: FrameState) -> np.void:
-        """The SamplerParams of a lonely fresh pixel's extra candidates: the frame's, or with Settings.fresh_tree
-        the light tree's where the renderer built one (the frame's tiles and table do not apply to a tree pick)."""
-        tree = self.scene.light_tree
-        if not self.settings.fresh_tree or tree is None or state.sampler["light_tree"]:
-            return state.sampler
-        sampler = state.sampler.copy()
-        sampler["light_tree"], sampler["tree_leaves"] = 1, tree.leaves
-        sampler["tree_distant"], sampler["tree_p_local"] = tree.distant_count, tree.p_local
-        sampler["tile_count"], sampler["tile_size"], sampler["pick_table"] = 0, 0, 0
-        return sampler
 
 
 class Shade(Stage):

@@ -246,9 +246,6 @@ class Settings:
                                     "history that no spatial neighbour is similar to, merged into its own reservoir "
                                     "(0: off)", flag="--fresh-candidates", range=Range(int, 0, 256), panel="reuse",
                                     applies_when=_SPATIAL)
-    fresh_tree: bool = setting(False, "Fresh Candidates from Tree", "ReSTIR: draw a lonely fresh pixel's extra "
-                               "candidates from the light tree (built for them) instead of the initial pass's proposal",
-                               flag="--fresh-tree", panel="reuse", applies_when=_SPATIAL)
     denoise: bool = setting(False, "Denoise", "Filter each finished image with Intel Open Image Denoise (pyoidn), "
                             "guided by the albedo and normal of the same pixels; the image before it is kept as the "
                             "Noisy Image pass", flag="--denoise", panel="sampling")
