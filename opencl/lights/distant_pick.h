@@ -45,7 +45,7 @@ inline float light_tree_local_share(const LightPick* lp, float3 x, float3 n, flo
     float fixed = lp->p_local;
     float reach = light_tree_importance(&lp->nodes[0], x, n).x > 0.0f ? fixed : 0.0f;
     float share = light_tree_share(reach, total);
-    float p = (1.0f - LIGHT_TREE_FLOOR) * (share >= 0.0f ? share : fixed) + LIGHT_TREE_FLOOR * fixed;
+    float p = light_pick_floored(share >= 0.0f ? share : fixed, fixed);
     return clamp_f(p, LIGHT_TREE_MIN_BRANCH, 1.0f - LIGHT_TREE_MIN_BRANCH);
 }
 

@@ -119,6 +119,21 @@ inline float2 light_tree_importance(const __global LightTreeNode* nd, float3 x, 
     return (float2)(bound / fmax_f(dot3(near, near), 1e-12f), bound / fmax_f(dot3(far, far), 1e-12f));
 }
 
+/* A pick probability from an importance share and the power (or fixed) share: mixed by the floor
+ * LIGHT_TREE_FLOOR, so that a light the bound rules out stays reachable (lights/pick_floor.py mixed). The branches,
+ * the exact pick below small nodes and the tree's share against the distant lights all take it. */
+inline float light_pick_floored(float share, float fixed)
+{
+    return (1.0f - LIGHT_TREE_FLOOR) * share + LIGHT_TREE_FLOOR * fixed;
+}
+
+/* The importance share from the shares at the near and the far distances (negative: undefined, a sum that is 0 or
+ * not finite): their mean, one alone where the other is undefined, the power share pw where both are. */
+inline float light_tree_near_far(float near, float far, float pw)
+{
+    return near >= 0.0f ? (far >= 0.0f ? 0.5f * (near + far) : near) : (far >= 0.0f ? far : pw);
+}
+
 /* The share a of a + b, or -1 where the sum is 0 or not finite. */
 inline float light_tree_share(float a, float b)
 {
@@ -138,9 +153,8 @@ inline float light_tree_branch(const __global LightTreeNode* nodes, int c, float
     if (!(phi0 > 0.0f) || !(phi1 > 0.0f)) return phi0 > 0.0f ? 1.0f : 0.0f;
     float pw = phi0 / (phi0 + phi1);
     float2 i0 = light_tree_importance(&nodes[c], x, n), i1 = light_tree_importance(&nodes[c + 1], x, n);
-    float near = light_tree_share(i0.x, i1.x), far = light_tree_share(i0.y, i1.y);
-    float pi = near >= 0.0f ? (far >= 0.0f ? 0.5f * (near + far) : near) : (far >= 0.0f ? far : pw);
-    float p = (1.0f - LIGHT_TREE_FLOOR) * pi + LIGHT_TREE_FLOOR * pw;
+    float pi = light_tree_near_far(light_tree_share(i0.x, i1.x), light_tree_share(i0.y, i1.y), pw);
+    float p = light_pick_floored(pi, pw);
     return clamp_f(p, LIGHT_TREE_MIN_BRANCH, 1.0f - LIGHT_TREE_MIN_BRANCH);
 }
 

@@ -55,10 +55,9 @@ inline float2 light_tree_exact_sums(const LightPick* lp, int j, float3 x, float3
 inline float light_tree_exact_share(const LightPick* lp, int m, float2 imp, float2 sum, float phi_j)
 {
     float pw = lp->nodes[m].lo.w / phi_j;
-    bool near_ok = sum.x > 0.0f && finite_f(sum.x), far_ok = sum.y > 0.0f && finite_f(sum.y);
-    float near = near_ok ? imp.x / sum.x : 0.0f, far = far_ok ? imp.y / sum.y : 0.0f;
-    float share = near_ok ? (far_ok ? 0.5f * (near + far) : near) : (far_ok ? far : pw);
-    return (1.0f - LIGHT_TREE_FLOOR) * share + LIGHT_TREE_FLOOR * pw;
+    float near = sum.x > 0.0f && finite_f(sum.x) ? imp.x / sum.x : -1.0f;
+    float far = sum.y > 0.0f && finite_f(sum.y) ? imp.y / sum.y : -1.0f;
+    return light_pick_floored(light_tree_near_far(near, far, pw), pw);
 }
 
 /* The leaf node below j for the uniform u in [0, 1) (*p: its p(l | j)): the first whose running sum of p(l | j)

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .pick_floor import FLOOR
+from .pick_floor import mixed
 
 #: a node with at most this many lights below it picks among them by their own importance (opencl/codes.h
 #: LIGHT_TREE_EXACT)
@@ -62,4 +62,4 @@ def exact_shares(near: np.ndarray, far: np.ndarray, phi: np.ndarray) -> np.ndarr
     parts = [v / v.sum() for v in (near, far) if v.sum() > 0 and np.isfinite(v.sum())]
     power = phi / phi.sum()
     share = sum(parts) / len(parts) if parts else power
-    return (1.0 - FLOOR) * share + FLOOR * power
+    return mixed(share, power)
