@@ -54,13 +54,25 @@ inline bool taa_fetch(const GSample* cur, float2 prev, const __global GSample* p
     float wsum = 0.0f, nsum = 0.0f;
     float3 hsum = (float3)(0.0f);
     bool all_valid = true;
+#ifdef TAA_TAP_MIX
+    float3 csum = (float3)(0.0f);
+    float cwsum = 0.0f;
+#endif
     for (int t = 0; t < 4; ++t) {
         int tx = x0 + (t & 1), ty = y0 + (t >> 1);
         float wt = ((t & 1) ? fx : 1.0f - fx) * ((t >> 1) ? fy : 1.0f - fy);
         if (tx < 0 || ty < 0 || tx >= width || ty >= height) { all_valid = false; continue; }
         int j = ty * width + tx;
         GSample pg = prev_gbuf[j];
-        if (moving && !reproject_same_surface(cur, &pg, depth_tol, normal_cos)) { all_valid = false; continue; }
+        bool same = !moving || reproject_same_surface(cur, &pg, depth_tol, normal_cos);
+#ifdef TAA_TAP_MIX  /* a probe (taa_own_error): a tap of another surface still lends its colour, at this weight */
+        if (wt > 0.0f) {
+            float wc = same ? wt : (float)TAA_TAP_MIX * wt;
+            csum += wc * history_in[j].xyz;
+            cwsum += wc;
+        }
+#endif
+        if (!same) { all_valid = false; continue; }
         if (wt <= 0.0f) continue;
         float4 hv = history_in[j];
         wsum += wt;
@@ -68,8 +80,23 @@ inline bool taa_fetch(const GSample* cur, float2 prev, const __global GSample* p
         nsum += wt * hv.w;
     }
     if (!(wsum > 1e-3f)) return false;
+#ifdef TAA_TAP_MIX
+    hsum = csum * (wsum / cwsum);
+#endif
     *h = hsum / wsum;
     *n_prev = nsum / wsum;
+#ifdef TAA_HISTORY_NEAREST  /* a probe (taa_own_error): the nearest tap alone where it is the pixel's surface */
+    {
+        int tx = (int)floor(prev.x), ty = (int)floor(prev.y);
+        if (tx >= 0 && ty >= 0 && tx < width && ty < height) {
+            GSample pg = prev_gbuf[ty * width + tx];
+            if (!moving || reproject_same_surface(cur, &pg, depth_tol, normal_cos)) {
+                *h = history_in[ty * width + tx].xyz;
+                return true;
+            }
+        }
+    }
+#endif
     if (filter != TAA_CATMULL_ROM || !all_valid || x0 < 1 || y0 < 1 || x0 + 2 >= width || y0 + 2 >= height)
         return true;
     float4 wx = catmull_rom_weights(fx), wy = catmull_rom_weights(fy);
@@ -139,6 +166,24 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
     float2 prev, sweep = (float2)(0.0f);
     const bool blurred = p.moving && p.sweep_close > p.sweep_open;
     bool swept = false;
+    int filter = p.filter;
+#ifdef TAA_CR_EDGES  /* a probe (taa_own_error): Catmull-Rom where a 3x3 neighbour is another surface, else bilinear */
+    if (p.moving) {
+        GSample c0 = gbuf[i];
+        bool edge = false;
+        for (int dy = -TAA_CR_EDGES; dy <= TAA_CR_EDGES; ++dy)
+            for (int dx = -TAA_CR_EDGES; dx <= TAA_CR_EDGES; ++dx) {
+                int nx = clamp(x + dx, 0, width - 1), ny = clamp(y + dy, 0, height - 1);
+                GSample g = gbuf[ny * width + nx];
+                int pc = as_int(c0.normal.w), pn = as_int(g.normal.w);
+                if ((pc == -1) != (pn == -1)) { edge = true; continue; }
+                if (pc == -1) continue;
+                if (!(abs_f(g.pos.w - c0.pos.w) <= p.similar.depth_tolerance * abs_f(c0.pos.w))
+                    || dot3(g.normal.xyz, c0.normal.xyz) < p.similar.normal_cos) edge = true;
+            }
+        filter = edge ? TAA_CATMULL_ROM : TAA_BILINEAR;
+    }
+#endif
     if (!p.reset) {
         GSample cur = gbuf[i];
         /* with motion blur, where the fastest path over the shutter that crosses the pixel is TAA_SWEEP_MIN
@@ -150,14 +195,14 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
         if (swept) {
             prev = (float2)((float)x + 0.5f, (float)y + 0.5f) + sweep;
             fetched = finite_f(prev.x) && finite_f(prev.y)
-                && taa_fetch(&cur, prev, prev_gbuf, history_in, width, height, 0, p.filter,
+                && taa_fetch(&cur, prev, prev_gbuf, history_in, width, height, 0, filter,
                              p.similar.depth_tolerance, p.similar.normal_cos, &h, &n_prev);
         }
         if (!fetched && p.dilate && p.moving && taa_dilated_position(gbuf, x, y, width, height, &prev))
-            fetched = taa_fetch(&cur, prev, prev_gbuf, history_in, width, height, p.moving, p.filter,
+            fetched = taa_fetch(&cur, prev, prev_gbuf, history_in, width, height, p.moving, filter,
                                 p.similar.depth_tolerance, p.similar.normal_cos, &h, &n_prev);
         if (!fetched && reproject_position(gbuf, x, y, width, &prev))
-            fetched = taa_fetch(&cur, prev, prev_gbuf, history_in, width, height, p.moving, p.filter,
+            fetched = taa_fetch(&cur, prev, prev_gbuf, history_in, width, height, p.moving, filter,
                                 p.similar.depth_tolerance, p.similar.normal_cos, &h, &n_prev);
         if (fetched && (!finite3_f(h) || !finite_f(n_prev))) {
             guard_count(guards, GUARD_NONFINITE_HISTORY);
@@ -171,9 +216,26 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
     if (n_prev > 0.0f && p.moving) {
         float3 m1 = (float3)(0.0f), m2 = (float3)(0.0f);
         float cnt = 0.0f;
+#if defined(TAA_CLIP_SAME) || defined(TAA_EDGE_GAMMA)
+        GSample c0 = gbuf[i];
+        bool edge = false;
+#endif
         for (int dy = -TAA_CLIP_RADIUS; dy <= TAA_CLIP_RADIUS; ++dy)
             for (int dx = -TAA_CLIP_RADIUS; dx <= TAA_CLIP_RADIUS; ++dx) {
                 int nx = clamp(x + dx, 0, width - 1), ny = clamp(y + dy, 0, height - 1);
+#if defined(TAA_CLIP_SAME) || defined(TAA_EDGE_GAMMA)  /* probes (taa_own_error): the box from the pixel's surface */
+                {
+                    GSample g = gbuf[ny * width + nx];
+                    int pc = as_int(c0.normal.w), pn = as_int(g.normal.w);
+                    bool other = (pc == -1) != (pn == -1) || (pc != -1
+                        && (!(abs_f(g.pos.w - c0.pos.w) <= p.similar.depth_tolerance * abs_f(c0.pos.w))
+                            || dot3(g.normal.xyz, c0.normal.xyz) < p.similar.normal_cos));
+                    edge |= other;
+#ifdef TAA_CLIP_SAME
+                    if (other) continue;
+#endif
+                }
+#endif
                 float3 v = sample[ny * width + nx].xyz;
                 if (!finite3_f(v)) continue;
                 v = rgb_to_ycocg(v);
@@ -184,6 +246,9 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
         float3 mean = m1 / cnt;
         float3 sigma = sqrt(fmax(m2 / cnt - mean * mean, (float3)(0.0f)));
         float3 extent = gamma * sigma;
+#ifdef TAA_EDGE_GAMMA
+        if (edge) extent *= (float)TAA_EDGE_GAMMA;
+#endif
         if (swept) {
             /* motion blur: the box also spans what the pixel sees along its sweep (a blurred pixel's history
              * mixes those colours: a variance box of the mixture would clip its extremes) */
