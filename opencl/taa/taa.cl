@@ -6,16 +6,6 @@
  * harder (surface/view_dependence.h), and a pixel without history shows its surface's 3x3 mean (taa/fresh_fill.h).
  * A NaN/Inf never enters the history: it is counted and the pixel restarts. */
 
-inline float3 rgb_to_ycocg(float3 c)
-{
-    return (float3)(0.25f * c.x + 0.5f * c.y + 0.25f * c.z, 0.5f * c.x - 0.5f * c.z, -0.25f * c.x + 0.5f * c.y - 0.25f * c.z);
-}
-
-inline float3 ycocg_to_rgb(float3 c)
-{
-    return (float3)(c.x + c.y - c.z, c.x + c.z, c.x - c.y - c.z);
-}
-
 /* Move h towards the box centre until it lies inside the box centre +- extent. */
 inline float3 clip_to_box(float3 h, float3 centre, float3 extent)
 {
@@ -25,12 +15,6 @@ inline float3 clip_to_box(float3 h, float3 centre, float3 extent)
     float m = fmax_f(ratio.x, fmax_f(ratio.y, ratio.z));
     return m > 1.0f ? centre + d / m : h;
 }
-
-/* Half-width of the neighbourhood the clipping box is built from: 1 (3x3). A compile-time knob for the measurements
- * of docs/measurements/temporal-stability.md ("The moving camera's level"). */
-#ifndef TAA_CLIP_RADIUS
-#define TAA_CLIP_RADIUS 1
-#endif
 
 /* Catmull-Rom weights of the four taps at -1, 0, 1, 2 around a sample at fraction f of the way from tap 0 to 1. */
 inline float4 catmull_rom_weights(float f)
@@ -214,40 +198,41 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
         s = taa_fresh_fill(sample, gbuf, glossy, x, y, width, height, p.similar.depth_tolerance,
                            p.similar.normal_cos, &key, s);
     if (n_prev > 0.0f && p.moving) {
-        float3 m1 = (float3)(0.0f), m2 = (float3)(0.0f);
-        float cnt = 0.0f;
-#if defined(TAA_CLIP_SAME) || defined(TAA_EDGE_GAMMA)
-        GSample c0 = gbuf[i];
-        bool edge = false;
-#endif
-        for (int dy = -TAA_CLIP_RADIUS; dy <= TAA_CLIP_RADIUS; ++dy)
-            for (int dx = -TAA_CLIP_RADIUS; dx <= TAA_CLIP_RADIUS; ++dx) {
-                int nx = clamp(x + dx, 0, width - 1), ny = clamp(y + dy, 0, height - 1);
-#if defined(TAA_CLIP_SAME) || defined(TAA_EDGE_GAMMA)  /* probes (taa_own_error): the box from the pixel's surface */
-                {
-                    GSample g = gbuf[ny * width + nx];
-                    int pc = as_int(c0.normal.w), pn = as_int(g.normal.w);
-                    bool other = (pc == -1) != (pn == -1) || (pc != -1
-                        && (!(abs_f(g.pos.w - c0.pos.w) <= p.similar.depth_tolerance * abs_f(c0.pos.w))
-                            || dot3(g.normal.xyz, c0.normal.xyz) < p.similar.normal_cos));
-                    edge |= other;
-#ifdef TAA_CLIP_SAME
-                    if (other) continue;
-#endif
-                }
-#endif
-                float3 v = sample[ny * width + nx].xyz;
-                if (!finite3_f(v)) continue;
-                v = rgb_to_ycocg(v);
-                m1 += v;
-                m2 += v * v;
-                cnt += 1.0f;
-            }
-        float3 mean = m1 / cnt;
-        float3 sigma = sqrt(fmax(m2 / cnt - mean * mean, (float3)(0.0f)));
+        float3 mean, sigma;
+        taa_clip_box(sample, gbuf, x, y, width, height, p.clip_surface, p.similar.depth_tolerance,
+                     p.similar.normal_cos, &mean, &sigma);
         float3 extent = gamma * sigma;
-#ifdef TAA_EDGE_GAMMA
-        if (edge) extent *= (float)TAA_EDGE_GAMMA;
+#ifdef TAA_EDGE_GAMMA  /* a probe (taa_own_error): the box widened where a 3x3 neighbour is another surface */
+        {
+            GSample c0 = gbuf[i];
+            bool edge = false;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    GSample g = gbuf[clamp(y + dy, 0, height - 1) * width + clamp(x + dx, 0, width - 1)];
+                    edge |= !taa_clip_same_surface(&c0, &g, p.similar.depth_tolerance, p.similar.normal_cos);
+                }
+            if (edge) extent *= (float)TAA_EDGE_GAMMA;
+        }
+#endif
+#ifdef TAA_EDGE_ALPHA  /* a probe (taa_own_error): the blend floor where a 3x3 neighbour is another surface */
+        {
+            GSample c0 = gbuf[i];
+            bool edge = false;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    GSample g = gbuf[clamp(y + dy, 0, height - 1) * width + clamp(x + dx, 0, width - 1)];
+                    edge |= !taa_clip_same_surface(&c0, &g, p.similar.depth_tolerance, p.similar.normal_cos);
+                }
+            if (edge) alpha_min = (float)TAA_EDGE_ALPHA;
+        }
+#endif
+#ifdef TAA_BOX_HOLDS_SAMPLE  /* a probe (taa_own_error): the box stretched to hold the pixel's own sample */
+        {
+            float3 sy = rgb_to_ycocg(s);
+            float3 lo = fmin(mean - extent, sy), hi = fmax(mean + extent, sy);
+            mean = 0.5f * (lo + hi);
+            extent = 0.5f * (hi - lo);
+        }
 #endif
         if (swept) {
             /* motion blur: the box also spans what the pixel sees along its sweep (a blurred pixel's history

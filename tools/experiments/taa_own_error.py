@@ -148,8 +148,9 @@ def run_variant(scene, variant: str, seed: int, mode: str, refs: dict, evaluated
             g = r.read_gbuffer().copy()
             if f in evaluated:
                 img = read_image(r.device.queue, color, (r.height, r.width))[..., :3]
+                raw = read_image(r.device.queue, r.sample_buf, (r.height, r.width))[..., :3]
                 out[f] = (rel_mse_map(img, refs[f]), r.history_length().copy(), g, last_g,
-                          read_glossy(r, r.history.cur))
+                          read_glossy(r, r.history.cur), rel_mse_map(raw, refs[f]))
             last_g = g
         return out
     finally:
@@ -177,7 +178,7 @@ def main() -> None:
         for variant in [v for v in a.variants.split(",") if v]:
             got = run_variant(scene, variant, a.seed, mode, refs, evaluated)
             if classes is None:  # the G-buffers do not depend on the variant (same seed, same jitter)
-                classes = {f: classify(g, gp, gl, n) for f, (_, n, g, gp, gl) in got.items()}
+                classes = {f: classify(g, gp, gl, n) for f, (_, n, g, gp, gl, _) in got.items()}
                 gbufs = np.stack([got[f][2] for f in evaluated])
             total = float(np.mean([got[f][0].mean() for f in evaluated]))
             row = {"variant": variant, "mode": mode, "rel_mse": total, "per_frame": [float(got[f][0].mean())
@@ -186,6 +187,11 @@ def main() -> None:
                 part = float(np.mean([got[f][0][classes[f] == k].sum() / got[f][0].size for f in evaluated]))
                 share = float(np.mean([np.mean(classes[f] == k) for f in evaluated]))
                 row[name] = {"rel_mse_part": part, "pixels": share}
+            if mode == "taa":  # the frame's own sample, no TAA, by the same classes
+                row["sample"] = {c: float(np.mean([got[f][5][classes[f] == k].sum() / got[f][5].size
+                                                   for f in evaluated])) for k, c in enumerate(CLASSES)}
+                print(f"{'(its samples)':<16} {variant:<44} relMSE {sum(row['sample'].values()):.4f}  "
+                      + "  ".join(f"{c} {row['sample'][c]:.4f}" for c in CLASSES))
             rows.append(row)
             maps[f"{mode}:{variant}"] = np.stack([got[f][0] for f in evaluated])
             print(f"{mode:<16} {variant:<44} relMSE {total:.4f}  " + "  ".join(
