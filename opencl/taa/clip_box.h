@@ -31,7 +31,8 @@ inline bool taa_clip_same_surface(const GSample* c, const GSample* g, float dept
     int pc = as_int(c->normal.w), pn = as_int(g->normal.w);
     if ((pc == -1) != (pn == -1)) return false;
     if (pc == -1) return true;
-    return abs_f(g->pos.w - c->pos.w) <= depth_tol * abs_f(c->pos.w) && dot3(g->normal.xyz, c->normal.xyz) >= normal_cos;
+    return abs_f(g->pos.w - c->pos.w) <= depth_tol * abs_f(c->pos.w)
+        && dot3(g->normal.xyz, c->normal.xyz) >= normal_cos;
 }
 
 /* Mean and standard deviation (YCoCg) of the finite samples around pixel (x, y) (clamped at the image's edges);

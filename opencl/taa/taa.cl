@@ -1,10 +1,10 @@
 /* Temporal accumulation: f_n = a * s_n + (1 - a) * clip(history(reprojected)), a = max(1 / n, alpha_min) with a
  * per-pixel history length n. When something moves, history is fetched bilinearly from the taps that show the
- * same surface and clipped to the current 3x3 neighbourhood's YCoCg variance box (mean +- gamma * sigma); in a
- * still scene every frame's sample belongs to the pixel (the jitter moves the sample, not the scene) and the
- * history is kept whole. On view-dependent (glossy) surfaces a moving scene's history is shortened and clipped
- * harder (surface/view_dependence.h), and a pixel without history shows its surface's 3x3 mean (taa/fresh_fill.h).
- * A NaN/Inf never enters the history: it is counted and the pixel restarts. */
+ * same surface and clipped to the current 3x3 neighbourhood's YCoCg variance box (mean +- gamma * sigma,
+ * taa/clip_box.h); in a still scene every frame's sample belongs to the pixel (the jitter moves the sample, not the
+ * scene) and the history is kept whole. On view-dependent (glossy) surfaces a moving scene's history is shortened
+ * and clipped harder (surface/view_dependence.h), and a pixel without history shows its surface's 3x3 mean
+ * (taa/fresh_fill.h). A NaN/Inf never enters the history: it is counted and the pixel restarts. */
 
 /* Move h towards the box centre until it lies inside the box centre +- extent. */
 inline float3 clip_to_box(float3 h, float3 centre, float3 extent)
@@ -38,25 +38,13 @@ inline bool taa_fetch(const GSample* cur, float2 prev, const __global GSample* p
     float wsum = 0.0f, nsum = 0.0f;
     float3 hsum = (float3)(0.0f);
     bool all_valid = true;
-#ifdef TAA_TAP_MIX
-    float3 csum = (float3)(0.0f);
-    float cwsum = 0.0f;
-#endif
     for (int t = 0; t < 4; ++t) {
         int tx = x0 + (t & 1), ty = y0 + (t >> 1);
         float wt = ((t & 1) ? fx : 1.0f - fx) * ((t >> 1) ? fy : 1.0f - fy);
         if (tx < 0 || ty < 0 || tx >= width || ty >= height) { all_valid = false; continue; }
         int j = ty * width + tx;
         GSample pg = prev_gbuf[j];
-        bool same = !moving || reproject_same_surface(cur, &pg, depth_tol, normal_cos);
-#ifdef TAA_TAP_MIX  /* a probe (taa_own_error): a tap of another surface still lends its colour, at this weight */
-        if (wt > 0.0f) {
-            float wc = same ? wt : (float)TAA_TAP_MIX * wt;
-            csum += wc * history_in[j].xyz;
-            cwsum += wc;
-        }
-#endif
-        if (!same) { all_valid = false; continue; }
+        if (moving && !reproject_same_surface(cur, &pg, depth_tol, normal_cos)) { all_valid = false; continue; }
         if (wt <= 0.0f) continue;
         float4 hv = history_in[j];
         wsum += wt;
@@ -64,23 +52,8 @@ inline bool taa_fetch(const GSample* cur, float2 prev, const __global GSample* p
         nsum += wt * hv.w;
     }
     if (!(wsum > 1e-3f)) return false;
-#ifdef TAA_TAP_MIX
-    hsum = csum * (wsum / cwsum);
-#endif
     *h = hsum / wsum;
     *n_prev = nsum / wsum;
-#ifdef TAA_HISTORY_NEAREST  /* a probe (taa_own_error): the nearest tap alone where it is the pixel's surface */
-    {
-        int tx = (int)floor(prev.x), ty = (int)floor(prev.y);
-        if (tx >= 0 && ty >= 0 && tx < width && ty < height) {
-            GSample pg = prev_gbuf[ty * width + tx];
-            if (!moving || reproject_same_surface(cur, &pg, depth_tol, normal_cos)) {
-                *h = history_in[ty * width + tx].xyz;
-                return true;
-            }
-        }
-    }
-#endif
     if (filter != TAA_CATMULL_ROM || !all_valid || x0 < 1 || y0 < 1 || x0 + 2 >= width || y0 + 2 >= height)
         return true;
     float4 wx = catmull_rom_weights(fx), wy = catmull_rom_weights(fy);
@@ -150,24 +123,6 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
     float2 prev, sweep = (float2)(0.0f);
     const bool blurred = p.moving && p.sweep_close > p.sweep_open;
     bool swept = false;
-    int filter = p.filter;
-#ifdef TAA_CR_EDGES  /* a probe (taa_own_error): Catmull-Rom where a 3x3 neighbour is another surface, else bilinear */
-    if (p.moving) {
-        GSample c0 = gbuf[i];
-        bool edge = false;
-        for (int dy = -TAA_CR_EDGES; dy <= TAA_CR_EDGES; ++dy)
-            for (int dx = -TAA_CR_EDGES; dx <= TAA_CR_EDGES; ++dx) {
-                int nx = clamp(x + dx, 0, width - 1), ny = clamp(y + dy, 0, height - 1);
-                GSample g = gbuf[ny * width + nx];
-                int pc = as_int(c0.normal.w), pn = as_int(g.normal.w);
-                if ((pc == -1) != (pn == -1)) { edge = true; continue; }
-                if (pc == -1) continue;
-                if (!(abs_f(g.pos.w - c0.pos.w) <= p.similar.depth_tolerance * abs_f(c0.pos.w))
-                    || dot3(g.normal.xyz, c0.normal.xyz) < p.similar.normal_cos) edge = true;
-            }
-        filter = edge ? TAA_CATMULL_ROM : TAA_BILINEAR;
-    }
-#endif
     if (!p.reset) {
         GSample cur = gbuf[i];
         /* with motion blur, where the fastest path over the shutter that crosses the pixel is TAA_SWEEP_MIN
@@ -179,14 +134,14 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
         if (swept) {
             prev = (float2)((float)x + 0.5f, (float)y + 0.5f) + sweep;
             fetched = finite_f(prev.x) && finite_f(prev.y)
-                && taa_fetch(&cur, prev, prev_gbuf, history_in, width, height, 0, filter,
+                && taa_fetch(&cur, prev, prev_gbuf, history_in, width, height, 0, p.filter,
                              p.similar.depth_tolerance, p.similar.normal_cos, &h, &n_prev);
         }
         if (!fetched && p.dilate && p.moving && taa_dilated_position(gbuf, x, y, width, height, &prev))
-            fetched = taa_fetch(&cur, prev, prev_gbuf, history_in, width, height, p.moving, filter,
+            fetched = taa_fetch(&cur, prev, prev_gbuf, history_in, width, height, p.moving, p.filter,
                                 p.similar.depth_tolerance, p.similar.normal_cos, &h, &n_prev);
         if (!fetched && reproject_position(gbuf, x, y, width, &prev))
-            fetched = taa_fetch(&cur, prev, prev_gbuf, history_in, width, height, p.moving, filter,
+            fetched = taa_fetch(&cur, prev, prev_gbuf, history_in, width, height, p.moving, p.filter,
                                 p.similar.depth_tolerance, p.similar.normal_cos, &h, &n_prev);
         if (fetched && (!finite3_f(h) || !finite_f(n_prev))) {
             guard_count(guards, GUARD_NONFINITE_HISTORY);
@@ -202,38 +157,6 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
         taa_clip_box(sample, gbuf, x, y, width, height, p.clip_surface, p.similar.depth_tolerance,
                      p.similar.normal_cos, &mean, &sigma);
         float3 extent = gamma * sigma;
-#ifdef TAA_EDGE_GAMMA  /* a probe (taa_own_error): the box widened where a 3x3 neighbour is another surface */
-        {
-            GSample c0 = gbuf[i];
-            bool edge = false;
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    GSample g = gbuf[clamp(y + dy, 0, height - 1) * width + clamp(x + dx, 0, width - 1)];
-                    edge |= !taa_clip_same_surface(&c0, &g, p.similar.depth_tolerance, p.similar.normal_cos);
-                }
-            if (edge) extent *= (float)TAA_EDGE_GAMMA;
-        }
-#endif
-#ifdef TAA_EDGE_ALPHA  /* a probe (taa_own_error): the blend floor where a 3x3 neighbour is another surface */
-        {
-            GSample c0 = gbuf[i];
-            bool edge = false;
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    GSample g = gbuf[clamp(y + dy, 0, height - 1) * width + clamp(x + dx, 0, width - 1)];
-                    edge |= !taa_clip_same_surface(&c0, &g, p.similar.depth_tolerance, p.similar.normal_cos);
-                }
-            if (edge) alpha_min = (float)TAA_EDGE_ALPHA;
-        }
-#endif
-#ifdef TAA_BOX_HOLDS_SAMPLE  /* a probe (taa_own_error): the box stretched to hold the pixel's own sample */
-        {
-            float3 sy = rgb_to_ycocg(s);
-            float3 lo = fmin(mean - extent, sy), hi = fmax(mean + extent, sy);
-            mean = 0.5f * (lo + hi);
-            extent = 0.5f * (hi - lo);
-        }
-#endif
         if (swept) {
             /* motion blur: the box also spans what the pixel sees along its sweep (a blurred pixel's history
              * mixes those colours: a variance box of the mixture would clip its extremes) */

@@ -4,8 +4,10 @@ part of TAA moves it: docs/measurements/temporal-stability.md, "Where TAA's own 
 For one seed and the orbit's evaluated frames (4, 8, ..., 20, 23), TAA is fed the converged references
 (`converged_input`: every frame; `converged_both`: the evaluated frame, with last frame's reference as its history)
 under each variant (a method of `restircl report` with settings, `+key=value`, and optionally kernel defines after a
-`|`, e.g. `ris|TAA_HISTORY_NEAREST`), and the per-pixel relMSE map is split over disjoint classes of pixels, taken in
-this order from the frame's G-buffer and last frame's:
+`|`, `;`-separated, e.g. `ris|TAA_CLIP_RADIUS=2`; the probes of the measurements, TAA_HISTORY_NEAREST, TAA_TAP_MIX,
+TAA_CR_EDGES, TAA_EDGE_GAMMA, TAA_EDGE_ALPHA, TAA_BOX_HOLDS_SAMPLE, are in commit 0d9f874's opencl/taa/taa.cl, not in
+the tree), and the per-pixel relMSE map is split over disjoint classes of pixels, taken in this order from the
+frame's G-buffer and last frame's:
 
 - `border`: within 2 pixels of the image's edge, or reprojected to within 1 pixel of it;
 - `fresh`: no history (n = 1 after TAA: disoccluded or new);
@@ -14,6 +16,9 @@ this order from the frame's G-buffer and last frame's:
   (last frame's G-sample: the reprojection's depth and normal tests);
 - `glossy`: a lobe of roughness below 0.5 with a sampling weight above 0.05 (the surface's view-dependent look);
 - `flat`: the rest (interior of a diffuse surface).
+
+Mode `taa` is the animation as rendered (its noise in it); it also splits the error of the frame's own sample (no
+TAA) by the same classes.
 
     python -m tools.experiments.taa_own_error --scene garden_orbit --variants "ris,ris+taa_filter=catmull_rom"
 """
