@@ -8,13 +8,12 @@ the right half another at depth 5 whose samples are all 10. Every pixel reprojec
 (blend weight 1/5). The history of the pixels beside the edge is 5.5: a history blurred across it, as the bilinear
 fetch leaves under motion."""
 
-from types import SimpleNamespace
-
 import numpy as np
-import pyopencl as cl
 import pytest
 from restircl import Renderer, Settings, scenes
 from restircl.core import layouts as L
+
+from .taa_step import taa_step
 
 W, H = 8, 6
 LEFT, RIGHT, BLURRED = 1.0, 10.0, 5.5
@@ -37,16 +36,8 @@ def _buffers() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 def _taa(clip_surface: bool, moving: bool) -> np.ndarray:
     r = Renderer(scenes.cornell_box(W, H), Settings(taa_clip_surface=clip_surface))
-    q, h = r.device.queue, r.history
     g, sample, history = _buffers()
-    for slot in (h.cur, h.prev):
-        cl.enqueue_copy(q, h.gbuf(slot), g)
-    cl.enqueue_copy(q, h.taa[h.prev], history)
-    cl.enqueue_copy(q, r.buffers.sample, np.concatenate([sample, np.ones((H, W, 1), np.float32)], axis=2))
-    state = SimpleNamespace(frame_params=r.frame_params(), plan=SimpleNamespace(history=True), sweep=(0.0, 0.0))
-    out = np.empty((H, W, 4), np.float32)
-    cl.enqueue_copy(q, out, r.taa.run(state, moving))  # type: ignore[arg-type]
-    return out
+    return taa_step(r, g, sample, history, moving)
 
 
 def test_a_history_blurred_across_an_edge_is_clipped_to_its_own_side():
