@@ -82,6 +82,7 @@
 #endif
 #include "taa/sweep.h"
 #include "taa/fresh_fill.h"
+#include "taa/clip_box.h"
 #include "taa/taa.cl"
 #include "filter/atrous.cl"
 #include "still/accumulate.cl"

@@ -362,7 +362,8 @@ typedef struct {
     int fresh_fill;        /* 1: a moving pixel without history shows its surface's 3x3 mean (taa/fresh_fill.h) */
     float sweep_open;      /* motion blur: the shutter from this frame's time, in frames (taa/sweep.h); */
     float sweep_close;     /* open == close: a sharp frame */
-    int pad1, pad2;
+    int clip_surface;      /* 1: the clipping box from the neighbours on the pixel's surface only (taa/clip_box.h) */
+    int pad2;
 } TaaParams;               /* 64 bytes */
 
 /* One iteration of the real-time filter (filter/atrous.cl). */

@@ -1,20 +1,10 @@
 /* Temporal accumulation: f_n = a * s_n + (1 - a) * clip(history(reprojected)), a = max(1 / n, alpha_min) with a
  * per-pixel history length n. When something moves, history is fetched bilinearly from the taps that show the
- * same surface and clipped to the current 3x3 neighbourhood's YCoCg variance box (mean +- gamma * sigma); in a
- * still scene every frame's sample belongs to the pixel (the jitter moves the sample, not the scene) and the
- * history is kept whole. On view-dependent (glossy) surfaces a moving scene's history is shortened and clipped
- * harder (surface/view_dependence.h), and a pixel without history shows its surface's 3x3 mean (taa/fresh_fill.h).
- * A NaN/Inf never enters the history: it is counted and the pixel restarts. */
-
-inline float3 rgb_to_ycocg(float3 c)
-{
-    return (float3)(0.25f * c.x + 0.5f * c.y + 0.25f * c.z, 0.5f * c.x - 0.5f * c.z, -0.25f * c.x + 0.5f * c.y - 0.25f * c.z);
-}
-
-inline float3 ycocg_to_rgb(float3 c)
-{
-    return (float3)(c.x + c.y - c.z, c.x + c.z, c.x - c.y - c.z);
-}
+ * same surface and clipped to the current 3x3 neighbourhood's YCoCg variance box (mean +- gamma * sigma,
+ * taa/clip_box.h); in a still scene every frame's sample belongs to the pixel (the jitter moves the sample, not the
+ * scene) and the history is kept whole. On view-dependent (glossy) surfaces a moving scene's history is shortened
+ * and clipped harder (surface/view_dependence.h), and a pixel without history shows its surface's 3x3 mean
+ * (taa/fresh_fill.h). A NaN/Inf never enters the history: it is counted and the pixel restarts. */
 
 /* Move h towards the box centre until it lies inside the box centre +- extent. */
 inline float3 clip_to_box(float3 h, float3 centre, float3 extent)
@@ -25,12 +15,6 @@ inline float3 clip_to_box(float3 h, float3 centre, float3 extent)
     float m = fmax_f(ratio.x, fmax_f(ratio.y, ratio.z));
     return m > 1.0f ? centre + d / m : h;
 }
-
-/* Half-width of the neighbourhood the clipping box is built from: 1 (3x3). A compile-time knob for the measurements
- * of docs/measurements/temporal-stability.md ("The moving camera's level"). */
-#ifndef TAA_CLIP_RADIUS
-#define TAA_CLIP_RADIUS 1
-#endif
 
 /* Catmull-Rom weights of the four taps at -1, 0, 1, 2 around a sample at fraction f of the way from tap 0 to 1. */
 inline float4 catmull_rom_weights(float f)
@@ -169,20 +153,9 @@ __kernel void taa(const __global float4* sample, const __global GSample* gbuf, c
         s = taa_fresh_fill(sample, gbuf, glossy, x, y, width, height, p.similar.depth_tolerance,
                            p.similar.normal_cos, &key, s);
     if (n_prev > 0.0f && p.moving) {
-        float3 m1 = (float3)(0.0f), m2 = (float3)(0.0f);
-        float cnt = 0.0f;
-        for (int dy = -TAA_CLIP_RADIUS; dy <= TAA_CLIP_RADIUS; ++dy)
-            for (int dx = -TAA_CLIP_RADIUS; dx <= TAA_CLIP_RADIUS; ++dx) {
-                int nx = clamp(x + dx, 0, width - 1), ny = clamp(y + dy, 0, height - 1);
-                float3 v = sample[ny * width + nx].xyz;
-                if (!finite3_f(v)) continue;
-                v = rgb_to_ycocg(v);
-                m1 += v;
-                m2 += v * v;
-                cnt += 1.0f;
-            }
-        float3 mean = m1 / cnt;
-        float3 sigma = sqrt(fmax(m2 / cnt - mean * mean, (float3)(0.0f)));
+        float3 mean, sigma;
+        taa_clip_box(sample, gbuf, x, y, width, height, p.clip_surface, p.similar.depth_tolerance,
+                     p.similar.normal_cos, &mean, &sigma);
         float3 extent = gamma * sigma;
         if (swept) {
             /* motion blur: the box also spans what the pixel sees along its sweep (a blurred pixel's history

@@ -9,13 +9,12 @@ The TAA stage runs once on a hand-made G-buffer (8x6): the left half a surface a
 depth 5; pixel (1, 1) faces another way. Pixels with motion.z = 0 have no reprojection (no history); the others
 reproject onto themselves with history n = 4."""
 
-from types import SimpleNamespace
-
 import numpy as np
-import pyopencl as cl
 import pytest
 from restircl import Renderer, Settings, scenes
 from restircl.core import layouts as L
+
+from .taa_step import taa_step
 
 W, H = 8, 6
 FRESH = ((2, 2), (3, 3), (0, 0), (5, 1), (6, 4))  # (x, y) without history; (6, 4) is a miss
@@ -49,20 +48,10 @@ def _taa(fill: bool, moving: bool, glossy: np.ndarray | None = None, sample: np.
     frame, a cut)."""
     scene = scenes.cornell_box(W, H) if glossy is None else scenes.material_balls(W, H)
     r = Renderer(scene, Settings(taa_fresh_fill=fill))
-    q, h = r.device.queue, r.history
     g, own_sample, history = _scene_buffers()
     sample = own_sample if sample is None else sample
     assert r.flags["HAS_GLOSSY"] == (glossy is not None)
-    for slot in (h.cur, h.prev):
-        cl.enqueue_copy(q, h.gbuf(slot), g)
-        if glossy is not None:
-            cl.enqueue_copy(q, h.glossy(slot), glossy)
-    cl.enqueue_copy(q, h.taa[h.prev], history)
-    cl.enqueue_copy(q, r.buffers.sample, np.concatenate([sample, np.ones((H, W, 1), np.float32)], axis=2))
-    state = SimpleNamespace(frame_params=r.frame_params(), plan=SimpleNamespace(history=keep_history), sweep=(0.0, 0.0))
-    out = np.empty((H, W, 4), np.float32)
-    cl.enqueue_copy(q, out, r.taa.run(state, moving))  # type: ignore[arg-type]
-    return out
+    return taa_step(r, g, sample, history, moving, glossy, keep_history)
 
 
 def _mean(sample: np.ndarray, pixels: list[tuple[int, int]]) -> np.ndarray:

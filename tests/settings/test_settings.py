@@ -45,7 +45,8 @@ BEFORE = (
     ("gi_reuse", True), ("gi_temporal", True), ("gi_spatial_neighbours", 4), ("gi_radius", 10.0), ("gi_m_cap", 8.0),
     ("gi_bias_correction", "pairwise"), ("gi_boiling_filter", 0.0), ("gi_disocclusion_boost", 0),
     ("path_light_pick", "auto"), ("texture_filter", "auto"), ("transmission_bounces", 12),
-    ("transparent_max_bounces", 8), ("cryptomatte_levels", 0), ("taa_fresh_fill", True))
+    ("transparent_max_bounces", 8), ("cryptomatte_levels", 0), ("taa_fresh_fill", True),
+    ("taa_clip_surface", False))
 NUMBERS = [d for d in declared(Settings) if d.spec.range is not None]
 
 

@@ -92,7 +92,7 @@ SHADE_PARAMS = np.dtype([("sampler", SAMPLER_PARAMS), *_ints("method", "candidat
                          *_ints("pad0", "pad1", "pad2")])
 TAA_PARAMS = np.dtype([("similar", SIMILARITY_PARAMS), *_floats("alpha_min", "gamma"),
                        *_ints("moving", "max_history", "reset", "filter", "dilate", "fresh_fill"),
-                       *_floats("sweep_open", "sweep_close"), *_ints("pad1", "pad2")])
+                       *_floats("sweep_open", "sweep_close"), *_ints("clip_surface", "pad2")])
 
 PATH_PARAMS = np.dtype([("sampler", SAMPLER_PARAMS), *_ints("max_bounces", "max_diffuse", "max_glossy", "min_bounces"),
                         *_floats("clamp_indirect", "light_threshold"), *_ints("max_transmission", "split_glass")])

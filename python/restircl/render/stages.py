@@ -380,7 +380,7 @@ class Taa(Stage):
         params = L.pack(L.TAA_PARAMS, alpha_min=s.alpha_min, gamma=s.gamma, similar=self._similarity(),
                         moving=int(moving), max_history=s.max_history, reset=int(not state.plan.history),
                         filter=TAA_FILTERS.index(s.taa_filter), dilate=int(s.taa_dilation),
-                        fresh_fill=int(s.taa_fresh_fill),
+                        fresh_fill=int(s.taa_fresh_fill), clip_surface=int(s.taa_clip_surface),
                         sweep_open=state.sweep[0], sweep_close=state.sweep[1])
         self.kernels.launch("taa", image_size(state), sample=self.buffers.sample, gbuf=h.gbuf(h.cur),
                             glossy=h.glossy(h.cur),

@@ -366,6 +366,9 @@ class Settings:
                                    "history (uncovered, or new at the border) shows the mean of its 3x3 neighbours "
                                    "on the same surface instead of its one noisy sample (a one-frame blur within "
                                    "the surface)", flag="--no-taa-fresh-fill", panel="taa", applies_when=_TAA)
+    taa_clip_surface: bool = setting(False, "Clip to Own Surface", "Moving frames: TAA's clipping box from the 3x3 "
+                                     "neighbours on the pixel's surface only: sharper silhouettes without noise, "
+                                     "more noise with it", flag="--taa-clip-surface", panel="taa", applies_when=_TAA)
 
     def validate(self) -> Settings:
         check(self)
