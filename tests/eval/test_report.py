@@ -164,7 +164,8 @@ def test_cycles_skipped_without_bpy(cornell, device):
 def test_cycles_rows(still_report, cornell):
     """Cycles at the same budgets: its own render time is recorded, and its error falls from the first budget to
     the last by more than four standard errors of the difference of the two log errors (the two renders are
-    independent: their relative standard errors, relmse_cv of Cycles' own images, add in quadrature)."""
+    independent: their relative standard errors, relmse_cv of Cycles' own images, add in quadrature), where their
+    render times differ enough to show it."""
     rep, _ = still_report
     _, ref, _ = cornell
     rows = rep.series("cycles", "accumulate")
@@ -173,6 +174,13 @@ def test_cycles_rows(still_report, cornell):
     sc = cycles.to_bpy(scenes.cornell_box(W, H))
     imgs = [cycles.render(sc, seconds=b, seed=1).image for b in (BUDGETS[0], BUDGETS[-1])]
     sd = math.hypot(*(relmse_cv(img, ref.image) for img in imgs))
+    # Cycles' samples follow its render time, not the budget: on a loaded machine its first budget takes one
+    # sample of several tenths of a second, and the time ratio (the expected fall of the log error) can shrink
+    # below what the bound can see. Then the renders show nothing either way.
+    expected_fall = math.log(rows[-1].seconds / rows[0].seconds)
+    if expected_fall < 6 * sd:
+        pytest.skip(f"Cycles' render times {rows[0].seconds:.2f} / {rows[-1].seconds:.2f} s: a fall of "
+                    f"{expected_fall:.2f} in log error is within 6 standard errors ({6 * sd:.2f}) on this machine now")
     assert math.log(rows[-1].rel_mse) - math.log(rows[0].rel_mse) + 4 * sd < 0
 
 
