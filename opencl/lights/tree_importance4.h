@@ -1,9 +1,9 @@
 /* light_tree_importance (lights/tree.h) of four nodes at once, node k in lane k: the same operations lane by lane, so
- * each lane's value is the scalar function's to rounding, and four lights' square roots and divisions in one vector
- * instruction each. The exact pick (lights/tree_exact.h) sums the importances of up to LIGHT_TREE_EXACT leaves at a
- * point, which cost it 1.5x a branching descent's CPU beside a light (docs/measurements/error-vs-time.md, "The exact
- * pick's CPU"). Written with bit tests and ?: instead of fabs, fmax and select: PoCL calls those builtins out of line
- * (numerics.h). */
+ * each lane is the scalar function's value (bit for bit on PoCL: tests/lights/test_tree_importance4.py), with four
+ * lights' square roots and divisions in one vector instruction each. The exact pick (lights/tree_exact.h) sums the
+ * importances of up to LIGHT_TREE_EXACT leaves at a point: one at a time they made its pick 1.5x a branching
+ * descent's CPU on interior's surfaces (docs/measurements/error-vs-time.md, "The exact pick's CPU"). Written with bit
+ * tests and ?: instead of fabs, fmax and select: PoCL calls those builtins out of line (numerics.h). */
 #ifndef RESTIRCL_LIGHT_TREE_IMPORTANCE4_H
 #define RESTIRCL_LIGHT_TREE_IMPORTANCE4_H
 
