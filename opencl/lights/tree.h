@@ -159,7 +159,8 @@ inline float light_tree_branch(const __global LightTreeNode* nodes, int c, float
 }
 
 #include "lights/distant_pick.h"  /* the distant lights against the tree (light_tree_local_share) */
-#include "lights/tree_exact.h"    /* below a node of few lights, each by its own importance */
+#include "lights/tree_importance4.h"  /* the importance of four nodes at once, for the exact pick */
+#include "lights/tree_exact.h"        /* below a node of few lights, each by its own importance */
 
 /* light_tree_branch of node j's children at x, from memo[j] where j < LIGHT_TREE_MEMO (computed there the first
  * time: the top levels are the same for every candidate of a pixel; negative: not yet computed). */

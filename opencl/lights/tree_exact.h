@@ -38,19 +38,36 @@ inline bool light_tree_exact_here(const LightPick* lp, int j, float3 x)
     return dot3(d, d) <= LIGHT_TREE_NEAR_AT * LIGHT_TREE_NEAR_AT * dot3(diag, diag);
 }
 
-/* The sums over the leaves below node j of their importances at x: .x at the nearest point, .y at the farthest
- * corner. */
-inline float2 light_tree_exact_sums(const LightPick* lp, int j, float3 x, float3 n)
+/* The importances at x of the leaves below node j, in the order lights/tree_exact.py subtree_leaf_nodes walks them
+ * (level by level, left to right), into imp; returns how many. Four at a time while a level's run has four left
+ * (light_tree_importance4), the rest one by one. */
+inline int light_tree_exact_importances(const LightPick* lp, int j, float3 x, float3 n, float2* imp)
+{
+    int last = 2 * lp->leaves - 2, inner = lp->leaves - 1, k = 0;
+    for (int first = j, width = 1; first <= last; first = 2 * first + 1, width *= 2) {
+        int m = max(first, inner), end = min(first + width - 1, last);
+        for (; m + 3 <= end; m += 4, k += 4) {
+            float4 nr, fr;
+            light_tree_importance4(&lp->nodes[m], x, n, &nr, &fr);
+            imp[k] = (float2)(nr.s0, fr.s0);
+            imp[k + 1] = (float2)(nr.s1, fr.s1);
+            imp[k + 2] = (float2)(nr.s2, fr.s2);
+            imp[k + 3] = (float2)(nr.s3, fr.s3);
+        }
+        for (; m <= end; ++m) imp[k++] = light_tree_importance(&lp->nodes[m], x, n);
+    }
+    return k;
+}
+
+/* Their sums: .x at the nearest point, .y at the farthest corner. */
+inline float2 light_tree_exact_sum(const float2* imp, int count)
 {
     float2 sum = (float2)(0.0f);
-    int last = 2 * lp->leaves - 2, inner = lp->leaves - 1;
-    for (int first = j, width = 1; first <= last; first = 2 * first + 1, width *= 2)
-        for (int m = max(first, inner); m < first + width && m <= last; ++m)
-            sum += light_tree_importance(&lp->nodes[m], x, n);
+    for (int k = 0; k < count; ++k) sum += imp[k];
     return sum;
 }
 
-/* p(l | j) of the light of leaf node m below j, of importance imp at x, given the sums (light_tree_exact_sums) and
+/* p(l | j) of the light of leaf node m below j, of importance imp at x, given the sums (light_tree_exact_sum) and
  * j's power. */
 inline float light_tree_exact_share(const LightPick* lp, int m, float2 imp, float2 sum, float phi_j)
 {
@@ -61,21 +78,15 @@ inline float light_tree_exact_share(const LightPick* lp, int m, float2 imp, floa
 }
 
 /* The leaf node below j for the uniform u in [0, 1) (*p: its p(l | j)): the first whose running sum of p(l | j)
- * passes u, the last leaf where rounding leaves u beyond them all. The leaves' importances are kept from the pass
- * that sums them (at most LIGHT_TREE_EXACT of them). */
+ * passes u, the last leaf where rounding leaves u beyond them all. */
 inline int light_tree_exact_pick(const LightPick* lp, int j, float3 x, float3 n, float u, float* p)
 {
     float2 imp[LIGHT_TREE_EXACT];
-    float2 sum = (float2)(0.0f);
-    int last = 2 * lp->leaves - 2, inner = lp->leaves - 1, k = 0;
-    for (int first = j, width = 1; first <= last; first = 2 * first + 1, width *= 2)
-        for (int m = max(first, inner); m < first + width && m <= last; ++m) {
-            imp[k] = light_tree_importance(&lp->nodes[m], x, n);
-            sum += imp[k++];
-        }
-    float phi_j = lp->nodes[j].lo.w, run = 0.0f;
-    int chosen = -1;
-    k = 0;
+    int count = light_tree_exact_importances(lp, j, x, n, imp);
+    float2 sum = light_tree_exact_sum(imp, count);
+    float phi_j = lp->nodes[j].lo.w;
+    float run = 0.0f;
+    int chosen = -1, k = 0, last = 2 * lp->leaves - 2, inner = lp->leaves - 1;
     for (int first = j, width = 1; first <= last; first = 2 * first + 1, width *= 2)
         for (int m = max(first, inner); m < first + width && m <= last; ++m) {
             float q = light_tree_exact_share(lp, m, imp[k++], sum, phi_j);
@@ -87,11 +98,20 @@ inline int light_tree_exact_pick(const LightPick* lp, int j, float3 x, float3 n,
     return chosen;
 }
 
-/* p(l | j) of leaf node `leaf` below node j at x. */
+/* p(l | j) of leaf node `leaf` below node j at x: the pick's arithmetic, its importance the one of the same pass. */
 inline float light_tree_exact_pdf(const LightPick* lp, int j, int leaf, float3 x, float3 n)
 {
-    return light_tree_exact_share(lp, leaf, light_tree_importance(&lp->nodes[leaf], x, n),
-                                  light_tree_exact_sums(lp, j, x, n), lp->nodes[j].lo.w);
+    float2 imp[LIGHT_TREE_EXACT];
+    int count = light_tree_exact_importances(lp, j, x, n, imp);
+    float2 sum = light_tree_exact_sum(imp, count);
+    float phi_j = lp->nodes[j].lo.w;
+    int k = 0, last = 2 * lp->leaves - 2, inner = lp->leaves - 1;
+    for (int first = j, width = 1; first <= last; first = 2 * first + 1, width *= 2) {
+        int m = max(first, inner), end = min(first + width - 1, last);
+        if (leaf >= m && leaf <= end) return light_tree_exact_share(lp, leaf, imp[k + leaf - m], sum, phi_j);
+        k += max(end - m + 1, 0);
+    }
+    return 0.0f;  /* leaf is not below j */
 }
 
 #endif
