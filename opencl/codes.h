@@ -24,6 +24,7 @@
 #define ENV_FLAG_CAMERA 2
 #define ENV_FLAG_CDF    4
 #define ENV_FLAG_HALF   8
+#define ENV_FLAG_LINEAR 16
 
 /* closure kinds (Closure.kind.x) (upload/materials.py KIND_CODE) */
 #define CLOSURE_PRINCIPLED 0

@@ -35,12 +35,13 @@ typedef struct {
     float norm;                    /* b.w: 1 / sum(luminance x solid angle): the alias tables' pdf per luminance */
     int cdf;                       /* the table is cumulative distributions */
     int half_texels;               /* the texels are half floats (vload_half3), else float32 */
+    int linear;                    /* read with Linear interpolation (environment_lookup), else Closest */
 } EnvLight;
 
 inline EnvLight environment_light(const __global Light* l)
 {
     const __global float* base = (const __global float*)l;
-    EnvLight env = {base + as_int(l->p.x), base + as_int(l->a.w), as_int(l->p.y), as_int(l->p.z), l->a.xyz, l->b.xyz, cross3(l->a.xyz, l->b.xyz), l->b.w, (light_flags(l) & ENV_FLAG_CDF) != 0, (light_flags(l) & ENV_FLAG_HALF) != 0};
+    EnvLight env = {base + as_int(l->p.x), base + as_int(l->a.w), as_int(l->p.y), as_int(l->p.z), l->a.xyz, l->b.xyz, cross3(l->a.xyz, l->b.xyz), l->b.w, (light_flags(l) & ENV_FLAG_CDF) != 0, (light_flags(l) & ENV_FLAG_HALF) != 0, (light_flags(l) & ENV_FLAG_LINEAR) != 0};
     return env;
 }
 
@@ -80,12 +81,33 @@ inline float3 environment_texel_rgb(const EnvLight* env, int2 t)
     return vload3(i, env->texels);
 }
 
+inline int environment_wrap(int i, int n) { return i < 0 ? i + n : (i >= n ? i - n : i); }
+
+/* The map at image coordinates (u, v), as stored (times the record's radiance: radiance): the texel there
+ * (Closest), or with Linear interpolation the blend of the four texel centres around it, wrapping across the seam
+ * and over the poles as Cycles' Environment Texture does (its extension is Repeat both ways). The sampling tables
+ * of a Linear map draw the blend's integral over each texel (python/restircl/environment/interpolation.py). */
+inline float3 environment_lookup(const EnvLight* env, float u, float v)
+{
+    if (!env->linear) return environment_texel_rgb(env, environment_texel(env, u, v));
+    float x = u * (float)env->width - 0.5f, y = v * (float)env->height - 0.5f;
+    float fx = floor(x), fy = floor(y);
+    float tx = x - fx, ty = y - fy;
+    int c0 = environment_wrap((int)fx, env->width), c1 = environment_wrap(c0 + 1, env->width);
+    int r0 = environment_wrap((int)fy, env->height), r1 = environment_wrap(r0 + 1, env->height);
+    float3 above = (1.0f - tx) * environment_texel_rgb(env, (int2)(c0, r0))
+                   + tx * environment_texel_rgb(env, (int2)(c1, r0));
+    float3 below = (1.0f - tx) * environment_texel_rgb(env, (int2)(c0, r1))
+                   + tx * environment_texel_rgb(env, (int2)(c1, r1));
+    return (1.0f - ty) * above + ty * below;
+}
+
 /* Radiance arriving from world direction d (unit): what a camera ray that misses sees. */
 inline float3 environment_radiance(const __global Light* l, float3 d)
 {
     EnvLight env = environment_light(l);
     float2 uv = environment_uv(&env, d);
-    return light_radiance(l) * environment_texel_rgb(&env, environment_texel(&env, uv.x, uv.y));
+    return light_radiance(l) * environment_lookup(&env, uv.x, uv.y);
 }
 
 /* The solid angle of one texel of row `row`. */
@@ -174,7 +196,7 @@ inline bool environment_eval(const __global Light* l, float u, float v, float3 x
     float3 wi = environment_dir(&env, u, v);
     float cos_x = dot3(n, wi);
     if (!(cos_x > 0.0f)) return false;
-    e->contrib = light_radiance(l) * environment_texel_rgb(&env, environment_texel(&env, u, v)) * cos_x;
+    e->contrib = light_radiance(l) * environment_lookup(&env, u, v) * cos_x;
     e->wi = wi;
     e->pos = x + wi;
     e->nl = -wi;
@@ -212,7 +234,7 @@ inline float3 environment_hit_radiance(const __global Light* l, float3 x, float2
 {
     (void)x;
     EnvLight env = environment_light(l);
-    return light_radiance(l) * environment_texel_rgb(&env, environment_texel(&env, uv.x, uv.y));
+    return light_radiance(l) * environment_lookup(&env, uv.x, uv.y);
 }
 
 /* What a camera ray of direction d that meets no geometry sees: the environment when the scene has one that

@@ -166,6 +166,18 @@ def test_mapping_rotation(vector_type):
     env.validate()
 
 
+@pytest.mark.parametrize(("node", "ours"), [("Linear", "Linear"), ("Closest", "Closest"), ("Cubic", "Linear"),
+                                             ("Smart", "Linear")])
+def test_interpolation_is_exported(node, ours):
+    sc, tree = world_scene()
+    img, _ = _float_image("Interp")
+    img.pack()
+    _env_texture(tree, img).interpolation = node
+    env = export().scene.environment
+    assert env.interpolation == ours
+    env.validate()
+
+
 def test_missing_image_warns_and_leaves_the_world_out():
     sc, tree = world_scene()
     img = bpy.data.images.new("Gone", 4, 2)

@@ -117,10 +117,11 @@ def test_image_files_load_as_the_array(tmp_path):
 def test_scene_file_keeps_the_environment(tmp_path):
     rot = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
     sc = scene_with(Environment("kept", color=(0.5, 1, 1), strength=3.0, image=sky_map(4, 8), rotation=rot,
-                                visible_camera=False, strength_per_frame=[1.0, 0.5]))
+                                visible_camera=False, strength_per_frame=[1.0, 0.5], interpolation="Linear"))
     sc.save(tmp_path / "s.npz")
     back = Scene.load(tmp_path / "s.npz").environment
     assert back is not None and back.name == "kept" and back.strength == 3.0 and not back.visible_camera
+    assert back.interpolation == "Linear"
     assert back.color == (0.5, 1, 1)
     np.testing.assert_array_equal(back.image, sc.environment.image)
     np.testing.assert_array_equal(back.rotation, rot)

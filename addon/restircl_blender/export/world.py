@@ -16,6 +16,7 @@ import numpy as np
 
 from ..compat import uses_nodes, world_visible_camera
 from .images import READABLE
+from .inputs import INTERPOLATIONS
 from .nodes import find_input, resolve
 from .world_bake import bake_world
 
@@ -108,7 +109,10 @@ def _environment_texture(world, tex, strength: float, warn: Callable[[str], None
     data = _image(image, label, warn)
     if data is None:
         return None
-    env = restircl.Environment(name=world.name, color=(1.0, 1.0, 1.0), strength=strength, rotation=rotation)
+    # Cycles reads between texels as the node says (Linear by default); Cubic and Smart are read as Linear, as the
+    # Image Texture's are
+    env = restircl.Environment(name=world.name, color=(1.0, 1.0, 1.0), strength=strength, rotation=rotation,
+                               interpolation=INTERPOLATIONS.get(tex.interpolation, "Linear"))
     if isinstance(data, str):
         env.path = data
     else:

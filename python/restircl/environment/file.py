@@ -18,8 +18,11 @@ def write_environment(env: Environment | None, arrays: dict[str, np.ndarray]) ->
         value = getattr(env, name)
         if value is not None:
             arrays[f"world_{name}"] = np.asarray(value)
-    return {"name": env.name, "color": list(map(float, env.color)), "strength": float(env.strength),
-            "path": env.path, "visible_camera": bool(env.visible_camera), "lightgroup": env.lightgroup}
+    entry = {"name": env.name, "color": list(map(float, env.color)), "strength": float(env.strength),
+             "path": env.path, "visible_camera": bool(env.visible_camera), "lightgroup": env.lightgroup}
+    if env.interpolation != "Closest":  # a map read texel by texel keeps the bytes (and cache keys) it had
+        entry["interpolation"] = env.interpolation
+    return entry
 
 
 def read_environment(entry: dict | None, data: dict[str, np.ndarray]) -> Environment | None:

@@ -18,6 +18,9 @@ from pathlib import Path
 
 import numpy as np
 
+#: Environment.interpolation's values (Blender's Cubic and Smart are read as Linear by the add-on's exporter)
+INTERPOLATIONS = ("Closest", "Linear")
+
 
 class WorldError(ValueError):
     """The environment is unusable; the message names the world. Scene.validate raises it as a SceneError."""
@@ -48,6 +51,10 @@ class Environment:
     visible_camera: bool = True  # camera rays that miss the geometry see the world (Film > Transparent: alpha 0)
     strength_per_frame: np.ndarray | None = None  # optional (F,) multiplier of strength
     lightgroup: str = ""  # the light group (Scene.light_groups) its light counts in: World > Light Group
+    # how the image is read between texel centres, as the Environment Texture's Interpolation in Blender: "Closest"
+    # (texel by texel) or "Linear" (bilinear, Blender's default; wrapping across the seam and over the poles, as
+    # Cycles' Environment Texture, whose extension is Repeat both ways)
+    interpolation: str = "Closest"
 
     def __post_init__(self) -> None:
         if self.strength_per_frame is not None:
@@ -74,6 +81,8 @@ class Environment:
                 raise WorldError(f"{label}: image must have shape (H, W, 3) or (H, W, 4), got {shape}")
         elif self.path is not None and not Path(self.path).is_file():
             raise WorldError(f"{label}: image file {self.path!r} not found")
+        if self.interpolation not in INTERPOLATIONS:
+            raise WorldError(f"{label}: interpolation must be one of {INTERPOLATIONS}, got {self.interpolation!r}")
         if self.rotation is not None:
             r = np.asarray(self.rotation, dtype=np.float64)
             if r.shape != (3, 3) or not np.all(np.isfinite(r)) or not np.allclose(r @ r.T, np.eye(3), atol=1e-5):

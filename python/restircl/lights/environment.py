@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..environment.interpolation import LinearLuminance
 from ..environment.pack import (
     StoredLuminance,
     StoredTexels,
@@ -33,8 +34,9 @@ from .record import LUMINANCE, lanes
 
 TYPE = LightType("environment", code=6, flag="HAS_ENVIRONMENT",
                  bounds=DISTANT, solid_angle=no_solid_angle, analytic=no_closed_form("environments"))
-#: ENV_FLAG_* (opencl/codes.h): the camera sees the world; the cdf table (else alias); half-float texels
-FLAG_CAMERA, FLAG_CDF, FLAG_HALF = 2, 4, 8
+#: ENV_FLAG_* (opencl/codes.h): the camera sees the world; the cdf table (else alias); half-float texels; the map is
+#: read with Linear interpolation (else Closest)
+FLAG_CAMERA, FLAG_CDF, FLAG_HALF, FLAG_LINEAR = 2, 4, 8, 16
 #: the sampling table of new scenes: "alias" or "cdf" (environment/table.py; measured in
 #: docs/measurements/benchmarks.md)
 TABLE_KIND = "alias"
@@ -58,6 +60,7 @@ class PackedMap:
     kind: str
     weight_sum: float  # sum of luminance x solid angle over the stored texels (times stored.scale: radiance's)
     zeroed: int  # texels that were NaN, Inf or negative
+    linear: bool = False  # read with Linear interpolation (Environment.interpolation), else Closest
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -80,9 +83,14 @@ class PackedMap:
 def packed_map(env: Environment, kind: str | None = None, texel_format: str | None = None) -> PackedMap:
     """The world's map and table, built once per image, table kind and texel format (kept on the Environment; an
     image changed in place is not seen: assign a new array). Built band by band straight into `data`: besides the
-    source image, a map costs its device bytes (data_bytes) and a band's worth of scratch."""
+    source image, a map costs its device bytes (data_bytes) and a band's worth of scratch.
+
+    A map read with Linear interpolation samples the blend's integrals over its texels (environment/interpolation.py)
+    with the cdf table, whose density the device reads from the table itself (the alias tables' density is the
+    texel's own luminance)."""
     rot = None if env.rotation is None else np.asarray(env.rotation).tobytes()
-    key = (id(env.image), env.path, tuple(env.color), kind or TABLE_KIND, texel_format or TEXEL_FORMAT, rot)
+    linear = env.interpolation == "Linear"
+    key = (id(env.image), env.path, tuple(env.color), kind or TABLE_KIND, texel_format or TEXEL_FORMAT, rot, linear)
     cached = getattr(env, "_packed_map", None)
     if cached is not None and cached.key == key:
         return cached
@@ -93,14 +101,17 @@ def packed_map(env: Environment, kind: str | None = None, texel_format: str | No
                       "are black", stacklevel=3)
     h, w = stats.height, stats.width
     fmt = choose_format(stats, texel_format or TEXEL_FORMAT)
-    if kind is None:
+    if linear:
+        kind = "cdf"
+    elif kind is None:
         kind = TABLE_KIND if h * w <= ALIAS_MAX_TEXELS else "cdf"
     n_tex = texel_floats(h, w, fmt)
     data = np.empty(n_tex + table_floats(h, w, kind), np.float32)
     stored = store_texels(rgb, stats, fmt, data[:n_tex])
     del rgb
-    weight_sum = fill_table(StoredLuminance(stored, LUMINANCE), kind, data[n_tex:])
-    packed = PackedMap(key, data, stored, kind, weight_sum, stats.zeroed)
+    luminance = StoredLuminance(stored, LUMINANCE)
+    weight_sum = fill_table(LinearLuminance(luminance) if linear else luminance, kind, data[n_tex:])
+    packed = PackedMap(key, data, stored, kind, weight_sum, stats.zeroed, linear)
     object.__setattr__(env, "_packed_map", packed)
     return packed
 
@@ -112,7 +123,7 @@ def record(env: Environment, packed: PackedMap, frame: int) -> np.ndarray:
     h, w = packed.shape
     norm = 1.0 / packed.weight_sum if packed.weight_sum > 0 and strength > 0 else 0.0
     flags = ((FLAG_CAMERA if env.visible_camera else 0) | (FLAG_CDF if packed.kind == "cdf" else 0)
-             | (FLAG_HALF if packed.stored.fmt == "half" else 0))
+             | (FLAG_HALF if packed.stored.fmt == "half" else 0) | (FLAG_LINEAR if packed.linear else 0))
     # the stored texels are radiance / scale (a power of two): the record's radiance multiplies it back
     rec = lanes(TYPE.code, a=rot[0], b=rot[1], b_w=norm, radiance=(strength * packed.stored.scale,) * 3,
                 flags=flags)

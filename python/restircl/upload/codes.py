@@ -114,7 +114,8 @@ def families() -> tuple[Family, ...]:
                kind="flags"),
         Family("flags of the environment light's record", "lights/environment.py", (
             ("ENV_FLAG_CAMERA", environment_light.FLAG_CAMERA), ("ENV_FLAG_CDF", environment_light.FLAG_CDF),
-            ("ENV_FLAG_HALF", environment_light.FLAG_HALF)), kind="flags"),
+            ("ENV_FLAG_HALF", environment_light.FLAG_HALF), ("ENV_FLAG_LINEAR", environment_light.FLAG_LINEAR)),
+               kind="flags"),
         Family("closure kinds (Closure.kind.x)", "upload/materials.py KIND_CODE",
                tuple((f"CLOSURE_{k.upper()}", v) for k, v in material_pack.KIND_CODE.items())),
         Family("materials", "materials/material.py, upload/materials.py", (

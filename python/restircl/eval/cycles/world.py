@@ -1,7 +1,7 @@
 """restircl's Environment written as a Cycles World (the Cycles bridge, cycles.to_bpy): a Background of the
-world's colour and strength, or, with an image, an Environment Texture of the same texels (the NaN
-and negative ones zeroed as restircl zeroes them) with Closest interpolation (restircl reads a map texel by
-texel), fed by the Generated direction through a Mapping node of the world's rotation."""
+world's colour and strength, or, with an image, an Environment Texture of the same texels (the NaN and negative
+ones zeroed as restircl zeroes them) with the world's interpolation (Closest: texel by texel; Linear), fed by the
+Generated direction through a Mapping node of the world's rotation."""
 
 from __future__ import annotations
 
@@ -29,7 +29,7 @@ def world_to_bpy(bpy, sc, env: Environment) -> None:
         img.pack()
         tex = tree.nodes.new("ShaderNodeTexEnvironment")
         tex.image = img
-        tex.interpolation = "Closest"
+        tex.interpolation = env.interpolation
         tex.projection = "EQUIRECTANGULAR"
         coords = tree.nodes.new("ShaderNodeTexCoord")
         mapping = tree.nodes.new("ShaderNodeMapping")
