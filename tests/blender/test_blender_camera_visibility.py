@@ -31,12 +31,14 @@ def hidden_box_scene(how: str):
 
 @pytest.mark.parametrize("how", ["ray_visibility", "indirect_only"])
 def test_a_hidden_object_agrees_with_cycles(tmp_path, how, record_property):
-    assert_agrees(tmp_path, hidden_box_scene(how), 256, 64, f"box hidden from the camera ({how})", record_property)
+    assert_agrees(tmp_path, hidden_box_scene(how), 256, 64, f"box hidden from the camera ({how})", record_property,
+                  shared=(how,))
 
 
 def test_camera_visibility_negative_control(tmp_path, monkeypatch):
     from restircl_blender.export import camera_visibility
 
     monkeypatch.setattr(camera_visibility, "mark", lambda *args: None)
-    err, _ = cycles_and_ours(tmp_path, hidden_box_scene("ray_visibility"), 256, 64, "box seen after all")
+    err, _ = cycles_and_ours(tmp_path, hidden_box_scene("ray_visibility"), 256, 64, "box seen after all",
+                             ("ray_visibility",))
     assert err > 0.01

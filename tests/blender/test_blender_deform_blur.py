@@ -83,7 +83,7 @@ def export_still(sc, frame: int):
 def test_deformation_blur_agrees_with_cycles(tmp_path, position, moving, eased, steps, record_property):
     assert_agrees(tmp_path, deform_scene(position, moving, eased, steps), 512, 256,
                   f"deformation blur {position}{' moving' if moving else ''}{' eased' if eased else ''} "
-                  f"steps {steps}", record_property)
+                  f"steps {steps}", record_property, shared=(position, moving, eased, steps))
 
 
 @needs_renderer
@@ -100,7 +100,8 @@ def test_ignored_deformation_is_a_negative_control(tmp_path, monkeypatch):
     from restircl_blender import motion_blur
 
     monkeypatch.setattr(motion_blur, "deform_frames", lambda scene, frame: lambda ob, parent=None: [])
-    err, _ = cycles_and_ours(tmp_path, deform_scene(), 512, 256, "deformation blur ignored")
+    err, _ = cycles_and_ours(tmp_path, deform_scene(), 512, 256, "deformation blur ignored",
+                             ("CENTER", False, False, 1))
     assert err > BOUND, f"ignored deformation passed: relMSE {100 * err:.3f} %"
 
 
@@ -144,7 +145,8 @@ def wave_scene():
 
 @needs_renderer
 def test_smooth_normals_follow_the_deformation(tmp_path, record_property):
-    assert_agrees(tmp_path, wave_scene(), 256, 128, "deformation blur, smooth travelling waves", record_property)
+    assert_agrees(tmp_path, wave_scene(), 256, 128, "deformation blur, smooth travelling waves", record_property,
+                  shared=("waves",))
 
 
 @needs_renderer
@@ -153,7 +155,7 @@ def test_normals_held_at_the_frame_are_a_negative_control(tmp_path, monkeypatch)
 
     monkeypatch.setattr(restircl.Mesh, "normals_at",
                         lambda self, frame: None if self.normals is None else np.asarray(self.normals, np.float64))
-    err, _ = cycles_and_ours(tmp_path, wave_scene(), 256, 128, "deformation blur, normals at the frame")
+    err, _ = cycles_and_ours(tmp_path, wave_scene(), 256, 128, "deformation blur, normals at the frame", ("waves",))
     assert err > BOUND, f"normals held at the frame passed: relMSE {100 * err:.3f} %"
 
 

@@ -77,7 +77,7 @@ def test_export_reads_the_lens():
 
 
 def test_dof_agrees_with_cycles(tmp_path, record_property):
-    assert_agrees(tmp_path, dof_scene(), 512, 256, "dof focused on the box", record_property)
+    assert_agrees(tmp_path, dof_scene(), 512, 256, "dof focused on the box", record_property, shared=("dof",))
 
 
 def test_export_follows_a_focus_pull():
@@ -107,17 +107,19 @@ def test_export_follows_a_focus_pull():
 def test_bokeh_agrees_with_cycles(tmp_path, blades, rotation, ratio, record_property):
     """Perspective cameras; the orthographic one below."""
     assert_agrees(tmp_path, bokeh_scene(blades, rotation, ratio), 4096, 2048,
-                  f"bokeh blades {blades} rotation {rotation} ratio {ratio}", record_property)
+                  f"bokeh blades {blades} rotation {rotation} ratio {ratio}", record_property,
+                  shared=("bokeh", blades, rotation, ratio))
 
 
 def test_orthographic_bokeh_agrees_with_cycles(tmp_path, record_property):
     assert_agrees(tmp_path, bokeh_scene(5, 0.3, ortho=True), 4096, 2048, "orthographic bokeh", record_property)
 
 
+# the control's scene (built with the arguments, as an agreement test above renders it: its Cycles image is shared)
 WRONG = {
-    "focus": (dof_scene, dict(), lambda p: p.update(focus_distance=p["focus_distance"] * 1.6)),
-    "ratio": (bokeh_scene, dict(ratio=2.0), lambda p: p.update(aperture_ratio=1.0 / p["aperture_ratio"])),
-    "rotation": (bokeh_scene, dict(blades=5, rotation=0.6),
+    "focus": (dof_scene, (), lambda p: p.update(focus_distance=p["focus_distance"] * 1.6)),
+    "ratio": (bokeh_scene, (0, 0.0, 2.0), lambda p: p.update(aperture_ratio=1.0 / p["aperture_ratio"])),
+    "rotation": (bokeh_scene, (5, 0.6, 1.0),
                  lambda p: p.update(aperture_rotation=p["aperture_rotation"] + math.pi / 5)),
 }
 
@@ -139,5 +141,6 @@ def test_dof_negative_control(tmp_path, monkeypatch, wrong):
 
     monkeypatch.setattr(camera_export, "lens_params", misread)
     samples = (4096, 2048) if make is bokeh_scene else (512, 256)  # as the agreement tests render them
-    err, _ = cycles_and_ours(tmp_path, make(**scene_args), *samples, f"dof, {wrong} misread")
+    shared = ("bokeh", *scene_args) if make is bokeh_scene else ("dof",)
+    err, _ = cycles_and_ours(tmp_path, make(*scene_args), *samples, f"dof, {wrong} misread", shared)
     assert err > BOUND, f"a misread {wrong} passed: relMSE {100 * err:.3f} %"

@@ -10,10 +10,16 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from restircl.eval import blender_scenes as scenes  # noqa: E402
 from restircl.eval.blender_scenes import comparison_scene  # noqa: E402
 
-from .test_blender_support import ensure_registered, needs_renderer, read_exr_passes, relmse, render_to  # noqa: E402
+from .test_blender_support import (  # noqa: E402
+    cycles_image,
+    ensure_registered,
+    needs_renderer,
+    read_exr_passes,
+    relmse,
+    render_to,
+)
 
 pytestmark = [pytest.mark.blender, needs_renderer]
 
@@ -43,19 +49,20 @@ def holdout_scene(how: str, transparent: bool):
     return sc
 
 
-def both(tmp_path, sc) -> tuple[np.ndarray, np.ndarray]:
-    scenes.cycles_direct_only(sc, samples=256, seed=1, threads=2)
-    render_to(sc, tmp_path / "cycles.exr")
+def both(tmp_path, how: str, transparent: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Cycles' and our image of holdout_scene(how, transparent); Cycles' is shared by the tests of one scene."""
+    sc = holdout_scene(how, transparent)
+    cyc = cycles_image(tmp_path, sc, 256, shared=("holdout", how, transparent))
     sc.render.engine = "RESTIRCL"
     sc.restircl.method = "reference"
     sc.restircl.samples = 64
     render_to(sc, tmp_path / "ours.exr")
-    return (read_exr_passes(tmp_path / "cycles.exr")["Combined"], read_exr_passes(tmp_path / "ours.exr")["Combined"])
+    return cyc, read_exr_passes(tmp_path / "ours.exr")["Combined"]
 
 
 @pytest.mark.parametrize(("how", "transparent"), [("collection", False), ("object", True), ("shader", False)])
 def test_holdout_agrees_with_cycles(tmp_path, how, transparent, record_property):
-    cyc, ours = both(tmp_path, holdout_scene(how, transparent))
+    cyc, ours = both(tmp_path, how, transparent)
     hole = cyc[..., 3] < 0.5
     assert 0.01 < hole.mean() < 0.2, "the box is not a hole in Cycles' image: nothing is tested"
     # alpha 0 only where every sample met the hole: edge pixels may differ, no more
@@ -71,7 +78,7 @@ def test_holdout_negative_control(tmp_path, monkeypatch):
     from restircl_blender.export import holdout
 
     monkeypatch.setattr(holdout, "mark", lambda *args: None)
-    cyc, ours = both(tmp_path, holdout_scene("collection", False))
+    cyc, ours = both(tmp_path, "collection", False)
     assert relmse(ours, cyc) > 0.01
 
 
@@ -84,7 +91,7 @@ def alpha_relmse(ours: np.ndarray, ref: np.ndarray) -> float:
 
 @pytest.mark.parametrize("transparent", [False, True])
 def test_holdout_edges_alpha_is_the_covered_share(tmp_path, transparent, record_property):
-    cyc, ours = both(tmp_path, holdout_scene("object", transparent))
+    cyc, ours = both(tmp_path, "object", transparent)
     edge = (cyc[..., 3] > 0.02) & (cyc[..., 3] < 0.98)
     assert edge.sum() >= 16, "Cycles' hole has no antialiased edge: nothing is tested"
     err = alpha_relmse(ours[..., 3][edge], cyc[..., 3][edge])

@@ -86,7 +86,8 @@ def blur_scene(what: str, position: str = "CENTER", eased: bool = False):
 def test_motion_blur_agrees_with_cycles(tmp_path, what, position, eased, record_property):
     """Steady motion, and motion eased by Bezier keys, which the export follows at the shutter's subframes."""
     assert_agrees(tmp_path, blur_scene(what, position, eased), 512, 256,
-                  f"motion blur {what} {position}{' eased' if eased else ''}", record_property)
+                  f"motion blur {what} {position}{' eased' if eased else ''}", record_property,
+                  shared=(what, position, eased))
 
 
 @pytest.mark.parametrize("position", ["CENTER", "START"])
@@ -112,7 +113,8 @@ def test_motion_blur_negative_control(tmp_path, monkeypatch, what, wrong):
         return (0.0, 0.0) if wrong == "sharp" else (0.0, b - a)
 
     monkeypatch.setattr(motion_blur, "shutter", misread)
-    err, _ = cycles_and_ours(tmp_path, blur_scene(what), 512, 256, f"motion blur {what}, shutter {wrong}")
+    err, _ = cycles_and_ours(tmp_path, blur_scene(what), 512, 256, f"motion blur {what}, shutter {wrong}",
+                             (what, "CENTER", False))
     assert err > BOUND, f"a {wrong} shutter passed: relMSE {100 * err:.3f} %"
 
 
@@ -125,7 +127,8 @@ def test_eased_motion_between_whole_frames_is_a_negative_control(tmp_path, monke
         return motion_blur.StillMotion([frame - 1, frame, frame + 1], 1.0)
 
     monkeypatch.setattr(motion_blur, "still_motion", whole_frames)
-    err, _ = cycles_and_ours(tmp_path, blur_scene("spin", eased=True), 512, 256, "motion blur eased, whole frames")
+    err, _ = cycles_and_ours(tmp_path, blur_scene("spin", eased=True), 512, 256, "motion blur eased, whole frames",
+                             ("spin", "CENTER", True))
     assert err > BOUND, f"whole frames passed: relMSE {100 * err:.3f} %"
 
 

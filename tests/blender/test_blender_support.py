@@ -73,20 +73,56 @@ def relmse(ours: np.ndarray, ref: np.ndarray, eps: float = 1e-2) -> float:
     return float(np.mean((ours - ref) ** 2 / (ref * ref + eps)))
 
 
-def cycles_and_ours(tmp_path: Path, sc, cycles_samples: int, our_samples: int, label: str,
-                    **settings) -> tuple[float, float]:
-    """Render `sc` with Cycles (direct light only) and with restircl's reference method (`settings`: more
-    scene.restircl properties); (relMSE, sum ours / sum Cycles)."""
-    ensure_registered()
-    scenes.cycles_direct_only(sc, samples=cycles_samples, seed=1, threads=2)
+# Cycles' images of this process by the caller's name for the scene (`shared`) and the sample count. A negative
+# control spoils only our side of a comparison that an agreement test of its file has rendered already: the same
+# scene, samples and seed give Cycles' same image, so the control reads it instead of rendering it again. The
+# scene's fingerprint guards the name against a scene that differs.
+_CYCLES_IMAGES: dict[tuple, tuple[str, np.ndarray]] = {}
+
+
+def scene_fingerprint(sc) -> str:
+    """What a misnamed shared scene would most likely differ in: the frame, the resolution and film, the objects and
+    where they are, the camera's lens and the shutter."""
+    cam = sc.camera.data if sc.camera else None
+    lens = (cam.type, cam.lens, cam.dof.use_dof, cam.dof.aperture_fstop, cam.dof.aperture_blades,
+            cam.dof.aperture_rotation, cam.dof.aperture_ratio, cam.dof.focus_distance) if cam else None
+    r = sc.render
+    # the objects' own transforms: matrix_world is stale until the scene is evaluated
+    objects = sorted((ob.name, ob.type, ob.visible_camera, ob.is_holdout,
+                      tuple(round(v, 6) for v in (*ob.location, *ob.rotation_euler, *ob.scale))) for ob in sc.objects)
+    return repr((sc.frame_current, r.resolution_x, r.resolution_y, r.film_transparent, r.use_motion_blur,
+                 r.motion_blur_shutter, r.motion_blur_position, lens, objects))
+
+
+def cycles_image(tmp_path: Path, sc, samples: int, shared: tuple | None = None) -> np.ndarray:
+    """Cycles' Combined pass of `sc` (direct light only, seed 1); `shared`: the caller's name for the scene (e.g.
+    the builder's arguments), under which the image is kept for the other tests of this process."""
+    scenes.cycles_direct_only(sc, samples=samples, seed=1, threads=2)
+    key = (shared, samples)
+    if shared is not None and key in _CYCLES_IMAGES:
+        fingerprint, image = _CYCLES_IMAGES[key]
+        assert fingerprint == scene_fingerprint(sc), f"the shared Cycles scene {shared} is not the one rendered"
+        return image
     render_to(sc, tmp_path / "cycles.exr")
+    image = read_exr_passes(tmp_path / "cycles.exr")["Combined"]
+    if shared is not None:
+        image.flags.writeable = False
+        _CYCLES_IMAGES[key] = (scene_fingerprint(sc), image)
+    return image
+
+
+def cycles_and_ours(tmp_path: Path, sc, cycles_samples: int, our_samples: int, label: str,
+                    shared: tuple | None = None, **settings) -> tuple[float, float]:
+    """Render `sc` with Cycles (direct light only; `shared`: cycles_image's) and with restircl's reference method
+    (`settings`: more scene.restircl properties); (relMSE, sum ours / sum Cycles)."""
+    ensure_registered()
+    cyc = cycles_image(tmp_path, sc, cycles_samples, shared)
     sc.render.engine = "RESTIRCL"
     sc.restircl.method = "reference"
     sc.restircl.samples = our_samples
     for name, value in settings.items():
         setattr(sc.restircl, name, value)
     render_to(sc, tmp_path / "ours.exr")
-    cyc = read_exr_passes(tmp_path / "cycles.exr")["Combined"]
     ours = read_exr_passes(tmp_path / "ours.exr")["Combined"]
     err = relmse(ours, cyc)
     ratio = float(ours[..., :3].sum() / cyc[..., :3].sum())
@@ -96,9 +132,9 @@ def cycles_and_ours(tmp_path: Path, sc, cycles_samples: int, our_samples: int, l
 
 
 def assert_agrees(tmp_path: Path, sc, cycles_samples: int, our_samples: int, label: str, record_property,
-                  bound: float = 0.01) -> float:
+                  bound: float = 0.01, shared: tuple | None = None) -> float:
     """cycles_and_ours, asserted: relMSE below `bound`, the image sums within 1 %; returns the relMSE."""
-    err, ratio = cycles_and_ours(tmp_path, sc, cycles_samples, our_samples, label)
+    err, ratio = cycles_and_ours(tmp_path, sc, cycles_samples, our_samples, label, shared)
     record_property("relmse", err)
     assert err < bound, f"{label}: relMSE {100 * err:.3f} % against Cycles"
     assert ratio == pytest.approx(1.0, abs=0.01)

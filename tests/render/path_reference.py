@@ -89,20 +89,36 @@ class Shapes:
 
 
 def crossings(o: np.ndarray, d: np.ndarray, s: Shapes) -> np.ndarray:
-    """(R, S) distances t > 0 at which rays o + t d (R rays) meet shapes s; inf where they do not."""
+    """(R, S) distances t > 0 at which rays o + t d (R rays) meet shapes s; inf where they do not. The (R, S)
+    arrays are worked on in place (the reference traces spend most of their time here)."""
     n = s.n
     w = np.cross(o, d)
-    det = -(d @ n.T)
-    udet = w @ s.e2.T - d @ np.cross(s.e2, s.v0).T
-    vdet = -(w @ s.e1.T) - d @ np.cross(s.v0, s.e1).T
-    tdet = o @ n.T - np.einsum("ij,ij->i", s.v0, n)
+    det = d @ n.T
+    np.negative(det, out=det)
+    udet = w @ s.e2.T
+    udet -= d @ np.cross(s.e2, s.v0).T
+    vdet = w @ s.e1.T
+    np.negative(vdet, out=vdet)
+    vdet -= d @ np.cross(s.v0, s.e1).T
+    tdet = o @ n.T
+    tdet -= np.einsum("ij,ij->i", s.v0, n)
     sign = np.sign(det)
-    adet = np.abs(det)
-    u, v = udet * sign, vdet * sign
-    inside = (u >= 0) & (v >= 0) & ((u <= adet) & (v <= adet) if s.parallelogram else (u + v <= adet))
+    udet *= sign  # u det and v det with the sign of det: u and v times |det|
+    vdet *= sign
+    adet = np.abs(det, out=sign)
+    inside = udet >= 0
+    inside &= vdet >= 0
+    if s.parallelogram:
+        inside &= udet <= adet
+        inside &= vdet <= adet
+    else:
+        udet += vdet
+        inside &= udet <= adet
+    inside &= adet > 0
     with np.errstate(divide="ignore", invalid="ignore"):
-        t = tdet / det
-    return np.where(inside & (adet > 0) & (t > 0), t, np.inf)
+        t = np.divide(tdet, det, out=tdet)
+    inside &= t > 0
+    return np.where(inside, t, np.inf)
 
 
 def _blocks(shapes: int) -> tuple[int, int]:
