@@ -222,9 +222,9 @@ class Settings:
                                     "so still renders never use it)",
                                     flag="--boiling-filter", range=Range(float, 0, 1), panel="reuse",
                                     applies_when=_RESTIR, subtype="FACTOR")
-    temporal_permutation: bool = setting(False, "Permutation Sampling", "ReSTIR temporal reuse takes the history of "
+    temporal_permutation: bool = setting(True, "Permutation Sampling", "ReSTIR temporal reuse takes the history of "
                                          "a neighbour within a 4x4 block, permuted every frame (RTXDI's), so that "
-                                         "a pixel's frames are less correlated", flag="--temporal-permutation",
+                                         "a pixel's frames are less correlated", flag="--no-temporal-permutation",
                                          panel="reuse", applies_when=_RESTIR)
     taa_filter: str = setting("bilinear", "History Filter", "How TAA samples its reprojected history",
                               flag="--taa-filter", choices=TAA_FILTER_CHOICES, panel="taa", applies_when=_TAA)
@@ -366,6 +366,10 @@ class Settings:
                                    "history (uncovered, or new at the border) shows the mean of its 3x3 neighbours "
                                    "on the same surface instead of its one noisy sample (a one-frame blur within "
                                    "the surface)", flag="--no-taa-fresh-fill", panel="taa", applies_when=_TAA)
+    gi_temporal_permutation: bool = setting(False, "Permutation Sampling", "ReSTIR GI: temporal reuse takes the "
+                                            "history of a neighbour within a 4x4 block, permuted every frame, as "
+                                            "ReSTIR DI's Permutation Sampling (off: measured for direct light only)",
+                                            flag="--gi-temporal-permutation", panel="gi", applies_when=_GI)
 
     def validate(self) -> Settings:
         check(self)
