@@ -39,18 +39,40 @@ inline void permute_pixel(int* px, int* py, uint permutation)
     *py = ((*py + oy) ^ 3) - oy;
 }
 
-/* The previous-frame pixel index holding the surface of pixel (x, y), or -1 (off-screen or disoccluded). */
+/* Previous-frame pixel (px, py) if it holds the surface of current G-sample `cur`, else -1. */
+inline int reproject_test(const GSample* cur, const __global GSample* prev_gbuf, int px, int py, int width,
+                          int height, float depth_tol, float normal_cos)
+{
+    if (px < 0 || py < 0 || px >= width || py >= height) return -1;
+    int j = py * width + px;
+    GSample prev = prev_gbuf[j];
+    return reproject_same_surface(cur, &prev, depth_tol, normal_cos) ? j : -1;
+}
+
+/* The previous-frame pixel index holding the surface of pixel (x, y), or -1 (off-screen or disoccluded). With
+ * permutation sampling the permuted pixel alone is tried: where it fails the surface test (an edge within the 4x4
+ * block) the pixel has no history this frame, takes the spatial pass's fresh-pixel work (disocclusion boost, extra
+ * candidates) and a sample uncorrelated with its last one. That costs about 8 % CPU per frame on the orbits and
+ * buys most of the mode's lower error through TAA; falling back to the pixel's own history (the probe below) saves
+ * the cost and loses that gain (docs/measurements/temporal-stability.md, "Why permutation sampling costs CPU"). */
 inline int reproject_pixel(const __global GSample* gbuf, const __global GSample* prev_gbuf, int x, int y,
                            int width, int height, float depth_tol, float normal_cos, uint permutation)
 {
     float2 p;
     if (!reproject_position(gbuf, x, y, width, &p)) return -1;
     int px = (int)floor(p.x), py = (int)floor(p.y);
-    permute_pixel(&px, &py, permutation);
-    if (px < 0 || py < 0 || px >= width || py >= height) return -1;
-    int j = py * width + px;
-    GSample cur = gbuf[y * width + x], prev = prev_gbuf[j];
-    return reproject_same_surface(&cur, &prev, depth_tol, normal_cos) ? j : -1;
+    GSample cur = gbuf[y * width + x];
+    if (permutation != 0u) {
+        int qx = px, qy = py;
+        permute_pixel(&qx, &qy, permutation);
+        int j = reproject_test(&cur, prev_gbuf, qx, qy, width, height, depth_tol, normal_cos);
+#ifdef PROBE_PERMUTATION_FALLBACK  /* tools/experiments/restir_motion.py --define: the own history on a failure */
+        if (j >= 0) return j;
+#else
+        return j;
+#endif
+    }
+    return reproject_test(&cur, prev_gbuf, px, py, width, height, depth_tol, normal_cos);
 }
 
 #endif

@@ -29,7 +29,7 @@ BEFORE = (
     ("light_tile_count", 128), ("light_tile_size", 1024), ("light_change_ratio", 2.0), ("jitter", True),
     ("seed", 0), ("specialise", True), ("bake_resolution", 512),
     ("bsdf_sampling", "auto"), ("bsdf_candidates", 1), ("warmup_frames", 0),
-    ("boiling_filter", 0.0), ("temporal_permutation", False),
+    ("boiling_filter", 0.0), ("temporal_permutation", True),
     ("taa_filter", "bilinear"), ("taa_dilation", False),
     ("realtime_filter", False), ("filter_iterations", 4), ("disocclusion_boost", 8), ("fresh_candidates", 64),
     ("denoise", False), ("light_passes", False),
@@ -46,7 +46,8 @@ BEFORE = (
     ("gi_bias_correction", "pairwise"), ("gi_boiling_filter", 0.0), ("gi_disocclusion_boost", 0),
     ("path_light_pick", "auto"), ("texture_filter", "auto"), ("transmission_bounces", 12),
     ("transparent_max_bounces", 8), ("cryptomatte_levels", 0), ("taa_fresh_fill", True),
-    ("taa_clip_surface", False))
+    ("taa_clip_surface", False),
+    ("gi_temporal_permutation", False))
 NUMBERS = [d for d in declared(Settings) if d.spec.range is not None]
 
 

@@ -71,7 +71,7 @@ class RestirGI(Stage):
     def temporal(self, state: FrameState, current: cl.Buffer, out: cl.Buffer) -> cl.Buffer:
         s, h = self.settings, self.history
         params = L.pack(L.GI_TEMPORAL_PARAMS, similar=self._similarity(), m_cap=s.gi_m_cap,
-                        bias_correction=self.bias_code, permutation=permutation_key(s, state))
+                        bias_correction=self.bias_code, permutation=permutation_key(s, state, gi=True))
         self.kernels.launch("gi_temporal", image_size(state), gbuf=h.gbuf(h.cur), prev_gbuf=h.gbuf(h.prev),
                             glossy=h.glossy(h.cur), prev_glossy=h.glossy(h.prev), **self.scene.geometry,
                             current=current, previous=h.gi_reservoirs(h.prev), out=out, guards=self.buffers.guards,

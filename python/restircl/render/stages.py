@@ -55,10 +55,10 @@ def sampler_params(plan: FramePlan, scene: DeviceScene, settings: Settings) -> n
                   bsdf_glossy_only=int(plan.bsdf_glossy_only), pick_table=int(plan.pick_table))
 
 
-def permutation_key(settings: Settings, state: FrameState) -> int:
+def permutation_key(settings: Settings, state: FrameState, gi: bool = False) -> int:
     """The frame's permutation-sampling key of temporal reuse (camera/reproject.h): one of the 16, from the frame's
-    random stream; 0 with temporal_permutation off."""
-    if not settings.temporal_permutation:
+    random stream; 0 with temporal_permutation (gi: gi_temporal_permutation) off."""
+    if not (settings.gi_temporal_permutation if gi else settings.temporal_permutation):
         return 0
     key = int(state.frame_params["sample"]) * 0x9E3779B1 + int(state.frame_params["seed"]) * 0x85EBCA6B
     return 16 | ((key & 0xFFFFFFFF) >> 28)

@@ -222,9 +222,9 @@ class Settings:
                                     "so still renders never use it)",
                                     flag="--boiling-filter", range=Range(float, 0, 1), panel="reuse",
                                     applies_when=_RESTIR, subtype="FACTOR")
-    temporal_permutation: bool = setting(False, "Permutation Sampling", "ReSTIR temporal reuse takes the history of "
+    temporal_permutation: bool = setting(True, "Permutation Sampling", "ReSTIR temporal reuse takes the history of "
                                          "a neighbour within a 4x4 block, permuted every frame (RTXDI's), so that "
-                                         "a pixel's frames are less correlated", flag="--temporal-permutation",
+                                         "a pixel's frames are less correlated", flag="--no-temporal-permutation",
                                          panel="reuse", applies_when=_RESTIR)
     taa_filter: str = setting("bilinear", "History Filter", "How TAA samples its reprojected history",
                               flag="--taa-filter", choices=TAA_FILTER_CHOICES, panel="taa", applies_when=_TAA)
@@ -369,6 +369,10 @@ class Settings:
     taa_clip_surface: bool = setting(False, "Clip to Own Surface", "Moving frames: TAA's clipping box from the 3x3 "
                                      "neighbours on the pixel's surface only: sharper silhouettes without noise, "
                                      "more noise with it", flag="--taa-clip-surface", panel="taa", applies_when=_TAA)
+    gi_temporal_permutation: bool = setting(False, "Permutation Sampling", "ReSTIR GI: temporal reuse takes the "
+                                            "history of a neighbour within a 4x4 block, permuted every frame, as "
+                                            "ReSTIR DI's Permutation Sampling (off: measured for direct light only)",
+                                            flag="--gi-temporal-permutation", panel="gi", applies_when=_GI)
 
     def validate(self) -> Settings:
         check(self)
