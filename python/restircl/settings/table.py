@@ -1,7 +1,5 @@
-"""The settings table: every parameter of a render, declared once as a field of `Settings` with its type, default,
-range, choices, command-line flag, Blender label and description (settings/spec.py says how). `validate()`, the
-command line's options (cli/main.py), the add-on's properties and panels, and the kernels' -D limits all read it.
-"""
+"""The settings table: every parameter of a render, declared once as a field of `Settings` (settings/spec.py says
+how). `validate()`, the command line (cli/main.py), the add-on's panels and the kernels' -D limits all read it."""
 
 from __future__ import annotations
 
@@ -366,12 +364,11 @@ class Settings:
                                    "history (uncovered, or new at the border) shows the mean of its 3x3 neighbours "
                                    "on the same surface instead of its one noisy sample (a one-frame blur within "
                                    "the surface)", flag="--no-taa-fresh-fill", panel="taa", applies_when=_TAA)
-    taa_clip_surface: bool = setting(False, "Clip to Own Surface", "Moving frames: TAA's clipping box from the 3x3 "
-                                     "neighbours on the pixel's surface only: sharper silhouettes without noise, "
-                                     "more noise with it", flag="--taa-clip-surface", panel="taa", applies_when=_TAA)
-    gi_temporal_permutation: bool = setting(False, "Permutation Sampling", "ReSTIR GI: temporal reuse takes the "
-                                            "history of a neighbour within a 4x4 block, permuted every frame, as "
-                                            "ReSTIR DI's Permutation Sampling (off: measured for direct light only)",
+    taa_clip_surface: bool = setting(False, "Clip to Own Surface", "Moving frames: the clipping box from the 3x3 "
+                                     "neighbours on the pixel's surface only: sharper edges without noise, noisier "
+                                     "with it", flag="--taa-clip-surface", panel="taa", applies_when=_TAA)
+    gi_temporal_permutation: bool = setting(False, "Permutation Sampling", "ReSTIR GI's temporal reuse as ReSTIR "
+                                            "DI's Permutation Sampling (off: measured for direct light only)",
                                             flag="--gi-temporal-permutation", panel="gi", applies_when=_GI)
 
     def validate(self) -> Settings:
