@@ -187,10 +187,11 @@ inline EnvDualCell environment_dual_cell(const EnvLight* env, int k, int j)
     return c;
 }
 
-/* The density in solid angle of the point (tx, ty) of dual cell (k, j) at image row v: the table's probability of
- * the cell x patch / (its mean x its extent in (u, v)), over the Jacobian 2 pi^2 sin(theta) of (u, v). */
+/* The density in solid angle of the point (tx, ty) of dual cell (k, j) whose direction has sin(theta) = st: the
+ * table's probability of the cell x patch / (its mean x its extent in (u, v)), over the Jacobian 2 pi^2 sin(theta)
+ * of (u, v). */
 inline float environment_dual_pdf(const EnvLight* env, const EnvDualCell* c, int k, int j, float tx, float ty,
-                                  float v)
+                                  float st)
 {
     int w = env->width, rows = env->height + 1;
     float tm = 0.5f * (c->t0 + c->t1);
@@ -199,13 +200,14 @@ inline float environment_dual_pdf(const EnvLight* env, const EnvDualCell* c, int
     const __global float* row = env->table + (rows + 1) + k * (w + 1);
     float p = (env->table[k + 1] - env->table[k]) * (row[j + 1] - row[j]);
     float patch = (1.0f - ty) * ((1.0f - tx) * c->a00 + tx * c->a01) + ty * ((1.0f - tx) * c->a10 + tx * c->a11);
-    float st = fmax_f(sin(RESTIRCL_PI * v), 1e-7f);
+    st = fmax_f(st, 1e-7f);
     return p * patch * (float)(w * env->height)
            / (mean * (c->t1 - c->t0) * (2.0f * RESTIRCL_PI * RESTIRCL_PI) * st);
 }
 
-/* The density in solid angle of a Linear map's sampling at image coordinates (u, v). */
-inline float environment_linear_pdf(const EnvLight* env, float u, float v)
+/* The density in solid angle of a Linear map's sampling at image coordinates (u, v), sin(theta) = st (given apart:
+ * near the poles v, from an acos, has lost the digits that sin(theta) needs). */
+inline float environment_linear_pdf(const EnvLight* env, float u, float v, float st)
 {
     float x = u * (float)env->width - 0.5f, y = v * (float)env->height - 0.5f;
     float fx = floor(x), fy = floor(y);
@@ -214,7 +216,7 @@ inline float environment_linear_pdf(const EnvLight* env, float u, float v)
     EnvDualCell c = environment_dual_cell(env, k, j);
     float tx = fmin_f(fmax_f(x - fx, 0.0f), 1.0f);
     float ty = fmin_f(fmax_f(y - (float)(k - 1), c.t0), c.t1);
-    return environment_dual_pdf(env, &c, k, j, tx, ty, v);
+    return environment_dual_pdf(env, &c, k, j, tx, ty, st);
 }
 
 /* t in [0, 1] drawn from r with density proportional to (1 - t) p0 + t p1 (p0, p1 >= 0): the root of the quadratic
@@ -243,7 +245,7 @@ inline float2 environment_sample_linear(const EnvLight* env, float r0, float r1,
     float u = ((float)j + 0.5f + tx) / (float)w;
     u -= floor(u);
     float v = fmin_f(fmax_f(((float)k - 0.5f + ty) / (float)h, 0.0f), 1.0f);
-    *pdf = environment_dual_pdf(env, &c, k, j, tx, ty, v);
+    *pdf = environment_dual_pdf(env, &c, k, j, tx, ty, sin(RESTIRCL_PI * v));
     return (float2)(u, v);
 }
 
@@ -295,7 +297,11 @@ inline float environment_point_pdf(const __global Light* l, float3 x, const Ligh
     (void)x;
     EnvLight env = environment_light(l);
     float2 uv = environment_uv(&env, e->wi);
-    if (env.linear) return environment_linear_pdf(&env, uv.x, uv.y);
+    if (env.linear) {
+        float3 d = e->wi;
+        float rx = dot3(env.r0, d), ry = dot3(env.r1, d);
+        return environment_linear_pdf(&env, uv.x, uv.y, sqrt(rx * rx + ry * ry));
+    }
     return environment_texel_pdf(&env, environment_texel(&env, uv.x, uv.y));
 }
 

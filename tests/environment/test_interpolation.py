@@ -222,9 +222,7 @@ def test_samples_follow_the_reported_density(device):
     control = uniform_cell_pdf(env, u, v) * jac
     stat, p, dof = pooled_chi2(counts, control)
     assert p < 1e-12, (stat, p, dof)
-    away = np.sin(np.pi * sv) > 0.05  # near the poles the direction's round trip moves v by float rounding
-    np.testing.assert_allclose(pdf_back[away], pdf[away], rtol=2e-3)
-    assert np.mean(np.abs(pdf_back / pdf - 1) < 2e-2) > 0.999
+    np.testing.assert_allclose(pdf_back, pdf, rtol=2e-3)  # up to the direction's round trip through (u, v)
 
 
 def test_density_uniform_within_a_dual_cell_is_biased(device):
