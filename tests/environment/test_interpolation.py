@@ -106,6 +106,7 @@ def test_bands_of_rows_equal_the_whole_map():
     parts = np.concatenate([DualLuminance(lum)[a : min(a + 2, 10)] for a in range(0, 10, 2)])
     np.testing.assert_array_equal(whole, parts)
     assert whole.shape == (10, 6) and np.all(whole > 0)
+    assert DualLuminance(lum).row_solid.sum() * 6 == pytest.approx(4 * np.pi, rel=1e-12)
 
 
 def test_a_linear_map_draws_every_dual_cell_of_a_checker():
