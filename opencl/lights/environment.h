@@ -12,7 +12,7 @@
  * Directions follow Blender's mapping of the World's default vector d (Z up): after the lookup rotation R (a
  * Mapping node), d' = R d, u = 1/2 - atan2(d'.y, d'.x) / (2 pi), v = acos(d'.z) / pi; row 0 of the map is the
  * zenith. Within a texel, directions are uniform in solid angle, so the density is constant over it:
- * pdf = P(texel) / solid angle(texel). */
+ * pdf = P(texel) / solid angle(texel); a Linear map's density follows its blend instead (environment_sample_linear). */
 #ifndef RESTIRCL_LIGHTS_ENVIRONMENT_H
 #define RESTIRCL_LIGHTS_ENVIRONMENT_H
 
@@ -85,8 +85,8 @@ inline int environment_wrap(int i, int n) { return i < 0 ? i + n : (i >= n ? i -
 
 /* The map at image coordinates (u, v), as stored (times the record's radiance: radiance): the texel there
  * (Closest), or with Linear interpolation the blend of the four texel centres around it, wrapping across the seam
- * and over the poles as Cycles' Environment Texture does (its extension is Repeat both ways). The sampling tables
- * of a Linear map draw the blend's integral over each texel (python/restircl/environment/interpolation.py). */
+ * and over the poles as Cycles' Environment Texture does (its extension is Repeat both ways). A Linear map is
+ * sampled by the blend's bilinear patches (environment_sample_linear). */
 inline float3 environment_lookup(const EnvLight* env, float u, float v)
 {
     if (!env->linear) return environment_texel_rgb(env, environment_texel(env, u, v));
@@ -163,11 +163,98 @@ inline int environment_cdf_draw(const __global float* cdf, int n, float* r)
 
 inline float environment_unit(float r) { return fmin_f(fmax_f(r, 0.0f), 0.99999994f); }
 
+/* A Linear map's dual cell (k, j): the bilinear patch of the blend between centre rows k - 1 and k and centre
+ * columns j and j + 1 (wrapped as the lookup wraps; rows k = 0 and k = H are the half-rows at the poles,
+ * python/restircl/environment/interpolation.py). The tables (H + 1 rows of W) draw it by its mean luminance x its
+ * band's solid angle; inside it (tx, ty) is drawn proportionally to the patch, so the density in (u, v) follows the
+ * blend's luminance. */
+typedef struct {
+    float a00, a01, a10, a11;  /* corner luminances: (row k - 1, column j), (k - 1, j + 1), (k, j), (k, j + 1) */
+    float t0, t1;              /* the cell's extent in ty: [1/2, 1] for k = 0, [0, 1/2] for k = H, else [0, 1] */
+} EnvDualCell;
+
+inline EnvDualCell environment_dual_cell(const EnvLight* env, int k, int j)
+{
+    int h = env->height, w = env->width;
+    int r0 = environment_wrap(k - 1, h), r1 = environment_wrap(k, h), c1 = environment_wrap(j + 1, w);
+    EnvDualCell c;
+    c.a00 = luminance(environment_texel_rgb(env, (int2)(j, r0)));
+    c.a01 = luminance(environment_texel_rgb(env, (int2)(c1, r0)));
+    c.a10 = luminance(environment_texel_rgb(env, (int2)(j, r1)));
+    c.a11 = luminance(environment_texel_rgb(env, (int2)(c1, r1)));
+    c.t0 = k == 0 ? 0.5f : 0.0f;
+    c.t1 = k == h ? 0.5f : 1.0f;
+    return c;
+}
+
+/* The density in solid angle of the point (tx, ty) of dual cell (k, j) whose direction has sin(theta) = st: the
+ * table's probability of the cell x patch / (its mean x its extent in (u, v)), over the Jacobian 2 pi^2 sin(theta)
+ * of (u, v). */
+inline float environment_dual_pdf(const EnvLight* env, const EnvDualCell* c, int k, int j, float tx, float ty,
+                                  float st)
+{
+    int w = env->width, rows = env->height + 1;
+    float tm = 0.5f * (c->t0 + c->t1);
+    float mean = 0.5f * ((1.0f - tm) * (c->a00 + c->a01) + tm * (c->a10 + c->a11));
+    if (!(mean > 0.0f)) return 0.0f;
+    const __global float* row = env->table + (rows + 1) + k * (w + 1);
+    float p = (env->table[k + 1] - env->table[k]) * (row[j + 1] - row[j]);
+    float patch = (1.0f - ty) * ((1.0f - tx) * c->a00 + tx * c->a01) + ty * ((1.0f - tx) * c->a10 + tx * c->a11);
+    st = fmax_f(st, 1e-7f);
+    return p * patch * (float)(w * env->height)
+           / (mean * (c->t1 - c->t0) * (2.0f * RESTIRCL_PI * RESTIRCL_PI) * st);
+}
+
+/* The density in solid angle of a Linear map's sampling at image coordinates (u, v), sin(theta) = st (given apart:
+ * near the poles v, from an acos, has lost the digits that sin(theta) needs). */
+inline float environment_linear_pdf(const EnvLight* env, float u, float v, float st)
+{
+    float x = u * (float)env->width - 0.5f, y = v * (float)env->height - 0.5f;
+    float fx = floor(x), fy = floor(y);
+    int j = environment_wrap((int)fx, env->width);
+    int k = clamp((int)fy + 1, 0, env->height);
+    EnvDualCell c = environment_dual_cell(env, k, j);
+    float tx = fmin_f(fmax_f(x - fx, 0.0f), 1.0f);
+    float ty = fmin_f(fmax_f(y - (float)(k - 1), c.t0), c.t1);
+    return environment_dual_pdf(env, &c, k, j, tx, ty, st);
+}
+
+/* t in [0, 1] drawn from r with density proportional to (1 - t) p0 + t p1 (p0, p1 >= 0): the root of the quadratic
+ * cumulative distribution, written so that it neither cancels nor divides by p1 - p0. */
+inline float environment_linear_warp(float r, float p0, float p1)
+{
+    if (!(p0 + p1 > 0.0f)) return r;
+    float t = r * (p0 + p1) / (p0 + sqrt(fmax_f(p0 * p0 + r * (p1 * p1 - p0 * p0), 0.0f)));
+    return fmin_f(fmax_f(t, 0.0f), 1.0f);
+}
+
+/* A Linear map's sample: a dual cell from the tables, then ty from the patch's marginal (linear in ty) and tx
+ * from its conditional (linear in tx). */
+inline float2 environment_sample_linear(const EnvLight* env, float r0, float r1, float* pdf)
+{
+    int w = env->width, h = env->height, rows = h + 1;
+    int k = environment_cdf_draw(env->table, rows, &r0);
+    int j = environment_cdf_draw(env->table + (rows + 1) + k * (w + 1), w, &r1);
+    EnvDualCell c = environment_dual_cell(env, k, j);
+    r0 = environment_unit(r0);
+    r1 = environment_unit(r1);
+    float m0 = (1.0f - c.t0) * (c.a00 + c.a01) + c.t0 * (c.a10 + c.a11);
+    float m1 = (1.0f - c.t1) * (c.a00 + c.a01) + c.t1 * (c.a10 + c.a11);
+    float ty = c.t0 + (c.t1 - c.t0) * environment_linear_warp(r0, m0, m1);
+    float tx = environment_linear_warp(r1, (1.0f - ty) * c.a00 + ty * c.a10, (1.0f - ty) * c.a01 + ty * c.a11);
+    float u = ((float)j + 0.5f + tx) / (float)w;
+    u -= floor(u);
+    float v = fmin_f(fmax_f(((float)k - 0.5f + ty) / (float)h, 0.0f), 1.0f);
+    *pdf = environment_dual_pdf(env, &c, k, j, tx, ty, sin(RESTIRCL_PI * v));
+    return (float2)(u, v);
+}
+
 /* (u, v) of a direction drawn from the tables with two uniform numbers; *pdf its density in solid angle. */
 inline float2 environment_sample(const __global Light* l, float3 x, float r0, float r1, float* pdf)
 {
     (void)x;
     EnvLight env = environment_light(l);
+    if (env.linear) return environment_sample_linear(&env, r0, r1, pdf);
     int w = env.width, h = env.height;
     int row, col;
     if (env.cdf) {
@@ -210,6 +297,11 @@ inline float environment_point_pdf(const __global Light* l, float3 x, const Ligh
     (void)x;
     EnvLight env = environment_light(l);
     float2 uv = environment_uv(&env, e->wi);
+    if (env.linear) {
+        float3 d = e->wi;
+        float rx = dot3(env.r0, d), ry = dot3(env.r1, d);
+        return environment_linear_pdf(&env, uv.x, uv.y, sqrt(rx * rx + ry * ry));
+    }
     return environment_texel_pdf(&env, environment_texel(&env, uv.x, uv.y));
 }
 

@@ -1,9 +1,11 @@
 """A world read with Linear interpolation (Environment.interpolation, Blender's default for an Environment Texture):
 the device blends the four texel centres around a direction as Cycles does (wrapping across the seam and over the
-poles), its tables draw each texel by the blend's integral over it (environment/interpolation.py), and the
-estimate integrates to the irradiance of the blended map by quadrature. Negative controls: tables of the texels' own
-luminance (a black texel beside a bright one never drawn, its light lost) fail the irradiance test; a blend that
-clamps at the poles instead of wrapping fails the lookup test."""
+poles); its tables draw the dual cells between texel centres by their patches' means and the sample inside a cell
+follows the patch (environment/interpolation.py): the device's density integrates to 1, the samples' histogram
+matches it (chi-square), the sampler reports the density that the MIS evaluation gives, and the estimate integrates
+to the irradiance of the blended map by quadrature. Negative controls: the density uniform within a dual cell
+(what the tables alone give) fails the histogram and the irradiance tests; a blend that clamps at the poles instead
+of wrapping fails the lookup test."""
 
 import math
 
@@ -12,15 +14,15 @@ import pyopencl as cl
 import pytest
 from restircl import Environment, Scene
 from restircl.core.program import build_program
-from restircl.environment import interpolation
-from restircl.environment.interpolation import LinearLuminance, cell_integrals
-from restircl.environment.table import row_solid_angles
+from restircl.environment.interpolation import DualLuminance, dual_row_extent
+from restircl.environment.table import row_solid_angles, table_texel_probabilities
 from restircl.environment.world import WorldError
 from restircl.lights import environment
 from restircl.lights.device_lights import scene_lights
 from restircl.render.features import general_flags
 from restircl.scenes.hdri_sky import texel_directions
 
+from ..stats import pooled_chi2
 from .test_environment import sample
 
 SRC = """
@@ -31,6 +33,14 @@ __kernel void lookup_env(const __global Light* lights, const __global float2* uv
     int i = get_global_id(0);
     EnvLight env = environment_light(&lights[0]);
     out[i] = (float4)(light_radiance(&lights[0]) * environment_lookup(&env, uv[i].x, uv[i].y), 0.0f);
+}
+__kernel void pdf_env(const __global Light* lights, const __global float2* uv, __global float4* out)
+{
+    int i = get_global_id(0);
+    EnvLight env = environment_light(&lights[0]);
+    LightEval e;
+    e.wi = environment_dir(&env, uv[i].x, uv[i].y);
+    out[i] = (float4)(light_point_pdf(&lights[0], LIGHT_ENVIRONMENT, (float3)(0.0f), &e), 0.0f, 0.0f, 0.0f);
 }
 """
 
@@ -57,7 +67,7 @@ def bilinear(img: np.ndarray, u: np.ndarray, v: np.ndarray, wrap_rows: bool = Tr
     return (1 - ty) * ((1 - tx) * t[r0, c0] + tx * t[r0, c1]) + ty * ((1 - tx) * t[r1, c0] + tx * t[r1, c1])
 
 
-def device_lookup(device, env: Environment, uv: np.ndarray) -> np.ndarray:
+def device_lookup(device, env: Environment, uv: np.ndarray, kernel: str = "lookup_env") -> np.ndarray:
     prog = build_program(device, general_flags(), source=SRC)
     mf = cl.mem_flags
     data = scene_lights(Scene(environment=env), 0).device_array()
@@ -65,7 +75,7 @@ def device_lookup(device, env: Environment, uv: np.ndarray) -> np.ndarray:
     ub = cl.Buffer(device.context, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=np.ascontiguousarray(uv, np.float32))
     out = np.empty((len(uv), 4), np.float32)
     ob = cl.Buffer(device.context, mf.WRITE_ONLY, out.nbytes)
-    cl.Kernel(prog, "lookup_env")(device.queue, (len(uv),), None, lb, ub, ob)
+    cl.Kernel(prog, kernel)(device.queue, (len(uv),), None, lb, ub, ob)
     cl.enqueue_copy(device.queue, out, ob)
     return out[:, :3].astype(np.float64)
 
@@ -73,32 +83,37 @@ def device_lookup(device, env: Environment, uv: np.ndarray) -> np.ndarray:
 # ---- the host: the tables' weights ------------------------------------------------------------------------------
 
 
-def test_cell_weights_are_the_blend_integrated_over_each_texel():
-    """By midpoints: 64 x 64 per texel of the wrapped bilinear blend of a random luminance map."""
+def test_dual_cells_are_the_blend_integrated_over_each_patch():
+    """By midpoints: 64 x 64 per half texel of the wrapped bilinear blend of a random luminance map, summed over the
+    dual cells (offset by half a texel; the first and last dual rows are half rows at the poles)."""
     rng = np.random.default_rng(3)
     lum = rng.uniform(0, 1, (5, 7))
     sub = 64
     h, w = lum.shape
-    uu, vv = np.meshgrid((np.arange(w * sub) + 0.5) / (w * sub), (np.arange(h * sub) + 0.5) / (h * sub))
-    blend = bilinear(np.repeat(lum[..., None], 3, -1), uu.ravel(), vv.ravel())[:, 0].reshape(h * sub, w * sub)
-    want = blend.reshape(h, sub, w, sub).mean(axis=(1, 3))
-    got = cell_integrals(lum, lum[-1], lum[0])
+    uu, vv = np.meshgrid((np.arange(2 * w * sub) + 0.5) / (2 * w * sub), (np.arange(2 * h * sub) + 0.5) / (2 * h * sub))
+    blend = bilinear(np.repeat(lum[..., None], 3, -1), uu.ravel(), vv.ravel())[:, 0].reshape(2 * h, sub, 2 * w, sub)
+    halves = blend.mean(axis=(1, 3))  # (2H, 2W) half-texel means
+    halves = np.roll(halves, -1, axis=1)  # dual column j: half columns 2j + 1 and 2j + 2
+    across = 0.5 * (halves[:, 0::2] + halves[:, 1::2])
+    want = np.concatenate([across[:1], 0.5 * (across[1:-1:2] + across[2::2]), across[-1:]])
+    got = DualLuminance(lum)[0 : h + 1]
     np.testing.assert_allclose(got, want, rtol=1e-12)
 
 
 def test_bands_of_rows_equal_the_whole_map():
     lum = np.random.default_rng(5).uniform(0, 1, (9, 6))
-    whole = LinearLuminance(lum)[0:9]
-    parts = np.concatenate([LinearLuminance(lum)[a : min(a + 2, 9)] for a in range(0, 9, 2)])
+    whole = DualLuminance(lum)[0:10]
+    parts = np.concatenate([DualLuminance(lum)[a : min(a + 2, 10)] for a in range(0, 10, 2)])
     np.testing.assert_array_equal(whole, parts)
-    assert np.all(whole > 0)
+    assert whole.shape == (10, 6) and np.all(whole > 0)
+    assert DualLuminance(lum).row_solid.sum() * 6 == pytest.approx(4 * np.pi, rel=1e-12)
 
 
-def test_a_linear_map_draws_black_texels_beside_bright_ones():
+def test_a_linear_map_draws_every_dual_cell_of_a_checker():
     packed = environment.packed_map(Environment(image=checker_map(), interpolation="Linear"))
     assert packed.linear and packed.kind == "cdf"
     h, w = packed.shape
-    marg, cond = packed.table[: h + 1], packed.table[h + 1 :].reshape(h, w + 1)
+    marg, cond = packed.table[: h + 2], packed.table[h + 2 :].reshape(h + 1, w + 1)
     assert np.all(np.diff(marg) > 0) and np.all(np.diff(cond, axis=1) > 0)
 
 
@@ -157,9 +172,68 @@ def test_estimate_integrates_to_the_blended_irradiance(device, normal):
     assert np.all(np.abs(mean - want) <= 4 * se + 2e-3 * want), (mean, want, se)
 
 
-def test_tables_of_the_texels_own_luminance_lose_light(device, monkeypatch):
-    """The control: the tables without the blend's weights never draw the black texels, a third of the light."""
-    monkeypatch.setattr(environment, "LinearLuminance", lambda rows: rows)
-    assert interpolation.LinearLuminance is not environment.LinearLuminance
-    mean, want, se = irradiance_error(device, np.array([0.0, 0.0, 1.0]))
-    assert np.all(mean < want - 10 * se), (mean, want, se)
+def uniform_cell_pdf(env: Environment, u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """The control: the density in solid angle if (u, v) were uniform within the dual cell the tables draw."""
+    packed = environment.packed_map(env)
+    h, w = packed.shape
+    probs = table_texel_probabilities(packed.table, h + 1, w, "cdf")
+    t0, t1 = dual_row_extent(h)
+    j = np.floor(u * w - 0.5).astype(int) % w
+    k = np.clip(np.floor(v * h - 0.5).astype(int) + 1, 0, h)
+    area = (t1 - t0)[k] / (h * w)
+    return probs[k, j] / area / (2 * np.pi**2 * np.maximum(np.sin(np.pi * v), 1e-7))
+
+
+def linear_env() -> Environment:
+    return Environment(color=(1, 1, 1), strength=2.0, image=checker_map(), interpolation="Linear")
+
+
+def quarter_grid(h: int, w: int, sub: int = 4) -> tuple[np.ndarray, np.ndarray]:
+    """Midpoints of sub x sub bins per texel (the dual cells' edges are bin edges: the density in (u, v) is
+    bilinear over each bin, so its midpoint is its mean)."""
+    uu, vv = np.meshgrid((np.arange(w * sub) + 0.5) / (w * sub), (np.arange(h * sub) + 0.5) / (h * sub))
+    return uu.ravel(), vv.ravel()
+
+
+def test_device_density_integrates_to_one(device):
+    env = linear_env()
+    h, w = checker_map().shape[:2]
+    u, v = quarter_grid(h, w)
+    pdf = device_lookup(device, env, np.stack([u, v], 1), "pdf_env")[:, 0]
+    total = np.sum(pdf * 2 * np.pi**2 * np.sin(np.pi * v)) / u.size
+    assert abs(total - 1.0) < 2e-4, total
+
+
+def test_samples_follow_the_reported_density(device):
+    """Chi-square of the samples' (u, v) in 4 x 4 bins per texel against the device's density; the control (the
+    density uniform within a dual cell) fails. The sampler's density is the MIS evaluation's."""
+    env = linear_env()
+    h, w = checker_map().shape[:2]
+    sub = 4
+    u, v = quarter_grid(h, w, sub)
+    jac = 2 * np.pi**2 * np.sin(np.pi * v) / u.size
+    want = device_lookup(device, env, np.stack([u, v], 1), "pdf_env")[:, 0] * jac
+    out = sample(device, env, "cdf", count=400_000, seed=3)
+    su, sv, pdf, pdf_back = out[:, 0, 0], out[:, 0, 1], out[:, 0, 2], out[:, 0, 3]
+    col = np.minimum((su * w * sub).astype(int), w * sub - 1)
+    row = np.minimum((sv * h * sub).astype(int), h * sub - 1)
+    counts = np.bincount(row * w * sub + col, minlength=u.size)
+    stat, p, dof = pooled_chi2(counts, want)
+    assert dof > 1000 and p > 1e-4, (stat, p, dof)
+    control = uniform_cell_pdf(env, u, v) * jac
+    stat, p, dof = pooled_chi2(counts, control)
+    assert p < 1e-12, (stat, p, dof)
+    np.testing.assert_allclose(pdf_back, pdf, rtol=2e-3)  # up to the direction's round trip through (u, v)
+
+
+def test_density_uniform_within_a_dual_cell_is_biased(device):
+    """The control of the irradiance test: the same samples weighed by the density the tables alone would give."""
+    n = np.array([0.0, 0.0, 1.0])
+    env = linear_env()
+    out = sample(device, env, "cdf", n=n)
+    contrib, ok = out[:, 1, :3], out[:, 1, 3] > 0
+    q = uniform_cell_pdf(env, out[:, 0, 0], out[:, 0, 1])
+    est = np.where(ok[:, None], contrib / q[:, None], 0.0)
+    mean, se = est.mean(axis=0), est.std(axis=0, ddof=1) / math.sqrt(len(est))
+    want = 2.0 * blended_quadrature(checker_map(), n)
+    assert np.all(np.abs(mean - want) > 10 * se), (mean, want, se)

@@ -120,9 +120,10 @@ def table_floats(height: int, width: int, kind: str) -> int:
     raise ValueError(f"environment table kind must be one of {TABLE_KINDS}, got {kind!r}")
 
 
-def fill_table(luminance: LuminanceRows, kind: str, out: np.ndarray) -> float:
+def fill_table(luminance: LuminanceRows, kind: str, out: np.ndarray, solid: np.ndarray | None = None) -> float:
     """Write the table of an (H, W) luminance map into `out` (float32, table_floats long; layout in build_table)
-    and return the sum of luminance x solid angle over the texels (float64).
+    and return the sum of luminance x solid angle over the texels (float64). `solid` is each row's solid angle per
+    entry (H,), the texels' rows of an H x W map unless given (a Linear map's dual cells give theirs).
 
     The rows are read in bands of about CHUNK_TEXELS texels and only a band is ever in float64, so a 16384 x 8192
     map's cdf costs its float32 output and some 100 MB more (the alias tables are built in lock step over the rows
@@ -131,7 +132,7 @@ def fill_table(luminance: LuminanceRows, kind: str, out: np.ndarray) -> float:
     if out.dtype != np.float32 or out.shape != (table_floats(h, w, kind),):
         raise ValueError(f"out must be float32 of {table_floats(h, w, kind)} entries")
     band = max(1, CHUNK_TEXELS // w)
-    solid = row_solid_angles(h, w)
+    solid = row_solid_angles(h, w) if solid is None else np.asarray(solid, np.float64)
     rows = np.empty(h)
     if kind == "alias":
         pairs = out.reshape(-1, 2)

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..environment.interpolation import LinearLuminance
+from ..environment.interpolation import DualLuminance
 from ..environment.pack import (
     StoredLuminance,
     StoredTexels,
@@ -85,9 +85,9 @@ def packed_map(env: Environment, kind: str | None = None, texel_format: str | No
     image changed in place is not seen: assign a new array). Built band by band straight into `data`: besides the
     source image, a map costs its device bytes (data_bytes) and a band's worth of scratch.
 
-    A map read with Linear interpolation samples the blend's integrals over its texels (environment/interpolation.py)
-    with the cdf table, whose density the device reads from the table itself (the alias tables' density is the
-    texel's own luminance)."""
+    A map read with Linear interpolation samples the blend's bilinear patches between texel centres, its H + 1 rows
+    of dual cells (environment/interpolation.py), with the cdf table, whose probabilities the device reads from the
+    table itself (the alias tables' density is the texel's own luminance)."""
     rot = None if env.rotation is None else np.asarray(env.rotation).tobytes()
     linear = env.interpolation == "Linear"
     key = (id(env.image), env.path, tuple(env.color), kind or TABLE_KIND, texel_format or TEXEL_FORMAT, rot, linear)
@@ -106,11 +106,15 @@ def packed_map(env: Environment, kind: str | None = None, texel_format: str | No
     elif kind is None:
         kind = TABLE_KIND if h * w <= ALIAS_MAX_TEXELS else "cdf"
     n_tex = texel_floats(h, w, fmt)
-    data = np.empty(n_tex + table_floats(h, w, kind), np.float32)
+    data = np.empty(n_tex + table_floats(h + 1 if linear else h, w, kind), np.float32)
     stored = store_texels(rgb, stats, fmt, data[:n_tex])
     del rgb
     luminance = StoredLuminance(stored, LUMINANCE)
-    weight_sum = fill_table(LinearLuminance(luminance) if linear else luminance, kind, data[n_tex:])
+    if linear:
+        dual = DualLuminance(luminance)
+        weight_sum = fill_table(dual, kind, data[n_tex:], dual.row_solid)
+    else:
+        weight_sum = fill_table(luminance, kind, data[n_tex:])
     packed = PackedMap(key, data, stored, kind, weight_sum, stats.zeroed, linear)
     object.__setattr__(env, "_packed_map", packed)
     return packed
