@@ -12,7 +12,7 @@ bpy = pytest.importorskip("bpy")
 
 from restircl.eval.blender_scenes import comparison_scene  # noqa: E402
 
-from .test_blender_holdout import EDGE_BOUND, alpha_relmse, both  # noqa: E402
+from .test_blender_holdout import EDGE_BOUND, alpha_relmse, both_of  # noqa: E402
 from .test_blender_support import ensure_registered, needs_renderer  # noqa: E402
 
 pytestmark = [pytest.mark.blender, needs_renderer]
@@ -24,7 +24,7 @@ def test_transparent_film_edges_alpha_is_the_covered_share(tmp_path, record_prop
     sc.render.film_transparent = True
     for name in ("Floor", "Wall"):  # the box and the lamp against the world
         bpy.data.objects.remove(bpy.data.objects[name])
-    cyc, ours = (img[..., 3] for img in both(tmp_path, sc))
+    cyc, ours = (img[..., 3] for img in both_of(tmp_path, sc))
     edge = (cyc > 0.02) & (cyc < 0.98)
     assert edge.sum() >= 16, "Cycles' image has no antialiased edge against the world: nothing is tested"
     assert 0.05 < np.mean(cyc < 0.02) < 0.99, "no world seen, or nothing else: nothing is tested"

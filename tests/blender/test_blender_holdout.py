@@ -51,8 +51,12 @@ def holdout_scene(how: str, transparent: bool):
 
 def both(tmp_path, how: str, transparent: bool) -> tuple[np.ndarray, np.ndarray]:
     """Cycles' and our image of holdout_scene(how, transparent); Cycles' is shared by the tests of one scene."""
-    sc = holdout_scene(how, transparent)
-    cyc = cycles_image(tmp_path, sc, 256, shared=("holdout", how, transparent))
+    return both_of(tmp_path, holdout_scene(how, transparent), shared=("holdout", how, transparent))
+
+
+def both_of(tmp_path, sc, shared: tuple | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Cycles' image of `sc` (256 spp, shared under `shared` where given) and ours (the reference method, 64)."""
+    cyc = cycles_image(tmp_path, sc, 256, shared=shared)
     sc.render.engine = "RESTIRCL"
     sc.restircl.method = "reference"
     sc.restircl.samples = 64

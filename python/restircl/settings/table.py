@@ -221,9 +221,9 @@ class Settings:
                                     flag="--boiling-filter", range=Range(float, 0, 1), panel="reuse",
                                     applies_when=_RESTIR, subtype="FACTOR")
     temporal_permutation: bool = setting(True, "Permutation Sampling", "ReSTIR temporal reuse takes the history of "
-                                         "a neighbour within a 4x4 block, permuted every frame (RTXDI's), so that "
-                                         "a pixel's frames are less correlated", flag="--no-temporal-permutation",
-                                         panel="reuse", applies_when=_RESTIR)
+                                         "a neighbour within a 4x4 block, permuted every frame (RTXDI's), so that a "
+                                         "pixel's frames are less correlated (unbiased merges only)",
+                                         flag="--no-temporal-permutation", panel="reuse", applies_when=_RESTIR)
     taa_filter: str = setting("bilinear", "History Filter", "How TAA samples its reprojected history",
                               flag="--taa-filter", choices=TAA_FILTER_CHOICES, panel="taa", applies_when=_TAA)
     taa_dilation: bool = setting(False, "Velocity Dilation", "TAA reprojects by the motion of the nearest surface in "

@@ -355,11 +355,14 @@ def _flicker_outputs(case: Case, settings: Settings, device,
 
 def _m_bound(s: Settings) -> float:
     """The largest M a stored reservoir can have: the temporal pass caps last frame's M at m_cap * candidates
-    and adds this frame's candidates; each spatial pass adds at most `spatial_neighbours` such reservoirs."""
+    and adds this frame's candidates (a pixel without history: its candidates and the lonely pixel's
+    `fresh_candidates`); each spatial pass adds at most `spatial_neighbours` such reservoirs, or
+    `disocclusion_boost` for a pixel without history (with permutation sampling a still camera has those too, where
+    the permuted neighbour's surface differs)."""
     m = s.candidates + s.m_cap * s.candidates if s.temporal else s.candidates
     if s.spatial:
-        m *= (1 + s.spatial_neighbours) ** s.spatial_passes
-    return float(m)
+        m *= (1 + max(s.spatial_neighbours, s.disocclusion_boost)) ** s.spatial_passes
+    return float(max(m, s.candidates + s.fresh_candidates))  # a lonely pixel merges no neighbour
 
 
 
