@@ -152,8 +152,7 @@ def test_the_harness_rejects_a_wrong_pdf(device, references, monkeypatch):
 BIASED_RUNS = 8 * SIZES["quick"][0]
 # measured with the defaults of spatial radius 5 px and disocclusion boost 8 (seeds 6-8: -4.45 %, -4.63 %, -4.54 %,
 # each +- 0.22 %); under the earlier 30 px and no boost it was -1.1 % to -2.4 %: more neighbours close by keep more
-# samples that are occluded here; without permutation sampling (on by default since; with it, seed 5 gave -5.08 % +-
-# 0.11 %)
+# samples that are occluded here (the biased merge takes no permutation sampling: render/stages.py permutation_key)
 BIASED_BIAS = -0.0454
 
 
@@ -162,7 +161,7 @@ def test_biased_mode_darkens_by_its_measured_amount(device, references):
     BIASED_BIAS over the image (weighted by inverse deviation). Asserted: darker beyond 4 standard errors (the sign),
     and within 4 of them of BIASED_BIAS (the size). The check of the unbiased modes (assert_matches) rejects it."""
     scene = occluder_scene(W, H)
-    s = Settings(method="restir", bias_correction="none", jitter=False, taa=False, seed=5, temporal_permutation=False)
+    s = Settings(method="restir", bias_correction="none", jitter=False, taa=False, seed=5)
     runs = run_means(scene, s, BIASED_RUNS, SIZES["quick"][1], device)
     b, sb = references["occluders", "quick"]
     bias, se = weighted_image_bias(luminance(runs), b, sb)
