@@ -46,7 +46,9 @@ a test that asserts it rejects one of these builds.
 - TEST_LAYER_WEIGHT_WHOLE: a still's weighted layers shade a partly transparent surface whole instead of by its
   coverage (camera/layers.h; render/test_camera_layers.py).
 - TEST_LONELY_FRESH_M_KEPT: a lonely fresh pixel's extra candidates (restir/lonely_fresh.h) are merged but its M
-  stays its own candidates' count: the merged W too large by (M_c + M_e) / M_c (render/test_restir.py)."""
+  stays its own candidates' count: the merged W too large by (M_c + M_e) / M_c (render/test_restir.py).
+- TEST_BIASED_PLAIN_M: ReSTIR DI's biased merge normalised by the M of every input, those whose target cannot hold the
+  chosen sample included (restir/reuse.h): darker where the targets' supports differ (render/test_restir_biased.py)."""
 
 from __future__ import annotations
 

@@ -1,7 +1,11 @@
 /* The combine step of ReSTIR reuse, shared by the temporal pass (one input: last frame's reservoir) and the spatial
  * pass (the similar neighbours): this pixel's canonical reservoir c and n reused reservoirs are resampled into one,
  * with the bias correction bias_correction:
- *   BIAS_NONE     M-weighted merge, W = w_sum / (M p-hat) (biased where the inputs' targets differ);
+ *   BIAS_NONE     M-weighted merge, W = w_sum / (Z p-hat), Z the M of the inputs whose target holds the chosen sample
+ *                 (1/Z by the targets alone, no shadow ray: biased where visibility differs, darker at contact
+ *                 shadows); normalised by every input's M instead, an input that cannot produce the sample (a spot's
+ *                 cone, a sphere's other side) would still count and darken the pixel by its share of M, largest
+ *                 for a pixel without history that merges the boost's neighbours or a permuted neighbour's history;
  *   BIAS_Z_COUNT  1/Z: W normalised by the M of the inputs whose support holds the chosen sample;
  *   BIAS_PAIRWISE pairwise MIS (restir/pairwise.h; for n = 1 the balance heuristic of the two inputs).
  * Every stored reservoir keeps one invariant: with visibility reuse, W > 0 only for a sample visible at its pixel.
@@ -62,17 +66,32 @@ inline int reuse_combine(const Surface* s, const Reservoir* c, const Reservoir* 
             }
         }
         float norm = r->M;
+#ifdef PROBE_BIASED_M_OF_REACHING  /* tools/experiments/biased_fresh.py: M only of the inputs whose own sample
+                                    * reaches s (target > 0 here), the canonical's always; not a support test */
+        if (bias_correction == BIAS_NONE) {
+            norm = c->M;
+            for (int k = 0; k < n; ++k)
+                if (qs[k].light >= 0 && target_of(s, lights, qs[k].light, qs[k].u, qs[k].v, &e) > 0.0f)
+                    norm += qs[k].M;
+        }
+#else
+#ifdef TEST_BIASED_PLAIN_M  /* negative control (tests/bias_controls.py): the biased merge normalised by all M */
         if (bias_correction == BIAS_Z_COUNT && r->light >= 0) {
+#else
+        if (bias_correction != BIAS_PAIRWISE && r->light >= 0) {
+#endif
+            /* 1/Z; the biased merge tests the target alone (no shadow ray), which leaves it biased by visibility */
+            const int vis = bias_correction == BIAS_Z_COUNT && visibility;
             norm = c->M;
             for (int k = 0; k < n; ++k) {
                 /* the input that supplied the sample has it in its support (W > 0 there: p-hat > 0 and, with
                  * visibility reuse, visible); any other input is tested at its own surface */
                 Surface sn = surface_load(input_gbuf, input_glossy, input_pixel[k]);
-                if ((k == src && qs[k].W > 0.0f)
-                    || in_support(&sn, nodes, tris, lights, r->light, r->u, r->v, visibility))
+                if ((k == src && qs[k].W > 0.0f) || in_support(&sn, nodes, tris, lights, r->light, r->u, r->v, vis))
                     norm += qs[k].M;
             }
         }
+#endif
         res_finalize(r, norm);
     }
     /* r->W > 0 with src < 0 means the canonical sample was picked (an input of weight 0 never is); a sample from an

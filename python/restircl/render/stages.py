@@ -57,13 +57,8 @@ def sampler_params(plan: FramePlan, scene: DeviceScene, settings: Settings) -> n
 
 def permutation_key(settings: Settings, state: FrameState, gi: bool = False) -> int:
     """The frame's permutation-sampling key of temporal reuse (camera/reproject.h): one of the 16, from the frame's
-    random stream; 0 with temporal_permutation (gi: gi_temporal_permutation) off, and for ReSTIR DI's biased merge
-    (bias_correction none): there the pixels a permuted neighbour leaves without history merge their boosted
-    neighbours without a correction, and the stress suite's contact case came out 23 % dark against its 15 % bound
-    (docs/measurements/temporal-stability.md, "Permutation sampling and the biased merge")."""
+    random stream; 0 with temporal_permutation (gi: gi_temporal_permutation) off."""
     if not (settings.gi_temporal_permutation if gi else settings.temporal_permutation):
-        return 0
-    if not gi and settings.bias_correction == "none":
         return 0
     key = int(state.frame_params["sample"]) * 0x9E3779B1 + int(state.frame_params["seed"]) * 0x85EBCA6B
     return 16 | ((key & 0xFFFFFFFF) >> 28)

@@ -18,7 +18,8 @@ METHOD_CHOICES = (
 METHODS = tuple(c.id for c in METHOD_CHOICES)
 # in the order of the kernels' BIAS_* codes (index = code)
 BIAS_CHOICES = (
-    Choice("none", "None (biased)", "Plain M-weighted merge: faster, darkens at contact shadows", 2),
+    Choice("none", "None (biased)", "M-weighted merge without shadow rays: faster, darkens at contact shadows",
+           2),
     Choice("z_count", "1/Z (unbiased)", "Divide by the number of reservoirs whose sample could have produced this "
            "pixel's sample", 1),
     Choice("pairwise", "Pairwise MIS (unbiased)", "Weigh each neighbour's sample against this pixel's by their "
@@ -222,7 +223,7 @@ class Settings:
                                     applies_when=_RESTIR, subtype="FACTOR")
     temporal_permutation: bool = setting(True, "Permutation Sampling", "ReSTIR temporal reuse takes the history of "
                                          "a neighbour within a 4x4 block, permuted every frame (RTXDI's), so that a "
-                                         "pixel's frames are less correlated (unbiased merges only)",
+                                         "pixel's frames are less correlated",
                                          flag="--no-temporal-permutation", panel="reuse", applies_when=_RESTIR)
     taa_filter: str = setting("bilinear", "History Filter", "How TAA samples its reprojected history",
                               flag="--taa-filter", choices=TAA_FILTER_CHOICES, panel="taa", applies_when=_TAA)
