@@ -13,8 +13,13 @@ error over the independent runs, and the share of pixel-frames in the class.
     python -m tools.experiments.biased_fresh --runs 16 --frames 16 \
         --methods none,none+perm,pairwise,pairwise+perm [--define NAME=VALUE]
 
-A method is a bias correction, `+perm` for permutation sampling on (also for "none", which the renderer's
-permutation_key otherwise leaves unpermuted) and `+key=value` for any other setting.
+A method is a bias correction, `+perm` for permutation sampling on and `+key=value` for any other setting.
+
+With --orbit SCENE (garden_orbit, market_orbit: eval/scenes/motion_validation.py) it renders that orbit instead, as
+tools/experiments/restir_motion.py does (TAA on, one frame per animation frame), and prints per method the image's
+relative bias over the evaluated frames after frame 0, of ReSTIR's 1-sample image (noisy) and of TAA's output, and
+the noisy image's bias over the pixels that found no ReSTIR history (fresh) and the others, per seed; methods are
+then `restircl report` names (`restir+bias_correction=none`).
 """
 
 from __future__ import annotations
@@ -22,27 +27,20 @@ from __future__ import annotations
 import argparse
 import math
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pyopencl as cl
 from restircl.core import layouts as L
 from restircl.eval.probe_defines import add_probe_defines
+from restircl.eval.report.moving import _warm_renderer
+from restircl.eval.report.reference import get_reference
+from restircl.eval.scenes.motion_validation import motion_scene
 from restircl.eval.stress.catalog import cases
 from restircl.eval.stress.judging import STILL_SETTINGS
 from restircl.eval.stress.references import compute_reference, luminance
-from restircl.render import stages
 from restircl.render.pipeline import Renderer
 from restircl.settings.table import Settings
-
-_KEY = stages.permutation_key
-
-
-def _permute_biased_too(settings, state, gi=False) -> int:  # noqa: ANN001
-    """permutation_key without its exclusion of the biased merge (the experiment's `+perm` on "none")."""
-    if settings.bias_correction == "none" and not gi and settings.temporal_permutation:
-        key = int(state.frame_params["sample"]) * 0x9E3779B1 + int(state.frame_params["seed"]) * 0x85EBCA6B
-        return 16 | ((key & 0xFFFFFFFF) >> 28)
-    return _KEY(settings, state, gi)
 
 
 def parse_method(spec: str) -> dict:
@@ -124,6 +122,54 @@ def report(spec: str, out: dict) -> str:
     return f"{spec:<28} " + " | ".join(cells)
 
 
+def orbit(name: str, methods: list[str], seeds: int, cache_dir: str = "out/refs") -> None:
+    """The orbit's relative bias per method: noisy and TAA images, and the noisy image's fresh and history pixels."""
+    scene = motion_scene(name, 192, 108, 24)
+    evaluated = sorted({*range(4, scene.frames, 4), scene.frames - 1})
+    refs = {
+        f: luminance(
+            get_reference(scene, f, 10.0, cache_dir=Path(cache_dir), log=lambda s: None)
+            .image[..., :3]
+            .astype(np.float64)
+        )
+        for f in evaluated
+    }
+    print(f"{name}: relative bias over frames {evaluated}, per seed 1..{seeds}")
+    for m in methods:
+        sums = np.zeros((seeds, 4, 2))  # noisy, TAA, noisy fresh, noisy history; (estimate, reference)
+        for k in range(seeds):
+            r = _warm_renderer(scene, m, None, None, k + 1, still=False)
+            res = np.empty(r.pixels, L.RESERVOIR)
+            fresh_m = 0.0
+            for j in range(scene.frames):
+                _, color_buf, _ = r.run_frame(j, still=False)
+                cl.enqueue_copy(r.device.queue, res, r.buffers.res_initial if j == 0 else r.buffers.res_temp)
+                mres = res["M"].reshape(r.height, r.width)
+                if j == 0:
+                    fresh_m = float(mres.max())
+                if j not in refs:
+                    continue
+                taa = np.empty((r.height, r.width, 4), np.float32)
+                noisy = np.empty((r.height, r.width, 4), np.float32)
+                cl.enqueue_copy(r.device.queue, taa, color_buf)
+                cl.enqueue_copy(r.device.queue, noisy, r.buffers.sample)
+                ln, lt, lr = (
+                    luminance(noisy[..., :3].astype(np.float64)),
+                    luminance(taa[..., :3].astype(np.float64)),
+                    refs[j],
+                )
+                fresh = (mres <= fresh_m) & (mres > 0)
+                for c, (x, mk) in enumerate([(ln, None), (lt, None), (ln, fresh), (ln, mres > fresh_m)]):
+                    sel = np.ones_like(lr, bool) if mk is None else mk
+                    sums[k, c] += (x[sel].sum(), lr[sel].sum())
+        rel = sums[..., 0] / sums[..., 1] - 1.0
+        cells = [
+            f"{c} {rel[:, i].mean():+.4f} ({' '.join(f'{v:+.3f}' for v in rel[:, i])})"
+            for i, c in enumerate(["noisy", "taa", "fresh", "history"])
+        ]
+        print(f"{m:<56} " + " | ".join(cells), flush=True)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--case", default="contact")
@@ -132,10 +178,15 @@ def main() -> None:
     ap.add_argument("--frames", type=int, default=16)
     ap.add_argument("--seed", type=int, default=1000)
     ap.add_argument("--define", action="append", default=[], metavar="NAME=VALUE")
+    ap.add_argument("--orbit", default=None, help="an orbit (192x108, 24 frames, every 4th evaluated) instead")
+    ap.add_argument("--seeds", type=int, default=4, help="--orbit: seeds 1 .. seeds")
+    ap.add_argument("--cache-dir", default="out/refs", help="--orbit: the references' cache")
     a = ap.parse_args()
     if a.define:
         add_probe_defines(a.define)
-    stages.permutation_key = _permute_biased_too
+    if a.orbit:
+        orbit(a.orbit, a.methods.split(","), a.seeds, a.cache_dir)
+        return
     case = cases(False, [a.case])[0]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
