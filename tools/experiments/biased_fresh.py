@@ -19,19 +19,23 @@ With --orbit SCENE (garden_orbit, market_orbit: eval/scenes/motion_validation.py
 tools/experiments/restir_motion.py does (TAA on, one frame per animation frame), and prints per method the image's
 relative bias over the evaluated frames after frame 0, of ReSTIR's 1-sample image (noisy) and of TAA's output, and
 the noisy image's bias over the pixels that found no ReSTIR history (fresh) and the others, per seed; methods are
-then `restircl report` names (`restir+bias_correction=none`).
+then `restircl report` names (`restir+bias_correction=none`). With --cpu-orbit SCENE it times instead the CPU ms per
+frame of each method built as it is and with TEST_BIASED_PLAIN_M (the plain 1/M), two renderers in one process,
+their frames interleaved in blocks of the orbit's frames 2-23, `--seeds` times.
 """
 
 from __future__ import annotations
 
 import argparse
 import math
+import time
 import warnings
 from pathlib import Path
 
 import numpy as np
 import pyopencl as cl
 from restircl.core import layouts as L
+from restircl.core import program
 from restircl.eval.probe_defines import add_probe_defines
 from restircl.eval.report.moving import _warm_renderer
 from restircl.eval.report.reference import get_reference
@@ -170,6 +174,32 @@ def orbit(name: str, methods: list[str], seeds: int, cache_dir: str = "out/refs"
         print(f"{m:<56} " + " | ".join(cells), flush=True)
 
 
+def cpu_orbit(name: str, methods: list[str], repeats: int) -> None:
+    """CPU ms per frame of each method as built and with the plain 1/M, interleaved in one process."""
+    scene = motion_scene(name, 192, 108, 24)
+    base = program.kernel_defines
+    for m in methods:
+        rs = {}
+        for label, extra in (("targets", {}), ("plain_m", {"TEST_BIASED_PLAIN_M": True})):
+            program.kernel_defines = (lambda e: lambda: {**base(), **e})(extra)
+            rs[label] = _warm_renderer(scene, m, None, None, 1, still=False)
+        program.kernel_defines = base
+        cpu: dict[str, list[float]] = {k: [] for k in rs}
+        for _ in range(repeats):
+            for k, r in rs.items():
+                for f in range(2, scene.frames):
+                    c0 = time.process_time()
+                    r.run_frame(f, still=False)
+                    r.device.queue.finish()
+                    cpu[k].append((time.process_time() - c0) * 1e3)
+        med = {k: float(np.median(v)) for k, v in cpu.items()}
+        print(
+            f"{name} {m}: CPU ms per frame (median of {len(cpu['targets'])}) targets {med['targets']:.2f}, plain 1/M "
+            f"{med['plain_m']:.2f}, ratio {med['targets'] / med['plain_m']:.3f}",
+            flush=True,
+        )
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--case", default="contact")
@@ -179,11 +209,15 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=1000)
     ap.add_argument("--define", action="append", default=[], metavar="NAME=VALUE")
     ap.add_argument("--orbit", default=None, help="an orbit (192x108, 24 frames, every 4th evaluated) instead")
-    ap.add_argument("--seeds", type=int, default=4, help="--orbit: seeds 1 .. seeds")
+    ap.add_argument("--cpu-orbit", default=None, help="CPU time against the plain 1/M on an orbit instead")
+    ap.add_argument("--seeds", type=int, default=4, help="--orbit: seeds 1 .. seeds; --cpu-orbit: repeats")
     ap.add_argument("--cache-dir", default="out/refs", help="--orbit: the references' cache")
     a = ap.parse_args()
     if a.define:
         add_probe_defines(a.define)
+    if a.cpu_orbit:
+        cpu_orbit(a.cpu_orbit, a.methods.split(","), a.seeds)
+        return
     if a.orbit:
         orbit(a.orbit, a.methods.split(","), a.seeds, a.cache_dir)
         return
