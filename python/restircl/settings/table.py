@@ -18,8 +18,7 @@ METHOD_CHOICES = (
 METHODS = tuple(c.id for c in METHOD_CHOICES)
 # in the order of the kernels' BIAS_* codes (index = code)
 BIAS_CHOICES = (
-    Choice("none", "None (biased)", "M-weighted merge without shadow rays: faster, darkens at contact shadows",
-           2),
+    Choice("none", "None (biased)", "M-weighted merge, no shadow rays: faster, darkens at contact shadows", 2),
     Choice("z_count", "1/Z (unbiased)", "Divide by the number of reservoirs whose sample could have produced this "
            "pixel's sample", 1),
     Choice("pairwise", "Pairwise MIS (unbiased)", "Weigh each neighbour's sample against this pixel's by their "
