@@ -63,10 +63,10 @@ inline uint permutation_second(uint permutation)
  * takes the spatial pass's fresh-pixel work (disocclusion boost, extra candidates). Neither is the pixel's own
  * history, so the chains stay broken; the second try gives a history to about two thirds of the pixels the first
  * left without one (garden_orbit 13 -> 4 %, market_orbit 23 -> 9 % of the pixels), which costs less than their
- * fresh-pixel work and lowers the error through TAA a little
- * (docs/measurements/temporal-stability.md, "Permutation sampling's second try"). Which pixel is taken depends on
- * the G-buffers alone, so the merge stays unbiased. Falling back to the pixel's own history instead (the probe
- * below) keeps the chains at the edges, where they cost TAA most ("Why permutation sampling costs CPU"). */
+ * fresh-pixel work and lowers the error through TAA a little (docs/measurements/temporal-stability.md, "Where
+ * ReSTIR's error through TAA is left"). Which pixel is taken depends on the G-buffers alone, so the merge stays
+ * unbiased. Falling back to the pixel's own history instead (the probe below) keeps the chains at the edges, where
+ * they cost TAA most ("Why permutation sampling costs CPU"). */
 inline int reproject_pixel(const __global GSample* gbuf, const __global GSample* prev_gbuf, int x, int y,
                            int width, int height, float depth_tol, float normal_cos, uint permutation)
 {
