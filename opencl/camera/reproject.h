@@ -49,12 +49,24 @@ inline int reproject_test(const GSample* cur, const __global GSample* prev_gbuf,
     return reproject_same_surface(cur, &prev, depth_tol, normal_cos) ? j : -1;
 }
 
+/* The block's second bijection: every offset of `permutation`'s key moved by 2 (so the pixel it names is neither the
+ * pixel itself, as with any key, nor the one the first key names). */
+inline uint permutation_second(uint permutation)
+{
+    uint ox = (permutation + 2u) & 3u, oy = ((permutation >> 2) + 2u) & 3u;
+    return 16u | ox | (oy << 2);
+}
+
 /* The previous-frame pixel index holding the surface of pixel (x, y), or -1 (off-screen or disoccluded). With
- * permutation sampling the permuted pixel alone is tried: where it fails the surface test (an edge within the 4x4
- * block) the pixel has no history this frame, takes the spatial pass's fresh-pixel work (disocclusion boost, extra
- * candidates) and a sample uncorrelated with its last one. That costs about 8 % CPU per frame on the orbits and
- * buys most of the mode's lower error through TAA; falling back to the pixel's own history (the probe below) saves
- * the cost and loses that gain (docs/measurements/temporal-stability.md, "Why permutation sampling costs CPU"). */
+ * permutation sampling the permuted pixel is tried, then, where it fails the surface test (an edge within the 4x4
+ * block), the pixel the block's second bijection names; where both fail the pixel has no history this frame and
+ * takes the spatial pass's fresh-pixel work (disocclusion boost, extra candidates). Neither is the pixel's own
+ * history, so the chains stay broken; the second try gives a history to about two thirds of the pixels the first
+ * left without one (garden_orbit 13 -> 4 %, market_orbit 23 -> 9 % of the pixels), which costs less than their
+ * fresh-pixel work and lowers the error through TAA a little (docs/measurements/temporal-stability.md, "Where
+ * ReSTIR's error through TAA is left"). Which pixel is taken depends on the G-buffers alone, so the merge stays
+ * unbiased. Falling back to the pixel's own history instead (the probe below) keeps the chains at the edges, where
+ * they cost TAA most ("Why permutation sampling costs CPU"). */
 inline int reproject_pixel(const __global GSample* gbuf, const __global GSample* prev_gbuf, int x, int y,
                            int width, int height, float depth_tol, float normal_cos, uint permutation)
 {
@@ -66,6 +78,13 @@ inline int reproject_pixel(const __global GSample* gbuf, const __global GSample*
         int qx = px, qy = py;
         permute_pixel(&qx, &qy, permutation);
         int j = reproject_test(&cur, prev_gbuf, qx, qy, width, height, depth_tol, normal_cos);
+#ifndef PROBE_PERMUTATION_ONE_TRY  /* a probe (--define): the first bijection alone, as before the second try */
+        if (j >= 0) return j;
+        qx = px;
+        qy = py;
+        permute_pixel(&qx, &qy, permutation_second(permutation));
+        j = reproject_test(&cur, prev_gbuf, qx, qy, width, height, depth_tol, normal_cos);
+#endif
 #ifdef PROBE_PERMUTATION_FALLBACK  /* tools/experiments/restir_motion.py --define: the own history on a failure */
         if (j >= 0) return j;
 #else

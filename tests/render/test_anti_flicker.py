@@ -9,6 +9,7 @@ import pyopencl as cl
 import pytest
 from restircl import Renderer, Settings, scenes
 from restircl.core import layouts as L
+from restircl.eval.probe_defines import add_probe_defines
 from restircl.render.stages import permutation_key
 
 
@@ -121,6 +122,29 @@ def test_permutation_sampling_takes_a_neighbours_history():
     assert len(keys) == 16 and all(16 <= k < 32 for k in keys)
 
 
+def test_permutation_second_try_only_adds_histories(monkeypatch):
+    """Where the permuted pixel fails the surface test the block's second bijection is tried (camera/reproject.h).
+    A still camera without jitter gives both builds the same G-buffers and keys, so every pixel that finds a
+    history with the first bijection alone (the probe PROBE_PERMUTATION_ONE_TRY, the control) finds one with both,
+    and the lamps' edges in the blocks leave some that only the second try gives one."""
+    sc = scenes.many_lights(48, 32, frames=1)
+
+    def with_history(defines: list[str]) -> np.ndarray:
+        with monkeypatch.context() as m:
+            add_probe_defines(defines, m.setattr)
+            r = Renderer(sc, Settings(seed=2, jitter=False))
+            for _ in range(4):
+                r.render_frame(0, aovs=False)
+            temp = np.empty(r.pixels, L.RESERVOIR)
+            cl.enqueue_copy(r.device.queue, temp, r.buffers.res_temp)
+            r.device.queue.finish()
+            return temp["M"] > r.settings.candidates + r.last_plan.bsdf_candidates  # more than this frame's own
+
+    one, both = with_history(["PROBE_PERMUTATION_ONE_TRY"]), with_history([])
+    assert np.all(both[one])
+    assert both.sum() > one.sum(), (both.sum(), one.sum())
+
+
 def test_disocclusion_boost_is_taken_only_without_history():
     """Spatial-only reuse: no pixel has history, each takes 8 neighbours, so the image changes; with a boost not
     above Neighbours (3) nothing changes. (Its worth, measured on the first frame of a 48x36 cornell box, paired
@@ -128,8 +152,11 @@ def test_disocclusion_boost_is_taken_only_without_history():
     sc = scenes.cornell_box(32, 24)
 
     def frame(boost: int) -> np.ndarray:
-        return Renderer(sc, Settings(seed=2, temporal=False, spatial_neighbours=3,
-                                     disocclusion_boost=boost)).render_frame(0).color
+        return (
+            Renderer(sc, Settings(seed=2, temporal=False, spatial_neighbours=3, disocclusion_boost=boost))
+            .render_frame(0)
+            .color
+        )
 
     base = frame(0)
     assert not np.array_equal(frame(8), base)
