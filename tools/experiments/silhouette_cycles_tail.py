@@ -31,7 +31,7 @@ def main() -> None:
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--seeds", type=int, default=16)
     p.add_argument("--spp", type=int, default=256)
-    p.add_argument("--variant", default="", choices=("", "noterm"))
+    p.add_argument("--variant", default="", choices=("", "noterm", "flat"))
     p.add_argument("--border", default=None, help="x0,y0,x1,y1 (rows from the top) instead of the gold rim's")
     p.add_argument("--pixels", default=None, help="y:x,y:x,... inside the border instead of the gold rim's")
     a = p.parse_args()
@@ -40,6 +40,11 @@ def main() -> None:
     import bpy
 
     _, sc = scene_pair("user", WIDTH, HEIGHT)
+    if a.variant == "flat":  # every mesh flat-shaded
+        for ob in bpy.data.objects:
+            if ob.type == "MESH":
+                for f in ob.data.polygons:
+                    f.use_smooth = False
     if a.variant == "noterm":
         for ob in bpy.data.objects:
             if ob.type == "MESH":
