@@ -1,8 +1,9 @@
 """Where our converged direct light on the `user` kind differs from Cycles' cached 2 x 1024-spp reference, pixel by
 pixel (issue 37: the metals' silhouettes). Two renders of ours (RIS, 32 candidates, as the compare command's converged
 image; seeds 101 and 102) give the mean and our per-pixel noise; Cycles' reference is the cached average (its noise
-is known as a whole only). Writes an .npz (our two renders, the reference, the shading normal, the view grazing
-angle) and prints the excess by object and the largest pixels. docs/measurements/error-vs-time.md, "The metals'
+is known as a whole only). Writes an .npz (our two renders, the reference, the last frame's shading normal and
+depth) and prints the excess over our noise and its largest pixels; `--against` compares with a Cycles variant's two
+renders of tools/experiments/user_direct_probe.py instead. docs/measurements/error-vs-time.md, "user: the metals'
 silhouettes".
 
     nice python -m tools.experiments.silhouette_probe --frames 512 --tag base --cache-dir out/cache
