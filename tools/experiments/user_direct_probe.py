@@ -43,6 +43,15 @@ def _variant(bpy, sc, name: str) -> None:
         if mod == "closest":  # the world's Environment Texture read texel by texel (Blender's default: Linear)
             tex = next(n for n in sc.world.node_tree.nodes if n.bl_idname == "ShaderNodeTexEnvironment")
             tex.interpolation = "Closest"
+        elif mod == "flat":  # every mesh flat-shaded: no smooth normal to correct at the silhouettes
+            for ob in bpy.data.objects:
+                if ob.type == "MESH":
+                    for f in ob.data.polygons:
+                        f.use_smooth = False
+        elif mod == "noterm":  # Cycles' shadow terminator geometry offset off (Blender's default is 0.1)
+            for ob in bpy.data.objects:
+                if ob.type == "MESH":
+                    ob.shadow_terminator_geometry_offset = 0.0
         else:
             raise ValueError(mod)
     if name == "all":
