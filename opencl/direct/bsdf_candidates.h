@@ -111,6 +111,11 @@ inline void bsdf_candidate_add(const Surface* s, const __global Light* lights, c
     if (!(t > 0.0f)) return;
     float p_light = light_pick_pdf(lp, index, s->x, light_pick_normal(s)) * light_point_pdf(rec, type, s->x, &e);
     float p_mix = mis_mixture_pdf(n_light, p_light, (float)b.count, bsdf_pdf_light_measure(s, &e));
+#ifdef PROBE_FLYFIRE
+    if (t / p_mix > PROBE_FLYFIRE)
+        printf("bsdf gid %d light %d t %g p_light %g p_bsdf %g pmix %g d %g w %g\n", (int)get_global_id(0), index, t,
+               p_light, bsdf_pdf_light_measure(s, &e), p_mix, e.dist, t / p_mix);
+#endif
     bool picked = sel ? res_update_remap(r, index, uv.x, uv.y, t / p_mix, t, sel, 0.0f)
                       : res_update(r, index, uv.x, uv.y, t / p_mix, t, rnd, 0.0f);
     if (picked) *chosen = e;

@@ -109,6 +109,11 @@ inline void ris_candidates(const Surface* s, const __global Light* lights, const
                 pdf = mis_mixture_pdf(n_light, pdf, n_bsdf,
                                       bsdf_pdf_of_light_sample(s, rec[k], type[k], light[k], bsdf, &e));
 #endif
+#ifdef PROBE_FLYFIRE  /* a scratch probe: the light candidates whose weight exceeds PROBE_FLYFIRE */
+            if (t / pdf > PROBE_FLYFIRE)
+                printf("light gid %d light %d type %d t %g pick %g py %g pmix %g d %g w %g\n", (int)get_global_id(0),
+                       light[k], type[k], t, pick_pdf[k], py, pdf, e.dist, t / pdf);
+#endif
             bool picked = q->on ? res_update_remap(r, light[k], uv.x, uv.y, t / pdf, t, &sel, 1.0f)
                                 : res_update(r, light[k], uv.x, uv.y, t / pdf, t, rnd[k], 1.0f);
             if (picked) *chosen = e;
