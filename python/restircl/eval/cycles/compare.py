@@ -93,6 +93,11 @@ OURS: dict[str, dict] = {
     # with the light sample by MIS (Cycles' light and BSDF sampling), solid-angle sampling of every area light
     "auto_tree": {"light_proposal": "tree"},
     "auto_mis": {"bsdf_mis_sample": True},
+    # F12's still path with more BSDF-sampled candidates at glossy pixels (a glint of a small lamp in rough metal is
+    # found by a BSDF candidate alone: docs/measurements/temporal-stability.md, "Where the flythrough's fireflies
+    # come from")
+    "auto_bsdf2": {"bsdf_candidates": 2},
+    "auto_bsdf4": {"bsdf_candidates": 4},
 }
 #: Cycles as the timed renders' opponent, and with one of its own factors switched off (the scene's Cycles settings
 #: changed for its renders): its light tree, which also splits a light sample into several where the tree's
@@ -100,7 +105,7 @@ OURS: dict[str, dict] = {
 CYCLES: dict[str, dict] = {"cycles": {}, "cycles_no_tree": {"use_light_tree": False}}
 #: our methods whose settings go through still_settings, as F12's and the CLI's still renders do
 STILL_PATH = ("auto", "auto_random", "auto_array", "auto_solid", "auto_solid_near", "auto_path_array", "auto_tree",
-              "auto_mis")
+              "auto_mis", "auto_bsdf2", "auto_bsdf4")
 #: what a comparison runs unless told otherwise; any of OURS may be named
 METHODS = ("cycles", "default", "auto", "ris")
 ALL_METHODS = (*CYCLES, *OURS)
