@@ -7,7 +7,11 @@ isnan/isinf guards the kernels rely on.
 
 from __future__ import annotations
 
+import hashlib
+import json
+import os
 import re
+import time
 import warnings
 from collections.abc import Mapping
 from importlib import resources
@@ -83,9 +87,13 @@ def build_program(
     text = source if source is not None else (src_dir / MAIN_SOURCE).read_text()
     # the array limits the kernels share with validate() come from the settings table; no -I: the headers are
     # written into the source (source_inline.py), as drivers split options at the spaces of an install path
-    options = [*BASE_OPTIONS, *format_options(kernel_defines()), *format_options(bvh_packets.defines()),
-               *format_options(flags or {}),
-               *extra_options]
+    options = [
+        *BASE_OPTIONS,
+        *format_options(kernel_defines()),
+        *format_options(bvh_packets.defines()),
+        *format_options(flags or {}),
+        *extra_options,
+    ]
     for opt in options:
         if opt in FORBIDDEN_OPTIONS:
             raise ValueError(f"{opt} deletes the NaN/Inf guards and is not allowed")
@@ -94,6 +102,7 @@ def build_program(
     if prog is not None:
         return prog
     name = MAIN_SOURCE if source is None else "program.cl"
+    start = time.perf_counter()
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", cl.CompilerWarning)
@@ -106,5 +115,25 @@ def build_program(
         raise KernelBuildError(
             f"OpenCL build failed{where} on {device.label} with options {' '.join(options)}:\n{log}", log, location
         ) from exc
+    _log_build(options, text, time.perf_counter() - start)
     _PROGRAMS[key] = prog
     return prog
+
+
+def _log_build(options: list[str], text: str, seconds: float) -> None:
+    """With $RESTIRCL_BUILD_LOG set, append one JSON line per program build (or disk-cache fetch) to that file: the
+    program's hash, the source size, the seconds it took and the options, to find which variants a run builds."""
+    path = os.environ.get("RESTIRCL_BUILD_LOG")
+    if not path:
+        return
+    digest = hashlib.sha1(("\n".join(options) + "\n" + text).encode()).hexdigest()[:12]
+    line = {
+        "hash": digest,
+        "chars": len(text),
+        "s": round(seconds, 3),
+        "t": round(time.time(), 2),
+        "pid": os.getpid(),
+        "options": [o for o in options if o.startswith("-D")],
+    }
+    with open(path, "a") as f:
+        f.write(json.dumps(line) + "\n")
