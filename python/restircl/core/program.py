@@ -7,9 +7,6 @@ isnan/isinf guards the kernels rely on.
 
 from __future__ import annotations
 
-import hashlib
-import json
-import os
 import re
 import time
 import warnings
@@ -21,6 +18,7 @@ import pyopencl as cl
 
 from ..bvh import packets as bvh_packets
 from ..settings.table import kernel_defines
+from . import build_log
 from .device import Device
 from .source_inline import inline_includes
 
@@ -115,25 +113,6 @@ def build_program(
         raise KernelBuildError(
             f"OpenCL build failed{where} on {device.label} with options {' '.join(options)}:\n{log}", log, location
         ) from exc
-    _log_build(options, text, time.perf_counter() - start)
+    build_log.log_build(prog, options, text, time.perf_counter() - start)
     _PROGRAMS[key] = prog
     return prog
-
-
-def _log_build(options: list[str], text: str, seconds: float) -> None:
-    """With $RESTIRCL_BUILD_LOG set, append one JSON line per program build (or disk-cache fetch) to that file: the
-    program's hash, the source size, the seconds it took and the options, to find which variants a run builds."""
-    path = os.environ.get("RESTIRCL_BUILD_LOG")
-    if not path:
-        return
-    digest = hashlib.sha1(("\n".join(options) + "\n" + text).encode()).hexdigest()[:12]
-    line = {
-        "hash": digest,
-        "chars": len(text),
-        "s": round(seconds, 3),
-        "t": round(time.time(), 2),
-        "pid": os.getpid(),
-        "options": [o for o in options if o.startswith("-D")],
-    }
-    with open(path, "a") as f:
-        f.write(json.dumps(line) + "\n")
