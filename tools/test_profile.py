@@ -56,13 +56,13 @@ def per_file(rows: dict[str, list[dict]]) -> dict[str, dict]:
     return out
 
 
-def concurrent_duplicates(builds: list[dict]) -> tuple[int, float]:
-    """Builds of a program that another process was building at the same time (both cold: PoCL's cache had no entry
-    yet): their count and seconds."""
+def concurrent_duplicates(rows: list[dict]) -> tuple[int, float]:
+    """Builds of a program (or first launches of a kernel of it) that another process was doing at the same time (both
+    cold: PoCL's cache had no entry yet): their count and seconds."""
     count, seconds = 0, 0.0
     by_hash = defaultdict(list)
-    for b in builds:
-        by_hash[b["hash"]].append(b)
+    for b in rows:
+        by_hash[b["hash"], b.get("kernel")].append(b)
     for same in by_hash.values():
         for b in same:
             if any(o["pid"] != b["pid"] and o["t"] - o["s"] < b["t"] and b["t"] - b["s"] < o["t"] for o in same):
@@ -85,7 +85,11 @@ def main() -> None:
         f"first launches {sum(k['s'] for k in kernels):.0f} s"
     )
     dup, dup_s = concurrent_duplicates(builds)
-    print(f"builds overlapping a build of the same program in another process: {dup} ({dup_s:.0f} s)")
+    kdup, kdup_s = concurrent_duplicates(kernels)
+    print(
+        f"overlapping the same work in another process: {dup} builds ({dup_s:.0f} s), "
+        f"{kdup} first launches ({kdup_s:.0f} s)"
+    )
     print("cpu_s  kids_s  tests  builds  first  build_s  launch_s  file")
     for name, f in sorted(per_file(rows).items(), key=lambda kv: -kv[1]["cpu"])[: args.top]:
         print(
