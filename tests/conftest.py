@@ -86,6 +86,34 @@ def reference_samples(device, tmp_path_factory):
     return get
 
 
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_protocol(item, nextitem):
+    """With $RESTIRCL_BUILD_LOG set (core/program.py logs each program build there), also one line per test: its
+    worker, start and end, and the CPU seconds of this process (PoCL's threads included) and of its finished
+    children, so that tools/test_profile.py can tell a test's kernel builds from its renders."""
+    path = os.environ.get("RESTIRCL_BUILD_LOG")
+    if not path:
+        yield
+        return
+    import json
+    import resource
+
+    t0, cpu0 = time.time(), time.process_time()
+    kids0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    yield
+    kids1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    line = {
+        "test": item.nodeid,
+        "pid": os.getpid(),
+        "t0": round(t0, 2),
+        "t1": round(time.time(), 2),
+        "cpu": round(time.process_time() - cpu0, 2),
+        "children_cpu": round(kids1.ru_utime + kids1.ru_stime - kids0.ru_utime - kids0.ru_stime, 2),
+    }
+    with open(path, "a") as f:
+        f.write(json.dumps(line) + "\n")
+
+
 _EXIT: dict[str, int] = {}
 
 

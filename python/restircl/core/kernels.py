@@ -13,6 +13,7 @@ from pathlib import Path
 
 import pyopencl as cl
 
+from . import build_log
 from .device import Device
 from .program import opencl_dir
 
@@ -70,15 +71,17 @@ class Kernels:
 
     def __init__(self, device: Device, program: cl.Program, names: tuple[str, ...] | None = None) -> None:
         self.device = device
+        self.program = program
         declared = declared_parameters()
         if names is None:
             built = set(program.get_info(cl.program_info.KERNEL_NAMES).split(";"))
             names = tuple(name for name in declared if name in built)
         self.parameters = {name: declared[name] for name in names}
         self.k = {name: cl.Kernel(program, name) for name in self.parameters}
-        self.max_local = {name: int(k.get_work_group_info(cl.kernel_work_group_info.WORK_GROUP_SIZE,
-                                                          device.device))
-                          for name, k in self.k.items()}
+        self.max_local = {
+            name: int(k.get_work_group_info(cl.kernel_work_group_info.WORK_GROUP_SIZE, device.device))
+            for name, k in self.k.items()
+        }
 
     def check(self, name: str, args: dict) -> list:
         """The argument values of kernel `name` in declaration order; KernelArgumentError unless `args` names each
@@ -89,10 +92,13 @@ class Kernels:
         missing = [p for p in params if p not in args]
         unknown = [a for a in args if a not in params]
         if missing or unknown:
-            parts = [f"missing {', '.join(missing)}" if missing else "",
-                     f"unknown {', '.join(unknown)}" if unknown else ""]
-            raise KernelArgumentError(f"kernel {name}: {'; '.join(p for p in parts if p)} argument(s) "
-                                      f"(it takes {', '.join(params)})")
+            parts = [
+                f"missing {', '.join(missing)}" if missing else "",
+                f"unknown {', '.join(unknown)}" if unknown else "",
+            ]
+            raise KernelArgumentError(
+                f"kernel {name}: {'; '.join(p for p in parts if p)} argument(s) (it takes {', '.join(params)})"
+            )
         return [args[p] for p in params]
 
     def launch(self, name: str, size: tuple[int, ...], **args) -> None:
@@ -104,4 +110,12 @@ class Kernels:
         kernel.set_args(*values)
         local = local_size(len(size), self.max_local[name])
         padded = tuple(-(-n // m) * m for n, m in zip(size, local, strict=True))
-        cl.enqueue_nd_range_kernel(self.device.queue, kernel, padded, local)
+        if build_log.PATH is None:
+            cl.enqueue_nd_range_kernel(self.device.queue, kernel, padded, local)
+        else:
+            build_log.launch(
+                self.device.queue,
+                self.program,
+                name,
+                lambda: cl.enqueue_nd_range_kernel(self.device.queue, kernel, padded, local),
+            )

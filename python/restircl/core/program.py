@@ -8,6 +8,7 @@ isnan/isinf guards the kernels rely on.
 from __future__ import annotations
 
 import re
+import time
 import warnings
 from collections.abc import Mapping
 from importlib import resources
@@ -17,6 +18,7 @@ import pyopencl as cl
 
 from ..bvh import packets as bvh_packets
 from ..settings.table import kernel_defines
+from . import build_log
 from .device import Device
 from .source_inline import inline_includes
 
@@ -83,9 +85,13 @@ def build_program(
     text = source if source is not None else (src_dir / MAIN_SOURCE).read_text()
     # the array limits the kernels share with validate() come from the settings table; no -I: the headers are
     # written into the source (source_inline.py), as drivers split options at the spaces of an install path
-    options = [*BASE_OPTIONS, *format_options(kernel_defines()), *format_options(bvh_packets.defines()),
-               *format_options(flags or {}),
-               *extra_options]
+    options = [
+        *BASE_OPTIONS,
+        *format_options(kernel_defines()),
+        *format_options(bvh_packets.defines()),
+        *format_options(flags or {}),
+        *extra_options,
+    ]
     for opt in options:
         if opt in FORBIDDEN_OPTIONS:
             raise ValueError(f"{opt} deletes the NaN/Inf guards and is not allowed")
@@ -94,6 +100,7 @@ def build_program(
     if prog is not None:
         return prog
     name = MAIN_SOURCE if source is None else "program.cl"
+    start = time.perf_counter()
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", cl.CompilerWarning)
@@ -106,5 +113,6 @@ def build_program(
         raise KernelBuildError(
             f"OpenCL build failed{where} on {device.label} with options {' '.join(options)}:\n{log}", log, location
         ) from exc
+    build_log.log_build(prog, options, text, time.perf_counter() - start)
     _PROGRAMS[key] = prog
     return prog
