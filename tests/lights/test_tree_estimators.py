@@ -8,31 +8,49 @@ import numpy as np
 import pytest
 
 from .. import helpers as h
-from ..render.test_estimators import SIZES as RIS_SIZES
+from ..bias_controls import wrong_pdf
 from ..render.test_restir import SIZE_PARAMS, assert_matches
 from ..render.test_restir import SIZES as RESTIR_SIZES
 
 W, H = 16, 12
 TREE = dict(light_proposal="tree", jitter=False)
 # The ReSTIR checks run at render/test_restir.py's two sizes ("quick" in the default suite, "full" behind the slow
-# marker) against the same reference renders (one per session). The RIS check runs at the full size only: at
-# render/test_estimators.py's quick size (2048 frames, 32 batches) the tree's rare picks leave batches without them, the
-# batch standard errors come out too small and z reaches 17 on a few pixels (measured, seed 9).
+# marker) against the same reference renders (one per session). The RIS check runs at render/test_estimators.py's
+# full size (8192 frames in 64 batches) behind the slow marker and, in the default suite, at 4096 frames in 32
+# batches: batches of 128 frames as at the full size (at render/test_estimators.py's quick size, batches of 64
+# frames, the tree's rare picks left batches without them, the batch standard errors came out too small and z
+# reached 17 on a few pixels, seed 9). Its negative control, a light pdf 2 % too small, is rejected by far at any of
+# these sizes (bsdf off, seed 9, 2026-12-06: 86 pixels beyond 4 standard errors of 2 allowed at 8192 frames in 64
+# batches, 80 at 4096 in 32, 72 at 2048 in 32; the image mean +2.0 % against bounds of 0.16 %, 0.21 %, 0.30 %).
+RIS_SIZES = {"quick": (4096, 32), "full": (8192, 64)}  # frames (samples and reference), batches
 
 
 @pytest.fixture(scope="module")
 def reference(reference_samples):
-    return reference_samples(h.mixed_lights_scene(W, H), h.Settings(method="reference", seed=101, jitter=False),
-                             RIS_SIZES["full"][0])
+    """reference(size): the exhaustive sampler's frames (at the full size, render/test_estimators.py's renders)."""
+    return lambda size: reference_samples(h.mixed_lights_scene(W, H), h.Settings(method="reference", seed=101,
+                                                                                 jitter=False), RIS_SIZES[size][0])
 
 
+@pytest.mark.parametrize("size", SIZE_PARAMS)
 @pytest.mark.parametrize("bsdf", ["off", "on"])
-def test_ris_with_the_tree_matches_reference(device, reference, bsdf):
-    frames, batches = RIS_SIZES["full"]
+def test_ris_with_the_tree_matches_reference(device, reference, bsdf, size):
+    frames, batches = RIS_SIZES[size]
     s = h.Settings(method="ris", candidates=4, seed=9, bsdf_sampling=bsdf, **TREE)
     samples = h.collect(h.mixed_lights_scene(W, H), s, frames, device)
     assert np.all(np.isfinite(samples))
-    h.assert_mean_equals_reference(samples, reference, batches, f"tree ris bsdf={bsdf}")
+    h.assert_mean_equals_reference(samples, reference(size), batches, f"tree ris bsdf={bsdf}")
+
+
+def test_the_ris_check_rejects_a_wrong_pdf(device, reference, monkeypatch):
+    """Negative control: the tree's candidates with a light pdf 2 % too small (tests/bias_controls.py), half the
+    frames in batches of the same 128 frames: the check above must still reject it."""
+    wrong_pdf(monkeypatch)
+    s = h.Settings(method="ris", candidates=4, seed=9, bsdf_sampling="off", **TREE)
+    frames, batches = RIS_SIZES["quick"]
+    samples = h.collect(h.mixed_lights_scene(W, H), s, frames // 2, device)
+    with pytest.raises(AssertionError, match="outliers|image means"):
+        h.assert_mean_equals_reference(samples, reference("quick"), batches // 2, "tree ris, wrong pdf")
 
 
 @pytest.fixture(scope="module")
