@@ -83,17 +83,19 @@ def build_program(
     source: str | None = None,
     extra_options: tuple[str, ...] = (),
     main: str = MAIN_SOURCE,
+    host_defines: bool = True,
 ) -> cl.Program:
     """Build (or fetch from the cache) the program for `flags`. `main` is the file under opencl/ to build; `source`
-    replaces its text."""
+    replaces its text. host_defines: with the array limits of the settings table and the BVH layout (False for a
+    program that reads neither, so that its build does not depend on them)."""
     src_dir = opencl_dir()
     text = source if source is not None else (src_dir / main).read_text()
     # the array limits the kernels share with validate() come from the settings table; no -I: the headers are
     # written into the source (source_inline.py), as drivers split options at the spaces of an install path
+    host = [*format_options(kernel_defines()), *format_options(bvh_packets.defines())] if host_defines else []
     options = [
         *BASE_OPTIONS,
-        *format_options(kernel_defines()),
-        *format_options(bvh_packets.defines()),
+        *host,
         *format_options(flags or {}),
         *extra_options,
     ]
@@ -125,4 +127,4 @@ def build_program(
 
 def film_program(device: Device) -> cl.Program:
     """The film program (FILM_SOURCE) of `device`: built once per context, as its text takes no flags."""
-    return build_program(device, main=FILM_SOURCE)
+    return build_program(device, main=FILM_SOURCE, host_defines=False)
