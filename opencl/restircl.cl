@@ -61,7 +61,6 @@
 #endif
 
 #include "camera/primary.cl"
-#include "still/layers.cl"
 #include "lights/tiles.cl"
 #include "lights/pick_table.cl"
 #include "direct/direct.cl"
@@ -85,6 +84,4 @@
 #include "taa/clip_box.h"
 #include "taa/taa.cl"
 #include "filter/atrous.cl"
-#include "still/accumulate.cl"
-#include "still/holdout.cl"
-#include "film/cryptomatte.cl"
+#include "still/aux.cl"

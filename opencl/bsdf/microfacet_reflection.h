@@ -87,7 +87,7 @@ inline bool microfacet_reflection_sample(const Lobe* l, float3 n, float3 wo, flo
     return true;
 }
 
-/* What it reflects at normal incidence (F0 times weight): the denoiser's guide albedo (still/accumulate.cl) */
+/* What it reflects at normal incidence (F0 times weight): the denoiser's guide albedo (still/aux.cl) */
 inline float3 microfacet_reflection_albedo(const Lobe* l)
 {
     MicrofacetReflection m = microfacet_reflection(l);

@@ -191,7 +191,7 @@ __kernel void primary(const __global Camera* cam, const __global Camera* prev_ca
 #ifdef HAS_LIGHT_PASSES
     float3 gloss_colour = (float3)(0.0f);
 #ifdef HAS_GLOSSY
-    if (materials[as_int(g.gnormal.w)].info.y > 0) {  /* as accumulate_aux reads the lobes (still/accumulate.cl) */
+    if (materials[as_int(g.gnormal.w)].info.y > 0) {  /* as accumulate_aux reads the lobes (still/aux.cl) */
         int lobes = as_int(gx.wo.w);
         if (lobes > 0) gloss_colour += lobe_albedo(&gx.lobe0);
         if (lobes > 1) gloss_colour += lobe_albedo(&gx.lobe1);

@@ -2,6 +2,7 @@
 that misses, misspells or adds an argument is an error naming the kernel and the argument."""
 
 import numpy as np
+import pyopencl as cl
 import pytest
 from restircl import Renderer, Settings, scenes
 from restircl.core.kernels import KernelArgumentError, declared_parameters, parse_kernel_parameters
@@ -28,6 +29,13 @@ def test_declared_names_match_the_built_kernels(device):
     for k in (r.kernels.k, with_bounces.kernels.k):
         for name in k:
             assert len(declared[name]) == k[name].num_args, name
+    # the film kernels read no feature flag: both builds launch them from the device's one film program, and the
+    # feature builds do not compile them again
+    film = r.kernels.program_of["accumulate"]
+    assert r.kernels.program is not with_bounces.kernels.program and film is not r.kernels.program
+    for name in ("accumulate", "accumulate_holdout", "accumulate_light_passes", "layer_add", "accumulate_cryptomatte"):
+        assert r.kernels.program_of[name] is film and with_bounces.kernels.program_of[name] is film, name
+        assert name not in r.kernels.program.get_info(cl.program_info.KERNEL_NAMES).split(";"), name
 
 
 @pytest.fixture(scope="module")

@@ -15,7 +15,7 @@ import pyopencl as cl
 
 from . import build_log
 from .device import Device
-from .program import opencl_dir
+from .program import film_program, opencl_dir
 
 # work-items per work-group: 64 in 1D, 8x8 in 2D (docs/measurements/benchmarks.md: PoCL's own pick was slower)
 LOCAL_ITEMS = 64
@@ -67,17 +67,22 @@ def declared_parameters() -> dict[str, tuple[str, ...]]:
 class Kernels:
     """The kernels of one program on one device, with their work-group limits: by default every kernel declared in
     opencl/**/*.cl that this build has (a feature flag may leave a pass out), so a new stage's kernel needs no list
-    of its own."""
+    of its own; and the kernels of the device's film program (core/program.py film_program), which no flag
+    changes and every renderer shares."""
 
     def __init__(self, device: Device, program: cl.Program, names: tuple[str, ...] | None = None) -> None:
         self.device = device
         self.program = program
         declared = declared_parameters()
-        if names is None:
-            built = set(program.get_info(cl.program_info.KERNEL_NAMES).split(";"))
-            names = tuple(name for name in declared if name in built)
-        self.parameters = {name: declared[name] for name in names}
-        self.k = {name: cl.Kernel(program, name) for name in self.parameters}
+        film = film_program(device)
+        self.program_of = {
+            name: prog
+            for prog in (program, film)
+            for name in prog.get_info(cl.program_info.KERNEL_NAMES).split(";")
+            if name in declared and (names is None or name in names)
+        }
+        self.parameters = {name: declared[name] for name in declared if name in self.program_of}
+        self.k = {name: cl.Kernel(self.program_of[name], name) for name in self.parameters}
         self.max_local = {
             name: int(k.get_work_group_info(cl.kernel_work_group_info.WORK_GROUP_SIZE, device.device))
             for name, k in self.k.items()
@@ -115,7 +120,7 @@ class Kernels:
         else:
             build_log.launch(
                 self.device.queue,
-                self.program,
+                self.program_of[name],
                 name,
                 lambda: cl.enqueue_nd_range_kernel(self.device.queue, kernel, padded, local),
             )

@@ -23,6 +23,9 @@ from .device import Device
 from .source_inline import inline_includes
 
 MAIN_SOURCE = "restircl.cl"
+# The kernels whose code reads no feature flag (a still's sums): one program per device, shared by every renderer,
+# instead of a compile of each in every feature variant of MAIN_SOURCE (docs/measurements/benchmarks.md)
+FILM_SOURCE = "film/film.cl"
 # Denormals flushed to zero: on x86 CPUs a float op on a denormal operand takes a microcode assist, and our records
 # keep integers in the w lanes of float4s (light type and flags, primitive ids), which the float3 arithmetic of
 # their xyz carries along in the vector registers as denormals. Measured with PoCL 3.0 on this 2-core VM,
@@ -79,16 +82,20 @@ def build_program(
     flags: Mapping[str, int | float | bool | str] | None = None,
     source: str | None = None,
     extra_options: tuple[str, ...] = (),
+    main: str = MAIN_SOURCE,
+    host_defines: bool = True,
 ) -> cl.Program:
-    """Build (or fetch from the cache) the program for `flags`. `source` replaces the main file's text."""
+    """Build (or fetch from the cache) the program for `flags`. `main` is the file under opencl/ to build; `source`
+    replaces its text. host_defines: with the array limits of the settings table and the BVH layout (False for a
+    program that reads neither, so that its build does not depend on them)."""
     src_dir = opencl_dir()
-    text = source if source is not None else (src_dir / MAIN_SOURCE).read_text()
+    text = source if source is not None else (src_dir / main).read_text()
     # the array limits the kernels share with validate() come from the settings table; no -I: the headers are
     # written into the source (source_inline.py), as drivers split options at the spaces of an install path
+    host = [*format_options(kernel_defines()), *format_options(bvh_packets.defines())] if host_defines else []
     options = [
         *BASE_OPTIONS,
-        *format_options(kernel_defines()),
-        *format_options(bvh_packets.defines()),
+        *host,
         *format_options(flags or {}),
         *extra_options,
     ]
@@ -99,7 +106,7 @@ def build_program(
     prog = _PROGRAMS.get(key)
     if prog is not None:
         return prog
-    name = MAIN_SOURCE if source is None else "program.cl"
+    name = main if source is None else "program.cl"
     start = time.perf_counter()
     try:
         with warnings.catch_warnings():
@@ -116,3 +123,8 @@ def build_program(
     build_log.log_build(prog, options, text, time.perf_counter() - start)
     _PROGRAMS[key] = prog
     return prog
+
+
+def film_program(device: Device) -> cl.Program:
+    """The film program (FILM_SOURCE) of `device`: built once per context, as its text takes no flags."""
+    return build_program(device, main=FILM_SOURCE, host_defines=False)

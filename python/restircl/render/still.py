@@ -144,7 +144,8 @@ class StillAccumulation:
                             frame_params=frame_params, in_half=np.int32(half))
         if self.light_sums is not None:
             self.kernels.launch("accumulate_light_passes", (self.pixels * self.planes,),
-                                light_passes=self.light_planes, sums=self.light_sums, frame_params=frame_params)
+                                light_passes=self.light_planes, sums=self.light_sums, frame_params=frame_params,
+                                planes=np.int32(self.planes))
         done, n_half = self.counts
         self.counts = (done + 1, n_half + half)
 
