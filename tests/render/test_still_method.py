@@ -24,6 +24,7 @@ from restircl import (
 )
 from restircl.cli.main import main
 from restircl.render.still_method import (
+    BOUNCED_CANDIDATES,
     FEW_LIGHTS,
     FEW_LIGHTS_CANDIDATES,
     ONE_LIGHT_CANDIDATES,
@@ -180,6 +181,27 @@ def test_auto_takes_few_candidates_with_the_sobol_sampler_on_few_light_objects()
     # a user's own candidate count, and an explicit still method, keep the candidates as set
     assert still_settings(Settings(candidates=6), few).candidates == 6
     assert still_settings(Settings(still_method="ris"), few).candidates == Settings().candidates
+
+
+def test_with_bounces_the_few_lights_and_sunny_rules_take_one_candidate():
+    """Max Bounces > 0: the rules that lower the candidates (few light objects, a sunny world) lower them to
+    BOUNCED_CANDIDATES where there are at most FEW_LIGHTS light objects; many light objects and emissive meshes
+    without a sun keep the default, a sunny world over many lamps its SUNNY_CANDIDATES, and so do a user's own count
+    and the random sampler."""
+    few = KINDS["analytic_lights"]
+    sunny, sunny_many = _scene(("point",) * FEW_LIGHTS), _scene(("point",) * (FEW_LIGHTS + 1))
+    sunny_many.environment = Environment("sunny", color=(1, 1, 1), image=sky_map(128, 256))
+    sunny.environment = Environment("sunny", color=(1, 1, 1), image=sky_map(128, 256))
+    bounced = Settings(max_bounces=4)
+    assert BOUNCED_CANDIDATES < FEW_LIGHTS_CANDIDATES < SUNNY_CANDIDATES
+    assert still_settings(bounced, few).candidates == BOUNCED_CANDIDATES
+    assert still_settings(bounced, sunny).candidates == BOUNCED_CANDIDATES
+    assert still_settings(Settings(max_bounces=0), sunny).candidates == SUNNY_CANDIDATES
+    assert still_settings(bounced, sunny_many).candidates == SUNNY_CANDIDATES
+    assert still_settings(bounced, _scene(("point",) * (FEW_LIGHTS + 1))).candidates == Settings().candidates
+    assert still_settings(bounced, KINDS["mesh_lights"]).candidates == Settings().candidates
+    assert still_settings(Settings(max_bounces=4, candidates=3), few).candidates == 3
+    assert still_settings(Settings(max_bounces=4, sampler="random"), sunny).candidates == SUNNY_CANDIDATES
 
 
 def test_auto_takes_one_candidate_on_one_light_object():

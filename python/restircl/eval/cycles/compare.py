@@ -98,6 +98,11 @@ OURS: dict[str, dict] = {
     # come from")
     "auto_bsdf2": {"bsdf_candidates": 2},
     "auto_bsdf4": {"bsdf_candidates": 4},
+    # F12's still path with 1 and 2 light candidates at the camera vertex (with bounces, the direct light's share of
+    # a frame's variance is small beside its share of the frame's time)
+    "auto_c1": {"candidates": 1},
+    "auto_c2": {"candidates": 2},
+    "auto_c4": {"candidates": 4},
 }
 #: Cycles as the timed renders' opponent, and with one of its own factors switched off (the scene's Cycles settings
 #: changed for its renders): its light tree, which also splits a light sample into several where the tree's
@@ -105,7 +110,7 @@ OURS: dict[str, dict] = {
 CYCLES: dict[str, dict] = {"cycles": {}, "cycles_no_tree": {"use_light_tree": False}}
 #: our methods whose settings go through still_settings, as F12's and the CLI's still renders do
 STILL_PATH = ("auto", "auto_random", "auto_array", "auto_solid", "auto_solid_near", "auto_path_array", "auto_tree",
-              "auto_mis", "auto_bsdf2", "auto_bsdf4")
+              "auto_mis", "auto_bsdf2", "auto_bsdf4", "auto_c1", "auto_c2", "auto_c4")
 #: what a comparison runs unless told otherwise; any of OURS may be named
 METHODS = ("cycles", "default", "auto", "ris")
 ALL_METHODS = (*CYCLES, *OURS)
@@ -200,14 +205,20 @@ def agreement(scene: Scene, ref: CyclesReference, device=None, seconds: float = 
 
 
 def calibrate_cycles(bpy_scene, threads: int = 2, paths: LightPaths = DIRECT) -> dict:
-    """Seconds per sample and fixed seconds of a render call (sync, set-up, writing), from calls of 1 and
-    CALIBRATION_SPP samples (after a warm-up call that loads the kernels), with the Light Paths `paths`."""
+    """Seconds per sample and fixed seconds of a render call (sync, set-up, writing), with the Light Paths `paths`,
+    after a warm-up call that loads the kernels. The seconds per sample come from Cycles' own render times (its
+    metadata, without the synchronisation) of CALIBRATION_SPP and 8 x CALIBRATION_SPP samples: the wall clock of
+    whole calls carries a synchronisation that varies by a few tenths of a second from call to call, as much as a
+    few samples' time, and Cycles' first samples cost more than its later ones, so two short calls' wall clocks
+    overstated the seconds per sample (outdoor with 4 bounces: 2.4x, the samples of a timed render understated as
+    much). The fixed cost is a call's wall clock less its render time."""
     p = paths.cycles()
     cycles.render(bpy_scene, samples=1, threads=threads, paths=p)
-    one = cycles.render(bpy_scene, samples=1, threads=threads, paths=p).total_seconds
-    many = cycles.render(bpy_scene, samples=CALIBRATION_SPP, threads=threads, paths=p).total_seconds
-    per = max((many - one) / (CALIBRATION_SPP - 1), 1e-6)
-    return {"seconds_per_sample": per, "fixed_seconds": max(one - per, 0.0)}
+    one = cycles.render(bpy_scene, samples=1, threads=threads, paths=p)
+    few = cycles.render(bpy_scene, samples=CALIBRATION_SPP, threads=threads, paths=p)
+    many = cycles.render(bpy_scene, samples=8 * CALIBRATION_SPP, threads=threads, paths=p)
+    per = max((many.render_seconds - few.render_seconds) / (7 * CALIBRATION_SPP), 1e-6)
+    return {"seconds_per_sample": per, "fixed_seconds": max(one.total_seconds - one.render_seconds, 0.0)}
 
 
 def time_cycles(bpy_scene, budget: float, calibration: dict, seed: int, threads: int = 2,
