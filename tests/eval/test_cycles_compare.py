@@ -190,8 +190,8 @@ def test_light_paths_reach_every_render_and_key_the_references(tmp_path, device,
     res = C.run_kind("interior", budgets=(0.2,), reps=1, methods=("cycles", "auto"), width=32, height=18,
                      reference_spp=4, device=device, cache_dir=cache, agreement_seconds=0.3, log=logs.append,
                      paths=paths)
-    # 2 reference halves, 3 calibration calls, 1 timed render
-    assert len(seen) == 6
+    # 2 reference halves, 4 calibration calls, 1 timed render
+    assert len(seen) == 7
     assert all(p is not None and (p.max_bounces, p.diffuse_bounces, p.glossy_bounces) == (2, 2, 2) for p, *_ in seen)
     assert all(tuple(rest) == (2, 2, 2, 0.0, 0.0) for _, *rest in seen)
     assert [(s.max_bounces, s.diffuse_bounces, s.glossy_bounces) for s in timed] == [(2, 2, 2)]
