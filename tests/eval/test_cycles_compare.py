@@ -235,3 +235,18 @@ def test_compare_command_passes_the_light_paths(monkeypatch, capsys):
     assert calls[-1][1]["paths"] == C_DIRECT
     assert cli_main(["compare", "--kinds", "forest"]) == 2
     assert "unknown kind ['forest']" in capsys.readouterr().err and len(calls) == 3
+
+
+def test_ratio_table_gives_the_ratio_of_means_beside_the_median_of_paired_ratios():
+    """Four repetitions, Cycles heavy-tailed (one rep 10x): the median of the paired ratios and the ratio of the means
+    tell different stories, and the table prints both; with two repetitions only the median and range."""
+    ref = C.CyclesReference(np.zeros((2, 2, 3)), 4, 1.0, 0.0, 0.0, "x")
+    cyc, ours = [0.01, 0.01, 0.01, 0.1], [0.02, 0.02, 0.02, 0.02]
+    rows = [C.Row("k", m, 4.0, rep, 4.0, 0.1, 10, e) for m, errs in (("cycles", cyc), ("auto", ours))
+            for rep, e in enumerate(errs)]
+    res = C.KindResult("k", ref, {}, rows)
+    cell = CR.summary(res)["auto"]["4"]
+    assert cell["ratio"] == pytest.approx(2.0) and cell["ratio_means"] == pytest.approx(0.08 / 0.13)
+    assert "2 (0.2..2; means 0.62)" in CR.ratio_table([res])
+    two = C.KindResult("k", ref, {}, [r for r in rows if r.rep < 2])
+    assert "means" not in CR.ratio_table([two])
