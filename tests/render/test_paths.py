@@ -19,7 +19,11 @@ from ..stats import disagreement
 from .path_reference import PathEstimate, path_test_scene, trace_paths
 
 BATCHES, FRAMES = 8, 96  # our side: independent seeds, each a still of FRAMES frames
-REFERENCE_PATHS = 16384
+# The numpy reference costs most of this file and its noise rules the bounds (its standard errors 1.2-5 times ours).
+# With 8192 paths the negative control is still rejected: image means 11.0, 9.3 and 4.5 standard errors off (R, G, B;
+# 14.5, 12.7, 6.0 with 16384); the smallest bias the image check rejects is then about 2.0 / 2.1 / 2.7 % (1.5 / 1.6 /
+# 2.0 % with 16384; docs/measurements/benchmarks.md, "Test suite time")
+REFERENCE_PATHS = 8192
 # the deepest bounce count any test here asks of each light's scene: its one reference trace goes that deep
 REFERENCE_BOUNCES = {"both": 8, "quad": 3}
 

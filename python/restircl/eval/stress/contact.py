@@ -74,7 +74,7 @@ def _arena(n: int) -> Scene:
 def contact(full: bool) -> Case:
     """Receivers 2 mm .. 6 cm from emitters that touch the floor: emissive quads standing and leaning (grazing), a
     rectangle light standing, a sphere light and a soft point light resting; analytic reference, and the relMSE at
-    16, 64, 256 (full: 64, 256, 1024) frames must fall as 1 / N."""
+    8, 32, 128 (full: 64, 256, 1024) frames must fall as 1 / N."""
     return Case("contact", "receivers 2 mm..6 cm from emitters touching the floor", _arena(32 if full else 16),
                 runs=24 if full else 16, frames=64 if full else 16, settings=dict(sampler="random"),
-                convergence=(64, 256, 1024) if full else (16, 64, 256), convergence_runs=16 if full else 8)
+                convergence=(64, 256, 1024) if full else (8, 32, 128), convergence_runs=16 if full else 8)
