@@ -7,7 +7,8 @@ kind's Cycles reference (--cycles) averaged in by sample count; the reference's 
 x frames of the seeds at the last check, taken out. "oracle" weighs the same halves by the true r (the reference):
 what any rule for r^2 can reach at best.
 
-    python -m tools.experiments.error_estimate_rules /tmp/errest/data/garden.npz --cycles REF.npy
+    python -m tools.experiments.error_estimate_rules garden.npz --rules old,new --cycles REF.npy
+    python -m tools.experiments.error_estimate_rules ml_uniform.npz --rules old,new --reference-from ml_ris.npz
 """
 
 from __future__ import annotations
@@ -81,7 +82,9 @@ def load(path: str) -> tuple[tuple[int, ...], dict[int, tuple[np.ndarray, np.nda
     return checks, data, z
 
 
-def truths(path: str, rule: R2Rule, cycles: str | None, cycles_spp: int) -> tuple[dict[int, np.ndarray], dict]:
+def truths(
+    path: str, rule: R2Rule, cycles: str | None, cycles_spp: int, reference_from: str | None = None
+) -> tuple[dict[int, np.ndarray], dict]:
     """Per check the true relMSE of each seed's mean, and per check and seed the reference used (for the oracle)."""
     checks, data, z = load(path)
     last = max(checks)
@@ -90,9 +93,10 @@ def truths(path: str, rule: R2Rule, cycles: str | None, cycles_spp: int) -> tupl
     s = len(finals)
     out: dict[int, np.ndarray] = {}
     refs: dict = {}
-    if "ref_a" in z.files:
-        ra, rb = z["ref_a"].astype(np.float64), z["ref_b"].astype(np.float64)
-        na, nb = (int(x) for x in z["ref_counts"])
+    zr = np.load(reference_from) if reference_from else z
+    if "ref_a" in zr.files:
+        ra, rb = zr["ref_a"].astype(np.float64), zr["ref_b"].astype(np.float64)
+        na, nb = (int(x) for x in zr["ref_counts"])
         ref = (na * ra + nb * rb) / (na + nb)
         own = estimate(ra, rb, na, nb, rule)
         for n in checks:
@@ -122,12 +126,13 @@ def main() -> None:
     ap.add_argument("--cycles", help="the kind's Cycles reference (.npy), averaged into the leave-one-out one")
     ap.add_argument("--cycles-spp", type=int, default=512, help="its samples (both halves)")
     ap.add_argument("--rules", default=",".join(RULES))
+    ap.add_argument("--reference-from", help="a file of the same scene whose reference render (--reference) to use")
     a = ap.parse_args()
     for path in a.files:
         checks, data, _ = load(path)
         for name in ["oracle", *a.rules.split(",")]:
             rule = RULES.get(name, old)
-            true, refs = truths(path, rule, a.cycles, a.cycles_spp)
+            true, refs = truths(path, rule, a.cycles, a.cycles_spp, a.reference_from)
             cells = []
             for n in checks:
                 aa, bb, c = data[n]
