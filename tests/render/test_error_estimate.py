@@ -64,6 +64,29 @@ def test_halves_are_blocks_of_equal_size():
     assert 0 < sum(firsts) < len(firsts)  # which block of a pair comes first is not always the same
 
 
+def test_a_firefly_on_a_flat_image_is_weighed_by_its_neighbours():
+    """Halves of 64 samples of a flat image r = 0.25, one sample of one pixel 1000x brighter in half a: the
+    estimate is exactly the mean's relMSE (the other pixels' halves agree), where r^2 from the pixel's own mean reads
+    it 17x low (the control)."""
+    r = np.full((9, 9, 3), 0.25)
+    a, b = r.copy(), r.copy()
+    a[4, 4] += 250.0 / 64
+    mean = (a + b) / 2
+    true = rel_mse(mean, r)
+    assert rel_mse_from_halves(a, b, 64, 64) == pytest.approx(true, rel=1e-9)
+    assert rel_mse_from_halves(a, b, 64, 64, own_mean_r2) < true / 10
+
+
+def test_a_lamp_seen_in_one_half_only_keeps_the_floor():
+    """A pixel met by a small lamp in half a only, over black (many_lights' sub-pixel lamps at 16 samples): nothing
+    tells it from a firefly over black, so its term stays near 1 / R2_FLOOR (r^2 = R2_FLOOR x mean^2), not
+    mean^2 / 0.01 as the neighbours' cap alone would make it (many_lights ris then read 16x at 16 samples)."""
+    a, b = np.zeros((5, 6, 3)), np.zeros((5, 6, 3))
+    a[2, 3] = 10.0  # mean 5, variance of the mean (10 / 2)^2
+    est = rel_mse_from_halves(a, b, 32, 32)
+    assert est * a[..., 0].size == pytest.approx(5.0**2 / (R2_FLOOR * 5.0**2 + 0.01), rel=1e-9)
+
+
 @pytest.mark.parametrize("scene_name,method", [
     ("many_lights", "ris"), ("many_lights", "restir_spatial"),
     ("many_lights", "restir_temporal"),
