@@ -30,6 +30,7 @@ from . import cryptomatte
 from .camera import halton
 from .denoise import denoise_frame
 from .frame import DeviceFrame, Frame, read_image
+from .half_error import rel_mse_from_halves
 from .history import History
 from .light_passes import fill_planes, planes_buffer
 from .passes import LIGHT_PLANES
@@ -37,7 +38,6 @@ from .qmc import still_flags, still_key, still_uses_sobol
 from .shutter import ShutterTimes
 
 HALF_BLOCK = 8  # frames per block of a still render's two half buffers (error_estimate)
-R2_FLOOR = 0.25  # error_estimate: r^2 is taken as at least R2_FLOOR * mean^2
 
 
 def half_of(k: int) -> int:
@@ -160,25 +160,21 @@ class StillAccumulation:
         """(H, W, 3) running mean of the still render in progress."""
         return self._read(self.sum).reshape(*self.shape, 4)[..., :3] / max(self.counts[0], 1)
 
+    def halves(self, done: int, n_half: int) -> tuple[np.ndarray, np.ndarray]:
+        """(H, W, 3) means of half buffer 1 (n_half samples) and of half buffer 0 (the other done - n_half)."""
+        total = self._read(self.sum)[:, :3]
+        half = self._read(self.sum_half)[:, :3]
+        shape = (*self.shape, 3)
+        return (half / n_half).reshape(shape), ((total - half) / (done - n_half)).reshape(shape)
+
     def error_estimate(self, done: int, n_half: int) -> float | None:
-        """relMSE of the running mean estimated from two half buffers, no reference needed: the halves are
-        independent estimates, so E|a - b|^2 = var_a + var_b, and the full mean has a quarter of that when the
-        halves are equal in size (relative to r^2 + 0.01 as relMSE is, r^2 estimated robustly, see below)."""
+        """relMSE of the running mean estimated from the two half buffers, no reference needed (render/half_error.py):
+        the halves are independent estimates, so E|a - b|^2 = var_a + var_b, and the full mean has a quarter of that
+        when the halves are equal in size; relative to r^2 + 0.01 as relMSE is, r^2 estimated robustly."""
         if n_half == 0 or done - n_half == 0:
             return None
-        total = self._read(self.sum)
-        half = self._read(self.sum_half)
-        a = half[:, :3] / n_half
-        b = (total[:, :3] - half[:, :3]) / (done - n_half)
-        mean = total[:, :3] / done
-        var_mean = (a - b) ** 2 * (n_half * (done - n_half)) / (done * done)
-        # r^2 of relMSE's denominator: mean^2 is inflated by the very outliers whose error it should weigh (one
-        # firefly in a half caps the pixel's term near 1); the harmonic mean of the halves ignores one outlier
-        # half but is 0 where a half is (a sub-pixel light hit in one half only), so it is floored at (mean / 2)^2.
-        s = a + b
-        hm = np.divide(2 * a * b, s, out=np.zeros_like(s), where=s > 0)
-        r2 = np.maximum(hm * hm, R2_FLOOR * mean * mean)
-        return float(np.mean(var_mean / (r2 + 0.01)))
+        a, b = self.halves(done, n_half)
+        return rel_mse_from_halves(a, b, n_half, done - n_half)
 
 
 class FrameSource(Protocol):
