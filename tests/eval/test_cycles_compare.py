@@ -35,7 +35,7 @@ def test_halves_estimate_the_error_of_their_mean():
     true = float(np.mean(((a + b) / 2 - truth) ** 2 / (truth**2 + 0.01)))
     # est and true are means of 12288 independent squared normals each: relative std sqrt(2 / 12288) = 1.3 %, so 5
     # sigma is 6.4 % for est against its expectation (0.02^2 / 2) / (0.5^2 + 0.01), 9 % for est against true; the
-    # estimate's own denominator (the noisy mean squared) shifts it by under 0.5 % at this noise
+    # estimate's own denominator (the product of the halves, render/half_error.py) shifts it by under 0.5 % here
     assert est == pytest.approx(0.0002 / 0.26, rel=0.07)
     assert est == pytest.approx(true, rel=0.1)
 

@@ -39,6 +39,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ...render.half_error import rel_mse_from_halves
 from ...render.pipeline import Renderer
 from ...render.still_method import still_settings
 from ...scene.scene import Scene
@@ -151,10 +152,10 @@ class KindResult:
 
 def halves_rel_mse(a: np.ndarray, b: np.ndarray) -> float:
     """relMSE of the mean of two independent estimates a, b, estimated from them: per pixel the variance of the
-    mean is (a - b)^2 / 4, relative to r^2 + 0.01 as rel_mse is (r the mean)."""
+    mean is (a - b)^2 / 4, relative to r^2 + 0.01 as rel_mse is, with r^2 by the still render's rule that a
+    firefly in one half cannot inflate (render/half_error.py robust_r2)."""
     a, b = np.asarray(a, np.float64)[..., :3], np.asarray(b, np.float64)[..., :3]
-    m = (a + b) / 2
-    return float(np.mean((a - b) ** 2 / 4 / (m * m + 0.01)))
+    return rel_mse_from_halves(a, b, 1, 1)
 
 
 def cycles_reference(kind: str, scene: Scene, bpy_scene, spp: int = REFERENCE_SPP, threads: int = 2,
