@@ -1,5 +1,8 @@
-/* The whole program: headers in dependency order, then one file per pass. The host compiles it with -D feature
- * flags derived from the scene and the settings (render/features.py), so a scene builds only the code it needs. */
+/* The main program: headers in dependency order, then one file per pass. The host compiles it with -D feature
+ * flags derived from the scene and the settings (render/features.py), so a scene builds only the code it needs.
+ * A pass that reads few of the flags is a side program of its own (python/restircl/core/side_programs.py: TAA,
+ * taa/taa_program.cl), built with those flags alone, and the film kernels, which read none, are the film program
+ * (film/film.cl). */
 #include "types.h"
 #include "numerics.h"
 #include "sampling/rng.h"
@@ -79,9 +82,5 @@
 #include "restir_gi/spatial.cl"
 #include "restir_gi/shade.cl"
 #endif
-#include "taa/sweep.h"
-#include "taa/fresh_fill.h"
-#include "taa/clip_box.h"
-#include "taa/taa.cl"
 #include "filter/atrous.cl"
 #include "still/aux.cl"

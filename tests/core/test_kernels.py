@@ -23,12 +23,12 @@ def test_declared_names_match_the_built_kernels(device):
                "gi_shade"}
     r = Renderer(scenes.cornell_box(width=8, height=8), Settings(method="restir"), device)
     # the default build leaves the path pass and ReSTIR GI out (max_bounces 0): every other kernel is there
-    assert set(r.kernels.k) == set(declared) - bounced and "taa" in declared
+    assert set(r.kernels.parameters) == set(declared) - bounced and "taa" in declared
     with_bounces = Renderer(scenes.cornell_box(width=8, height=8), Settings(method="restir", max_bounces=1), device)
-    assert set(with_bounces.kernels.k) == set(declared)
-    for k in (r.kernels.k, with_bounces.kernels.k):
-        for name in k:
-            assert len(declared[name]) == k[name].num_args, name
+    assert set(with_bounces.kernels.parameters) == set(declared)
+    for kernels in (r.kernels, with_bounces.kernels):
+        for name in kernels.parameters:
+            assert len(declared[name]) == kernels.kernel(name).num_args, name
     # the film kernels read no feature flag: both builds launch them from the device's one film program, and the
     # feature builds do not compile them again
     film = r.kernels.program_of["accumulate"]
@@ -36,6 +36,25 @@ def test_declared_names_match_the_built_kernels(device):
     for name in ("accumulate", "accumulate_holdout", "accumulate_light_passes", "layer_add", "accumulate_cryptomatte"):
         assert r.kernels.program_of[name] is film and with_bounces.kernels.program_of[name] is film, name
         assert name not in r.kernels.program.get_info(cl.program_info.KERNEL_NAMES).split(";"), name
+
+
+def test_side_kernels_are_shared_by_variants_and_built_at_their_first_launch(device):
+    """taa is a side program's (core/side_programs.py): two builds differing in a flag it does not read (HAS_PATHS)
+    launch it from the same program, which the main programs do not have, and a renderer builds it only when it
+    first runs (a still runs no TAA)."""
+    scene = scenes.cornell_box(width=8, height=8)
+    a = Renderer(scene, Settings(method="restir"), device)
+    b = Renderer(scene, Settings(method="restir", max_bounces=1), device)
+    assert a.flags.get("HAS_PATHS") != b.flags.get("HAS_PATHS") and a.kernels.program is not b.kernels.program
+    assert "taa" not in a.kernels.program_of and a.kernels.max_local["taa"] is None
+    a.render_still(0, samples=1)
+    assert "primary" in a.kernels.program_of and "taa" not in a.kernels.program_of
+    for name in ("taa",):
+        a.kernels.kernel(name)
+        b.kernels.kernel(name)
+        assert a.kernels.program_of[name] is b.kernels.program_of[name], name
+        for r in (a, b):
+            assert name not in r.kernels.program.get_info(cl.program_info.KERNEL_NAMES).split(";"), name
 
 
 @pytest.fixture(scope="module")

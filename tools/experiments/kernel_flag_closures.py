@@ -20,6 +20,7 @@ from collections import defaultdict
 from pathlib import Path
 
 from restircl.core.program import MAIN_SOURCE, opencl_dir
+from restircl.core.side_programs import SIDE_PROGRAMS
 from restircl.core.source_inline import inline_includes
 
 IDENT = re.compile(r"[A-Za-z_]\w*")
@@ -106,6 +107,13 @@ def main() -> None:
         for options, programs in sets.items():
             for k, d in closure_digests(source, list(options), list(first)).items():
                 digests[k].update(dict.fromkeys(programs, d))
+        for side in SIDE_PROGRAMS:  # a side program's kernels (core/side_programs.py), with the defines it keeps
+            path = Path(tmp) / side.source.replace("/", "_")
+            path.write_text(inline_includes((root / side.source).read_text(), side.source, root))
+            for options, programs in sets.items():
+                kept = side.defines(dict(o[2:].partition("=")[::2] for o in options))
+                for k, d in closure_digests(path, [f"-D{n}={v}" for n, v in kept.items()], list(side.kernels)).items():
+                    digests[k].update(dict.fromkeys(programs, d))
         for k in sorted(digests, key=lambda k: -sum(first[k].values())):
             progs = [h for h in digests[k] if h in first[k]]
             seconds = sum(first[k][h] for h in progs)

@@ -8,6 +8,7 @@ instead of pyopencl's count or type error, and the order of a kernel's parameter
 from __future__ import annotations
 
 import re
+from collections.abc import Mapping
 from functools import cache
 from pathlib import Path
 
@@ -15,7 +16,8 @@ import pyopencl as cl
 
 from . import build_log
 from .device import Device
-from .program import film_program, opencl_dir
+from .program import film_program, host_kernel_defines, opencl_dir, side_program
+from .side_programs import SIDE_PROGRAMS
 
 # work-items per work-group: 64 in 1D, 8x8 in 2D (docs/measurements/benchmarks.md: PoCL's own pick was slower)
 LOCAL_ITEMS = 64
@@ -67,12 +69,23 @@ def declared_parameters() -> dict[str, tuple[str, ...]]:
 class Kernels:
     """The kernels of one program on one device, with their work-group limits: by default every kernel declared in
     opencl/**/*.cl that this build has (a feature flag may leave a pass out), so a new stage's kernel needs no list
-    of its own; and the kernels of the device's film program (core/program.py film_program), which no flag
-    changes and every renderer shares."""
+    of its own; the kernels of the device's film program (core/program.py film_program), which no flag changes and
+    every renderer shares; and, given the feature `flags` of `program`, the side programs' kernels
+    (core/side_programs.py), each built with the flags it reads at its first launch, so that a render that does not
+    run it (a still runs no TAA) does not build it. k and program_of hold the kernels built so far; parameters and
+    max_local name every kernel (max_local None until its kernel is built)."""
 
-    def __init__(self, device: Device, program: cl.Program, names: tuple[str, ...] | None = None) -> None:
+    def __init__(
+        self,
+        device: Device,
+        program: cl.Program,
+        names: tuple[str, ...] | None = None,
+        flags: Mapping[str, int | float | bool | str] | None = None,
+    ) -> None:
         self.device = device
         self.program = program
+        # the main program's defines, taken now: a test's defines (eval/probe_defines.py) may be gone at a first launch
+        self.defines = {**host_kernel_defines(), **flags} if flags is not None else {}
         declared = declared_parameters()
         film = film_program(device)
         self.program_of = {
@@ -81,12 +94,33 @@ class Kernels:
             for name in prog.get_info(cl.program_info.KERNEL_NAMES).split(";")
             if name in declared and (names is None or name in names)
         }
-        self.parameters = {name: declared[name] for name in declared if name in self.program_of}
-        self.k = {name: cl.Kernel(self.program_of[name], name) for name in self.parameters}
-        self.max_local = {
-            name: int(k.get_work_group_info(cl.kernel_work_group_info.WORK_GROUP_SIZE, device.device))
-            for name, k in self.k.items()
+        self.side_of = {
+            name: side
+            for side in (SIDE_PROGRAMS if flags is not None else ())
+            for name in side.kernels
+            if names is None or name in names
         }
+        self.parameters = {name: declared[name] for name in declared if name in self.program_of or name in self.side_of}
+        self.k: dict[str, cl.Kernel] = {}
+        self.max_local: dict[str, int | None] = dict.fromkeys(self.parameters)
+        for name in self.program_of:
+            self._make(name)
+
+    def _make(self, name: str) -> cl.Kernel:
+        """The kernel `name`, its program built first where it is a side program's."""
+        if name not in self.program_of:
+            self.program_of[name] = side_program(self.device, self.side_of[name], self.defines)
+        kernel = self.k[name] = cl.Kernel(self.program_of[name], name)
+        if self.max_local[name] is None:  # unless set already (a test of smaller work-groups sets every kernel's)
+            self.max_local[name] = int(
+                kernel.get_work_group_info(cl.kernel_work_group_info.WORK_GROUP_SIZE, self.device.device)
+            )
+        return kernel
+
+    def kernel(self, name: str) -> cl.Kernel:
+        """The kernel `name`, built at this first call where it is a side program's."""
+        kernel = self.k.get(name)
+        return kernel if kernel is not None else self._make(name)
 
     def check(self, name: str, args: dict) -> list:
         """The argument values of kernel `name` in declaration order; KernelArgumentError unless `args` names each
@@ -111,9 +145,9 @@ class Kernels:
         work-items: local_size), the global size padded to a multiple of it (OpenCL 1.2): every kernel returns
         early outside the image. PoCL's own choice was 25-40 % slower (docs/measurements/benchmarks.md)."""
         values = self.check(name, args)
-        kernel = self.k[name]
+        kernel = self.kernel(name)
         kernel.set_args(*values)
-        local = local_size(len(size), self.max_local[name])
+        local = local_size(len(size), int(self.max_local[name]))  # type: ignore[arg-type]
         padded = tuple(-(-n // m) * m for n, m in zip(size, local, strict=True))
         if build_log.PATH is None:
             cl.enqueue_nd_range_kernel(self.device.queue, kernel, padded, local)

@@ -20,6 +20,7 @@ from ..bvh import packets as bvh_packets
 from ..settings.table import kernel_defines
 from . import build_log
 from .device import Device
+from .side_programs import SideProgram
 from .source_inline import inline_includes
 
 MAIN_SOURCE = "restircl.cl"
@@ -123,6 +124,18 @@ def build_program(
     build_log.log_build(prog, options, text, time.perf_counter() - start)
     _PROGRAMS[key] = prog
     return prog
+
+
+def host_kernel_defines() -> dict[str, int | float | bool | str]:
+    """The defines every renderer build takes besides the feature flags: the array limits the kernels share with
+    validate() (the settings table, with a test's or probe's additions: eval/probe_defines.py) and the BVH layout."""
+    return {**kernel_defines(), **bvh_packets.defines()}
+
+
+def side_program(device: Device, side: SideProgram, defines: Mapping[str, int | float | bool | str]) -> cl.Program:
+    """The side program `side` (core/side_programs.py) of a main program built with `defines` (its feature flags and
+    host_kernel_defines() then): built with those it reads, so that every variant alike in those shares one build."""
+    return build_program(device, side.defines(defines), main=side.source, host_defines=False)
 
 
 def film_program(device: Device) -> cl.Program:

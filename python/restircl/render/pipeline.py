@@ -136,7 +136,7 @@ class Renderer:
         t0 = time.perf_counter()
         self.program = build_program(self.device, flags)
         self.build_seconds = time.perf_counter() - t0
-        self.kernels = Kernels(self.device, self.program)
+        self.kernels = Kernels(self.device, self.program, flags=flags)
 
     def reset(self) -> None:  # drop all history (ReSTIR reservoirs, TAA, accumulation)
         self.history.invalidate()
@@ -388,9 +388,9 @@ class Renderer:
         return self.kernels.k
 
     @property
-    def max_local(self) -> dict[str, int]:
+    def max_local(self) -> dict[str, int | None]:
         return self.kernels.max_local
 
     @max_local.setter
-    def max_local(self, value: dict[str, int]) -> None:
+    def max_local(self, value: dict[str, int | None]) -> None:
         self.kernels.max_local = value
