@@ -180,7 +180,7 @@ class Renderer:
         `still`: a frame of a still render (averaged by its caller: no TAA, no boiling filter); jitter_px: the
         pixel jitter, by default the renderer's own Halton sequence."""
         h = self.history
-        timer = StageTimer(self.device.queue)
+        timer = StageTimer(self.device.queue, wait=not still)
         state = self._begin_frame(frame, still, jitter_px)
         plan = state.plan
         timer.mark("upload")

@@ -83,14 +83,20 @@ class Untimed:
 
 @dataclass
 class StageTimer:
-    """Milliseconds per stage; each mark waits for the queue, so a stage's time is its own."""
+    """Milliseconds per stage; with `wait` each mark waits for the queue, so a stage's time is its own. Without it
+    (the frames of a still render) a mark records only that the stage ran and the host's time to enqueue it: the
+    device then runs the stages back to back instead of idling while the host prepares each next one (on 2 CPU
+    cores with PoCL, 1.35-1.4x the frames per second of a still with bounces: docs/measurements/benchmarks.md,
+    "Still frames without a wait per stage"); the frame's first upload still waits for the frame before."""
 
     queue: cl.CommandQueue
     ms: dict[str, float] = field(default_factory=dict)
     t: float = field(default_factory=time.perf_counter)
+    wait: bool = True
 
     def mark(self, name: str) -> None:
-        self.queue.finish()
+        if self.wait:
+            self.queue.finish()
         t1 = time.perf_counter()
         self.ms[name] = self.ms.get(name, 0.0) + (t1 - self.t) * 1e3
         self.t = t1
