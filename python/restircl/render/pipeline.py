@@ -173,14 +173,15 @@ class Renderer:
         self.scene.camera = camera
         return self.render_frame(0, aovs=aovs)
 
-    def run_frame(self, frame: int, *, still: bool = False, jitter_px: tuple[float, float] | None = None
-                  ) -> DeviceFrame:
+    def run_frame(self, frame: int, *, still: bool = False, jitter_px: tuple[float, float] | None = None,
+                  wait: bool = True) -> DeviceFrame:
         """Run the stages of frame `frame` (DESIGN section 2) and leave it on the device, read back by nothing:
         render_frame and render_still read what they need (read_frame), and timing tools measure the frame alone.
         `still`: a frame of a still render (averaged by its caller: no TAA, no boiling filter); jitter_px: the
-        pixel jitter, by default the renderer's own Halton sequence."""
+        pixel jitter, by default the renderer's own Halton sequence; `wait`: the stage timer waits for the device
+        after each stage (render/stages.py StageTimer; a still render's frames do not)."""
         h = self.history
-        timer = StageTimer(self.device.queue, wait=not still)
+        timer = StageTimer(self.device.queue, wait=wait)
         state = self._begin_frame(frame, still, jitter_px)
         plan = state.plan
         timer.mark("upload")

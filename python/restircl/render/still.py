@@ -191,8 +191,8 @@ class FrameSource(Protocol):
     @property
     def sample_buf(self) -> cl.Buffer: ...
 
-    def run_frame(self, frame: int, *, still: bool = False,
-                  jitter_px: tuple[float, float] | None = None) -> DeviceFrame: ...
+    def run_frame(self, frame: int, *, still: bool = False, jitter_px: tuple[float, float] | None = None,
+                  wait: bool = True) -> DeviceFrame: ...
 
     def frame_params(self) -> np.void: ...
 
@@ -305,7 +305,7 @@ def _add_sample(r: FrameSource, halves: HalfStreams, frame: float, half: int, st
         r.qmc = qmc
     jit = halves.jitter(half)
     halves.use_chain(half)
-    st, _, gbuf = r.run_frame(frame, still=True, jitter_px=jit)
+    st, _, gbuf = r.run_frame(frame, still=True, jitter_px=jit, wait=False)  # the frames' stages back to back
     for key, v in st.items():
         stage[key] = stage.get(key, 0.0) + v
     r.still.add(r.sample_buf, r.frame_params(), half)
