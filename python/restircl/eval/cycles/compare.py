@@ -263,7 +263,8 @@ def ours_settings(method: str, scene: Scene, paths: LightPaths = DIRECT) -> Sett
 
 def time_ours(scene: Scene, settings: Settings, budget: float, device=None) -> tuple[np.ndarray, float, float, int]:
     """A still render from scratch stopped when `budget` seconds have passed: (image, seconds, setup seconds,
-    samples). Every frame waits for the device (the stage timers), so the clock sees the work done."""
+    samples). A frame's first upload waits for the frame before, and the render's last read for all of them, so
+    the clock sees the work done (at most one frame past the budget)."""
     t0 = time.perf_counter()
     r = Renderer(scene, settings, device)
     setup = time.perf_counter() - t0
