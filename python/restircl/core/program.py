@@ -93,7 +93,7 @@ def build_program(
     text = source if source is not None else (src_dir / main).read_text()
     # the array limits the kernels share with validate() come from the settings table; no -I: the headers are
     # written into the source (source_inline.py), as drivers split options at the spaces of an install path
-    host = [*format_options(kernel_defines()), *format_options(bvh_packets.defines())] if host_defines else []
+    host = format_options(host_kernel_defines()) if host_defines else []
     options = [
         *BASE_OPTIONS,
         *host,
