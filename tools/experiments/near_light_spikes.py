@@ -7,11 +7,11 @@ pixel's G-buffer point to the nearest light's centre (bands in metres; each band
 the median over seeds and frames) and, with `--top`, each frame's largest terms (pixel, share of the frame's relMSE,
 distance, TAA's n, the frame's sample luminance). `--trace LIGHT` (ReSTIR methods) compiles the kernel probe
 PROBE_REUSE_LIGHT: the temporal and spatial passes print every merge whose input or result holds that light (the
-history pixel taken, both reservoirs, both targets of each sample, the result and its shaded value target x W; "sample"
-counts the frames rendered, the renderer's two warm-up frames included: animation frame + 2), and `--trace-weight W`
-adds PROBE_FLYFIRE's initial candidates whose weight exceeds W, so that a spike's sample can be followed back to the
-candidate that drew it; `--until F` stops after animation frame F (the scene keeps `--frames`, so its cached
-references still apply).
+history pixel taken, both reservoirs, both targets of each sample before any shadow test, the result and its shaded
+value target x W; "sample" counts the frames rendered, the renderer's two warm-up frames included: animation frame +
+2), and `--trace-weight W` adds PROBE_FLYFIRE's initial candidates whose weight exceeds W, so that a spike's sample
+can be followed back to the candidate that drew it; `--until F` stops after animation frame F (the scene keeps
+`--frames`, so its cached references still apply).
 
     python -m tools.experiments.near_light_spikes --scene market_orbit --width 640 --height 360 --ref-seconds 90 \\
         --cache-dir REFS --methods ris+candidates=20,restir --seeds 6 --top 3
