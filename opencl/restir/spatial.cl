@@ -79,5 +79,16 @@ __kernel void restir_spatial(const __global GSample* gbuf, const __global Glossy
     Reservoir r;
     reuse_combine(&s, &c, qs, n_used, gbuf, glossy, used, nodes, tris, lights, bias_correction, visibility_reuse,
                   &known, &rng, &r);
+#ifdef PROBE_REUSE_LIGHT  /* tools/experiments/near_light_spikes.py --trace */
+    bool traced = r.light == PROBE_REUSE_LIGHT || c.light == PROBE_REUSE_LIGHT;
+    for (int k = 0; k < n_used; ++k) traced = traced || qs[k].light == PROBE_REUSE_LIGHT;
+    if (traced) {
+        printf("reuse sample %u spatial (%d,%d): own l %d M %g W %g p_c %g -> l %d M %g W %g value %g\n",
+               frame_params.sample, x, y, c.light, c.M, c.W, c.target, r.light, r.M, r.W, r.W * r.target);
+        for (int k = 0; k < n_used; ++k)
+            printf("reuse sample %u spatial (%d,%d):   neighbour (%d,%d) l %d M %g W %g p_q %g\n", frame_params.sample,
+                   x, y, used[k] % width, used[k] / width, qs[k].light, qs[k].M, qs[k].W, qs[k].target);
+    }
+#endif
     out[i] = r;
 }

@@ -57,5 +57,16 @@ __kernel void restir_temporal(const __global Camera* cam, const __global GSample
     Reservoir r;
     reuse_combine(&s, &c, &q, 1, prev_gbuf, prev_glossy, &j, nodes, tris, lights, bias_correction, visibility_reuse,
                   &known, &rng, &r);
+#ifdef PROBE_REUSE_LIGHT  /* tools/experiments/near_light_spikes.py --trace: the merges that hold one light */
+    if (q.light == PROBE_REUSE_LIGHT || c.light == PROBE_REUSE_LIGHT) {
+        LightEval pe;
+        float t_c = q.light >= 0 ? target_of(&s, lights, q.light, q.u, q.v, &pe) : 0.0f;
+        float t_q = c.light >= 0 ? target_of(&sp, lights, c.light, c.u, c.v, &pe) : 0.0f;
+        printf("reuse sample %u temporal (%d,%d) from (%d,%d): history l %d M %g W %g p_q %g p_c %g; own l %d M %g "
+               "W %g p_c %g p_q %g -> l %d M %g W %g value %g\n", frame_params.sample, x, y, j % width, j / width,
+               q.light, q.M, q.W, q.target, t_c, c.light, c.M, c.W, c.target, t_q, r.light, r.M, r.W,
+               r.W * r.target);
+    }
+#endif
     out[i] = r;
 }
