@@ -105,7 +105,7 @@ def test_export_follows_a_focus_pull():
 # The default suite keeps a polygon turned (5 blades, 0.6) and a stretched disc (ratio 2): the two lenses the
 # negative controls below misread, whose Cycles images they share (the round lens is test_dof_agrees_with_cycles'
 # and the orthographic one a turned pentagon); the round disc, the unturned hexagon and the squeezed disc (ratio
-# 0.5) read the same settings again and run behind `slow` (6-7 CPU s, 9-12 s wall each in a cold run, 2026-12-06).
+# 0.5) read the same settings again and run behind `slow` (docs/measurements/benchmarks.md, "Test suite time").
 BOKEH = [
     pytest.param(0, 0.0, 1.0, marks=pytest.mark.slow),
     (5, 0.6, 1.0),

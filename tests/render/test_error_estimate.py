@@ -88,8 +88,7 @@ def test_a_lamp_seen_in_one_half_only_keeps_the_floor():
 
 
 # Every method on cornell_box, and RIS and full ReSTIR (temporal and spatial reuse both) on many_lights; the two
-# single-reuse modes on many_lights repeat what cornell_box and full ReSTIR check and run behind `slow` (9.4 and
-# 5.4 CPU s in a cold run, 2026-12-06)
+# single-reuse modes on many_lights repeat what cornell_box and full ReSTIR check and run behind `slow`
 @pytest.mark.parametrize(
     "scene_name,method",
     [

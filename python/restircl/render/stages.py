@@ -86,9 +86,8 @@ class StageTimer:
     """Milliseconds per stage; with `wait` each mark waits for the queue, so a stage's time is its own. Without it
     (the frames of a still render, render/still.py) a mark records only that the stage ran and the host's time to
     enqueue it: the device then runs the stages back to back instead of idling while the host prepares each next
-    one (on 2 CPU cores with PoCL, 1.35-1.4x the frames per second of a still with bounces:
-    docs/measurements/benchmarks.md, "Still frames without a wait per stage"); the frame's first upload still waits
-    for the frame before."""
+    one (docs/measurements/benchmarks.md, "Still frames without a wait per stage"); the frame's first upload still
+    waits for the frame before."""
 
     queue: cl.CommandQueue
     ms: dict[str, float] = field(default_factory=dict)
